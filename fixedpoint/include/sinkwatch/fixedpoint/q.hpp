@@ -1,0 +1,370 @@
+// q.hpp: the Q-format number type and its exact or correctly rounded
+// arithmetic.
+//
+// Q<Storage, F> holds the real number raw * 2^-F in a two's-complement
+// Storage (int32_t or int64_t), F fraction bits fixed at compile time, so the
+// format is visible at every use site. Q<int32_t, 16> is Q15.16.
+//
+// Policies (docs/fixedpoint.md gives the proofs of the error bounds):
+//  * Rounding: to nearest, ties away from zero, on x, / and rescale. Every
+//    rounding is done on the magnitude and the sign put back afterwards, so
+//    round(-x) == -round(x) exactly (the classic asymmetric-rounding bug of
+//    arithmetic-shift libraries is impossible by construction).
+//  * Error: add, sub, neg, abs, min, max, clamp and widening rescale are exact;
+//    mul, div, narrowing rescale and sqrt are within 0.5 LSB of the exact real
+//    result. That holds whenever the status stays clean.
+//  * Overflow: the result saturates to the format's max or min and
+//    Flag::overflow is raised in the caller's Status. neg(min) and abs(min)
+//    saturate to max and raise it too.
+//  * Division by zero raises Flag::div_by_zero and returns max, min or zero
+//    by the sign of the dividend; sqrt of a negative raises Flag::domain and
+//    returns zero. A raised flag, never the value, marks a result unusable.
+//  * No undefined or implementation-defined behaviour: all bit shifts are on
+//    unsigned magnitudes (MISRA C++:2023 rule 7.0.4), signed values are never
+//    shifted, and the only signed conversions are of values known to fit. The
+//    results are therefore the same bits on every target.
+//
+// There are deliberately no arithmetic operators: an operator has nowhere to
+// report an overflow. Comparisons, which cannot fail, are operators.
+#ifndef SINKWATCH_FIXEDPOINT_Q_HPP
+#define SINKWATCH_FIXEDPOINT_Q_HPP
+
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+
+#include "sinkwatch/fixedpoint/status.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
+
+namespace sinkwatch {
+namespace fx {
+
+template <typename Storage, std::int32_t FracBits>
+class Q;
+
+namespace detail {
+
+template <typename Storage>
+struct StorageTraits;
+template <>
+struct StorageTraits<std::int32_t> {
+  static constexpr std::uint32_t bits = 32U;
+};
+template <>
+struct StorageTraits<std::int64_t> {
+  static constexpr std::uint32_t bits = 64U;
+};
+
+/// The unsigned type wide enough for the exact intermediate of an operation
+/// on the given storages: 64 bits when all are int32_t, else 128 bits.
+template <typename... Storages>
+struct WideFor {
+  using type = typename std::conditional<((StorageTraits<Storages>::bits == 32U) && ...), std::uint64_t,
+                                         wide::U128>::type;
+};
+
+/// |x| without overflow, also for the most negative value.
+template <typename Storage>
+constexpr std::uint64_t magnitude(Storage x) noexcept {
+  if (x >= 0) {
+    return static_cast<std::uint64_t>(x);
+  }
+  // -(x + 1) cannot overflow; adding 1 back in unsigned arithmetic is exact.
+  return static_cast<std::uint64_t>(-(x + 1)) + 1U;
+}
+
+/// Largest magnitude of a result with the given sign: 2^(N-1) - 1 or 2^(N-1).
+template <typename Storage>
+constexpr std::uint64_t magnitude_limit(bool negative) noexcept {
+  const std::uint64_t top = std::uint64_t{1U} << (StorageTraits<Storage>::bits - 1U);
+  return negative ? top : (top - 1U);
+}
+
+/// Builds a raw value from sign and magnitude, saturating on overflow.
+template <typename Storage, typename W>
+constexpr Storage from_sign_magnitude(bool negative, const W& mag, Status& status) noexcept {
+  const W limit = wide::from_u64<W>(magnitude_limit<Storage>(negative));
+  if (wide::less(limit, mag)) {
+    status.raise(Flag::overflow);
+    return negative ? std::numeric_limits<Storage>::min() : std::numeric_limits<Storage>::max();
+  }
+  const std::uint64_t m = wide::low_u64(mag);
+  if (!negative) {
+    return static_cast<Storage>(m);
+  }
+  if (m == magnitude_limit<Storage>(true)) {
+    return std::numeric_limits<Storage>::min();
+  }
+  return static_cast<Storage>(-static_cast<Storage>(m));
+}
+
+/// Scales a magnitude by 2^-shift: a right shift rounded to nearest with ties
+/// away from zero for shift > 0, an exact left shift for shift < 0. A left
+/// shift that would lose bits sets `overflowed` (the result is then beyond
+/// every format this library has).
+template <typename W>
+constexpr W scale_magnitude(const W& mag, std::int32_t shift, bool& overflowed) noexcept {
+  overflowed = false;
+  if (shift > 0) {
+    const std::uint32_t s = static_cast<std::uint32_t>(shift);
+    const W truncated = wide::shr(mag, s);
+    // The bit just below the result's LSB is the half: adding it rounds
+    // half away from zero, and cannot carry past the width because the
+    // shifted value has at least one leading zero bit.
+    return wide::bit(mag, s - 1U) ? wide::add(truncated, wide::from_u64<W>(1U)) : truncated;
+  }
+  if (shift < 0) {
+    const std::uint32_t s = static_cast<std::uint32_t>(-shift);
+    if ((wide::bit_length(mag) + s) > wide::width(mag)) {
+      overflowed = !wide::is_zero(mag);
+      return wide::is_zero(mag) ? mag : wide::from_u64<W>(0U);
+    }
+    return wide::shl(mag, s);
+  }
+  return mag;
+}
+
+template <typename Storage>
+constexpr bool is_negative(Storage x) noexcept {
+  return x < 0;
+}
+
+}  // namespace detail
+
+/// A fixed-point number: the real value raw() * 2^-F.
+template <typename Storage, std::int32_t FracBits>
+class Q {
+  static_assert(std::is_same<Storage, std::int32_t>::value || std::is_same<Storage, std::int64_t>::value,
+                "Q storage is int32_t or int64_t");
+  static_assert(FracBits >= 0, "Q needs a non-negative number of fraction bits");
+  static_assert(FracBits < static_cast<std::int32_t>(detail::StorageTraits<Storage>::bits - 1U),
+                "Q needs at least the sign bit and one more outside the fraction");
+
+ public:
+  using storage_type = Storage;
+  static constexpr std::int32_t frac_bits = FracBits;
+  static constexpr std::uint32_t total_bits = detail::StorageTraits<Storage>::bits;
+  /// Bits left of the binary point, excluding the sign.
+  static constexpr std::int32_t int_bits = static_cast<std::int32_t>(total_bits) - 1 - FracBits;
+
+  constexpr Q() noexcept = default;
+
+  [[nodiscard]] static constexpr Q from_raw(Storage raw_bits) noexcept { return Q(raw_bits); }
+  [[nodiscard]] static constexpr Q zero() noexcept { return Q(0); }
+  [[nodiscard]] static constexpr Q max() noexcept { return Q(std::numeric_limits<Storage>::max()); }
+  [[nodiscard]] static constexpr Q min() noexcept { return Q(std::numeric_limits<Storage>::min()); }
+  /// The smallest positive value, 2^-F: one LSB.
+  [[nodiscard]] static constexpr Q lsb() noexcept { return Q(1); }
+  /// The value 1; raises overflow (and returns max) when F leaves no integer bit.
+  [[nodiscard]] static constexpr Q one(Status& status) noexcept { return from_int(1, status); }
+
+  /// The integer `value`, exactly; saturates and raises overflow when it does
+  /// not fit.
+  [[nodiscard]] static constexpr Q from_int(std::int64_t value, Status& status) noexcept {
+    using W = typename detail::WideFor<Storage>::type;
+    bool overflowed = false;
+    const W mag =
+        detail::scale_magnitude(wide::from_u64<W>(detail::magnitude(value)), -FracBits, overflowed);
+    const bool negative = value < 0;
+    if (overflowed) {
+      status.raise(Flag::overflow);
+      return negative ? min() : max();
+    }
+    return Q(detail::from_sign_magnitude<Storage>(negative, mag, status));
+  }
+
+  [[nodiscard]] constexpr Storage raw() const noexcept { return raw_; }
+
+  friend constexpr bool operator==(Q a, Q b) noexcept { return a.raw_ == b.raw_; }
+  friend constexpr bool operator!=(Q a, Q b) noexcept { return a.raw_ != b.raw_; }
+  friend constexpr bool operator<(Q a, Q b) noexcept { return a.raw_ < b.raw_; }
+  friend constexpr bool operator<=(Q a, Q b) noexcept { return a.raw_ <= b.raw_; }
+  friend constexpr bool operator>(Q a, Q b) noexcept { return a.raw_ > b.raw_; }
+  friend constexpr bool operator>=(Q a, Q b) noexcept { return a.raw_ >= b.raw_; }
+
+ private:
+  constexpr explicit Q(Storage raw_bits) noexcept : raw_(raw_bits) {}
+  Storage raw_{0};
+};
+
+/// Common formats. The name gives integer.fraction bits (sign excluded).
+using Q15_16 = Q<std::int32_t, 16>;
+using Q1_30 = Q<std::int32_t, 30>;
+using Q3_28 = Q<std::int32_t, 28>;
+using Q31_32 = Q<std::int64_t, 32>;
+
+/// a + b, exact; saturates on overflow.
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Q<S, F> add(Q<S, F> a, Q<S, F> b, Status& status) noexcept {
+  const S x = a.raw();
+  const S y = b.raw();
+  if ((y > 0) && (x > (std::numeric_limits<S>::max() - y))) {
+    status.raise(Flag::overflow);
+    return Q<S, F>::max();
+  }
+  if ((y < 0) && (x < (std::numeric_limits<S>::min() - y))) {
+    status.raise(Flag::overflow);
+    return Q<S, F>::min();
+  }
+  return Q<S, F>::from_raw(static_cast<S>(x + y));
+}
+
+/// a - b, exact; saturates on overflow.
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Q<S, F> sub(Q<S, F> a, Q<S, F> b, Status& status) noexcept {
+  const S x = a.raw();
+  const S y = b.raw();
+  if ((y < 0) && (x > (std::numeric_limits<S>::max() + y))) {
+    status.raise(Flag::overflow);
+    return Q<S, F>::max();
+  }
+  if ((y > 0) && (x < (std::numeric_limits<S>::min() + y))) {
+    status.raise(Flag::overflow);
+    return Q<S, F>::min();
+  }
+  return Q<S, F>::from_raw(static_cast<S>(x - y));
+}
+
+/// -a, exact; -min saturates to max and raises overflow.
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Q<S, F> neg(Q<S, F> a, Status& status) noexcept {
+  if (a == Q<S, F>::min()) {
+    status.raise(Flag::overflow);
+    return Q<S, F>::max();
+  }
+  return Q<S, F>::from_raw(static_cast<S>(-a.raw()));
+}
+
+/// |a|, exact; |min| saturates to max and raises overflow.
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Q<S, F> abs(Q<S, F> a, Status& status) noexcept {
+  return (a.raw() < 0) ? neg(a, status) : a;
+}
+
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Q<S, F> min(Q<S, F> a, Q<S, F> b) noexcept {
+  return (b < a) ? b : a;
+}
+
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Q<S, F> max(Q<S, F> a, Q<S, F> b) noexcept {
+  return (a < b) ? b : a;
+}
+
+/// a limited to [lo, hi]. lo > hi is a caller's error: raises domain and
+/// returns lo.
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Q<S, F> clamp(Q<S, F> a, Q<S, F> lo, Q<S, F> hi, Status& status) noexcept {
+  if (hi < lo) {
+    status.raise(Flag::domain);
+    return lo;
+  }
+  return min(max(a, lo), hi);
+}
+
+/// a in the format Out: exact when Out has at least as many fraction bits,
+/// else rounded to nearest (ties away from zero); saturates on overflow.
+template <typename Out, typename S, std::int32_t F>
+[[nodiscard]] constexpr Out rescale(Q<S, F> a, Status& status) noexcept {
+  using OutS = typename Out::storage_type;
+  using W = typename detail::WideFor<S, OutS>::type;
+  const bool negative = detail::is_negative(a.raw());
+  bool overflowed = false;
+  const W mag = detail::scale_magnitude(wide::from_u64<W>(detail::magnitude(a.raw())),
+                                        F - Out::frac_bits, overflowed);
+  if (overflowed) {
+    status.raise(Flag::overflow);
+    return negative ? Out::min() : Out::max();
+  }
+  return Out::from_raw(detail::from_sign_magnitude<OutS>(negative, mag, status));
+}
+
+namespace detail {
+/// Exact product of two magnitudes in the wide type W.
+template <typename W>
+constexpr W wide_product(std::uint64_t a, std::uint64_t b) noexcept;
+template <>
+constexpr std::uint64_t wide_product<std::uint64_t>(std::uint64_t a, std::uint64_t b) noexcept {
+  // Only used when both operands come from int32_t storage: each <= 2^31.
+  return wide::mul_full(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
+}
+template <>
+constexpr wide::U128 wide_product<wide::U128>(std::uint64_t a, std::uint64_t b) noexcept {
+  return wide::mul_full(a, b);
+}
+}  // namespace detail
+
+/// a * b in the format Out, rounded to nearest (ties away from zero), within
+/// 0.5 LSB of Out; saturates on overflow.
+template <typename Out, typename SA, std::int32_t FA, typename SB, std::int32_t FB>
+[[nodiscard]] constexpr Out mul(Q<SA, FA> a, Q<SB, FB> b, Status& status) noexcept {
+  using OutS = typename Out::storage_type;
+  using W = typename detail::WideFor<SA, SB, OutS>::type;
+  const bool negative = detail::is_negative(a.raw()) != detail::is_negative(b.raw());
+  const W product = detail::wide_product<W>(detail::magnitude(a.raw()), detail::magnitude(b.raw()));
+  bool overflowed = false;
+  const W mag = detail::scale_magnitude(product, (FA + FB) - Out::frac_bits, overflowed);
+  if (overflowed) {
+    status.raise(Flag::overflow);
+    return negative ? Out::min() : Out::max();
+  }
+  return Out::from_raw(detail::from_sign_magnitude<OutS>(negative && !wide::is_zero(mag), mag, status));
+}
+
+/// a * b in a's format.
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Q<S, F> mul(Q<S, F> a, Q<S, F> b, Status& status) noexcept {
+  return mul<Q<S, F>>(a, b, status);
+}
+
+/// a / b in the format Out, rounded to nearest (ties away from zero), within
+/// 0.5 LSB of Out; saturates on overflow. b == 0 raises div_by_zero and gives
+/// max, min or zero by the sign of a.
+template <typename Out, typename SA, std::int32_t FA, typename SB, std::int32_t FB>
+[[nodiscard]] constexpr Out div(Q<SA, FA> a, Q<SB, FB> b, Status& status) noexcept {
+  using OutS = typename Out::storage_type;
+  using W = typename detail::WideFor<SA, SB, OutS>::type;
+  const bool negative = detail::is_negative(a.raw()) != detail::is_negative(b.raw());
+  if (b.raw() == 0) {
+    status.raise(Flag::div_by_zero);
+    if (a.raw() == 0) {
+      return Out::zero();
+    }
+    return detail::is_negative(a.raw()) ? Out::min() : Out::max();
+  }
+  // raw_out = |a| * 2^(Fo + FB - FA) / |b|; the power of two goes on the
+  // dividend when positive and on the divisor when negative, both exact.
+  const std::int32_t k = (Out::frac_bits + FB) - FA;
+  bool num_overflow = false;
+  bool den_overflow = false;
+  const W num = detail::scale_magnitude(wide::from_u64<W>(detail::magnitude(a.raw())), (k > 0) ? -k : 0,
+                                        num_overflow);
+  const W den = detail::scale_magnitude(wide::from_u64<W>(detail::magnitude(b.raw())), (k < 0) ? k : 0,
+                                        den_overflow);
+  if (num_overflow) {
+    // |a| * 2^k >= 2^width while |b| <= 2^(N-1): the quotient is at least
+    // 2^(width - N + 1), beyond every output format (docs/fixedpoint.md).
+    status.raise(Flag::overflow);
+    return negative ? Out::min() : Out::max();
+  }
+  if (den_overflow) {
+    // The divisor exceeds 2^width > 2 |a|: the quotient rounds to zero.
+    return Out::zero();
+  }
+  const wide::DivMod<W> qr = wide::divmod(num, den);
+  // Round half away from zero: up when remainder >= divisor - remainder.
+  const bool round_up = !wide::less(qr.remainder, wide::sub(den, qr.remainder));
+  const W mag = round_up ? wide::add(qr.quotient, wide::from_u64<W>(1U)) : qr.quotient;
+  return Out::from_raw(detail::from_sign_magnitude<OutS>(negative && !wide::is_zero(mag), mag, status));
+}
+
+/// a / b in a's format.
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Q<S, F> div(Q<S, F> a, Q<S, F> b, Status& status) noexcept {
+  return div<Q<S, F>>(a, b, status);
+}
+
+}  // namespace fx
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_FIXEDPOINT_Q_HPP

@@ -1,0 +1,90 @@
+// sqrt.hpp: square root and reciprocal in Q format.
+//
+// sqrt: within 0.5 LSB of the exact root (rounded to nearest; a root of an
+// integer is never exactly halfway, so there are no ties). Negative input
+// raises Flag::domain and returns zero.
+// reciprocal: 1/x through div, within 0.5 LSB; x == 0 raises div_by_zero.
+#ifndef SINKWATCH_FIXEDPOINT_SQRT_HPP
+#define SINKWATCH_FIXEDPOINT_SQRT_HPP
+
+#include <cstdint>
+
+#include "sinkwatch/fixedpoint/q.hpp"
+
+namespace sinkwatch {
+namespace fx {
+namespace detail {
+
+/// floor(sqrt(x)) by the bit-by-bit method: one step per result bit, so at
+/// most width/2 steps, and no division.
+template <typename W>
+constexpr W isqrt_floor(const W& x) noexcept {
+  W remainder = x;
+  W root = wide::from_u64<W>(0U);
+  // The highest power of four not above x.
+  const std::uint32_t len = wide::bit_length(x);
+  if (len == 0U) {
+    return root;
+  }
+  std::uint32_t shift = (len - 1U) & ~1U;
+  W bit4 = wide::shl(wide::from_u64<W>(1U), shift);
+  const std::uint32_t steps = (shift / 2U) + 1U;
+  for (std::uint32_t i = 0U; i < steps; ++i) {
+    const W trial = wide::add(root, bit4);
+    root = wide::shr(root, 1U);
+    if (!wide::less(remainder, trial)) {
+      remainder = wide::sub(remainder, trial);
+      root = wide::add(root, bit4);
+    }
+    bit4 = wide::shr(bit4, 2U);
+  }
+  return root;
+}
+
+}  // namespace detail
+
+/// sqrt(a) in the format Out, within 0.5 LSB. Needs 2 * Fo >= Fa so that the
+/// radicand is an integer: raw_out = round(sqrt(raw_a * 2^(2 Fo - Fa))).
+template <typename Out, typename S, std::int32_t F>
+[[nodiscard]] constexpr Out sqrt(Q<S, F> a, Status& status) noexcept {
+  static_assert((2 * Out::frac_bits) >= F, "sqrt needs 2*Fout >= Fin");
+  using OutS = typename Out::storage_type;
+  // The radicand may need twice the output's width: always use 128 bits.
+  using W = wide::U128;
+  if (a.raw() < 0) {
+    status.raise(Flag::domain);
+    return Out::zero();
+  }
+  bool overflowed = false;
+  const W radicand = detail::scale_magnitude(wide::from_u64<W>(detail::magnitude(a.raw())),
+                                             F - (2 * Out::frac_bits), overflowed);
+  if (overflowed) {
+    // radicand >= 2^128: the root is >= 2^64, beyond every format.
+    status.raise(Flag::overflow);
+    return Out::max();
+  }
+  const W root = detail::isqrt_floor(radicand);
+  // Round: up when x - r^2 > r, i.e. x >= r^2 + r + 1 > (r + 1/2)^2.
+  const W r_sq = wide::mul_full(wide::low_u64(root), wide::low_u64(root));
+  const W excess = wide::sub(radicand, r_sq);
+  const W rounded = wide::less(root, excess) ? wide::add(root, wide::from_u64<W>(1U)) : root;
+  return Out::from_raw(detail::from_sign_magnitude<OutS>(false, rounded, status));
+}
+
+/// sqrt(a) in a's format.
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Q<S, F> sqrt(Q<S, F> a, Status& status) noexcept {
+  return sqrt<Q<S, F>>(a, status);
+}
+
+/// 1 / a in the format Out, within 0.5 LSB; a == 0 raises div_by_zero.
+template <typename Out, typename S, std::int32_t F>
+[[nodiscard]] constexpr Out reciprocal(Q<S, F> a, Status& status) noexcept {
+  // 1 as a Q<int64_t, 0>: exact, and div rounds once.
+  return div<Out>(Q<std::int64_t, 0>::from_raw(1), a, status);
+}
+
+}  // namespace fx
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_FIXEDPOINT_SQRT_HPP

@@ -1,0 +1,179 @@
+// wide.hpp: unsigned double-width integers for exact intermediate results.
+//
+// A product or a shifted dividend of two N-bit magnitudes needs 2N bits. For
+// 32-bit storage that is uint64_t. For 64-bit storage it is U128 below: GCC's
+// __int128 does not exist on 32-bit ARM, and the results must be bit-exact on
+// every target, so the 128-bit arithmetic is written out in two uint64_t
+// halves. Every function here is overloaded for uint64_t and U128 so the Q
+// operations are written once for both.
+//
+// All shifts are on unsigned operands (MISRA C++:2023 rule 7.0.4) and every
+// shift count is checked against the width before it is used.
+#ifndef SINKWATCH_FIXEDPOINT_WIDE_HPP
+#define SINKWATCH_FIXEDPOINT_WIDE_HPP
+
+#include <cstdint>
+
+namespace sinkwatch {
+namespace fx {
+namespace wide {
+
+/// 128-bit unsigned integer as two 64-bit halves.
+struct U128 {
+  std::uint64_t hi;
+  std::uint64_t lo;
+};
+
+constexpr std::uint32_t width(std::uint64_t) noexcept { return 64U; }
+constexpr std::uint32_t width(const U128&) noexcept { return 128U; }
+
+constexpr U128 make_u128(std::uint64_t value) noexcept { return U128{0U, value}; }
+
+constexpr bool equal(std::uint64_t a, std::uint64_t b) noexcept { return a == b; }
+constexpr bool equal(const U128& a, const U128& b) noexcept { return (a.hi == b.hi) && (a.lo == b.lo); }
+
+constexpr bool less(std::uint64_t a, std::uint64_t b) noexcept { return a < b; }
+constexpr bool less(const U128& a, const U128& b) noexcept {
+  return (a.hi < b.hi) || ((a.hi == b.hi) && (a.lo < b.lo));
+}
+
+constexpr bool is_zero(std::uint64_t a) noexcept { return a == 0U; }
+constexpr bool is_zero(const U128& a) noexcept { return (a.hi == 0U) && (a.lo == 0U); }
+
+/// a + b; the caller guarantees no carry out of the top bit.
+constexpr std::uint64_t add(std::uint64_t a, std::uint64_t b) noexcept { return a + b; }
+constexpr U128 add(const U128& a, const U128& b) noexcept {
+  const std::uint64_t lo = a.lo + b.lo;
+  const std::uint64_t carry = (lo < a.lo) ? 1U : 0U;
+  return U128{a.hi + b.hi + carry, lo};
+}
+
+/// a - b; the caller guarantees a >= b.
+constexpr std::uint64_t sub(std::uint64_t a, std::uint64_t b) noexcept { return a - b; }
+constexpr U128 sub(const U128& a, const U128& b) noexcept {
+  const std::uint64_t borrow = (a.lo < b.lo) ? 1U : 0U;
+  return U128{a.hi - b.hi - borrow, a.lo - b.lo};
+}
+
+/// a >> n; n >= width gives 0.
+constexpr std::uint64_t shr(std::uint64_t a, std::uint32_t n) noexcept { return (n >= 64U) ? 0U : (a >> n); }
+constexpr U128 shr(const U128& a, std::uint32_t n) noexcept {
+  if (n >= 128U) {
+    return U128{0U, 0U};
+  }
+  if (n >= 64U) {
+    return U128{0U, shr(a.hi, n - 64U)};
+  }
+  if (n == 0U) {
+    return a;
+  }
+  return U128{a.hi >> n, (a.lo >> n) | (a.hi << (64U - n))};
+}
+
+/// a << n, bits shifted out are lost; n >= width gives 0.
+constexpr std::uint64_t shl(std::uint64_t a, std::uint32_t n) noexcept { return (n >= 64U) ? 0U : (a << n); }
+constexpr U128 shl(const U128& a, std::uint32_t n) noexcept {
+  if (n >= 128U) {
+    return U128{0U, 0U};
+  }
+  if (n >= 64U) {
+    return U128{shl(a.lo, n - 64U), 0U};
+  }
+  if (n == 0U) {
+    return a;
+  }
+  return U128{(a.hi << n) | (a.lo >> (64U - n)), a.lo << n};
+}
+
+/// Bit n of a (0 = least significant); n >= width gives false.
+constexpr bool bit(std::uint64_t a, std::uint32_t n) noexcept { return (shr(a, n) & 1U) != 0U; }
+constexpr bool bit(const U128& a, std::uint32_t n) noexcept { return (shr(a, n).lo & 1U) != 0U; }
+
+/// Number of significant bits (0 for a == 0). Loop bounded by the width.
+constexpr std::uint32_t bit_length(std::uint64_t a) noexcept {
+  std::uint32_t n = 0U;
+  std::uint64_t v = a;
+  while ((v != 0U) && (n < 64U)) {
+    v >>= 1U;
+    ++n;
+  }
+  return n;
+}
+constexpr std::uint32_t bit_length(const U128& a) noexcept {
+  return (a.hi != 0U) ? (64U + bit_length(a.hi)) : bit_length(a.lo);
+}
+
+/// Full product of two 32-bit values.
+constexpr std::uint64_t mul_full(std::uint32_t a, std::uint32_t b) noexcept {
+  return static_cast<std::uint64_t>(a) * static_cast<std::uint64_t>(b);
+}
+/// Full product of two 64-bit values, by 32-bit limbs (schoolbook).
+constexpr U128 mul_full(std::uint64_t a, std::uint64_t b) noexcept {
+  const std::uint64_t mask = 0xFFFFFFFFU;
+  const std::uint64_t a_lo = a & mask;
+  const std::uint64_t a_hi = a >> 32U;
+  const std::uint64_t b_lo = b & mask;
+  const std::uint64_t b_hi = b >> 32U;
+  const std::uint64_t ll = a_lo * b_lo;
+  const std::uint64_t lh = a_lo * b_hi;
+  const std::uint64_t hl = a_hi * b_lo;
+  const std::uint64_t hh = a_hi * b_hi;
+  // Middle column: at most 3 * (2^32 - 1) summands' worth, fits in 64 bits.
+  const std::uint64_t mid = (ll >> 32U) + (lh & mask) + (hl & mask);
+  const std::uint64_t lo = (ll & mask) | (mid << 32U);
+  const std::uint64_t hi = hh + (lh >> 32U) + (hl >> 32U) + (mid >> 32U);
+  return U128{hi, lo};
+}
+
+/// Quotient and remainder of an unsigned division.
+template <typename W>
+struct DivMod {
+  W quotient;
+  W remainder;
+};
+
+/// num / den by the built-in operator; den != 0 is the caller's duty.
+constexpr DivMod<std::uint64_t> divmod(std::uint64_t num, std::uint64_t den) noexcept {
+  return DivMod<std::uint64_t>{num / den, num % den};
+}
+
+/// num / den by restoring long division, one bit per step: at most 128 steps.
+/// den != 0 is the caller's duty.
+constexpr DivMod<U128> divmod(const U128& num, const U128& den) noexcept {
+  if (num.hi == 0U && den.hi == 0U) {
+    return DivMod<U128>{U128{0U, num.lo / den.lo}, U128{0U, num.lo % den.lo}};
+  }
+  U128 quotient{0U, 0U};
+  U128 remainder{0U, 0U};
+  const std::uint32_t n_bits = bit_length(num);
+  for (std::uint32_t step = 0U; step < n_bits; ++step) {
+    const std::uint32_t i = n_bits - 1U - step;
+    remainder = shl(remainder, 1U);
+    if (bit(num, i)) {
+      remainder.lo |= 1U;
+    }
+    if (!less(remainder, den)) {
+      remainder = sub(remainder, den);
+      quotient = add(quotient, shl(make_u128(1U), i));
+    }
+  }
+  return DivMod<U128>{quotient, remainder};
+}
+
+/// Converts a uint64_t into the wide type W.
+template <typename W>
+constexpr W from_u64(std::uint64_t value) noexcept;
+template <>
+constexpr std::uint64_t from_u64<std::uint64_t>(std::uint64_t value) noexcept { return value; }
+template <>
+constexpr U128 from_u64<U128>(std::uint64_t value) noexcept { return make_u128(value); }
+
+/// Low 64 bits of a wide value (the caller has checked that it fits).
+constexpr std::uint64_t low_u64(std::uint64_t a) noexcept { return a; }
+constexpr std::uint64_t low_u64(const U128& a) noexcept { return a.lo; }
+
+}  // namespace wide
+}  // namespace fx
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_FIXEDPOINT_WIDE_HPP
