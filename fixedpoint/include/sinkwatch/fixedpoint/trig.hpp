@@ -1,0 +1,303 @@
+// trig.hpp: sin, cos, asin, acos and the wheel entry angle in Q format.
+//
+// The entry angle is the paper's theta1 = arccos(1 - z/r) (the angle at which
+// the soil first touches a wheel of radius r sunk by z; it bounds the
+// integrals of the Wong-Reece stress model, docs/derivation.md). It is
+// computed as 2 asin(sqrt(z / (2 r))): the same number, but accurate near zero
+// sinkage, where 1 - z/r loses every significant bit of z. sin and cos serve
+// the attitude (slope) terms.
+//
+// Every function here runs on an FPU-less Cortex-M0 every control cycle for
+// six wheels, so:
+//  * integer arithmetic only, bit-exact on every target: 32-bit coefficients
+//    and accumulators, 32 x 32 -> 64-bit products, no 128-bit arithmetic, no
+//    tables computed in floating point, every loop bounded by a constant;
+//  * polynomials are truncated Taylor series whose truncation error is proven
+//    below one hundredth of an output LSB (docs/fixedpoint.md gives every
+//    bound and its proof);
+//  * results: sin and cos in Q1_30 within 1 LSB of the exact value of the
+//    exact input angle, for every representable angle; asin, acos and
+//    entry_angle in Q3_28 (radians) within 1 LSB.
+//
+// Errors, in the caller's sticky Status:
+//  * asin/acos of |x| > 1 raise Flag::domain and return zero. There is no
+//    silent clamp to +-1: an argument past 1 means the caller's geometry is
+//    wrong, and a clamp would hide it.
+//  * entry_angle of z/r < 0 or z/r > 2 raises Flag::domain and returns zero.
+//  * sin and cos cannot fail: they take a Status only for uniformity.
+//
+// Range reduction for sin and cos multiplies the angle by 1/(2 pi) held to
+// 128 bits (Payne-Hanek style, in 32-bit limbs), so the reduction is exact to
+// 2^-60 turn even for an angle of 2^63 rad; the angle is never shifted by
+// pi/2 in its own format, so there is no intermediate overflow (the classic
+// cos(x) = sin(x + pi/2) bug near the top of the format is impossible).
+#ifndef SINKWATCH_FIXEDPOINT_TRIG_HPP
+#define SINKWATCH_FIXEDPOINT_TRIG_HPP
+
+#include <cstdint>
+
+#include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/sqrt.hpp"
+#include "sinkwatch/fixedpoint/status.hpp"
+
+namespace sinkwatch {
+namespace fx {
+namespace detail {
+namespace trig {
+
+/// 1/(2 pi) = sum k_inv_two_pi[i] * 2^(-32 (i + 1)), truncated after 128
+/// bits (error < 2^-128). Generated with mpmath at 80 digits; a host test
+/// checks the leading limbs against long double.
+constexpr std::uint32_t k_inv_two_pi[4] = {0x28BE60DBU, 0x9391054AU, 0x7F09D5F4U, 0x7D4D3770U};
+
+/// pi/2 in units of 2^-32 rad, rounded to nearest (error 0.261 unit).
+constexpr std::uint64_t k_half_pi_q32 = 6746518852U;
+
+/// Taylor coefficients of sin(pi/4 v) = sum a_k v^k, k odd, a_k =
+/// (pi/4)^k / k!, each in units of 2^-(32 + s_k) with s_k the largest shift
+/// that keeps it below 2^32 (so each carries 32 significant bits).
+constexpr std::uint32_t k_sin_a[6] = {3373259426U, 2774394673U, 2738217788U,
+                                      2573821555U, 2822511172U, 4051937263U};
+constexpr std::uint32_t k_sin_shift[6] = {0U, 3U, 8U, 14U, 21U, 29U};
+
+/// Taylor coefficients b_k = (pi/4)^k / k! of cos(pi/4 v), k = 2, 4, ..., 12,
+/// in units of 2^-(32 + s_k).
+constexpr std::uint32_t k_cos_b[6] = {2649351758U, 2179004481U, 2867454962U,
+                                      4042949445U, 3546872145U, 4243178780U};
+constexpr std::uint32_t k_cos_shift[6] = {1U, 5U, 11U, 18U, 25U, 33U};
+
+/// Taylor coefficients c_n = C(2n, n) / (4^n (2n + 1)) of
+/// asin(s) = s + sum c_n s^(2n + 1), n = 1 .. 12, in units of 2^-32.
+constexpr std::uint32_t k_asin_c[12] = {715827883U, 322122547U, 191739611U, 130489458U,
+                                        96087692U,  74529556U,  59978547U,  49614607U,
+                                        41925794U,  36036218U,  31407059U,  27690557U};
+
+/// round(a * b / 2^shift) for 1 <= shift <= 63, a * b + 2^(shift-1) < 2^64.
+constexpr std::uint64_t mul_round(std::uint64_t a, std::uint64_t b, std::uint32_t shift) noexcept {
+  return ((a * b) + (std::uint64_t{1U} << (shift - 1U))) >> shift;
+}
+
+/// Fraction of a turn of the angle m * 2^-F rad, in units of 2^-64 turn:
+/// m * 2^-F / (2 pi) mod 1, computed limb by limb. Whole turns fall off the
+/// top of the uint64_t (unsigned wrap, which is exactly "mod 1 turn").
+/// Error: each of at most 8 truncated partial products loses < 1 unit and the
+/// truncated constant < 2^-65 turn, so the result is low by less than 9 units.
+template <std::int32_t F>
+constexpr std::uint64_t turns(std::uint64_t m) noexcept {
+  const std::uint64_t limb[2] = {m & 0xFFFFFFFFU, m >> 32U};
+  std::uint64_t t = 0U;
+  for (std::uint32_t j = 0U; j < 2U; ++j) {
+    for (std::uint32_t i = 0U; i < 4U; ++i) {
+      // Weight of limb[j] * k_inv_two_pi[i] in units of 2^-64 turn: 2^s.
+      const std::int32_t s = (32 + (32 * (static_cast<std::int32_t>(j) - static_cast<std::int32_t>(i)))) - F;
+      if ((s < 64) && (s > -64)) {
+        const std::uint64_t p = limb[j] * static_cast<std::uint64_t>(k_inv_two_pi[i]);
+        t += (s >= 0) ? (p << static_cast<std::uint32_t>(s)) : (p >> static_cast<std::uint32_t>(-s));
+      }
+    }
+  }
+  return t;
+}
+
+/// An angle reduced to q * pi/2 + r with |r| <= pi/4. r = (negative ? -1 : 1)
+/// * m * 2^-61 * pi/4, m <= 2^61.
+struct Reduced {
+  std::uint32_t quadrant;
+  bool negative;
+  std::uint64_t m;
+};
+
+constexpr Reduced reduce(std::uint64_t turn_fraction) noexcept {
+  const std::uint64_t eighth = std::uint64_t{1U} << 61U;
+  const std::uint64_t u = turn_fraction + eighth;  // wraps mod 1 turn: intended
+  const std::uint32_t quadrant = static_cast<std::uint32_t>(u >> 62U);
+  const std::uint64_t g = u & ((std::uint64_t{1U} << 62U) - 1U);
+  if (g >= eighth) {
+    return Reduced{quadrant, false, g - eighth};
+  }
+  return Reduced{quadrant, true, eighth - g};
+}
+
+/// v^2 in units of 2^-31 for v = m * 2^-61 <= 1, within 0.5 + 2^-30 units.
+constexpr std::uint64_t square_q31(std::uint64_t m) noexcept {
+  const std::uint64_t m_hi = m >> 30U;          // <= 2^31
+  const std::uint64_t m_lo = m & 0x3FFFFFFFU;  // < 2^30
+  // v^2 * 2^31 = m_hi^2 2^-31 + m_hi m_lo 2^-60 + m_lo^2 2^-91; the last term
+  // is below 2^-31 units and dropped.
+  const std::uint64_t sum = (m_hi * m_hi) + ((m_hi * m_lo) >> 29U);
+  return (sum + (std::uint64_t{1U} << 30U)) >> 31U;
+}
+
+/// |sin(pi/4 v)| * 2^30 rounded, for v = m * 2^-61 in [0, 1].
+constexpr std::uint64_t sin_kernel(std::uint64_t m) noexcept {
+  const std::uint64_t w = square_q31(m);
+  // P(w) = a1 - w (a3 - w (a5 - w (a7 - w (a9 - w a11)))): every bracket is
+  // positive (a_k > a_(k+2) and w <= 1), so the Horner steps stay unsigned.
+  std::uint64_t b = k_sin_a[5];
+  for (std::uint32_t step = 0U; step < 5U; ++step) {
+    const std::uint32_t k = 4U - step;
+    b = k_sin_a[k] - mul_round(w, b, (31U + k_sin_shift[k + 1U]) - k_sin_shift[k]);
+  }
+  // sin = v P with v taken at full precision: m * P * 2^-93, in 2^-30 units
+  // m * P * 2^-63. m = m_hi 2^30 + m_lo keeps both products below 2^63.
+  const std::uint64_t m_hi = m >> 30U;
+  const std::uint64_t m_lo = m & 0x3FFFFFFFU;
+  const std::uint64_t t = (m_hi * b) + ((m_lo * b) >> 30U);
+  return (t + (std::uint64_t{1U} << 32U)) >> 33U;
+}
+
+/// cos(pi/4 v) * 2^30 rounded, for v = m * 2^-61 in [0, 1].
+constexpr std::uint64_t cos_kernel(std::uint64_t m) noexcept {
+  const std::uint64_t w = square_q31(m);
+  std::uint64_t b = k_cos_b[5];
+  for (std::uint32_t step = 0U; step < 5U; ++step) {
+    const std::uint32_t k = 4U - step;
+    b = k_cos_b[k] - mul_round(w, b, (31U + k_cos_shift[k + 1U]) - k_cos_shift[k]);
+  }
+  // cos = 1 - w Q, Q = b in units 2^-33: w Q in 2^-30 units is w b 2^-34.
+  return (std::uint64_t{1U} << 30U) - mul_round(w, b, 34U);
+}
+
+/// Q1_30 from a sign and a magnitude <= 2^30.
+constexpr Q1_30 signed_q1_30(bool negative, std::uint64_t mag) noexcept {
+  const std::int32_t v = static_cast<std::int32_t>(mag);
+  return Q1_30::from_raw(negative ? -v : v);
+}
+
+/// asin(s) in units of 2^-32 rad for s = s32 * 2^-32 in [0, 1/2].
+constexpr std::uint64_t asin_poly(std::uint64_t s32) noexcept {
+  const std::uint64_t w = mul_round(s32, s32, 32U);  // s^2 <= 1/4 in 2^-32 units
+  // All terms of the series are positive: B_n = c_n + w B_(n+1).
+  std::uint64_t b = k_asin_c[11];
+  for (std::uint32_t step = 0U; step < 11U; ++step) {
+    const std::uint32_t n = 10U - step;
+    b = k_asin_c[n] + mul_round(w, b, 32U);
+  }
+  // asin(s) = s + s w B_1.
+  return s32 + mul_round(s32, mul_round(w, b, 32U), 32U);
+}
+
+/// asin(|x|) in units of 2^-32 rad, |x| = m 2^-F <= 1, given also the exact
+/// complement d = 2^F - m. Past 1/2 it uses asin(x) = pi/2 - 2 asin(sqrt((1 -
+/// x) / 2)), with 1 - x exact (d), so the steep end near |x| = 1 is as
+/// accurate as the flat middle.
+template <std::int32_t F>
+constexpr std::uint64_t asin_magnitude(std::uint64_t m, std::uint64_t d) noexcept {
+  const std::uint64_t one = std::uint64_t{1U} << static_cast<std::uint32_t>(F);
+  if ((2U * m) <= one) {
+    std::uint64_t s32 = 0U;
+    if constexpr (F <= 32) {
+      s32 = m << static_cast<std::uint32_t>(32 - F);
+    } else {
+      const std::uint32_t sh = static_cast<std::uint32_t>(F - 32);
+      s32 = (m + (std::uint64_t{1U} << (sh - 1U))) >> sh;
+    }
+    return asin_poly(s32);
+  }
+  // s = sqrt(d 2^-(F+1)) <= 1/2; s 2^32 = sqrt(d 2^(63-F)), radicand < 2^62.
+  const std::uint64_t radicand = d << static_cast<std::uint32_t>(63 - F);
+  const std::uint64_t root = isqrt_floor<std::uint64_t>(radicand);
+  // Round to nearest: up when radicand - root^2 > root (no ties possible).
+  const std::uint64_t s32 = ((radicand - (root * root)) > root) ? (root + 1U) : root;
+  return k_half_pi_q32 - (2U * asin_poly(s32));
+}
+
+/// Q3_28 from a sign and an angle in units of 2^-32 rad (< 4 pi).
+constexpr Q3_28 q3_28_from_q32(bool negative, std::uint64_t angle_q32) noexcept {
+  const std::int32_t v = static_cast<std::int32_t>((angle_q32 + 8U) >> 4U);
+  return Q3_28::from_raw(negative ? -v : v);
+}
+
+}  // namespace trig
+}  // namespace detail
+
+/// sin(angle_rad) in Q1_30, within 1 LSB (2^-30) of the exact sine of the
+/// exact angle, for every representable angle. Odd: sin(-x) == -sin(x) bit
+/// for bit. Cannot fail.
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Q1_30 sin(Q<S, F> angle_rad, Status& status) noexcept {
+  static_cast<void>(status);
+  const detail::trig::Reduced r = detail::trig::reduce(detail::trig::turns<F>(detail::magnitude(angle_rad.raw())));
+  // |angle| = q pi/2 + r: sin is +-sin(r) in quadrants 0 and 2, +-cos(r) in 1 and 3.
+  const bool odd_quadrant = (r.quadrant & 1U) != 0U;
+  const std::uint64_t mag = odd_quadrant ? detail::trig::cos_kernel(r.m) : detail::trig::sin_kernel(r.m);
+  bool negative = odd_quadrant ? (r.quadrant == 3U) : (r.negative != (r.quadrant == 2U));
+  if (angle_rad.raw() < 0) {
+    negative = !negative;
+  }
+  return detail::trig::signed_q1_30(negative, mag);
+}
+
+/// cos(angle_rad) in Q1_30, within 1 LSB of the exact cosine of the exact
+/// angle, for every representable angle. Even: cos(-x) == cos(x) bit for bit.
+/// Cannot fail.
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Q1_30 cos(Q<S, F> angle_rad, Status& status) noexcept {
+  static_cast<void>(status);
+  const detail::trig::Reduced r = detail::trig::reduce(detail::trig::turns<F>(detail::magnitude(angle_rad.raw())));
+  // cos is +-cos(r) in quadrants 0 and 2, -+sin(r) in 1 and 3.
+  const bool odd_quadrant = (r.quadrant & 1U) != 0U;
+  const std::uint64_t mag = odd_quadrant ? detail::trig::sin_kernel(r.m) : detail::trig::cos_kernel(r.m);
+  const bool negative = odd_quadrant ? (r.negative != (r.quadrant == 1U)) : (r.quadrant == 2U);
+  return detail::trig::signed_q1_30(negative, mag);
+}
+
+/// asin(x) in radians, Q3_28, within 1 LSB (2^-28) of the exact value.
+/// |x| > 1 raises Flag::domain and returns zero (no silent clamp).
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Q3_28 asin(Q<S, F> x, Status& status) noexcept {
+  const std::uint64_t one = std::uint64_t{1U} << static_cast<std::uint32_t>(F);
+  const std::uint64_t m = detail::magnitude(x.raw());
+  if (m > one) {
+    status.raise(Flag::domain);
+    return Q3_28::zero();
+  }
+  const std::uint64_t a = detail::trig::asin_magnitude<F>(m, one - m);
+  return detail::trig::q3_28_from_q32((x.raw() < 0) && (a != 0U), a);
+}
+
+/// acos(x) in radians, in [0, pi], Q3_28, within 1 LSB of the exact value.
+/// |x| > 1 raises Flag::domain and returns zero (no silent clamp).
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Q3_28 acos(Q<S, F> x, Status& status) noexcept {
+  const std::uint64_t one = std::uint64_t{1U} << static_cast<std::uint32_t>(F);
+  const std::uint64_t m = detail::magnitude(x.raw());
+  if (m > one) {
+    status.raise(Flag::domain);
+    return Q3_28::zero();
+  }
+  const std::uint64_t a = detail::trig::asin_magnitude<F>(m, one - m);
+  // acos(x) = pi/2 - asin(x); asin(|x|) <= pi/2 by construction.
+  const std::uint64_t angle = (x.raw() < 0) ? (detail::trig::k_half_pi_q32 + a) : (detail::trig::k_half_pi_q32 - a);
+  return detail::trig::q3_28_from_q32(false, angle);
+}
+
+/// The entry angle theta1 = arccos(1 - z/r) in radians, Q3_28, from the
+/// sinkage ratio z/r, within 1 LSB of the exact value. Computed with 1 - z/r
+/// never formed in a rounded format: for z/r <= 1/2 it is exactly
+/// 2 asin(sqrt(z / (2 r))). z/r < 0 or > 2 raises Flag::domain and returns
+/// zero.
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Q3_28 entry_angle(Q<S, F> sinkage_ratio, Status& status) noexcept {
+  const std::uint64_t one = std::uint64_t{1U} << static_cast<std::uint32_t>(F);
+  const std::uint64_t m = detail::magnitude(sinkage_ratio.raw());
+  if ((sinkage_ratio.raw() < 0) || (m > (2U * one))) {
+    status.raise(Flag::domain);
+    return Q3_28::zero();
+  }
+  // y = 1 - z/r. |y| and 1 - |y| are both exact in the input's units.
+  if (m <= one) {
+    // y >= 0: theta1 = pi/2 - asin(y); with 1 - y = z/r this is the
+    // 2 asin(sqrt(z/(2r))) form whenever y > 1/2.
+    const std::uint64_t a = detail::trig::asin_magnitude<F>(one - m, m);
+    return detail::trig::q3_28_from_q32(false, detail::trig::k_half_pi_q32 - a);
+  }
+  // y < 0: theta1 = pi/2 + asin(|y|), |y| = z/r - 1, 1 - |y| = 2 - z/r.
+  const std::uint64_t a = detail::trig::asin_magnitude<F>(m - one, (2U * one) - m);
+  return detail::trig::q3_28_from_q32(false, detail::trig::k_half_pi_q32 + a);
+}
+
+}  // namespace fx
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_FIXEDPOINT_TRIG_HPP
