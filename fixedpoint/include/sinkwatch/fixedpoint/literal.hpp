@@ -47,7 +47,14 @@ constexpr QType from_double(double v, Status& status) noexcept {
     top *= 2.0;
   }
   constexpr double k_two52 = 4503599627370496.0;  // 2^52: from here on every double is an integer
-  const double rounded = (m >= k_two52) ? m : static_cast<double>(static_cast<std::uint64_t>(m + 0.5));
+  // Below 2^52, split into integer part and fraction; both are exact, and
+  // comparing the fraction with 0.5 avoids the (m + 0.5) trap, which rounds
+  // 0.49999999999999994 up to 1.
+  double rounded = m;
+  if (m < k_two52) {
+    const double integer_part = static_cast<double>(static_cast<std::uint64_t>(m));
+    rounded = ((m - integer_part) >= 0.5) ? (integer_part + 1.0) : integer_part;
+  }
   const bool too_big = negative ? (rounded > top) : (rounded >= top);
   if (too_big) {
     status.raise(Flag::overflow);
