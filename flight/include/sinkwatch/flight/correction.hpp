@@ -1,0 +1,62 @@
+// correction.hpp: the corrections C1, C2, C3 of Eq. 11 as functions of the
+// wheel load (the paper's Table 2), and the soil-bin drawbar-pull maximum
+// DP_max/W (section 7, Fig. 10) over the same load breakpoints.
+//
+// Each is piecewise linear between the breakpoints and held constant beyond
+// the first and the last; a load outside the breakpoints is reported
+// (LoadClamp), because the fit says nothing about loads it was not made at.
+// Default: Table 2's five soil-bin loads 3, 7, 10, 15, 20 kg times
+// 9.81 N/kg, C1 = C2 = 1, C3 = 0.20, 0.15, 0.13, 0.13, 0.13 (param_table.hpp).
+//
+// DP_max is stored as the traction coefficient DP_max/W, not in newtons:
+// Table 1 and Fig. 10 give it as a coefficient, and a coefficient carries over
+// between loads where a force does not.
+#ifndef SINKWATCH_FLIGHT_CORRECTION_HPP
+#define SINKWATCH_FLIGHT_CORRECTION_HPP
+
+#include <cstdint>
+
+#include "sinkwatch/flight/estimator.hpp"
+#include "sinkwatch/flight/units.hpp"
+
+namespace sinkwatch {
+namespace flight {
+
+constexpr std::uint8_t kMaxCorrectionRows = 8U;
+
+/// One soil-bin load and its fitted corrections.
+struct CorrectionRow {
+  WheelLoadN load_n;   ///< breakpoint; strictly increasing along the table
+  Ratio c1;
+  Ratio c2;
+  Ratio c3;
+  Ratio dp_max_ratio;  ///< DP_max / W at high slip for this load
+};
+
+struct CorrectionTable {
+  std::uint8_t count;  ///< rows in use, 1..kMaxCorrectionRows
+  CorrectionRow rows[kMaxCorrectionRows];
+};
+
+/// Where the load fell relative to the breakpoints.
+enum class LoadClamp : std::uint8_t {
+  none = 0U,         ///< within [first, last]: interpolated
+  below_first = 1U,  ///< below the first breakpoint: the first row's values
+  above_last = 2U,   ///< above the last breakpoint: the last row's values
+};
+
+struct CorrectionResult {
+  Coefficients coefficients;
+  Ratio dp_max_ratio;
+  LoadClamp clamp;
+  EstimateStatus status;  ///< invalid_load for W <= 0, invalid_coefficient for a malformed table
+};
+
+/// C1..C3 and DP_max/W at the load `load_n`. A table that passed
+/// validate() never gives a status other than ok or invalid_load.
+[[nodiscard]] CorrectionResult corrections_at(const CorrectionTable& table, WheelLoadN load_n) noexcept;
+
+}  // namespace flight
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_FLIGHT_CORRECTION_HPP

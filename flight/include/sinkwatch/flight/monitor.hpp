@@ -1,0 +1,169 @@
+// monitor.hpp: the sinkage monitor of section 7: per wheel NOMINAL -> CAUTION
+// -> STOP, and the rover's decision to continue or to stop and re-plan.
+//
+// Each cycle, for each wheel, from its motor current I, load W, drawbar pull
+// DP and direction:
+//   T     = torque_from_current(I)                       (motor.hpp)
+//   C(W)  = corrections_at(W)                            (Table 2)
+//   z     = sinkage_from_pull(C, r, W, T, DP)            (Eq. 11)
+//   I_max = current_limit(W) at z = allowed sinkage      (section 7)
+// A sample is STOP evidence when d*I >= I_max or z >= stop level, CAUTION
+// evidence when d*I >= f*I_max or z >= caution level, and "clear" when both
+// are below the caution levels minus their hysteresis. States move only on
+// N of the last M samples (the paper's "close to the maximum current" made
+// robust to one noisy sample):
+//   NOMINAL -> CAUTION  trip_n of the last window_m samples caution or worse
+//   any     -> STOP     trip_n of the last window_m samples stop evidence,
+//                       or invalid_to_stop unusable samples in a row
+//   CAUTION -> NOMINAL  clear_n of the last window_m samples clear
+//   STOP    latched until clear_stop() (the ground's re-plan acknowledges it)
+// Unusable telemetry (flagged invalid, stale, repeated time stamp, current or
+// load out of range, an estimate that overflows) is counted per reason, never
+// turned into a sinkage number, counts as CAUTION evidence and never as clear:
+// a blind wheel cannot return to NOMINAL.
+//
+// On entering STOP the wheel writes an EventRecord: the time, the reason, the
+// peak current of the episode (since the wheel was last NOMINAL) and, as
+// section 7 proposes for ground reproduction, the sinkage that Eq. 11 gives
+// for that peak current with DP = DP_max.
+#ifndef SINKWATCH_FLIGHT_MONITOR_HPP
+#define SINKWATCH_FLIGHT_MONITOR_HPP
+
+#include <cstdint>
+
+#include "sinkwatch/flight/correction.hpp"
+#include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/units.hpp"
+
+namespace sinkwatch {
+namespace flight {
+
+enum class WheelState : std::uint8_t { nominal = 0U, caution = 1U, stop = 2U };
+
+/// What became of this cycle's sample.
+enum class SampleStatus : std::uint8_t {
+  ok = 0U,
+  flagged_invalid = 1U,       ///< the telemetry's own validity flag was false
+  stale = 2U,                 ///< older than stale_timeout_ms, or from the future
+  repeated_time = 3U,         ///< same time stamp as the previous sample: not refreshed
+  current_out_of_range = 4U,  ///< |I| beyond the sensor range
+  load_out_of_range = 5U,     ///< W outside [load_min, load_max]
+  direction_invalid = 6U,     ///< direction is not forward/reverse
+  estimate_failed = 7U,       ///< an intermediate overflowed: no number
+};
+constexpr std::uint8_t kSampleStatusCount = 8U;
+
+enum class StopReason : std::uint8_t { none = 0U, current = 1U, sinkage = 2U, telemetry = 3U };
+
+/// One wheel's telemetry for one cycle.
+struct WheelInput {
+  TimeMs time;                  ///< when the sample was taken
+  CurrentA current_a;           ///< signed; positive drives the rover forward
+  WheelLoadN load_n;            ///< from the rover's statics (issue 4)
+  DrawbarPullN drawbar_pull_n;  ///< from the rover's behaviour (issue 4)
+  DriveDirection direction;     ///< commanded direction
+  bool valid;                   ///< the telemetry source's own validity flag
+};
+
+/// One wheel's result for one cycle.
+struct WheelOutput {
+  WheelState state;
+  SampleStatus sample_status;
+  StopReason stop_reason;   ///< why the wheel is in STOP (none otherwise)
+  bool stop_tripped;        ///< entered STOP in this cycle; last_event() is new
+  bool estimate_valid;      ///< torque_nm and sinkage_m hold this cycle's numbers
+  TorqueNm torque_nm;
+  SinkageM sinkage_m;
+  bool limit_valid;         ///< current_limit_a holds this cycle's I_max
+  CurrentA current_limit_a;
+  LoadClamp clamp;          ///< the load outside Table 2's range: corrections held
+};
+
+/// Written when a wheel enters STOP (section 7: for ground reproduction).
+struct EventRecord {
+  std::uint8_t wheel;
+  TimeMs time;
+  StopReason reason;
+  CurrentA peak_current_a;            ///< largest d*I of the episode
+  WheelLoadN load_at_peak_n;          ///< the load at that sample
+  bool peak_sinkage_valid;
+  SinkageM peak_sinkage_m;            ///< Eq. 11 at the peak current with DP = DP_max
+  bool max_estimate_valid;
+  SinkageM max_estimated_sinkage_m;   ///< largest per-cycle estimate of the episode
+};
+
+/// Unusable samples per reason (saturating counters).
+struct WheelCounters {
+  std::uint32_t samples;
+  std::uint32_t by_status[kSampleStatusCount];  ///< index: SampleStatus; [0] counts good samples
+};
+
+class WheelMonitor {
+ public:
+  explicit WheelMonitor(std::uint8_t wheel_index = 0U) noexcept;
+
+  /// One cycle. `now` is the monitor's clock, used for staleness.
+  WheelOutput step(const WheelInput& input, TimeMs now, const ParameterTable& table) noexcept;
+
+  /// Back to NOMINAL with empty histories and peaks (counters are kept).
+  void clear_stop() noexcept;
+
+  [[nodiscard]] WheelState state() const noexcept { return state_; }
+  [[nodiscard]] bool has_event() const noexcept { return has_event_; }
+  [[nodiscard]] const EventRecord& last_event() const noexcept { return event_; }
+  [[nodiscard]] const WheelCounters& counters() const noexcept { return counters_; }
+
+ private:
+  void count(SampleStatus status) noexcept;
+  void push_history(bool caution, bool stop, bool clear) noexcept;
+
+  std::uint8_t wheel_;
+  WheelState state_;
+  StopReason stop_reason_;
+  std::uint16_t caution_history_;  ///< bit 0 is the newest sample
+  std::uint16_t stop_history_;
+  std::uint16_t clear_history_;
+  std::uint8_t consecutive_unusable_;
+  bool have_last_time_;
+  TimeMs last_time_;
+  bool have_peak_;
+  CurrentA peak_current_a_;
+  WheelLoadN load_at_peak_n_;
+  bool have_max_estimate_;
+  SinkageM max_estimate_m_;
+  bool has_event_;
+  EventRecord event_;
+  WheelCounters counters_;
+};
+
+enum class RoverDecision : std::uint8_t { continue_drive = 0U, stop_and_replan = 1U };
+
+struct RoverOutput {
+  RoverDecision decision;
+  std::uint8_t wheels_in_stop;
+  std::uint8_t wheels_in_caution;
+  WheelOutput wheels[kMaxWheels];  ///< the first monitor.wheel_count are meaningful
+};
+
+class RoverMonitor {
+ public:
+  RoverMonitor() noexcept;
+
+  /// One cycle for every wheel; inputs beyond monitor.wheel_count are ignored.
+  /// The decision is stop_and_replan when at least rover_stop_k wheels are in
+  /// STOP.
+  RoverOutput step(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const ParameterTable& table) noexcept;
+
+  /// The ground's acknowledgement after a re-plan: every wheel back to NOMINAL.
+  void clear_stop() noexcept;
+
+  [[nodiscard]] const WheelMonitor& wheel(std::uint8_t index) const noexcept;
+
+ private:
+  WheelMonitor wheels_[kMaxWheels];
+};
+
+}  // namespace flight
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_FLIGHT_MONITOR_HPP

@@ -1,0 +1,64 @@
+// motor.hpp: drive torque from motor current and back (the paper's key
+// technology 3, "the relationship between motor current and driving torque").
+//
+//     T = N * eta * Kt * (I - d * I0),   d = +1 forward, -1 reverse
+//
+// N is the gear ratio, eta the gear efficiency, Kt the motor's torque
+// constant, I0 the no-load current. I0 is the current the motor draws to
+// overcome its own friction, which opposes the direction of rotation: driving
+// forward it is subtracted from a positive current, in reverse it is added to
+// a negative one, so the torque keeps its sign convention (positive drives the
+// rover forward) in both directions. The model is the motoring quadrant: when
+// the wheel is back-driven (|I| < I0) the friction term dominates and the
+// returned torque is the linear model's value, which docs/flight.md flags as
+// outside the calibrated range.
+//
+// The current is valid when |I| <= the sensor's range (the parameter table's
+// current_abs_max); beyond it the sensor is saturated and no torque is given.
+#ifndef SINKWATCH_FLIGHT_MOTOR_HPP
+#define SINKWATCH_FLIGHT_MOTOR_HPP
+
+#include "sinkwatch/flight/units.hpp"
+
+namespace sinkwatch {
+namespace flight {
+
+/// One drive motor and its gearbox (all six wheels share the type).
+struct MotorParams {
+  GearRatio gear_ratio;              ///< N, wheel turns per motor turn inverted (N > 1 reduces speed)
+  Efficiency efficiency;             ///< eta in (0, 1]
+  TorqueConstantNmPerA kt_nm_per_a;  ///< Kt at the motor shaft
+  CurrentA no_load_current_a;        ///< I0 >= 0
+  CurrentA current_abs_max_a;        ///< valid range of the current sensor, > I0
+};
+
+struct TorqueResult {
+  TorqueNm torque_nm;  ///< zero unless status == ok
+  EstimateStatus status;
+};
+
+struct CurrentResult {
+  CurrentA current_a;  ///< zero unless status == ok
+  EstimateStatus status;
+};
+
+/// The wheel torque for the measured current and the commanded direction.
+[[nodiscard]] TorqueResult torque_from_current(const MotorParams& motor, CurrentA current_a,
+                                               DriveDirection direction) noexcept;
+
+/// The inverse: the current that produces `torque_nm` in `direction`,
+///     I = T / (N eta Kt) + d * I0.
+/// Not checked against the sensor's range: a limit beyond it is a limit the
+/// current cannot reach, which the caller may want to know (status overflow
+/// only when the result leaves Q11.20).
+[[nodiscard]] CurrentResult current_from_torque(const MotorParams& motor, TorqueNm torque_nm,
+                                                DriveDirection direction) noexcept;
+
+/// ok when the motor parameters are usable (N, eta, Kt > 0, eta <= 1,
+/// 0 <= I0 < current_abs_max).
+[[nodiscard]] EstimateStatus check_motor(const MotorParams& motor) noexcept;
+
+}  // namespace flight
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_FLIGHT_MOTOR_HPP

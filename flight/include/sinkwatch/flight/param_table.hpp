@@ -1,0 +1,223 @@
+// param_table.hpp: every configurable number of the flight module in one
+// versioned, CRC-protected table, and its byte format.
+//
+// The table is uploaded as bytes (docs/flight.md, "Parameter table layout"):
+//
+//   header   16 bytes  magic "SWPT", format version, table version,
+//                      total length, section count, reserved
+//   sections           each: u16 id, u16 length, payload
+//   trailer   4 bytes  CRC-32 (crc32.hpp) of every byte before it
+//
+// All integers little-endian, every Q value as its raw two's-complement
+// integer, written byte by byte (never by memcpy of a struct, whose layout
+// and endianness belong to the compiler). Sections 1..5 are this module's;
+// section 6 is reserved for the rover geometry of issue 4 and is carried as
+// CRC-protected bytes (ExtensionSection) that its owner decodes and checks
+// through an ExtensionValidator. A new section takes the next id.
+//
+// decode() checks the framing, the CRC and then every value's range
+// (validate()); each rejection has its own reason. ParameterStore keeps the
+// table in force when a new one is rejected.
+#ifndef SINKWATCH_FLIGHT_PARAM_TABLE_HPP
+#define SINKWATCH_FLIGHT_PARAM_TABLE_HPP
+
+#include <cstddef>
+#include <cstdint>
+
+#include "sinkwatch/flight/correction.hpp"
+#include "sinkwatch/flight/motor.hpp"
+#include "sinkwatch/flight/units.hpp"
+
+namespace sinkwatch {
+namespace flight {
+
+constexpr std::uint8_t kMaxWheels = 6U;
+/// Longest N-of-M window: the history is a 16-bit mask.
+constexpr std::uint8_t kMaxWindow = 16U;
+constexpr std::uint16_t kExtensionMaxBytes = 256U;
+constexpr std::size_t kMaxTableBytes = 1024U;
+
+constexpr std::uint8_t kTableMagic[4] = {0x53U, 0x57U, 0x50U, 0x54U};  // "SWPT"
+constexpr std::uint16_t kTableFormatVersion = 1U;
+constexpr std::size_t kTableHeaderBytes = 16U;
+constexpr std::size_t kTableCrcBytes = 4U;
+
+/// Section ids of the byte format. Append new ids; never renumber.
+enum class SectionId : std::uint16_t {
+  estimator = 1U,       ///< wheel radius
+  motor = 2U,           ///< MotorParams
+  correction = 3U,      ///< CorrectionTable
+  monitor = 4U,         ///< MonitorParams
+  escape = 5U,          ///< EscapeParams
+  rover_geometry = 6U,  ///< issue 4: opaque here, decoded by its owner
+};
+
+/// Thresholds, persistence and fail-safe limits of the monitor (monitor.hpp).
+struct MonitorParams {
+  SinkageM allowed_sinkage_m;        ///< z_max of section 7: sets the current limit
+  SinkageM caution_sinkage_m;        ///< estimate at or above: CAUTION evidence
+  SinkageM stop_sinkage_m;           ///< estimate at or above: STOP evidence
+  SinkageM sinkage_hysteresis_m;     ///< clear only below caution - hysteresis
+  Ratio current_caution_fraction;    ///< CAUTION evidence at I >= f * I_max (f <= 1)
+  Ratio current_hysteresis_fraction; ///< clear only below (f - h) * I_max
+  WheelLoadN load_min_n;             ///< loads outside [min, max] are invalid telemetry
+  WheelLoadN load_max_n;
+  std::uint32_t stale_timeout_ms;    ///< a sample older than this is stale
+  std::uint8_t window_m;             ///< M: samples in the persistence window, 1..16
+  std::uint8_t trip_n;               ///< N: samples in the window needed to trip
+  std::uint8_t clear_n;              ///< clear samples in the window needed to leave CAUTION
+  std::uint8_t invalid_to_stop;      ///< consecutive unusable samples that force STOP
+  std::uint8_t wheel_count;          ///< wheels monitored, 1..kMaxWheels
+  std::uint8_t rover_stop_k;         ///< wheels in STOP that stop the rover (1 = any)
+};
+
+/// The alternating forward/reverse escape (escape.hpp).
+struct EscapeParams {
+  std::uint32_t forward_phase_ms;
+  std::uint32_t reverse_phase_ms;
+  std::uint8_t max_cycles;       ///< forward+reverse pairs before giving up
+  std::uint8_t patience_cycles;  ///< consecutive cycles without progress before aborting
+  SinkageM min_decrease_m;       ///< progress: the sinkage fell by at least this per cycle
+  SinkageM freed_sinkage_m;      ///< at or below: the wheel is free
+};
+
+/// Bytes of a section this module carries but does not interpret.
+struct ExtensionSection {
+  bool present;
+  std::uint16_t length;
+  std::uint8_t bytes[kExtensionMaxBytes];
+};
+
+struct ParameterTable {
+  std::uint16_t table_version;  ///< the operators' revision number, echoed in telemetry
+  LengthM wheel_radius_m;
+  MotorParams motor;
+  CorrectionTable correction;
+  MonitorParams monitor;
+  EscapeParams escape;
+  ExtensionSection rover_geometry;
+};
+
+/// Why a table was refused. One reason per check, so the ground knows which
+/// number to fix.
+enum class RejectReason : std::uint8_t {
+  ok = 0U,
+  // framing
+  null_buffer,
+  too_short,
+  too_long,
+  bad_magic,
+  unsupported_format_version,
+  length_mismatch,
+  reserved_not_zero,
+  crc_mismatch,
+  section_truncated,
+  section_length_mismatch,
+  unknown_section,
+  duplicate_section,
+  missing_section,
+  section_count_mismatch,
+  // estimator and motor
+  radius_out_of_range,
+  gear_ratio_out_of_range,
+  efficiency_out_of_range,
+  torque_constant_out_of_range,
+  no_load_current_out_of_range,
+  current_range_out_of_range,
+  // correction table
+  correction_count_out_of_range,
+  load_breakpoint_out_of_range,
+  load_breakpoints_not_increasing,
+  c1_out_of_range,
+  c2_out_of_range,
+  c3_out_of_range,
+  dp_max_out_of_range,
+  // monitor
+  allowed_sinkage_out_of_range,
+  caution_sinkage_out_of_range,
+  stop_sinkage_out_of_range,
+  sinkage_hysteresis_out_of_range,
+  current_caution_fraction_out_of_range,
+  current_hysteresis_out_of_range,
+  load_envelope_out_of_range,
+  stale_timeout_out_of_range,
+  window_out_of_range,
+  trip_count_out_of_range,
+  clear_count_out_of_range,
+  invalid_limit_out_of_range,
+  wheel_count_out_of_range,
+  rover_stop_k_out_of_range,
+  // escape
+  escape_phase_out_of_range,
+  escape_cycles_out_of_range,
+  escape_patience_out_of_range,
+  escape_decrease_out_of_range,
+  escape_freed_out_of_range,
+  // extension sections
+  extension_too_long,
+  extension_rejected,
+  // encoder
+  buffer_too_small,
+};
+
+/// Number of RejectReason values (for tests and telemetry tables).
+constexpr std::uint8_t kRejectReasonCount = static_cast<std::uint8_t>(RejectReason::buffer_too_small) + 1U;
+
+/// A check of an extension section's contents by its owner; returns true when
+/// the bytes are acceptable. May be null (the section is then only framed).
+using ExtensionValidator = bool (*)(const ExtensionSection& section) noexcept;
+
+/// The default table: Table 2's corrections (C1 = C2 = 1, C3 = 0.20 .. 0.13
+/// at 3..20 kg x 9.81 N/kg), r = 0.15 m and illustrative motor values
+/// (docs/flight.md lists each value and where it comes from).
+[[nodiscard]] ParameterTable default_parameter_table() noexcept;
+
+/// The Eq. 15 variant of the default: C3 = 0.13 at every load.
+[[nodiscard]] ParameterTable eq15_parameter_table() noexcept;
+
+/// Every range check, in the order of the struct; the first failure is
+/// returned. `ok` means every flight function accepts the table.
+[[nodiscard]] RejectReason validate(const ParameterTable& table) noexcept;
+
+/// Parses and validates `size` bytes into `out`. `out` is written only when
+/// the result is ok. `extension` (may be null) checks a present extension.
+[[nodiscard]] RejectReason decode(const std::uint8_t* bytes, std::size_t size, ParameterTable& out,
+                                  ExtensionValidator extension = nullptr) noexcept;
+
+struct EncodeResult {
+  std::size_t size;     ///< bytes written; 0 unless status == ok
+  RejectReason status;  ///< ok, null_buffer or buffer_too_small
+};
+
+/// Writes the table's bytes into `out` (capacity bytes). Does not validate:
+/// a ground tool may want to produce a bad table on purpose (tests); call
+/// validate() first to refuse one.
+[[nodiscard]] EncodeResult encode(const ParameterTable& table, std::uint8_t* out, std::size_t capacity) noexcept;
+
+/// The table in force and the loader that replaces it only with a good one.
+class ParameterStore {
+ public:
+  /// Starts with default_parameter_table().
+  ParameterStore() noexcept;
+
+  /// Decodes and validates; on ok the new table is in force, otherwise the
+  /// old one stays and the reason is returned and remembered.
+  RejectReason load(const std::uint8_t* bytes, std::size_t size, ExtensionValidator extension = nullptr) noexcept;
+
+  [[nodiscard]] const ParameterTable& active() const noexcept { return active_; }
+  /// CRC of the bytes the active table came from (0 for the built-in default).
+  [[nodiscard]] std::uint32_t active_crc() const noexcept { return active_crc_; }
+  [[nodiscard]] std::uint32_t rejected_count() const noexcept { return rejected_count_; }
+  [[nodiscard]] RejectReason last_rejection() const noexcept { return last_rejection_; }
+
+ private:
+  ParameterTable active_;
+  std::uint32_t active_crc_;
+  std::uint32_t rejected_count_;
+  RejectReason last_rejection_;
+};
+
+}  // namespace flight
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_FLIGHT_PARAM_TABLE_HPP

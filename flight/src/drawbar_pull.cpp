@@ -1,0 +1,89 @@
+// Drawbar pull from the vehicle force balance; see drawbar_pull.hpp and
+// docs/rover-loads.md, section 6. Twin: ground/reference/src/rover_loads.cpp.
+#include "sinkwatch/flight/drawbar_pull.hpp"
+
+#include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/status.hpp"
+#include "sinkwatch/fixedpoint/trig.hpp"
+
+namespace sinkwatch {
+namespace flight {
+namespace {
+
+using W = WideQ;
+
+DrawbarResult failed(DrawbarStatus status) noexcept {
+  DrawbarResult r{};
+  r.status = status;
+  return r;
+}
+
+bool ratio_in_range(Ratio r) noexcept { return (r.raw() > 0) && (r <= kMaxDpMaxRatio); }
+
+}  // namespace
+
+DrawbarResult drawbar_pulls(const RoverParams& params, const WheelLoadResult& loads,
+                            const DrawbarInput& input) noexcept {
+  if (loads.status != WheelLoadStatus::ok) {
+    return failed(DrawbarStatus::invalid_loads);
+  }
+  if (validate_rover_params(params) != RoverParamStatus::ok) {
+    return failed(DrawbarStatus::invalid_input);
+  }
+  const bool accel_ok = (input.accel_mps2 <= kMaxAbsAccel) && (input.accel_mps2.raw() >= -kMaxAbsAccel.raw());
+  const bool pitch_ok = (input.pitch_rad <= params.attitude_limit_rad) &&
+                        (input.pitch_rad.raw() >= -params.attitude_limit_rad.raw());
+  const Ratio one{fx::constant<RatioQ>(1.0)};
+  const bool slip_ok = !input.slip_known || (input.slip <= one);
+  if (!accel_ok || !pitch_ok || !slip_ok) {
+    return failed(DrawbarStatus::invalid_input);
+  }
+  fx::Status st;
+  W load_sum = W::zero();
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    if (!ratio_in_range(input.dp_max_ratio[i]) || (loads.load_n[i].raw() < 0)) {
+      return failed(DrawbarStatus::invalid_input);
+    }
+    load_sum = fx::add(load_sum, fx::rescale<W>(loads.load_n[i].q(), st), st);
+  }
+  if (load_sum.raw() <= 0) {
+    return failed(DrawbarStatus::invalid_loads);
+  }
+
+  // m (a + g sin(pitch)): the along-path force the tractions must supply.
+  const W sin_pitch = fx::rescale<W>(fx::sin(input.pitch_rad.q(), st), st);
+  const W g_along = fx::mul<W>(params.gravity_mps2.q(), sin_pitch, st);
+  const W accel = fx::add(fx::rescale<W>(input.accel_mps2.q(), st), g_along, st);
+  const W total = fx::mul<W>(params.mass_kg.q(), accel, st);
+
+  DrawbarResult r{};
+  r.total_n = DrawbarPullN{fx::rescale<LoadQ>(total, st)};
+  const bool saturated = input.slip_known && (input.slip >= params.high_slip);
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    const W load = fx::rescale<W>(loads.load_n[i].q(), st);
+    const W cap = fx::mul<W>(input.dp_max_ratio[i].q(), load, st);
+    W dp = cap;
+    if (!saturated) {
+      // total * (W_i / sum W): the fraction is in [0, 1], so the product
+      // never exceeds |total|.
+      const W share = fx::mul(total, fx::div(load, load_sum, st), st);
+      dp = fx::clamp(share, fx::neg(cap, st), cap, st);
+      if (dp != share) {
+        r.capped_mask = static_cast<std::uint8_t>(r.capped_mask | (1U << i));
+      }
+    }
+    r.dp_n[i] = DrawbarPullN{fx::rescale<LoadQ>(dp, st)};
+  }
+  if (!st.ok()) {
+    return failed(DrawbarStatus::overflow);
+  }
+  if (saturated) {
+    r.status = DrawbarStatus::saturated;
+  } else {
+    r.status = (r.capped_mask != 0U) ? DrawbarStatus::capped : DrawbarStatus::ok;
+  }
+  return r;
+}
+
+}  // namespace flight
+}  // namespace sinkwatch

@@ -1,0 +1,672 @@
+// The parameter table: defaults, range checks and the byte format
+// (param_table.hpp; the layout is drawn in docs/flight.md).
+#include "sinkwatch/flight/param_table.hpp"
+
+#include "sinkwatch/fixedpoint/literal.hpp"
+#include "sinkwatch/flight/crc32.hpp"
+#include "sinkwatch/flight/estimator.hpp"
+
+namespace sinkwatch {
+namespace flight {
+
+namespace {
+
+constexpr std::uint16_t kEstimatorBytes = 4U;
+constexpr std::uint16_t kMotorBytes = 20U;
+constexpr std::uint16_t kCorrectionHeaderBytes = 4U;
+constexpr std::uint16_t kCorrectionRowBytes = 20U;
+constexpr std::uint16_t kMonitorBytes = 44U;
+constexpr std::uint16_t kEscapeBytes = 20U;
+constexpr std::size_t kSectionHeaderBytes = 4U;
+constexpr std::uint16_t kCoreSections = 5U;
+
+// Range limits of validate(). Each is a physical or numerical bound written
+// down in docs/flight.md ("Parameter ranges").
+constexpr GearRatio kMinGear{fx::constant<GearQ>(1.0)};
+constexpr GearRatio kMaxGear{fx::constant<GearQ>(10000.0)};
+constexpr Efficiency kMaxEfficiency{fx::constant<EfficiencyQ>(1.0)};
+constexpr Efficiency kMinEfficiency{fx::constant<EfficiencyQ>(0.01)};
+constexpr TorqueConstantNmPerA kMinKt{fx::constant<KtQ>(0.0001)};
+constexpr TorqueConstantNmPerA kMaxKt{fx::constant<KtQ>(4.0)};
+constexpr CurrentA kMaxNoLoadCurrent{fx::constant<CurrentQ>(100.0)};
+constexpr CurrentA kMaxSensorCurrent{fx::constant<CurrentQ>(1000.0)};
+constexpr WheelLoadN kMaxLoad{fx::constant<LoadQ>(30000.0)};
+constexpr Ratio kMaxDpRatio{fx::constant<RatioQ>(2.0)};
+constexpr Ratio kOne{fx::constant<RatioQ>(1.0)};
+constexpr std::uint32_t kMaxStaleMs = 60000U;
+constexpr std::uint32_t kMinPhaseMs = 100U;
+constexpr std::uint32_t kMaxPhaseMs = 600000U;
+constexpr std::uint8_t kMaxEscapeCycles = 100U;
+
+// ---- little-endian byte writer and reader --------------------------------
+
+class Writer {
+ public:
+  Writer(std::uint8_t* out, std::size_t capacity) noexcept : out_(out), capacity_(capacity) {}
+  void u8(std::uint8_t v) noexcept {
+    if (pos_ >= capacity_) {
+      full_ = true;
+      return;
+    }
+    out_[pos_] = v;
+    ++pos_;
+  }
+  void u16(std::uint16_t v) noexcept {
+    u8(static_cast<std::uint8_t>(v & 0xFFU));
+    u8(static_cast<std::uint8_t>((v >> 8U) & 0xFFU));
+  }
+  void u32(std::uint32_t v) noexcept {
+    for (std::uint32_t i = 0U; i < 4U; ++i) {
+      u8(static_cast<std::uint8_t>((v >> (8U * i)) & 0xFFU));
+    }
+  }
+  // Two's complement bits of v: the conversion to unsigned is defined modulo 2^32.
+  void i32(std::int32_t v) noexcept { u32(static_cast<std::uint32_t>(v)); }
+  void patch_u32(std::size_t at, std::uint32_t v) noexcept {
+    for (std::uint32_t i = 0U; i < 4U; ++i) {
+      if ((at + i) < capacity_) {
+        out_[at + i] = static_cast<std::uint8_t>((v >> (8U * i)) & 0xFFU);
+      }
+    }
+  }
+  [[nodiscard]] std::size_t pos() const noexcept { return pos_; }
+  [[nodiscard]] bool full() const noexcept { return full_; }
+
+ private:
+  std::uint8_t* out_;
+  std::size_t capacity_;
+  std::size_t pos_{0U};
+  bool full_{false};
+};
+
+class Reader {
+ public:
+  Reader(const std::uint8_t* in, std::size_t size) noexcept : in_(in), size_(size) {}
+  std::uint8_t u8() noexcept {
+    if (pos_ >= size_) {
+      short_ = true;
+      return 0U;
+    }
+    const std::uint8_t v = in_[pos_];
+    ++pos_;
+    return v;
+  }
+  std::uint16_t u16() noexcept {
+    const std::uint32_t lo = u8();
+    const std::uint32_t hi = u8();
+    return static_cast<std::uint16_t>(lo | (hi << 8U));
+  }
+  std::uint32_t u32() noexcept {
+    std::uint32_t v = 0U;
+    for (std::uint32_t i = 0U; i < 4U; ++i) {
+      v |= static_cast<std::uint32_t>(u8()) << (8U * i);
+    }
+    return v;
+  }
+  std::int32_t i32() noexcept {
+    const std::uint32_t u = u32();
+    // Two's complement decode without an implementation-defined conversion.
+    if (u <= 0x7FFFFFFFU) {
+      return static_cast<std::int32_t>(u);
+    }
+    return static_cast<std::int32_t>(-static_cast<std::int64_t>(~u) - 1);
+  }
+  [[nodiscard]] std::size_t pos() const noexcept { return pos_; }
+  [[nodiscard]] bool exhausted() const noexcept { return short_; }
+
+ private:
+  const std::uint8_t* in_;
+  std::size_t size_;
+  std::size_t pos_{0U};
+  bool short_{false};
+};
+
+template <typename Quantity>
+Quantity read_q(Reader& r) noexcept {
+  return Quantity::from_raw(r.i32());
+}
+
+// ---- sections ----------------------------------------------------------
+
+void write_section_header(Writer& w, SectionId id, std::uint16_t length) noexcept {
+  w.u16(static_cast<std::uint16_t>(id));
+  w.u16(length);
+}
+
+void write_motor(Writer& w, const MotorParams& m) noexcept {
+  w.i32(m.gear_ratio.raw());
+  w.i32(m.efficiency.raw());
+  w.i32(m.kt_nm_per_a.raw());
+  w.i32(m.no_load_current_a.raw());
+  w.i32(m.current_abs_max_a.raw());
+}
+
+void read_motor(Reader& r, MotorParams& m) noexcept {
+  m.gear_ratio = read_q<GearRatio>(r);
+  m.efficiency = read_q<Efficiency>(r);
+  m.kt_nm_per_a = read_q<TorqueConstantNmPerA>(r);
+  m.no_load_current_a = read_q<CurrentA>(r);
+  m.current_abs_max_a = read_q<CurrentA>(r);
+}
+
+std::uint16_t correction_bytes(std::uint8_t count) noexcept {
+  return static_cast<std::uint16_t>(kCorrectionHeaderBytes + (kCorrectionRowBytes * count));
+}
+
+void write_correction(Writer& w, const CorrectionTable& c) noexcept {
+  const std::uint8_t count = (c.count > kMaxCorrectionRows) ? kMaxCorrectionRows : c.count;
+  w.u8(c.count);
+  w.u8(0U);
+  w.u16(0U);
+  for (std::uint8_t i = 0U; i < count; ++i) {
+    const CorrectionRow& row = c.rows[i];
+    w.i32(row.load_n.raw());
+    w.i32(row.c1.raw());
+    w.i32(row.c2.raw());
+    w.i32(row.c3.raw());
+    w.i32(row.dp_max_ratio.raw());
+  }
+}
+
+void write_monitor(Writer& w, const MonitorParams& m) noexcept {
+  w.i32(m.allowed_sinkage_m.raw());
+  w.i32(m.caution_sinkage_m.raw());
+  w.i32(m.stop_sinkage_m.raw());
+  w.i32(m.sinkage_hysteresis_m.raw());
+  w.i32(m.current_caution_fraction.raw());
+  w.i32(m.current_hysteresis_fraction.raw());
+  w.i32(m.load_min_n.raw());
+  w.i32(m.load_max_n.raw());
+  w.u32(m.stale_timeout_ms);
+  w.u8(m.window_m);
+  w.u8(m.trip_n);
+  w.u8(m.clear_n);
+  w.u8(m.invalid_to_stop);
+  w.u8(m.wheel_count);
+  w.u8(m.rover_stop_k);
+  w.u16(0U);
+}
+
+void read_monitor(Reader& r, MonitorParams& m) noexcept {
+  m.allowed_sinkage_m = read_q<SinkageM>(r);
+  m.caution_sinkage_m = read_q<SinkageM>(r);
+  m.stop_sinkage_m = read_q<SinkageM>(r);
+  m.sinkage_hysteresis_m = read_q<SinkageM>(r);
+  m.current_caution_fraction = read_q<Ratio>(r);
+  m.current_hysteresis_fraction = read_q<Ratio>(r);
+  m.load_min_n = read_q<WheelLoadN>(r);
+  m.load_max_n = read_q<WheelLoadN>(r);
+  m.stale_timeout_ms = r.u32();
+  m.window_m = r.u8();
+  m.trip_n = r.u8();
+  m.clear_n = r.u8();
+  m.invalid_to_stop = r.u8();
+  m.wheel_count = r.u8();
+  m.rover_stop_k = r.u8();
+}
+
+void write_escape(Writer& w, const EscapeParams& e) noexcept {
+  w.u32(e.forward_phase_ms);
+  w.u32(e.reverse_phase_ms);
+  w.u8(e.max_cycles);
+  w.u8(e.patience_cycles);
+  w.u16(0U);
+  w.i32(e.min_decrease_m.raw());
+  w.i32(e.freed_sinkage_m.raw());
+}
+
+// ---- validation ----------------------------------------------------------
+
+template <typename T>
+bool within(T v, T lo, T hi) noexcept {
+  return (v >= lo) && (v <= hi);
+}
+
+RejectReason validate_motor(const MotorParams& m) noexcept {
+  if (!within(m.gear_ratio, kMinGear, kMaxGear)) {
+    return RejectReason::gear_ratio_out_of_range;
+  }
+  if (!within(m.efficiency, kMinEfficiency, kMaxEfficiency)) {
+    return RejectReason::efficiency_out_of_range;
+  }
+  if (!within(m.kt_nm_per_a, kMinKt, kMaxKt)) {
+    return RejectReason::torque_constant_out_of_range;
+  }
+  if (!within(m.no_load_current_a, CurrentA::zero(), kMaxNoLoadCurrent)) {
+    return RejectReason::no_load_current_out_of_range;
+  }
+  if ((m.current_abs_max_a <= m.no_load_current_a) || (m.current_abs_max_a > kMaxSensorCurrent)) {
+    return RejectReason::current_range_out_of_range;
+  }
+  return RejectReason::ok;
+}
+
+RejectReason validate_correction(const CorrectionTable& c) noexcept {
+  if ((c.count == 0U) || (c.count > kMaxCorrectionRows)) {
+    return RejectReason::correction_count_out_of_range;
+  }
+  for (std::uint8_t i = 0U; i < c.count; ++i) {
+    const CorrectionRow& row = c.rows[i];
+    if ((row.load_n <= WheelLoadN::zero()) || (row.load_n > kMaxLoad)) {
+      return RejectReason::load_breakpoint_out_of_range;
+    }
+    if ((i > 0U) && (row.load_n <= c.rows[i - 1U].load_n)) {
+      return RejectReason::load_breakpoints_not_increasing;
+    }
+    if (!within(row.c1, kMinC12, kMaxC12)) {
+      return RejectReason::c1_out_of_range;
+    }
+    if (!within(row.c2, kMinC12, kMaxC12)) {
+      return RejectReason::c2_out_of_range;
+    }
+    if (!within(row.c3, kMinC3, kMaxC3)) {
+      return RejectReason::c3_out_of_range;
+    }
+    if ((row.dp_max_ratio <= Ratio::zero()) || (row.dp_max_ratio > kMaxDpRatio)) {
+      return RejectReason::dp_max_out_of_range;
+    }
+  }
+  return RejectReason::ok;
+}
+
+RejectReason validate_monitor(const MonitorParams& m, LengthM radius_m) noexcept {
+  const SinkageM radius_as_sinkage = SinkageM::from_raw(radius_m.raw());  // same format, same unit
+  if ((m.allowed_sinkage_m <= SinkageM::zero()) || (m.allowed_sinkage_m > radius_as_sinkage)) {
+    return RejectReason::allowed_sinkage_out_of_range;
+  }
+  if ((m.caution_sinkage_m <= SinkageM::zero()) || (m.caution_sinkage_m >= m.stop_sinkage_m)) {
+    return RejectReason::caution_sinkage_out_of_range;
+  }
+  if (m.stop_sinkage_m > radius_as_sinkage) {
+    return RejectReason::stop_sinkage_out_of_range;
+  }
+  if ((m.sinkage_hysteresis_m < SinkageM::zero()) || (m.sinkage_hysteresis_m >= m.caution_sinkage_m)) {
+    return RejectReason::sinkage_hysteresis_out_of_range;
+  }
+  if ((m.current_caution_fraction <= Ratio::zero()) || (m.current_caution_fraction > kOne)) {
+    return RejectReason::current_caution_fraction_out_of_range;
+  }
+  if ((m.current_hysteresis_fraction < Ratio::zero()) ||
+      (m.current_hysteresis_fraction >= m.current_caution_fraction)) {
+    return RejectReason::current_hysteresis_out_of_range;
+  }
+  if ((m.load_min_n <= WheelLoadN::zero()) || (m.load_max_n <= m.load_min_n) || (m.load_max_n > kMaxLoad)) {
+    return RejectReason::load_envelope_out_of_range;
+  }
+  if ((m.stale_timeout_ms == 0U) || (m.stale_timeout_ms > kMaxStaleMs)) {
+    return RejectReason::stale_timeout_out_of_range;
+  }
+  if ((m.window_m == 0U) || (m.window_m > kMaxWindow)) {
+    return RejectReason::window_out_of_range;
+  }
+  if ((m.trip_n == 0U) || (m.trip_n > m.window_m)) {
+    return RejectReason::trip_count_out_of_range;
+  }
+  if ((m.clear_n == 0U) || (m.clear_n > m.window_m)) {
+    return RejectReason::clear_count_out_of_range;
+  }
+  if (m.invalid_to_stop == 0U) {
+    return RejectReason::invalid_limit_out_of_range;
+  }
+  if ((m.wheel_count == 0U) || (m.wheel_count > kMaxWheels)) {
+    return RejectReason::wheel_count_out_of_range;
+  }
+  if ((m.rover_stop_k == 0U) || (m.rover_stop_k > m.wheel_count)) {
+    return RejectReason::rover_stop_k_out_of_range;
+  }
+  return RejectReason::ok;
+}
+
+RejectReason validate_escape(const EscapeParams& e, const MonitorParams& m) noexcept {
+  if (!within(e.forward_phase_ms, kMinPhaseMs, kMaxPhaseMs) || !within(e.reverse_phase_ms, kMinPhaseMs, kMaxPhaseMs)) {
+    return RejectReason::escape_phase_out_of_range;
+  }
+  if ((e.max_cycles == 0U) || (e.max_cycles > kMaxEscapeCycles)) {
+    return RejectReason::escape_cycles_out_of_range;
+  }
+  if ((e.patience_cycles == 0U) || (e.patience_cycles > e.max_cycles)) {
+    return RejectReason::escape_patience_out_of_range;
+  }
+  if ((e.min_decrease_m < SinkageM::zero()) || (e.min_decrease_m >= m.stop_sinkage_m)) {
+    return RejectReason::escape_decrease_out_of_range;
+  }
+  if ((e.freed_sinkage_m <= SinkageM::zero()) || (e.freed_sinkage_m >= m.stop_sinkage_m)) {
+    return RejectReason::escape_freed_out_of_range;
+  }
+  return RejectReason::ok;
+}
+
+}  // namespace
+
+// ---- defaults --------------------------------------------------------------
+
+namespace {
+
+// Built in a constant expression, so every fx::constant is evaluated by the
+// compiler and no floating point reaches the target.
+constexpr ParameterTable make_default_table() noexcept {
+  ParameterTable t{};
+  t.table_version = 1U;
+  t.wheel_radius_m = LengthM(fx::constant<LengthQ>(0.15));
+
+  t.motor.gear_ratio = GearRatio(fx::constant<GearQ>(400.0));
+  t.motor.efficiency = Efficiency(fx::constant<EfficiencyQ>(0.6));
+  t.motor.kt_nm_per_a = TorqueConstantNmPerA(fx::constant<KtQ>(0.025));
+  t.motor.no_load_current_a = CurrentA(fx::constant<CurrentQ>(0.1));
+  t.motor.current_abs_max_a = CurrentA(fx::constant<CurrentQ>(10.0));
+
+  // Table 2: soil-bin masses times 9.81 N/kg; C1 = C2 = 1.
+  constexpr double kG = 9.81;
+  constexpr double kMassKg[5] = {3.0, 7.0, 10.0, 15.0, 20.0};
+  constexpr double kC3[5] = {0.20, 0.15, 0.13, 0.13, 0.13};
+  t.correction.count = 5U;
+  for (std::uint8_t i = 0U; i < 5U; ++i) {
+    t.correction.rows[i] = CorrectionRow{WheelLoadN(fx::constant<LoadQ>(kMassKg[i] * kG)), Ratio(fx::constant<RatioQ>(1.0)),
+                                         Ratio(fx::constant<RatioQ>(1.0)), Ratio(fx::constant<RatioQ>(kC3[i])),
+                                         Ratio(fx::constant<RatioQ>(0.5))};
+  }
+
+  t.monitor.allowed_sinkage_m = SinkageM(fx::constant<LengthQ>(0.045));
+  t.monitor.caution_sinkage_m = SinkageM(fx::constant<LengthQ>(0.03));
+  t.monitor.stop_sinkage_m = SinkageM(fx::constant<LengthQ>(0.045));
+  t.monitor.sinkage_hysteresis_m = SinkageM(fx::constant<LengthQ>(0.005));
+  t.monitor.current_caution_fraction = Ratio(fx::constant<RatioQ>(0.9));
+  t.monitor.current_hysteresis_fraction = Ratio(fx::constant<RatioQ>(0.05));
+  t.monitor.load_min_n = WheelLoadN(fx::constant<LoadQ>(1.0));
+  t.monitor.load_max_n = WheelLoadN(fx::constant<LoadQ>(2000.0));
+  t.monitor.stale_timeout_ms = 500U;
+  t.monitor.window_m = 8U;
+  t.monitor.trip_n = 3U;
+  t.monitor.clear_n = 6U;
+  t.monitor.invalid_to_stop = 10U;
+  t.monitor.wheel_count = kMaxWheels;
+  t.monitor.rover_stop_k = 1U;
+
+  t.escape.forward_phase_ms = 5000U;
+  t.escape.reverse_phase_ms = 5000U;
+  t.escape.max_cycles = 10U;
+  t.escape.patience_cycles = 2U;
+  t.escape.min_decrease_m = SinkageM(fx::constant<LengthQ>(0.002));
+  t.escape.freed_sinkage_m = SinkageM(fx::constant<LengthQ>(0.02));
+
+  t.rover_geometry.present = false;
+  t.rover_geometry.length = 0U;
+  return t;
+}
+
+constexpr ParameterTable kDefaultTable = make_default_table();
+constexpr Ratio kEq15C3{fx::constant<RatioQ>(0.13)};
+
+}  // namespace
+
+ParameterTable default_parameter_table() noexcept { return kDefaultTable; }
+
+ParameterTable eq15_parameter_table() noexcept {
+  ParameterTable t = default_parameter_table();
+  for (std::uint8_t i = 0U; i < t.correction.count; ++i) {
+    t.correction.rows[i].c3 = kEq15C3;
+  }
+  return t;
+}
+
+// ---- validate, encode, decode ----------------------------------------------
+
+RejectReason validate(const ParameterTable& t) noexcept {
+  if ((t.wheel_radius_m < kMinRadiusM) || (t.wheel_radius_m > kMaxRadiusM)) {
+    return RejectReason::radius_out_of_range;
+  }
+  RejectReason r = validate_motor(t.motor);
+  if (r != RejectReason::ok) {
+    return r;
+  }
+  r = validate_correction(t.correction);
+  if (r != RejectReason::ok) {
+    return r;
+  }
+  r = validate_monitor(t.monitor, t.wheel_radius_m);
+  if (r != RejectReason::ok) {
+    return r;
+  }
+  r = validate_escape(t.escape, t.monitor);
+  if (r != RejectReason::ok) {
+    return r;
+  }
+  if (t.rover_geometry.present && (t.rover_geometry.length > kExtensionMaxBytes)) {
+    return RejectReason::extension_too_long;
+  }
+  return RejectReason::ok;
+}
+
+EncodeResult encode(const ParameterTable& t, std::uint8_t* out, std::size_t capacity) noexcept {
+  if (out == nullptr) {
+    return EncodeResult{0U, RejectReason::null_buffer};
+  }
+  if (t.rover_geometry.present && (t.rover_geometry.length > kExtensionMaxBytes)) {
+    return EncodeResult{0U, RejectReason::extension_too_long};
+  }
+  const std::uint8_t rows = (t.correction.count > kMaxCorrectionRows) ? kMaxCorrectionRows : t.correction.count;
+  const std::uint16_t sections = static_cast<std::uint16_t>(kCoreSections + (t.rover_geometry.present ? 1U : 0U));
+  std::size_t total = kTableHeaderBytes + (kCoreSections * kSectionHeaderBytes) + kEstimatorBytes + kMotorBytes +
+                      correction_bytes(rows) + kMonitorBytes + kEscapeBytes + kTableCrcBytes;
+  if (t.rover_geometry.present) {
+    total += kSectionHeaderBytes + t.rover_geometry.length;
+  }
+  if (total > capacity) {
+    return EncodeResult{0U, RejectReason::buffer_too_small};
+  }
+  Writer w(out, capacity);
+  for (std::uint8_t b : kTableMagic) {
+    w.u8(b);
+  }
+  w.u16(kTableFormatVersion);
+  w.u16(t.table_version);
+  w.u32(static_cast<std::uint32_t>(total));
+  w.u16(sections);
+  w.u16(0U);
+
+  write_section_header(w, SectionId::estimator, kEstimatorBytes);
+  w.i32(t.wheel_radius_m.raw());
+  write_section_header(w, SectionId::motor, kMotorBytes);
+  write_motor(w, t.motor);
+  write_section_header(w, SectionId::correction, correction_bytes(rows));
+  write_correction(w, t.correction);
+  write_section_header(w, SectionId::monitor, kMonitorBytes);
+  write_monitor(w, t.monitor);
+  write_section_header(w, SectionId::escape, kEscapeBytes);
+  write_escape(w, t.escape);
+  if (t.rover_geometry.present) {
+    write_section_header(w, SectionId::rover_geometry, t.rover_geometry.length);
+    for (std::uint16_t i = 0U; i < t.rover_geometry.length; ++i) {
+      w.u8(t.rover_geometry.bytes[i]);
+    }
+  }
+  const std::uint32_t crc = crc32(out, w.pos());
+  w.u32(crc);
+  if (w.full() || (w.pos() != total)) {
+    return EncodeResult{0U, RejectReason::buffer_too_small};  // cannot happen: sized above
+  }
+  return EncodeResult{total, RejectReason::ok};
+}
+
+RejectReason decode(const std::uint8_t* bytes, std::size_t size, ParameterTable& out,
+                    ExtensionValidator extension) noexcept {
+  if (bytes == nullptr) {
+    return RejectReason::null_buffer;
+  }
+  if (size < (kTableHeaderBytes + kTableCrcBytes)) {
+    return RejectReason::too_short;
+  }
+  if (size > kMaxTableBytes) {
+    return RejectReason::too_long;
+  }
+  Reader r(bytes, size);
+  for (std::uint8_t b : kTableMagic) {
+    if (r.u8() != b) {
+      return RejectReason::bad_magic;
+    }
+  }
+  if (r.u16() != kTableFormatVersion) {
+    return RejectReason::unsupported_format_version;
+  }
+  ParameterTable t{};
+  t.table_version = r.u16();
+  if (r.u32() != size) {
+    return RejectReason::length_mismatch;
+  }
+  const std::uint16_t section_count = r.u16();
+  if (r.u16() != 0U) {
+    return RejectReason::reserved_not_zero;
+  }
+  const std::size_t crc_at = size - kTableCrcBytes;
+  Reader crc_reader(bytes + crc_at, kTableCrcBytes);
+  if (crc_reader.u32() != crc32(bytes, crc_at)) {
+    return RejectReason::crc_mismatch;
+  }
+
+  // Sections: at most one per id, ids 1..6, so at most 6 iterations do work;
+  // the loop bound also covers a corrupt count that passed the CRC.
+  bool seen[7] = {false, false, false, false, false, false, false};
+  std::uint16_t parsed = 0U;
+  constexpr std::uint16_t kMaxSections = 6U;
+  while ((r.pos() < crc_at) && (parsed <= kMaxSections)) {
+    if ((crc_at - r.pos()) < kSectionHeaderBytes) {
+      return RejectReason::section_truncated;
+    }
+    const std::uint16_t id = r.u16();
+    const std::uint16_t length = r.u16();
+    if ((crc_at - r.pos()) < length) {
+      return RejectReason::section_truncated;
+    }
+    if ((id == 0U) || (id > kMaxSections)) {
+      return RejectReason::unknown_section;
+    }
+    if (seen[id]) {
+      return RejectReason::duplicate_section;
+    }
+    seen[id] = true;
+    ++parsed;
+    const std::size_t start = r.pos();
+    bool reserved_ok = true;
+    switch (static_cast<SectionId>(id)) {
+      case SectionId::estimator:
+        if (length != kEstimatorBytes) {
+          return RejectReason::section_length_mismatch;
+        }
+        t.wheel_radius_m = read_q<LengthM>(r);
+        break;
+      case SectionId::motor:
+        if (length != kMotorBytes) {
+          return RejectReason::section_length_mismatch;
+        }
+        read_motor(r, t.motor);
+        break;
+      case SectionId::correction: {
+        if (length < kCorrectionHeaderBytes) {
+          return RejectReason::section_length_mismatch;
+        }
+        t.correction.count = r.u8();
+        reserved_ok = (r.u8() == 0U) && (r.u16() == 0U);
+        if ((t.correction.count == 0U) || (t.correction.count > kMaxCorrectionRows)) {
+          return RejectReason::correction_count_out_of_range;
+        }
+        if (length != correction_bytes(t.correction.count)) {
+          return RejectReason::section_length_mismatch;
+        }
+        for (std::uint8_t i = 0U; i < t.correction.count; ++i) {
+          CorrectionRow& row = t.correction.rows[i];
+          row.load_n = read_q<WheelLoadN>(r);
+          row.c1 = read_q<Ratio>(r);
+          row.c2 = read_q<Ratio>(r);
+          row.c3 = read_q<Ratio>(r);
+          row.dp_max_ratio = read_q<Ratio>(r);
+        }
+        break;
+      }
+      case SectionId::monitor:
+        if (length != kMonitorBytes) {
+          return RejectReason::section_length_mismatch;
+        }
+        read_monitor(r, t.monitor);
+        reserved_ok = (r.u16() == 0U);
+        break;
+      case SectionId::escape: {
+        if (length != kEscapeBytes) {
+          return RejectReason::section_length_mismatch;
+        }
+        // The reserved u16 sits after the two cycle counts: read it in place.
+        t.escape.forward_phase_ms = r.u32();
+        t.escape.reverse_phase_ms = r.u32();
+        t.escape.max_cycles = r.u8();
+        t.escape.patience_cycles = r.u8();
+        reserved_ok = (r.u16() == 0U);
+        t.escape.min_decrease_m = read_q<SinkageM>(r);
+        t.escape.freed_sinkage_m = read_q<SinkageM>(r);
+        break;
+      }
+      case SectionId::rover_geometry:
+        if (length > kExtensionMaxBytes) {
+          return RejectReason::extension_too_long;
+        }
+        t.rover_geometry.present = true;
+        t.rover_geometry.length = length;
+        for (std::uint16_t i = 0U; i < length; ++i) {
+          t.rover_geometry.bytes[i] = r.u8();
+        }
+        break;
+      default:
+        return RejectReason::unknown_section;
+    }
+    if (!reserved_ok) {
+      return RejectReason::reserved_not_zero;
+    }
+    if ((r.pos() - start) != length) {
+      return RejectReason::section_length_mismatch;  // cannot happen: lengths checked per id
+    }
+  }
+  if (r.pos() != crc_at) {
+    return RejectReason::section_count_mismatch;
+  }
+  if (parsed != section_count) {
+    return RejectReason::section_count_mismatch;
+  }
+  for (std::uint16_t id = 1U; id <= kCoreSections; ++id) {
+    if (!seen[id]) {
+      return RejectReason::missing_section;
+    }
+  }
+  const RejectReason valid = validate(t);
+  if (valid != RejectReason::ok) {
+    return valid;
+  }
+  if (t.rover_geometry.present && (extension != nullptr) && !extension(t.rover_geometry)) {
+    return RejectReason::extension_rejected;
+  }
+  out = t;
+  return RejectReason::ok;
+}
+
+// ---- the store --------------------------------------------------------------
+
+ParameterStore::ParameterStore() noexcept
+    : active_(default_parameter_table()), active_crc_(0U), rejected_count_(0U), last_rejection_(RejectReason::ok) {}
+
+RejectReason ParameterStore::load(const std::uint8_t* bytes, std::size_t size, ExtensionValidator extension) noexcept {
+  ParameterTable candidate{};
+  const RejectReason reason = decode(bytes, size, candidate, extension);
+  if (reason != RejectReason::ok) {
+    if (rejected_count_ < 0xFFFFFFFFU) {
+      ++rejected_count_;
+    }
+    last_rejection_ = reason;
+    return reason;
+  }
+  active_ = candidate;
+  // decode() checked the CRC at size - 4: the bytes are there.
+  Reader crc_reader(bytes + (size - kTableCrcBytes), kTableCrcBytes);
+  active_crc_ = crc_reader.u32();
+  last_rejection_ = RejectReason::ok;
+  return reason;
+}
+
+}  // namespace flight
+}  // namespace sinkwatch

@@ -1,0 +1,249 @@
+// Quasi-static rocker-bogie wheel loads in fixed point; see wheel_load.hpp and
+// docs/rover-loads.md (sections 3 and 7). The double twin is
+// ground/reference/src/rover_loads.cpp: the two follow the same steps in the
+// same order so that a difference points at one line.
+#include "sinkwatch/flight/wheel_load.hpp"
+
+#include "sinkwatch/fixedpoint/literal.hpp"
+#include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/status.hpp"
+#include "sinkwatch/fixedpoint/trig.hpp"
+
+namespace sinkwatch {
+namespace flight {
+namespace {
+
+using W = WideQ;
+
+constexpr MassKg kMaxMass{fx::constant<MassQ>(1000.0)};
+constexpr AccelMps2 kMaxGravity{fx::constant<AccelQ>(10.0)};
+constexpr LengthM kMinWheelRadius{fx::constant<LengthQ>(0.01)};
+constexpr LengthM kMaxWheelRadius{fx::constant<LengthQ>(1.0)};
+constexpr LengthM kMaxTrack{fx::constant<LengthQ>(4.0)};
+constexpr LengthM kMaxLink{fx::constant<LengthQ>(2.0)};
+constexpr AngleRad kMaxJointLimit{fx::constant<AngleQ>(0.8)};
+constexpr AngleRad kMaxAttitudeLimit{fx::constant<AngleQ>(1.05)};
+/// A projected lever below 1 mm means the suspension has folded onto itself
+/// (never inside the validated envelope of a sane geometry): report it rather
+/// than divide by it.
+constexpr W kMinLever{fx::constant<W>(0.001)};
+
+bool within(LengthM v, LengthM limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
+bool within(AngleRad v, AngleRad limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
+bool positive_at_most(AngleRad v, AngleRad limit) noexcept { return (v.raw() > 0) && (v <= limit); }
+
+struct Point {
+  W x;
+  W z;
+};
+
+W wide(LengthM v, fx::Status& st) noexcept { return fx::rescale<W>(v.q(), st); }
+W wide(fx::Q1_30 v, fx::Status& st) noexcept { return fx::rescale<W>(v, st); }
+Point wide(SidePointM p, fx::Status& st) noexcept { return Point{wide(p.x_m, st), wide(p.z_m, st)}; }
+
+/// Rotation in a side's plane, positive raising the +x end.
+Point rotate(Point p, W c, W s, fx::Status& st) noexcept {
+  return Point{fx::sub(fx::mul(p.x, c, st), fx::mul(p.z, s, st), st),
+               fx::add(fx::mul(p.x, s, st), fx::mul(p.z, c, st), st)};
+}
+
+Point plus(Point a, Point b, fx::Status& st) noexcept {
+  return Point{fx::add(a.x, b.x, st), fx::add(a.z, b.z, st)};
+}
+
+/// v - z k: the coordinate of a point projected along gravity (section 3.2).
+W project(W v, W z, W k, fx::Status& st) noexcept { return fx::sub(v, fx::mul(z, k, st), st); }
+
+WheelLoadResult failed(WheelLoadStatus status) noexcept {
+  WheelLoadResult r{};
+  r.lifting_wheel = kWheelCount;
+  r.status = status;
+  return r;
+}
+
+}  // namespace
+
+RoverParamStatus validate_rover_params(const RoverParams& p) noexcept {
+  if ((p.mass_kg.raw() <= 0) || (p.mass_kg > kMaxMass)) {
+    return RoverParamStatus::bad_mass;
+  }
+  if ((p.gravity_mps2.raw() <= 0) || (p.gravity_mps2 > kMaxGravity)) {
+    return RoverParamStatus::bad_gravity;
+  }
+  if ((p.wheel_radius_m < kMinWheelRadius) || (p.wheel_radius_m > kMaxWheelRadius)) {
+    return RoverParamStatus::bad_wheel_radius;
+  }
+  if ((p.track_width_m.raw() <= 0) || (p.track_width_m > kMaxTrack)) {
+    return RoverParamStatus::bad_track_width;
+  }
+  // |com_y| < track / 2, compared as 2 |com_y| < track without overflow
+  // (both are at most 2^7 in Q7.24 magnitude here because track <= 4 m).
+  if (!within(p.com_x_m, kMaxLink) || !within(p.com_z_m, kMaxLink) || !within(p.com_y_m, kMaxLink)) {
+    return RoverParamStatus::bad_com;
+  }
+  const std::int64_t twice_com_y = 2 * static_cast<std::int64_t>(p.com_y_m.raw());
+  const std::int64_t track = static_cast<std::int64_t>(p.track_width_m.raw());
+  if ((twice_com_y >= track) || (twice_com_y <= -track)) {
+    return RoverParamStatus::bad_com;
+  }
+  const SidePointM links[4] = {p.rocker_front_axle, p.rocker_bogie_pivot, p.bogie_middle_axle, p.bogie_rear_axle};
+  for (const SidePointM& l : links) {
+    if (!within(l.x_m, kMaxLink) || !within(l.z_m, kMaxLink)) {
+      return RoverParamStatus::bad_link_length;
+    }
+  }
+  if ((p.rocker_front_axle.x_m.raw() <= 0) || (p.rocker_bogie_pivot.x_m.raw() >= 0) ||
+      (p.bogie_middle_axle.x_m.raw() <= 0) || (p.bogie_rear_axle.x_m.raw() >= 0)) {
+    return RoverParamStatus::bad_link_order;
+  }
+  if (!positive_at_most(p.rocker_limit_rad, kMaxJointLimit) || !positive_at_most(p.bogie_limit_rad, kMaxJointLimit)) {
+    return RoverParamStatus::bad_joint_limit;
+  }
+  if (!positive_at_most(p.attitude_limit_rad, kMaxAttitudeLimit)) {
+    return RoverParamStatus::bad_attitude_limit;
+  }
+  if ((p.high_slip.raw() <= 0) || (p.high_slip > Ratio{fx::constant<RatioQ>(1.0)})) {
+    return RoverParamStatus::bad_high_slip;
+  }
+  return RoverParamStatus::ok;
+}
+
+WheelLoadResult wheel_loads(const RoverParams& params, const RoverAttitude& attitude,
+                            const JointAnglesRad& joints) noexcept {
+  if (validate_rover_params(params) != RoverParamStatus::ok) {
+    return failed(WheelLoadStatus::invalid_params);
+  }
+  if (!within(attitude.pitch_rad, params.attitude_limit_rad) || !within(attitude.roll_rad, params.attitude_limit_rad)) {
+    return failed(WheelLoadStatus::attitude_out_of_range);
+  }
+  for (std::uint32_t s = 0U; s < kSideCount; ++s) {
+    if (!within(joints.rocker_rad[s], params.rocker_limit_rad) || !within(joints.bogie_rad[s], params.bogie_limit_rad)) {
+      return failed(WheelLoadStatus::joint_out_of_range);
+    }
+  }
+
+  fx::Status st;
+  // Gravity direction in the body frame (section 3.2).
+  const W sin_pitch = wide(fx::sin(attitude.pitch_rad.q(), st), st);
+  const W cos_pitch = wide(fx::cos(attitude.pitch_rad.q(), st), st);
+  const W sin_roll = wide(fx::sin(attitude.roll_rad.q(), st), st);
+  const W cos_roll = wide(fx::cos(attitude.roll_rad.q(), st), st);
+  // cos(pitch) cos(roll) >= cos^2(1.05 rad) > 0.24: the divisions are safe.
+  const W normal_fraction = fx::mul(cos_pitch, cos_roll, st);
+  const W kx = fx::div(sin_pitch, normal_fraction, st);
+  const W ky = fx::div(sin_roll, cos_roll, st);
+
+  const W weight_n = fx::mul<W>(params.mass_kg.q(), params.gravity_mps2.q(), st);
+  const W com_xt = project(wide(params.com_x_m, st), wide(params.com_z_m, st), kx, st);
+  const W com_yt = project(wide(params.com_y_m, st), wide(params.com_z_m, st), ky, st);
+  const W half = fx::constant<W>(0.5);
+  // Differential: equal pivot moments, which the pitch balance fixes (3.4).
+  const W pivot_moment = fx::mul(fx::mul(half, weight_n, st), com_xt, st);
+
+  const W half_track = fx::mul(half, wide(params.track_width_m, st), st);
+  const W radius = wide(params.wheel_radius_m, st);
+  const Point rocker_front = wide(params.rocker_front_axle, st);
+  const Point rocker_bogie = wide(params.rocker_bogie_pivot, st);
+  const Point bogie_middle = wide(params.bogie_middle_axle, st);
+  const Point bogie_rear = wide(params.bogie_rear_axle, st);
+  const Point down{W::zero(), fx::neg(radius, st)};
+
+  W lever_a[kSideCount]{};
+  W lever_b[kSideCount]{};
+  W beta[kSideCount]{};
+  W yt_front[kSideCount]{};
+  W yt_bogie[kSideCount]{};
+  for (std::uint32_t s = 0U; s < kSideCount; ++s) {
+    const W y_side = (s == 0U) ? half_track : fx::neg(half_track, st);
+    const fx::Q3_28 rocker = joints.rocker_rad[s].q();
+    // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
+    const fx::Q3_28 bogie_abs = fx::add(rocker, joints.bogie_rad[s].q(), st);
+    const W cr = wide(fx::cos(rocker, st), st);
+    const W sr = wide(fx::sin(rocker, st), st);
+    const W cb = wide(fx::cos(bogie_abs, st), st);
+    const W sb = wide(fx::sin(bogie_abs, st), st);
+    // Contacts one radius below the axles along the body z axis (section 2).
+    const Point pivot_b = rotate(rocker_bogie, cr, sr, st);
+    const Point front = plus(rotate(rocker_front, cr, sr, st), down, st);
+    const Point middle = plus(plus(pivot_b, rotate(bogie_middle, cb, sb, st), st), down, st);
+    const Point rear = plus(plus(pivot_b, rotate(bogie_rear, cb, sb, st), st), down, st);
+
+    const W xt_f = project(front.x, front.z, kx, st);
+    const W xt_m = project(middle.x, middle.z, kx, st);
+    const W xt_r = project(rear.x, rear.z, kx, st);
+    const W xt_b = project(pivot_b.x, pivot_b.z, kx, st);
+    lever_a[s] = xt_f;
+    lever_b[s] = fx::neg(xt_b, st);
+    const W span = fx::sub(xt_m, xt_r, st);
+    if ((fx::add(lever_a[s], lever_b[s], st) < kMinLever) || (span < kMinLever)) {
+      return failed(st.ok() ? WheelLoadStatus::degenerate : WheelLoadStatus::overflow);
+    }
+    beta[s] = fx::div(fx::sub(xt_b, xt_r, st), span, st);
+    yt_front[s] = project(y_side, front.z, ky, st);
+    const W yt_m = project(y_side, middle.z, ky, st);
+    const W yt_r = project(y_side, rear.z, ky, st);
+    // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
+    yt_bogie[s] = fx::add(yt_r, fx::mul(beta[s], fx::sub(yt_m, yt_r, st), st), st);
+  }
+
+  // Roll balance (section 3.5).
+  W big_y[kSideCount]{};
+  W big_z[kSideCount]{};
+  for (std::uint32_t s = 0U; s < kSideCount; ++s) {
+    const W lever = fx::add(lever_a[s], lever_b[s], st);
+    const W moment = fx::add(fx::mul(lever_b[s], yt_front[s], st), fx::mul(lever_a[s], yt_bogie[s], st), st);
+    big_y[s] = fx::div(moment, lever, st);
+    big_z[s] = fx::div(fx::sub(yt_front[s], yt_bogie[s], st), lever, st);
+  }
+  const W lateral_span = fx::sub(big_y[0], big_y[1], st);
+  if (lateral_span < kMinLever) {
+    return failed(st.ok() ? WheelLoadStatus::degenerate : WheelLoadStatus::overflow);
+  }
+  W side_total[kSideCount]{};
+  const W roll_moment = fx::sub(fx::sub(fx::mul(weight_n, com_yt, st),
+                                        fx::mul(pivot_moment, fx::add(big_z[0], big_z[1], st), st), st),
+                                fx::mul(weight_n, big_y[1], st), st);
+  side_total[0] = fx::div(roll_moment, lateral_span, st);
+  side_total[1] = fx::sub(weight_n, side_total[0], st);
+
+  W support[kWheelCount]{};
+  for (std::uint32_t s = 0U; s < kSideCount; ++s) {
+    const W lever = fx::add(lever_a[s], lever_b[s], st);
+    const W front = fx::div(fx::add(pivot_moment, fx::mul(lever_b[s], side_total[s], st), st), lever, st);
+    const W bogie = fx::sub(side_total[s], front, st);
+    const W middle = fx::mul(beta[s], bogie, st);
+    support[(3U * s) + 0U] = front;
+    support[(3U * s) + 1U] = middle;
+    support[(3U * s) + 2U] = fx::sub(bogie, middle, st);
+  }
+  if (!st.ok()) {
+    return failed(WheelLoadStatus::overflow);
+  }
+
+  std::uint32_t lowest = 0U;
+  for (std::uint32_t i = 1U; i < kWheelCount; ++i) {
+    if (support[i] < support[lowest]) {
+      lowest = i;
+    }
+  }
+  if (support[lowest].raw() < 0) {
+    WheelLoadResult r = failed(WheelLoadStatus::tip_over);
+    r.lifting_wheel = lowest;
+    return r;
+  }
+
+  WheelLoadResult r{};
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    r.load_n[i] = WheelLoadN{fx::rescale<LoadQ>(fx::mul(support[i], normal_fraction, st), st)};
+  }
+  r.weight_normal_n = WheelLoadN{fx::rescale<LoadQ>(fx::mul(weight_n, normal_fraction, st), st)};
+  if (!st.ok()) {
+    return failed(WheelLoadStatus::overflow);
+  }
+  r.lifting_wheel = kWheelCount;
+  r.status = WheelLoadStatus::ok;
+  return r;
+}
+
+}  // namespace flight
+}  // namespace sinkwatch
