@@ -1,0 +1,190 @@
+// Reference wheel–soil simulator: a rigid wheel driving on deformable soil
+// (Wong–Reece), with switchable effects from the terramechanics literature.
+//
+// It computes, for a wheel load W and a slip ratio s, the sinkage z, the drive
+// torque T and the drawbar pull DP that the paper's Eq. 1–2 integrate (and the
+// torque integral beside them), without the triangle approximation of Eq. 3–4:
+//   sigma(theta)  Bekker pressure–sinkage, Wong–Reece front/rear regions,
+//   tau(theta)    Janosi–Hanamoto shear, shear displacement from slip,
+//   W  = r b Int (sigma cos + tau sin),  DP = r b Int (tau cos - sigma sin) - Rb,
+//   T  = r r_s b Int tau,                integrated from theta2 to theta1,
+// with the sinkage solved so that W equals the load. docs/simulator.md gives
+// the equations, sources, defaults, numerical tolerances and limits.
+//
+// Ground code: double precision, host only. It is the "truth" the calibration,
+// the sim-to-real diagnosis and the replay traverse are generated from.
+#pragma once
+
+#include <array>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace sinkwatch::ground {
+
+// Soil constants in SI units. kc and kphi carry the Bekker units
+// N/m^(n+1) and N/m^(n+2) (so kc/b + kphi times m^n is a pressure).
+struct SoilParameters {
+  std::string name;
+  double kc = 0.0;                    // cohesive modulus of deformation, N/m^(n+1)
+  double kphi = 0.0;                  // frictional modulus of deformation, N/m^(n+2)
+  double n = 1.0;                     // sinkage exponent (static: n0)
+  double cohesion_pa = 0.0;           // c
+  double friction_angle_rad = 0.0;    // phi
+  double shear_modulus_m = 0.01;      // Janosi–Hanamoto K
+  double density_kg_m3 = 1600.0;      // bulk density (only bulldozing uses it, via gamma = rho g)
+};
+
+struct WheelGeometry {
+  double radius_m = 0.15;
+  double width_m = 0.15;
+};
+
+// The effects. Each is off by default; its parameters hold the documented
+// default size (docs/simulator.md, "Effects"), used when it is switched on.
+enum class Effect {
+  slip_sinkage,
+  stress_peak_shift,
+  rear_contact,
+  grouser,
+  bulldozing,
+  load_dependence,
+  drive_friction,
+};
+inline constexpr std::array<Effect, 7> kAllEffects{
+    Effect::slip_sinkage, Effect::stress_peak_shift, Effect::rear_contact, Effect::grouser,
+    Effect::bulldozing,   Effect::load_dependence,   Effect::drive_friction};
+
+std::string_view effect_name(Effect effect);
+// Throws std::invalid_argument naming the valid effects when `name` is unknown.
+Effect effect_from_name(std::string_view name);
+
+struct EffectSettings {
+  // slip_sinkage: n = n0 + n1 s (Ding et al. 2011/2015).
+  struct SlipSinkage { bool enabled = false; double n1 = 0.5; } slip_sinkage;
+  // stress_peak_shift: theta_m = (a0 + a1 s) theta1 (Wong & Reece 1967).
+  struct StressPeakShift { bool enabled = false; double a1 = 0.32; } stress_peak_shift;
+  // rear_contact: theta2 = -arccos(1 - lambda_r z / r) (Ishigami et al. 2007).
+  struct RearContact { bool enabled = false; double lambda_r = 0.9; } rear_contact;
+  // grouser: shear radius r_s = r + lambda h in j(theta) and the torque arm.
+  struct Grouser { bool enabled = false; double height_m = 0.01; double lambda = 1.0; } grouser;
+  // bulldozing: Rb = scale b (0.67 c z Kpc + 0.5 z^2 gamma Kpgamma) (Bekker/Wong,
+  // Terzaghi factors), subtracted from the drawbar pull.
+  struct Bulldozing { bool enabled = false; double scale = 1.0; } bulldozing;
+  // load_dependence: phi(sigma) = phi0 - dphi ln(1 + sigma/sigma_ref) (after Bolton 1986).
+  struct LoadDependence { bool enabled = false; double dphi_deg = 1.5; double sigma_ref_pa = 1000.0; } load_dependence;
+  // drive_friction: T_measured = T_soil + t0 + k_w W (gearbox drag + bearing load term).
+  struct DriveFriction { bool enabled = false; double t0_nm = 0.1; double k_w_m = 1.0e-3; } drive_friction;
+
+  bool enabled(Effect effect) const;
+  void set_enabled(Effect effect, bool on);
+};
+
+// Everything the model needs besides (load, slip).
+struct SimParameters {
+  SoilParameters soil;
+  WheelGeometry wheel;
+  double gravity_m_s2 = 9.81;
+  double a0 = 0.43;  // theta_m = a0 theta1 (Wong–Reece c1; stress_peak_shift adds a1 s)
+  EffectSettings effects;
+};
+
+// ---------------------------------------------------------------------------
+// Flat, named parameter vector, for fitting (issue 8: Ceres with numeric
+// derivatives). Names are "soil.kphi", "model.a0", "grouser.height_m", ...
+// Effect parameters are named "<effect>.<param>" with the effect's exact name.
+
+struct ParameterInfo {
+  std::string name;
+  std::string unit;
+  std::string description;
+  bool is_effect_parameter = false;
+  Effect effect = Effect::slip_sinkage;  // meaningful only when is_effect_parameter
+  bool primary = false;  // the one parameter that sets the effect's size (fit this one)
+  double lower = 0.0;    // physically admissible range, for bounded fits
+  double upper = 0.0;
+};
+
+// Every parameter the model has, in a fixed order.
+const std::vector<ParameterInfo>& parameter_catalogue();
+// The parameters of the base model plus those of the enabled effects.
+std::vector<std::string> active_parameter_names(const SimParameters& params);
+// The parameters of one effect, primary first.
+std::vector<std::string> effect_parameter_names(Effect effect);
+// The parameter that sets an effect's size (e.g. "bulldozing.scale").
+std::string primary_parameter_name(Effect effect);
+// A base-model set that is identifiable from soil-bin rows at one wheel width:
+// kc and kphi only appear as kc/b + kphi, so only kphi is in it.
+std::vector<std::string> suggested_base_fit_parameters();
+
+// Throw std::invalid_argument for an unknown name.
+double get_parameter(const SimParameters& params, std::string_view name);
+void set_parameter(SimParameters& params, std::string_view name, double value);
+std::vector<double> get_parameters(const SimParameters& params, const std::vector<std::string>& names);
+void set_parameters(SimParameters& params, const std::vector<std::string>& names,
+                    const std::vector<double>& values);
+
+// ---------------------------------------------------------------------------
+// Evaluation.
+
+enum class SimStatus {
+  ok,
+  bad_input,      // a parameter, the load or the slip is outside the model's domain
+  no_solution,    // no sinkage 0 < z <= r carries the load (the wheel sinks past its axle)
+  numerical_failure,  // quadrature or root finder did not reach its tolerance
+};
+std::string_view status_name(SimStatus status);
+
+struct WheelSoilState {
+  double sinkage_m = 0.0;
+  double entry_angle_rad = 0.0;       // theta1
+  double exit_angle_rad = 0.0;        // theta2 (0 unless rear_contact)
+  double max_stress_angle_rad = 0.0;  // theta_m
+  double sinkage_exponent = 0.0;      // n actually used (n0 + n1 s with slip_sinkage)
+  double shear_radius_m = 0.0;        // r_s
+  double torque_nm = 0.0;             // what a drive-torque sensor would read (soil + drive friction)
+  double soil_torque_nm = 0.0;        // r r_s b Int tau
+  double drive_friction_torque_nm = 0.0;
+  double drawbar_pull_n = 0.0;        // gross thrust - compaction - bulldozing
+  double gross_thrust_n = 0.0;        // H  = r b Int tau cos
+  double compaction_resistance_n = 0.0;  // Rc = r b Int sigma sin
+  double bulldozing_resistance_n = 0.0;  // Rb
+  double vertical_force_n = 0.0;      // W recomputed at the solution (check: equals the load)
+  int root_iterations = 0;
+};
+
+struct Evaluation {
+  SimStatus status = SimStatus::ok;
+  std::string message;  // empty when ok; says what was wrong otherwise
+  WheelSoilState state;
+  bool ok() const { return status == SimStatus::ok; }
+};
+
+// Relative tolerances of the numerics (docs/simulator.md, "Numerical methods").
+inline constexpr double kQuadratureRelTol = 1e-12;
+inline constexpr int kRootBits = 44;  // toms748 bracket width ~ 2^(1-44) ~ 1e-13 relative
+
+// Solve the wheel state for a load (N, > 0) and a slip ratio in [0, 1].
+// Never throws for bad numbers: the status says what happened.
+Evaluation evaluate(const SimParameters& params, double load_n, double slip);
+
+// The vertical force the soil exerts at a given sinkage (the function whose
+// root is the sinkage). Exposed for tests and for diagnosis plots.
+double vertical_force_at_sinkage(const SimParameters& params, double sinkage_m, double slip);
+
+struct SimError : std::runtime_error {
+  SimError(SimStatus status_in, const std::string& what) : std::runtime_error(what), status(status_in) {}
+  SimStatus status;
+};
+// evaluate(), throwing SimError when the status is not ok.
+WheelSoilState evaluate_or_throw(const SimParameters& params, double load_n, double slip);
+
+// Terzaghi bearing-capacity factors (closed-form Nq, Nc; Coduto's Ngamma) and
+// the Bekker/Wong passive-pressure factors used by bulldozing.
+struct BearingFactors {
+  double nq, nc, ngamma, kpc, kpgamma;
+};
+BearingFactors terzaghi_factors(double friction_angle_rad);
+
+}  // namespace sinkwatch::ground

@@ -1,0 +1,551 @@
+// Wong–Reece rigid wheel on Bekker/Janosi–Hanamoto soil; see the header and
+// docs/simulator.md for the equations and their sources.
+#include "sinkwatch/ground/wheel_soil_model.hpp"
+
+#include <boost/math/quadrature/tanh_sinh.hpp>
+#include <boost/math/special_functions/gamma.hpp>
+#include <boost/math/tools/roots.hpp>
+#include <boost/math/tools/toms748_solve.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <sstream>
+
+namespace sinkwatch::ground {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegToRad = kPi / 180.0;
+
+// ---------------------------------------------------------------------------
+// Parameter catalogue: one row per named parameter, with an accessor.
+
+struct ParameterRow {
+  ParameterInfo info;
+  std::function<double&(SimParameters&)> ref;
+  // Stored value -> exposed value, and back (only phi is converted: the struct
+  // keeps radians, the vector exposes degrees, which humans read and type).
+  double scale_to_exposed = 1.0;
+};
+
+ParameterInfo base_info(std::string name, std::string unit, std::string description, double lower,
+                        double upper) {
+  ParameterInfo info;
+  info.name = std::move(name);
+  info.unit = std::move(unit);
+  info.description = std::move(description);
+  info.lower = lower;
+  info.upper = upper;
+  return info;
+}
+
+ParameterInfo effect_info(Effect effect, bool primary, std::string name, std::string unit,
+                          std::string description, double lower, double upper) {
+  ParameterInfo info = base_info(std::move(name), std::move(unit), std::move(description), lower, upper);
+  info.is_effect_parameter = true;
+  info.effect = effect;
+  info.primary = primary;
+  return info;
+}
+
+const std::vector<ParameterRow>& rows() {
+  static const std::vector<ParameterRow> table = [] {
+    std::vector<ParameterRow> t;
+    auto add = [&t](ParameterInfo info, std::function<double&(SimParameters&)> ref, double scale = 1.0) {
+      t.push_back(ParameterRow{std::move(info), std::move(ref), scale});
+    };
+    add(base_info("soil.kc", "N/m^(n+1)", "Bekker cohesive modulus", 0.0, 1e7),
+        [](SimParameters& p) -> double& { return p.soil.kc; });
+    add(base_info("soil.kphi", "N/m^(n+2)", "Bekker frictional modulus", 0.0, 1e9),
+        [](SimParameters& p) -> double& { return p.soil.kphi; });
+    add(base_info("soil.n", "-", "sinkage exponent (n0 when slip_sinkage is on)", 0.2, 2.5),
+        [](SimParameters& p) -> double& { return p.soil.n; });
+    add(base_info("soil.c_pa", "Pa", "cohesion", 0.0, 1e5),
+        [](SimParameters& p) -> double& { return p.soil.cohesion_pa; });
+    add(base_info("soil.phi_deg", "deg", "internal friction angle", 0.0, 60.0),
+        [](SimParameters& p) -> double& { return p.soil.friction_angle_rad; }, 1.0 / kDegToRad);
+    add(base_info("soil.K_m", "m", "Janosi–Hanamoto shear deformation modulus", 1e-4, 0.2),
+        [](SimParameters& p) -> double& { return p.soil.shear_modulus_m; });
+    add(base_info("soil.density_kg_m3", "kg/m^3", "bulk density (bulldozing only)", 500.0, 3500.0),
+        [](SimParameters& p) -> double& { return p.soil.density_kg_m3; });
+    add(base_info("wheel.radius_m", "m", "wheel radius", 0.01, 2.0),
+        [](SimParameters& p) -> double& { return p.wheel.radius_m; });
+    add(base_info("wheel.width_m", "m", "wheel width", 0.01, 2.0),
+        [](SimParameters& p) -> double& { return p.wheel.width_m; });
+    add(base_info("gravity_m_s2", "m/s^2", "gravity (bulldozing soil weight; --masses)", 0.1, 30.0),
+        [](SimParameters& p) -> double& { return p.gravity_m_s2; });
+    add(base_info("model.a0", "-", "maximum-stress angle ratio, theta_m = a0 theta1", 0.0, 0.95),
+        [](SimParameters& p) -> double& { return p.a0; });
+
+    add(effect_info(Effect::slip_sinkage, true, "slip_sinkage.n1", "-", "n = n0 + n1 s", 0.0, 2.0),
+        [](SimParameters& p) -> double& { return p.effects.slip_sinkage.n1; });
+    add(effect_info(Effect::stress_peak_shift, true, "stress_peak_shift.a1", "-",
+                    "theta_m = (a0 + a1 s) theta1", 0.0, 0.6),
+        [](SimParameters& p) -> double& { return p.effects.stress_peak_shift.a1; });
+    add(effect_info(Effect::rear_contact, true, "rear_contact.lambda_r", "-",
+                    "theta2 = -arccos(1 - lambda_r z / r)", 0.0, 1.0),
+        [](SimParameters& p) -> double& { return p.effects.rear_contact.lambda_r; });
+    add(effect_info(Effect::grouser, true, "grouser.height_m", "m", "grouser height h", 0.0, 0.1),
+        [](SimParameters& p) -> double& { return p.effects.grouser.height_m; });
+    add(effect_info(Effect::grouser, false, "grouser.lambda", "-", "r_s = r + lambda h", 0.0, 1.0),
+        [](SimParameters& p) -> double& { return p.effects.grouser.lambda; });
+    add(effect_info(Effect::bulldozing, true, "bulldozing.scale", "-",
+                    "multiplier on the Bekker/Wong bulldozing resistance", 0.0, 10.0),
+        [](SimParameters& p) -> double& { return p.effects.bulldozing.scale; });
+    add(effect_info(Effect::load_dependence, true, "load_dependence.dphi_deg", "deg",
+                    "phi = phi0 - dphi ln(1 + sigma/sigma_ref)", 0.0, 10.0),
+        [](SimParameters& p) -> double& { return p.effects.load_dependence.dphi_deg; });
+    add(effect_info(Effect::load_dependence, false, "load_dependence.sigma_ref_pa", "Pa",
+                    "reference normal stress", 1.0, 1e6),
+        [](SimParameters& p) -> double& { return p.effects.load_dependence.sigma_ref_pa; });
+    add(effect_info(Effect::drive_friction, true, "drive_friction.t0_nm", "N m",
+                    "load-independent drag torque", 0.0, 10.0),
+        [](SimParameters& p) -> double& { return p.effects.drive_friction.t0_nm; });
+    add(effect_info(Effect::drive_friction, false, "drive_friction.k_w_m", "m",
+                    "load-proportional friction torque per newton", 0.0, 0.05),
+        [](SimParameters& p) -> double& { return p.effects.drive_friction.k_w_m; });
+    return t;
+  }();
+  return table;
+}
+
+const ParameterRow& find_row(std::string_view name) {
+  for (const ParameterRow& row : rows()) {
+    if (row.info.name == name) return row;
+  }
+  std::ostringstream msg;
+  msg << "unknown model parameter '" << name << "'; known:";
+  for (const ParameterRow& row : rows()) msg << ' ' << row.info.name;
+  throw std::invalid_argument(msg.str());
+}
+
+// ---------------------------------------------------------------------------
+// The contact problem at a given sinkage.
+
+struct Contact {
+  double r = 0, b = 0, rs = 0;         // radius, width, shear radius
+  double k = 0, n = 0;                 // kc/b + kphi, exponent
+  double c = 0, phi0 = 0, K = 0;       // shear
+  double s = 0;                        // slip
+  double theta1 = 0, theta2 = 0, thetam = 0;
+  bool load_dependent = false;
+  double dphi_rad = 0, sigma_ref = 1;
+  double k_rn = 0;                     // k r^n, hoisted out of the integrand
+  double tan_phi0 = 0;
+
+  double sigma_front(double theta) const {
+    // cos(theta) - cos(theta1), written as a product so that it keeps its
+    // relative accuracy close to theta1, where both cosines are nearly equal.
+    const double d = 2.0 * std::sin(0.5 * (theta1 + theta)) * std::sin(0.5 * (theta1 - theta));
+    return d > 0.0 ? k_rn * std::pow(d, n) : 0.0;
+  }
+  double sigma(double theta) const {
+    if (theta >= thetam) return sigma_front(theta);
+    // Rear region: the front profile mapped onto [theta2, thetam] (Wong–Reece).
+    const double theta_e = theta1 - (theta - theta2) * (theta1 - thetam) / (thetam - theta2);
+    return sigma_front(theta_e);
+  }
+  double shear_displacement(double theta) const {
+    const double dsin = 2.0 * std::cos(0.5 * (theta1 + theta)) * std::sin(0.5 * (theta1 - theta));
+    return rs * ((theta1 - theta) - (1.0 - s) * dsin);
+  }
+  double tau(double theta, double sig) const {
+    double tan_phi = tan_phi0;
+    if (load_dependent) {
+      const double phi = std::max(0.0, phi0 - dphi_rad * std::log1p(sig / sigma_ref));
+      tan_phi = std::tan(phi);
+    }
+    const double j = shear_displacement(theta);
+    return (c + sig * tan_phi) * (-std::expm1(-j / K));
+  }
+};
+
+double sinkage_exponent(const SimParameters& p, double slip) {
+  return p.soil.n + (p.effects.slip_sinkage.enabled ? p.effects.slip_sinkage.n1 * slip : 0.0);
+}
+
+double max_stress_ratio(const SimParameters& p, double slip) {
+  return p.a0 + (p.effects.stress_peak_shift.enabled ? p.effects.stress_peak_shift.a1 * slip : 0.0);
+}
+
+double shear_radius(const SimParameters& p) {
+  return p.wheel.radius_m +
+         (p.effects.grouser.enabled ? p.effects.grouser.lambda * p.effects.grouser.height_m : 0.0);
+}
+
+Contact make_contact(const SimParameters& p, double sinkage_m, double slip) {
+  Contact ct;
+  ct.r = p.wheel.radius_m;
+  ct.b = p.wheel.width_m;
+  ct.rs = shear_radius(p);
+  ct.n = sinkage_exponent(p, slip);
+  ct.k = p.soil.kc / ct.b + p.soil.kphi;
+  ct.c = p.soil.cohesion_pa;
+  ct.phi0 = p.soil.friction_angle_rad;
+  ct.tan_phi0 = std::tan(ct.phi0);
+  ct.K = p.soil.shear_modulus_m;
+  ct.s = slip;
+  const double zr = std::min(1.0, std::max(0.0, sinkage_m / ct.r));
+  ct.theta1 = std::acos(1.0 - zr);
+  ct.theta2 = p.effects.rear_contact.enabled
+                  ? -std::acos(1.0 - std::min(1.0, p.effects.rear_contact.lambda_r * zr))
+                  : 0.0;
+  ct.thetam = max_stress_ratio(p, slip) * ct.theta1;
+  ct.load_dependent = p.effects.load_dependence.enabled;
+  ct.dphi_rad = p.effects.load_dependence.dphi_deg * kDegToRad;
+  ct.sigma_ref = p.effects.load_dependence.sigma_ref_pa;
+  ct.k_rn = ct.k * std::pow(ct.r, ct.n);
+  return ct;
+}
+
+class QuadratureFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Integral of f over [theta2, theta1], split at theta_m where sigma has a kink.
+// tanh-sinh because the integrands have endpoint singularities in their
+// derivatives ((theta1 - theta)^n with non-integer n) that it handles with
+// double-exponential convergence.
+template <class F>
+double integrate_contact(const Contact& ct, F f) {
+  thread_local boost::math::quadrature::tanh_sinh<double> integrator(15);
+  double total = 0.0;
+  const double pieces[3] = {ct.theta2, ct.thetam, ct.theta1};
+  for (int i = 0; i < 2; ++i) {
+    const double a = pieces[i];
+    const double b = pieces[i + 1];
+    if (!(b > a)) continue;
+    double error = 0.0;
+    double l1 = 0.0;
+    const double value = integrator.integrate(f, a, b, kQuadratureRelTol, &error, &l1);
+    // tanh-sinh's estimate is the difference between its last two levels, so
+    // it overstates the true error; 1e3 x the goal flags a real failure only.
+    if (!std::isfinite(value) || error > 1e3 * kQuadratureRelTol * std::max(l1, 1e-300)) {
+      std::ostringstream msg;
+      msg << "quadrature did not converge on [" << a << ", " << b << "] rad: error estimate " << error
+          << " against L1 norm " << l1;
+      throw QuadratureFailure(msg.str());
+    }
+    total += value;
+  }
+  return total;
+}
+
+double vertical_force(const Contact& ct) {
+  const double integral = integrate_contact(ct, [&ct](double th) {
+    const double sig = ct.sigma(th);
+    return sig * std::cos(th) + ct.tau(th, sig) * std::sin(th);
+  });
+  return ct.r * ct.b * integral;
+}
+
+std::string check_parameters(const SimParameters& p, double load_n, double slip) {
+  std::ostringstream msg;
+  auto bad = [&msg](const char* what, double value) {
+    msg << what << " (got " << value << ")";
+    return msg.str();
+  };
+  if (!(p.wheel.radius_m > 0.0) || !std::isfinite(p.wheel.radius_m)) return bad("wheel radius must be > 0 m", p.wheel.radius_m);
+  if (!(p.wheel.width_m > 0.0) || !std::isfinite(p.wheel.width_m)) return bad("wheel width must be > 0 m", p.wheel.width_m);
+  if (!(load_n > 0.0) || !std::isfinite(load_n)) return bad("load must be > 0 N", load_n);
+  if (!(slip >= 0.0 && slip <= 1.0)) return bad("slip must be in [0, 1] (driving; skid is not modelled)", slip);
+  const double k = p.soil.kc / p.wheel.width_m + p.soil.kphi;
+  if (!(k > 0.0) || !std::isfinite(k)) return bad("kc/b + kphi must be > 0", k);
+  const double n = sinkage_exponent(p, slip);
+  if (!(n > 0.0) || !std::isfinite(n)) return bad("sinkage exponent n (n0 + n1 s) must be > 0", n);
+  if (!(p.soil.cohesion_pa >= 0.0) || !std::isfinite(p.soil.cohesion_pa)) return bad("cohesion must be >= 0 Pa", p.soil.cohesion_pa);
+  if (!(p.soil.friction_angle_rad >= 0.0 && p.soil.friction_angle_rad < 0.5 * kPi))
+    return bad("friction angle must be in [0, 90) deg", p.soil.friction_angle_rad / kDegToRad);
+  if (!(p.soil.shear_modulus_m > 0.0) || !std::isfinite(p.soil.shear_modulus_m)) return bad("shear modulus K must be > 0 m", p.soil.shear_modulus_m);
+  const double ratio = max_stress_ratio(p, slip);
+  if (!(ratio >= 0.0 && ratio < 1.0)) return bad("theta_m/theta1 (a0 + a1 s) must be in [0, 1)", ratio);
+  if (p.effects.rear_contact.enabled) {
+    const double lr = p.effects.rear_contact.lambda_r;
+    if (!(lr >= 0.0 && lr <= 1.0)) return bad("rear_contact.lambda_r must be in [0, 1]", lr);
+  }
+  if (p.effects.grouser.enabled) {
+    const auto& g = p.effects.grouser;
+    if (!(g.height_m >= 0.0) || !std::isfinite(g.height_m)) return bad("grouser.height_m must be >= 0", g.height_m);
+    if (!(g.lambda >= 0.0 && g.lambda <= 1.0)) return bad("grouser.lambda must be in [0, 1]", g.lambda);
+  }
+  if (p.effects.bulldozing.enabled) {
+    if (!(p.effects.bulldozing.scale >= 0.0) || !std::isfinite(p.effects.bulldozing.scale)) return bad("bulldozing.scale must be >= 0", p.effects.bulldozing.scale);
+    if (!(p.soil.density_kg_m3 > 0.0)) return bad("soil density must be > 0 for bulldozing", p.soil.density_kg_m3);
+    if (!(p.gravity_m_s2 > 0.0)) return bad("gravity must be > 0 for bulldozing", p.gravity_m_s2);
+  }
+  if (p.effects.load_dependence.enabled) {
+    const auto& l = p.effects.load_dependence;
+    if (!(l.dphi_deg >= 0.0) || !std::isfinite(l.dphi_deg)) return bad("load_dependence.dphi_deg must be >= 0", l.dphi_deg);
+    if (!(l.sigma_ref_pa > 0.0) || !std::isfinite(l.sigma_ref_pa)) return bad("load_dependence.sigma_ref_pa must be > 0", l.sigma_ref_pa);
+  }
+  if (p.effects.drive_friction.enabled) {
+    const auto& d = p.effects.drive_friction;
+    if (!std::isfinite(d.t0_nm) || !std::isfinite(d.k_w_m)) return bad("drive_friction parameters must be finite", d.t0_nm);
+  }
+  return {};
+}
+
+// Static sinkage of Bekker's law under a rigid wheel with the parabolic contact
+// approximation: W = b k sqrt(2r) z^(n+1/2) * sqrt(pi) Gamma(n+1) / (2 Gamma(n+3/2)).
+// Only the starting bracket of the root finder uses it.
+double bekker_sinkage_guess(const Contact& ct, double load_n) {
+  const double g = std::sqrt(kPi) * boost::math::tgamma(ct.n + 1.0) / (2.0 * boost::math::tgamma(ct.n + 1.5));
+  const double coeff = ct.b * ct.k * std::sqrt(2.0 * ct.r) * g;
+  return std::pow(load_n / coeff, 1.0 / (ct.n + 0.5));
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+
+std::string_view effect_name(Effect effect) {
+  switch (effect) {
+    case Effect::slip_sinkage: return "slip_sinkage";
+    case Effect::stress_peak_shift: return "stress_peak_shift";
+    case Effect::rear_contact: return "rear_contact";
+    case Effect::grouser: return "grouser";
+    case Effect::bulldozing: return "bulldozing";
+    case Effect::load_dependence: return "load_dependence";
+    case Effect::drive_friction: return "drive_friction";
+  }
+  return "?";
+}
+
+Effect effect_from_name(std::string_view name) {
+  for (Effect e : kAllEffects) {
+    if (effect_name(e) == name) return e;
+  }
+  std::ostringstream msg;
+  msg << "unknown effect '" << name << "'; known effects:";
+  for (Effect e : kAllEffects) msg << ' ' << effect_name(e);
+  throw std::invalid_argument(msg.str());
+}
+
+bool EffectSettings::enabled(Effect effect) const {
+  switch (effect) {
+    case Effect::slip_sinkage: return slip_sinkage.enabled;
+    case Effect::stress_peak_shift: return stress_peak_shift.enabled;
+    case Effect::rear_contact: return rear_contact.enabled;
+    case Effect::grouser: return grouser.enabled;
+    case Effect::bulldozing: return bulldozing.enabled;
+    case Effect::load_dependence: return load_dependence.enabled;
+    case Effect::drive_friction: return drive_friction.enabled;
+  }
+  return false;
+}
+
+void EffectSettings::set_enabled(Effect effect, bool on) {
+  switch (effect) {
+    case Effect::slip_sinkage: slip_sinkage.enabled = on; break;
+    case Effect::stress_peak_shift: stress_peak_shift.enabled = on; break;
+    case Effect::rear_contact: rear_contact.enabled = on; break;
+    case Effect::grouser: grouser.enabled = on; break;
+    case Effect::bulldozing: bulldozing.enabled = on; break;
+    case Effect::load_dependence: load_dependence.enabled = on; break;
+    case Effect::drive_friction: drive_friction.enabled = on; break;
+  }
+}
+
+const std::vector<ParameterInfo>& parameter_catalogue() {
+  static const std::vector<ParameterInfo> infos = [] {
+    std::vector<ParameterInfo> v;
+    for (const ParameterRow& row : rows()) v.push_back(row.info);
+    return v;
+  }();
+  return infos;
+}
+
+std::vector<std::string> active_parameter_names(const SimParameters& params) {
+  std::vector<std::string> names;
+  for (const ParameterInfo& info : parameter_catalogue()) {
+    if (!info.is_effect_parameter || params.effects.enabled(info.effect)) names.push_back(info.name);
+  }
+  return names;
+}
+
+std::vector<std::string> effect_parameter_names(Effect effect) {
+  std::vector<std::string> names;
+  for (const ParameterInfo& info : parameter_catalogue()) {
+    if (info.is_effect_parameter && info.effect == effect && info.primary) names.push_back(info.name);
+  }
+  for (const ParameterInfo& info : parameter_catalogue()) {
+    if (info.is_effect_parameter && info.effect == effect && !info.primary) names.push_back(info.name);
+  }
+  return names;
+}
+
+std::string primary_parameter_name(Effect effect) { return effect_parameter_names(effect).front(); }
+
+std::vector<std::string> suggested_base_fit_parameters() {
+  return {"soil.kphi", "soil.n", "soil.c_pa", "soil.phi_deg", "soil.K_m", "model.a0"};
+}
+
+double get_parameter(const SimParameters& params, std::string_view name) {
+  const ParameterRow& row = find_row(name);
+  // The accessor needs a mutable object; reading through a copy keeps params const.
+  SimParameters copy = params;
+  return row.ref(copy) * row.scale_to_exposed;
+}
+
+void set_parameter(SimParameters& params, std::string_view name, double value) {
+  const ParameterRow& row = find_row(name);
+  row.ref(params) = value / row.scale_to_exposed;
+}
+
+std::vector<double> get_parameters(const SimParameters& params, const std::vector<std::string>& names) {
+  std::vector<double> values;
+  values.reserve(names.size());
+  SimParameters copy = params;
+  for (const std::string& name : names) {
+    const ParameterRow& row = find_row(name);
+    values.push_back(row.ref(copy) * row.scale_to_exposed);
+  }
+  return values;
+}
+
+void set_parameters(SimParameters& params, const std::vector<std::string>& names, const std::vector<double>& values) {
+  if (names.size() != values.size()) {
+    throw std::invalid_argument("set_parameters: " + std::to_string(names.size()) + " names but " +
+                                std::to_string(values.size()) + " values");
+  }
+  for (std::size_t i = 0; i < names.size(); ++i) set_parameter(params, names[i], values[i]);
+}
+
+std::string_view status_name(SimStatus status) {
+  switch (status) {
+    case SimStatus::ok: return "ok";
+    case SimStatus::bad_input: return "bad_input";
+    case SimStatus::no_solution: return "no_solution";
+    case SimStatus::numerical_failure: return "numerical_failure";
+  }
+  return "?";
+}
+
+BearingFactors terzaghi_factors(double phi) {
+  BearingFactors f{};
+  const double tp = std::tan(phi);
+  const double cq = std::cos(0.25 * kPi + 0.5 * phi);
+  f.nq = std::exp(2.0 * (0.75 * kPi - 0.5 * phi) * tp) / (2.0 * cq * cq);
+  // Nc = (Nq - 1) cot(phi) tends to 3 pi / 2 + 1 as phi -> 0; the series keeps it exact there.
+  f.nc = phi > 1e-6 ? (f.nq - 1.0) / tp : 1.5 * kPi + 1.0;
+  f.ngamma = 2.0 * (f.nq + 1.0) * tp / (1.0 + 0.4 * std::sin(4.0 * phi));
+  const double c2 = std::cos(phi) * std::cos(phi);
+  f.kpc = (f.nc - tp) * c2;
+  // Ngamma / tan(phi) -> 2 (Nq + 1) / (1 + 0.4 sin 4phi) -> 4 as phi -> 0.
+  const double ng_over_tan = phi > 1e-6 ? f.ngamma / tp : 2.0 * (f.nq + 1.0) / (1.0 + 0.4 * std::sin(4.0 * phi));
+  f.kpgamma = (2.0 * ng_over_tan + 1.0) * c2;
+  return f;
+}
+
+double vertical_force_at_sinkage(const SimParameters& params, double sinkage_m, double slip) {
+  return vertical_force(make_contact(params, sinkage_m, slip));
+}
+
+Evaluation evaluate(const SimParameters& p, double load_n, double slip) {
+  Evaluation ev;
+  if (std::string problem = check_parameters(p, load_n, slip); !problem.empty()) {
+    ev.status = SimStatus::bad_input;
+    ev.message = problem;
+    return ev;
+  }
+  const double r = p.wheel.radius_m;
+  try {
+    auto residual = [&](double z) { return vertical_force(make_contact(p, z, slip)) - load_n; };
+
+    // Bracket the root: start around Bekker's closed-form static sinkage and
+    // widen. W(z) grows with z, from 0 at z = 0 to its largest value at z = r.
+    const Contact probe = make_contact(p, 0.5 * r, slip);
+    const double guess = std::min(r, std::max(1e-9 * r, bekker_sinkage_guess(probe, load_n)));
+    double lo = 0.5 * guess;
+    double hi = std::min(r, 2.0 * guess);
+    double f_lo = residual(lo);
+    for (int i = 0; i < 40 && f_lo > 0.0; ++i) {
+      hi = lo;
+      lo *= 0.25;
+      f_lo = residual(lo);
+    }
+    if (f_lo > 0.0) {
+      ev.status = SimStatus::numerical_failure;
+      ev.message = "could not bracket the sinkage from below";
+      return ev;
+    }
+    double f_hi = residual(hi);
+    for (int i = 0; i < 60 && f_hi < 0.0 && hi < r; ++i) {
+      lo = hi;
+      f_lo = f_hi;
+      hi = std::min(r, 2.0 * hi);
+      f_hi = residual(hi);
+    }
+    if (f_hi < 0.0) {
+      std::ostringstream msg;
+      msg << "no equilibrium: at sinkage z = r = " << r << " m the soil carries only " << f_hi + load_n
+          << " N of the " << load_n << " N load (the wheel sinks past its axle)";
+      ev.status = SimStatus::no_solution;
+      ev.message = msg.str();
+      return ev;
+    }
+    std::uintmax_t iterations = 100;
+    const auto bracket = boost::math::tools::toms748_solve(
+        residual, lo, hi, f_lo, f_hi, boost::math::tools::eps_tolerance<double>(kRootBits), iterations);
+    if (iterations >= 100) {
+      ev.status = SimStatus::numerical_failure;
+      ev.message = "root finder did not converge in 100 iterations";
+      return ev;
+    }
+    const double z = 0.5 * (bracket.first + bracket.second);
+
+    const Contact ct = make_contact(p, z, slip);
+    const double rb = ct.r * ct.b;
+    const double h = rb * integrate_contact(ct, [&ct](double th) { return ct.tau(th, ct.sigma(th)) * std::cos(th); });
+    const double rc = rb * integrate_contact(ct, [&ct](double th) { return ct.sigma(th) * std::sin(th); });
+    const double tau_int = integrate_contact(ct, [&ct](double th) { return ct.tau(th, ct.sigma(th)); });
+
+    WheelSoilState& st = ev.state;
+    st.sinkage_m = z;
+    st.entry_angle_rad = ct.theta1;
+    st.exit_angle_rad = ct.theta2;
+    st.max_stress_angle_rad = ct.thetam;
+    st.sinkage_exponent = ct.n;
+    st.shear_radius_m = ct.rs;
+    st.gross_thrust_n = h;
+    st.compaction_resistance_n = rc;
+    st.soil_torque_nm = ct.r * ct.rs * ct.b * tau_int;
+    if (p.effects.bulldozing.enabled) {
+      const BearingFactors bf = terzaghi_factors(p.soil.friction_angle_rad);
+      const double gamma = p.soil.density_kg_m3 * p.gravity_m_s2;
+      st.bulldozing_resistance_n =
+          p.effects.bulldozing.scale * ct.b *
+          (0.67 * p.soil.cohesion_pa * z * bf.kpc + 0.5 * z * z * gamma * bf.kpgamma);
+    }
+    if (p.effects.drive_friction.enabled) {
+      st.drive_friction_torque_nm = p.effects.drive_friction.t0_nm + p.effects.drive_friction.k_w_m * load_n;
+    }
+    st.torque_nm = st.soil_torque_nm + st.drive_friction_torque_nm;
+    st.drawbar_pull_n = h - rc - st.bulldozing_resistance_n;
+    st.vertical_force_n = vertical_force(ct);
+    st.root_iterations = static_cast<int>(iterations);
+  } catch (const QuadratureFailure& e) {
+    ev.status = SimStatus::numerical_failure;
+    ev.message = e.what();
+  } catch (const std::exception& e) {
+    // Boost.Math reports domain and evaluation errors by exception.
+    ev.status = SimStatus::numerical_failure;
+    ev.message = std::string("numerical error: ") + e.what();
+  }
+  return ev;
+}
+
+WheelSoilState evaluate_or_throw(const SimParameters& params, double load_n, double slip) {
+  Evaluation ev = evaluate(params, load_n, slip);
+  if (!ev.ok()) {
+    std::ostringstream msg;
+    msg << "load " << load_n << " N, slip " << slip << ": " << status_name(ev.status) << ": " << ev.message;
+    throw SimError(ev.status, msg.str());
+  }
+  return ev.state;
+}
+
+}  // namespace sinkwatch::ground
