@@ -1,0 +1,161 @@
+// rover_loads.hpp: double-precision reference for the rover-level quantities
+// the estimation function needs but a rover does not measure (the paper's
+// section 7, key technologies 2 and 4):
+//
+//  * each wheel's normal load W from a quasi-static model of a six-wheel
+//    rocker-bogie with a differential, from attitude (pitch, roll), the
+//    rocker and bogie joint angles, the geometry and the body's gravity;
+//  * each wheel's drawbar pull DP from the vehicle force balance
+//    sum(DP) = m (a + g sin(pitch)), split in proportion to the wheel loads
+//    and capped at the soil-bin maximum DP_max.
+//
+// The derivation, the sign conventions and the assumptions are in
+// docs/rover-loads.md; this file is the twin of flight/wheel_load.hpp and
+// flight/drawbar_pull.hpp and is what an engineer reads when a flight number
+// looks wrong. Host only.
+#ifndef SINKWATCH_GROUND_ROVER_LOADS_HPP
+#define SINKWATCH_GROUND_ROVER_LOADS_HPP
+
+#include <array>
+#include <cstddef>
+#include <string>
+
+namespace sinkwatch {
+namespace ground {
+
+/// Surface gravities [m/s^2] of the bodies the rover is used on.
+inline constexpr double k_gravity_moon_mps2 = 1.62;
+inline constexpr double k_gravity_mars_mps2 = 3.71;
+inline constexpr double k_gravity_earth_mps2 = 9.81;
+
+/// Wheel order used everywhere: left front, middle, rear, then right.
+inline constexpr std::size_t k_wheel_count = 6U;
+enum class WheelPos : std::size_t { left_front = 0U, left_middle, left_rear, right_front, right_middle, right_rear };
+
+/// A point of one side's suspension in the side's plane, body frame:
+/// x forward, z up, origin on the rocker pivot axis.
+struct SidePoint {
+  double x_m{0.0};
+  double z_m{0.0};
+};
+
+/// Geometry and mass of the rover. Both sides are mirror images.
+/// Body frame: x forward, y left, z up, origin midway between the two
+/// rocker pivots (which share the lateral axis y).
+struct RoverGeometry {
+  double mass_kg{0.0};
+  double gravity_mps2{0.0};
+  double com_x_m{0.0};  ///< centre of mass, body frame (rockers and bogies lumped in)
+  double com_y_m{0.0};
+  double com_z_m{0.0};
+  double track_width_m{0.0};  ///< between the left and right wheel contact lines
+  double wheel_radius_m{0.0};
+  SidePoint rocker_front_axle;  ///< front axle from the rocker pivot, rocker angle 0
+  SidePoint rocker_bogie_pivot;  ///< bogie pivot from the rocker pivot, rocker angle 0
+  SidePoint bogie_middle_axle;   ///< middle axle from the bogie pivot, both angles 0
+  SidePoint bogie_rear_axle;     ///< rear axle from the bogie pivot, both angles 0
+  double rocker_limit_rad{0.0};  ///< |rocker angle| the mechanism allows
+  double bogie_limit_rad{0.0};   ///< |bogie angle| the mechanism allows
+  double attitude_limit_rad{0.0};  ///< |pitch|, |roll| the model accepts
+};
+
+/// The assumed Yutu-like default (docs/rover-loads.md: 140 kg and the 0.15 m
+/// wheel radius are published; the link lengths are assumed).
+[[nodiscard]] RoverGeometry yutu_like_geometry(double gravity_mps2 = k_gravity_moon_mps2);
+
+/// Empty when the geometry is usable, else the reason it is not.
+[[nodiscard]] std::string validate(const RoverGeometry& g);
+
+/// IMU attitude. Pitch positive nose up, roll positive right side down
+/// (right-handed about x forward, y left, z up).
+struct Attitude {
+  double pitch_rad{0.0};
+  double roll_rad{0.0};
+};
+
+/// Suspension joint angles, index 0 = left, 1 = right. Rocker: rocker
+/// relative to the body; bogie: bogie relative to its rocker. Both positive
+/// when the forward end of the link rises.
+struct JointAngles {
+  std::array<double, 2> rocker_rad{};
+  std::array<double, 2> bogie_rad{};
+};
+
+enum class LoadStatus {
+  ok,
+  invalid_geometry,       ///< validate() failed
+  attitude_out_of_range,  ///< |pitch| or |roll| beyond attitude_limit_rad, or not finite
+  joint_out_of_range,     ///< a joint angle beyond its limit, or not finite
+  degenerate,             ///< a lever arm collapsed (wheel contacts coincide in projection)
+  tip_over,               ///< some wheel would need a negative load: beyond the stability limit
+};
+
+[[nodiscard]] const char* to_string(LoadStatus s);
+
+/// Everything the wheel-load model computes, for diagnosis.
+struct WheelLoads {
+  LoadStatus status{LoadStatus::invalid_geometry};
+  /// Normal load of each wheel (along the body z axis, the ground normal) [N].
+  /// Meaningful when status is ok or tip_over (then some are negative).
+  std::array<double, k_wheel_count> load_n{};
+  /// Each wheel's contact force, parallel to gravity [N]: load / (cos pitch cos roll).
+  std::array<double, k_wheel_count> support_n{};
+  double weight_normal_n{0.0};  ///< m g cos(pitch) cos(roll): what the loads sum to
+  double min_load_n{0.0};
+  /// Wheel contact points in the body frame [m], for the diagnosis.
+  std::array<double, k_wheel_count> contact_x_m{};
+  std::array<double, k_wheel_count> contact_z_m{};
+};
+
+/// The quasi-static loads (docs/rover-loads.md, section 3).
+[[nodiscard]] WheelLoads wheel_loads(const RoverGeometry& g, Attitude att, const JointAngles& joints);
+
+/// Wheel contact positions (x, z) of one side in the body frame.
+struct SideContacts {
+  SidePoint front;
+  SidePoint middle;
+  SidePoint rear;
+  SidePoint bogie_pivot;  ///< the pivot itself, not a contact
+};
+[[nodiscard]] SideContacts side_contacts(const RoverGeometry& g, double rocker_rad, double bogie_rad);
+
+// ---------------------------------------------------------------- drawbar pull
+
+struct DrawbarInput {
+  double accel_mps2{0.0};  ///< acceleration along the path (body x), from odometry or VO
+  double pitch_rad{0.0};   ///< path slope: the body pitch
+  bool slip_known{false};  ///< whether `slip` holds a measurement
+  double slip{0.0};        ///< slip of the rover, 1 - v/(r w), at most 1
+};
+
+struct DrawbarParams {
+  /// Soil-bin DP_max / W at high slip (Fig. 10 plateau) at each wheel's load,
+  /// from the correction table.
+  std::array<double, k_wheel_count> dp_max_over_w{};
+  double high_slip{1.0};  ///< slip from which every wheel is taken at DP_max
+};
+
+enum class DrawbarStatus {
+  ok,
+  capped,         ///< at least one wheel's share exceeded +-DP_max and was limited
+  saturated,      ///< high slip: every wheel taken at DP_max
+  invalid_input,  ///< loads not ok, parameters or input out of range
+};
+
+[[nodiscard]] const char* to_string(DrawbarStatus s);
+
+struct DrawbarPulls {
+  DrawbarStatus status{DrawbarStatus::invalid_input};
+  double total_n{0.0};  ///< m (a + g sin(pitch)) before the cap
+  std::array<double, k_wheel_count> dp_n{};
+};
+
+/// DP_i = m (a + g sin(pitch)) W_i / sum(W), limited to +-dp_max_over_w_i W_i;
+/// at slip >= high_slip, DP_i = dp_max_over_w_i W_i (docs/rover-loads.md, section 6).
+[[nodiscard]] DrawbarPulls drawbar_pulls(const RoverGeometry& g, const WheelLoads& loads, DrawbarInput in,
+                                         const DrawbarParams& p);
+
+}  // namespace ground
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_GROUND_ROVER_LOADS_HPP

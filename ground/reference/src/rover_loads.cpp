@@ -1,0 +1,257 @@
+// Reference rover statics; see rover_loads.hpp and docs/rover-loads.md.
+#include "sinkwatch/ground/rover_loads.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sinkwatch {
+namespace ground {
+namespace {
+
+/// Rotation in a side's plane by `a`, positive raising the +x end.
+SidePoint rotate(SidePoint p, double a) {
+  const double c = std::cos(a);
+  const double s = std::sin(a);
+  return SidePoint{p.x_m * c - p.z_m * s, p.x_m * s + p.z_m * c};
+}
+
+SidePoint plus(SidePoint a, SidePoint b) { return SidePoint{a.x_m + b.x_m, a.z_m + b.z_m}; }
+
+bool finite_all(std::initializer_list<double> values) {
+  return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
+}
+
+/// A lever shorter than this (1 mm) is treated as collapsed.
+constexpr double k_min_lever_m = 1e-3;
+
+}  // namespace
+
+RoverGeometry yutu_like_geometry(double gravity_mps2) {
+  RoverGeometry g;
+  g.mass_kg = 140.0;
+  g.gravity_mps2 = gravity_mps2;
+  g.com_x_m = 0.0;
+  g.com_y_m = 0.0;
+  g.com_z_m = 0.10;
+  g.track_width_m = 0.90;
+  g.wheel_radius_m = 0.15;
+  g.rocker_front_axle = SidePoint{0.50, -0.30};
+  g.rocker_bogie_pivot = SidePoint{-0.25, -0.15};
+  g.bogie_middle_axle = SidePoint{0.25, -0.15};
+  g.bogie_rear_axle = SidePoint{-0.25, -0.15};
+  g.rocker_limit_rad = 0.35;
+  g.bogie_limit_rad = 0.50;
+  g.attitude_limit_rad = 1.0;
+  return g;
+}
+
+std::string validate(const RoverGeometry& g) {
+  if (!finite_all({g.mass_kg, g.gravity_mps2, g.com_x_m, g.com_y_m, g.com_z_m, g.track_width_m, g.wheel_radius_m,
+                   g.rocker_front_axle.x_m, g.rocker_front_axle.z_m, g.rocker_bogie_pivot.x_m,
+                   g.rocker_bogie_pivot.z_m, g.bogie_middle_axle.x_m, g.bogie_middle_axle.z_m,
+                   g.bogie_rear_axle.x_m, g.bogie_rear_axle.z_m, g.rocker_limit_rad, g.bogie_limit_rad,
+                   g.attitude_limit_rad})) {
+    return "a geometry value is not finite";
+  }
+  if (!(g.mass_kg > 0.0 && g.mass_kg <= 1000.0)) return "mass must be in (0, 1000] kg";
+  if (!(g.gravity_mps2 > 0.0 && g.gravity_mps2 <= 10.0)) return "gravity must be in (0, 10] m/s^2";
+  if (!(g.wheel_radius_m > 0.0 && g.wheel_radius_m <= 1.0)) return "wheel radius must be in (0, 1] m";
+  if (!(g.track_width_m > 0.0 && g.track_width_m <= 4.0)) return "track width must be in (0, 4] m";
+  if (!(std::fabs(g.com_y_m) < 0.5 * g.track_width_m)) return "centre of mass must lie between the wheel lines";
+  if (!(g.rocker_front_axle.x_m > 0.0)) return "front axle must be ahead of the rocker pivot";
+  if (!(g.rocker_bogie_pivot.x_m < 0.0)) return "bogie pivot must be behind the rocker pivot";
+  if (!(g.bogie_middle_axle.x_m > 0.0)) return "middle axle must be ahead of the bogie pivot";
+  if (!(g.bogie_rear_axle.x_m < 0.0)) return "rear axle must be behind the bogie pivot";
+  for (const double v : {g.com_x_m, g.com_z_m, g.rocker_front_axle.x_m, g.rocker_front_axle.z_m,
+                         g.rocker_bogie_pivot.x_m, g.rocker_bogie_pivot.z_m, g.bogie_middle_axle.x_m,
+                         g.bogie_middle_axle.z_m, g.bogie_rear_axle.x_m, g.bogie_rear_axle.z_m}) {
+    if (!(std::fabs(v) <= 2.0)) return "a link length or the centre of mass is beyond 2 m";
+  }
+  if (!(g.rocker_limit_rad > 0.0 && g.rocker_limit_rad <= 0.8)) return "rocker limit must be in (0, 0.8] rad";
+  if (!(g.bogie_limit_rad > 0.0 && g.bogie_limit_rad <= 0.8)) return "bogie limit must be in (0, 0.8] rad";
+  if (!(g.attitude_limit_rad > 0.0 && g.attitude_limit_rad <= 1.05)) {
+    return "attitude limit must be in (0, 1.05] rad";
+  }
+  return {};
+}
+
+const char* to_string(LoadStatus s) {
+  switch (s) {
+    case LoadStatus::ok: return "ok";
+    case LoadStatus::invalid_geometry: return "invalid geometry";
+    case LoadStatus::attitude_out_of_range: return "attitude out of range";
+    case LoadStatus::joint_out_of_range: return "joint angle out of range";
+    case LoadStatus::degenerate: return "degenerate lever";
+    case LoadStatus::tip_over: return "beyond the stability limit";
+  }
+  return "unknown";
+}
+
+SideContacts side_contacts(const RoverGeometry& g, double rocker_rad, double bogie_rad) {
+  // The contact is one wheel radius below the axle along the ground normal,
+  // taken as the body z axis (small terrain irregularity, section 2).
+  const SidePoint down{0.0, -g.wheel_radius_m};
+  SideContacts c;
+  c.bogie_pivot = rotate(g.rocker_bogie_pivot, rocker_rad);
+  c.front = plus(rotate(g.rocker_front_axle, rocker_rad), down);
+  c.middle = plus(plus(c.bogie_pivot, rotate(g.bogie_middle_axle, rocker_rad + bogie_rad)), down);
+  c.rear = plus(plus(c.bogie_pivot, rotate(g.bogie_rear_axle, rocker_rad + bogie_rad)), down);
+  return c;
+}
+
+WheelLoads wheel_loads(const RoverGeometry& g, Attitude att, const JointAngles& joints) {
+  WheelLoads out;
+  if (!validate(g).empty()) {
+    out.status = LoadStatus::invalid_geometry;
+    return out;
+  }
+  if (!finite_all({att.pitch_rad, att.roll_rad}) || std::fabs(att.pitch_rad) > g.attitude_limit_rad ||
+      std::fabs(att.roll_rad) > g.attitude_limit_rad) {
+    out.status = LoadStatus::attitude_out_of_range;
+    return out;
+  }
+  for (std::size_t s = 0U; s < 2U; ++s) {
+    if (!finite_all({joints.rocker_rad[s], joints.bogie_rad[s]}) ||
+        std::fabs(joints.rocker_rad[s]) > g.rocker_limit_rad || std::fabs(joints.bogie_rad[s]) > g.bogie_limit_rad) {
+      out.status = LoadStatus::joint_out_of_range;
+      return out;
+    }
+  }
+
+  // Every contact force is taken parallel to gravity (section 2), so every
+  // moment balance is a planar lever rule in the coordinates of the points
+  // projected along gravity onto the ground plane (section 3.2):
+  //   x~ = x - z tan(pitch)/cos(roll),  y~ = y - z tan(roll).
+  const double cos_pitch = std::cos(att.pitch_rad);
+  const double cos_roll = std::cos(att.roll_rad);
+  const double kx = std::sin(att.pitch_rad) / (cos_pitch * cos_roll);
+  const double ky = std::tan(att.roll_rad);
+  const double weight_n = g.mass_kg * g.gravity_mps2;
+  const double normal_fraction = cos_pitch * cos_roll;
+  out.weight_normal_n = weight_n * normal_fraction;
+
+  const double com_xt = g.com_x_m - g.com_z_m * kx;
+  const double com_yt = g.com_y_m - g.com_z_m * ky;
+  // Rocker pivots at the origin of x and z: x~ = 0. The differential makes
+  // the moment of each side's wheels about its rocker pivot equal (section
+  // 3.4); with both pivots on one axis the body's pitch balance fixes it.
+  const double pivot_moment_nm = 0.5 * weight_n * com_xt;
+
+  struct Side {
+    double a, b, beta;  // front lever, bogie lever, middle wheel's share of the bogie
+    double yt_front, yt_bogie;
+  };
+  std::array<Side, 2> sides{};
+  for (std::size_t s = 0U; s < 2U; ++s) {
+    const double y_side = (s == 0U) ? 0.5 * g.track_width_m : -0.5 * g.track_width_m;
+    const SideContacts c = side_contacts(g, joints.rocker_rad[s], joints.bogie_rad[s]);
+    const std::size_t base = 3U * s;
+    const SidePoint pts[3] = {c.front, c.middle, c.rear};
+    for (std::size_t k = 0U; k < 3U; ++k) {
+      out.contact_x_m[base + k] = pts[k].x_m;
+      out.contact_z_m[base + k] = pts[k].z_m;
+    }
+    const double xt_f = c.front.x_m - c.front.z_m * kx;
+    const double xt_m = c.middle.x_m - c.middle.z_m * kx;
+    const double xt_r = c.rear.x_m - c.rear.z_m * kx;
+    const double xt_b = c.bogie_pivot.x_m - c.bogie_pivot.z_m * kx;
+    const double a = xt_f;
+    const double b = -xt_b;
+    const double bogie_span = xt_m - xt_r;
+    if (a + b < k_min_lever_m || bogie_span < k_min_lever_m) {
+      out.status = LoadStatus::degenerate;
+      return out;
+    }
+    const double beta = (xt_b - xt_r) / bogie_span;
+    const double yt_f = y_side - c.front.z_m * ky;
+    const double yt_m = y_side - c.middle.z_m * ky;
+    const double yt_r = y_side - c.rear.z_m * ky;
+    sides[s] = Side{a, b, beta, yt_f, beta * yt_m + (1.0 - beta) * yt_r};
+  }
+
+  // Roll balance (section 3.5): side s carries S_s, and its wheels' roll
+  // moment is S_s Y_s + M Z_s.
+  std::array<double, 2> big_y{};
+  std::array<double, 2> big_z{};
+  for (std::size_t s = 0U; s < 2U; ++s) {
+    const Side& d = sides[s];
+    big_y[s] = (d.b * d.yt_front + d.a * d.yt_bogie) / (d.a + d.b);
+    big_z[s] = (d.yt_front - d.yt_bogie) / (d.a + d.b);
+  }
+  const double lateral_span = big_y[0] - big_y[1];
+  if (lateral_span < k_min_lever_m) {
+    out.status = LoadStatus::degenerate;
+    return out;
+  }
+  std::array<double, 2> side_total{};
+  side_total[0] =
+      (weight_n * com_yt - pivot_moment_nm * (big_z[0] + big_z[1]) - weight_n * big_y[1]) / lateral_span;
+  side_total[1] = weight_n - side_total[0];
+
+  for (std::size_t s = 0U; s < 2U; ++s) {
+    const Side& d = sides[s];
+    const double front = (pivot_moment_nm + d.b * side_total[s]) / (d.a + d.b);
+    const double bogie = side_total[s] - front;
+    const double middle = d.beta * bogie;
+    const double rear = bogie - middle;
+    out.support_n[3U * s + 0U] = front;
+    out.support_n[3U * s + 1U] = middle;
+    out.support_n[3U * s + 2U] = rear;
+  }
+  for (std::size_t i = 0U; i < k_wheel_count; ++i) {
+    out.load_n[i] = out.support_n[i] * normal_fraction;
+  }
+  out.min_load_n = *std::min_element(out.load_n.begin(), out.load_n.end());
+  out.status = (out.min_load_n < 0.0) ? LoadStatus::tip_over : LoadStatus::ok;
+  return out;
+}
+
+const char* to_string(DrawbarStatus s) {
+  switch (s) {
+    case DrawbarStatus::ok: return "ok";
+    case DrawbarStatus::capped: return "capped at DP_max";
+    case DrawbarStatus::saturated: return "high slip: DP_max";
+    case DrawbarStatus::invalid_input: return "invalid input";
+  }
+  return "unknown";
+}
+
+DrawbarPulls drawbar_pulls(const RoverGeometry& g, const WheelLoads& loads, DrawbarInput in,
+                           const DrawbarParams& p) {
+  DrawbarPulls out;
+  if (loads.status != LoadStatus::ok || !validate(g).empty() || !finite_all({in.accel_mps2, in.pitch_rad, in.slip}) ||
+      !(p.high_slip > 0.0 && p.high_slip <= 1.0) || !(in.slip <= 1.0) ||
+      std::fabs(in.accel_mps2) > 10.0 || std::fabs(in.pitch_rad) > g.attitude_limit_rad) {
+    out.status = DrawbarStatus::invalid_input;
+    return out;
+  }
+  for (const double r : p.dp_max_over_w) {
+    if (!(std::isfinite(r) && r > 0.0 && r <= 2.0)) {
+      out.status = DrawbarStatus::invalid_input;
+      return out;
+    }
+  }
+  double load_sum = 0.0;
+  for (const double w : loads.load_n) load_sum += w;
+  if (!(load_sum > 0.0)) {
+    out.status = DrawbarStatus::invalid_input;
+    return out;
+  }
+  out.total_n = g.mass_kg * (in.accel_mps2 + g.gravity_mps2 * std::sin(in.pitch_rad));
+  if (in.slip_known && in.slip >= p.high_slip) {
+    for (std::size_t i = 0U; i < k_wheel_count; ++i) out.dp_n[i] = p.dp_max_over_w[i] * loads.load_n[i];
+    out.status = DrawbarStatus::saturated;
+    return out;
+  }
+  out.status = DrawbarStatus::ok;
+  for (std::size_t i = 0U; i < k_wheel_count; ++i) {
+    const double share = out.total_n * loads.load_n[i] / load_sum;
+    const double cap = p.dp_max_over_w[i] * loads.load_n[i];
+    out.dp_n[i] = std::clamp(share, -cap, cap);
+    if (out.dp_n[i] != share) out.status = DrawbarStatus::capped;
+  }
+  return out;
+}
+
+}  // namespace ground
+}  // namespace sinkwatch
