@@ -7,6 +7,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -132,6 +134,20 @@ void run(const SimulateOptions& o, const std::string& command_line, std::ostream
   }
 }
 
+// CLI::PositiveNumber prints its whole double range on a typo; say what is wanted.
+CLI::Validator positive(const std::string& unit) {
+  return CLI::Validator(
+      [unit](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size() || !(v > 0.0) || !std::isfinite(v)) {
+          return "'" + text + "' must be a number > 0 " + unit;
+        }
+        return {};
+      },
+      "> 0 " + unit);
+}
+
 }  // namespace
 
 CLI::App* add_simulate_subcommand(CLI::App& app, std::string command_line, std::ostream& out, std::ostream& err) {
@@ -142,10 +158,10 @@ CLI::App* add_simulate_subcommand(CLI::App& app, std::string command_line, std::
   sub->add_option("--set", opts->sets, "Override a model parameter, NAME=VALUE (repeatable; see --list)");
   auto* body = sub->add_option("--body", opts->body, "earth, moon or mars (sets gravity)")->capture_default_str();
   auto* gravity = sub->add_option("--gravity", opts->gravity, "Gravity in m/s^2 (instead of --body)")
-                      ->check(CLI::PositiveNumber);
+                      ->check(positive("m/s^2"));
   body->excludes(gravity);
-  sub->add_option("--radius", opts->radius, "Wheel radius, m")->check(CLI::PositiveNumber)->capture_default_str();
-  sub->add_option("--width", opts->width, "Wheel width, m")->check(CLI::PositiveNumber)->capture_default_str();
+  sub->add_option("--radius", opts->radius, "Wheel radius, m")->check(positive("m"))->capture_default_str();
+  sub->add_option("--width", opts->width, "Wheel width, m")->check(positive("m"))->capture_default_str();
   auto* loads = sub->add_option("--loads", opts->loads, "Wheel loads in N: list a,b,c or range start:step:stop");
   auto* masses = sub->add_option("--masses", opts->masses,
                                  "Masses in kg on the body (W = m g), list or range [default 3,7,10,15,20]");
