@@ -1,0 +1,88 @@
+// Host-side helpers shared by host_tests/rover and props/rover: the exact
+// double of a flight parameter set and of flight inputs, so that the
+// reference runs on exactly the numbers the fixed-point code saw.
+#ifndef SINKWATCH_HOST_TESTS_ROVER_TEST_SUPPORT_HPP
+#define SINKWATCH_HOST_TESTS_ROVER_TEST_SUPPORT_HPP
+
+#include <cmath>
+
+#include "sinkwatch/fixedpoint/host_convert.hpp"
+#include "sinkwatch/flight/rover_geometry.hpp"
+#include "sinkwatch/flight/wheel_load.hpp"
+#include "sinkwatch/ground/rover_loads.hpp"
+
+namespace sinkwatch {
+namespace rover_test {
+
+template <typename Quantity>
+double d(Quantity q) {
+  return fx::to_double(q.q());
+}
+
+inline ground::SidePoint d(flight::SidePointM p) { return ground::SidePoint{d(p.x_m), d(p.z_m)}; }
+
+inline ground::RoverGeometry to_ground(const flight::RoverParams& p) {
+  ground::RoverGeometry g;
+  g.mass_kg = d(p.mass_kg);
+  g.gravity_mps2 = d(p.gravity_mps2);
+  g.com_x_m = d(p.com_x_m);
+  g.com_y_m = d(p.com_y_m);
+  g.com_z_m = d(p.com_z_m);
+  g.track_width_m = d(p.track_width_m);
+  g.wheel_radius_m = d(p.wheel_radius_m);
+  g.rocker_front_axle = d(p.rocker_front_axle);
+  g.rocker_bogie_pivot = d(p.rocker_bogie_pivot);
+  g.bogie_middle_axle = d(p.bogie_middle_axle);
+  g.bogie_rear_axle = d(p.bogie_rear_axle);
+  g.rocker_limit_rad = d(p.rocker_limit_rad);
+  g.bogie_limit_rad = d(p.bogie_limit_rad);
+  g.attitude_limit_rad = d(p.attitude_limit_rad);
+  return g;
+}
+
+/// Nearest Q value of a double (test inputs only); the conversion must fit.
+template <typename Quantity>
+Quantity q(double v) {
+  fx::Status st;
+  const auto value = fx::from_double<typename Quantity::q_type>(v, st);
+  return st.ok() ? Quantity{value} : Quantity::zero();
+}
+
+inline flight::RoverAttitude attitude(double pitch, double roll) {
+  return flight::RoverAttitude{q<flight::AngleRad>(pitch), q<flight::AngleRad>(roll)};
+}
+
+inline flight::JointAnglesRad joints(double rocker_l, double rocker_r, double bogie_l, double bogie_r) {
+  flight::JointAnglesRad j{};
+  j.rocker_rad[0] = q<flight::AngleRad>(rocker_l);
+  j.rocker_rad[1] = q<flight::AngleRad>(rocker_r);
+  j.bogie_rad[0] = q<flight::AngleRad>(bogie_l);
+  j.bogie_rad[1] = q<flight::AngleRad>(bogie_r);
+  return j;
+}
+
+inline ground::Attitude to_ground(const flight::RoverAttitude& a) {
+  return ground::Attitude{d(a.pitch_rad), d(a.roll_rad)};
+}
+
+inline ground::JointAngles to_ground(const flight::JointAnglesRad& j) {
+  ground::JointAngles g;
+  for (std::size_t s = 0U; s < 2U; ++s) {
+    g.rocker_rad[s] = d(j.rocker_rad[s]);
+    g.bogie_rad[s] = d(j.bogie_rad[s]);
+  }
+  return g;
+}
+
+/// docs/rover-loads.md, section 7.2: |W_fixed - W_ref| <= 2^-17 N + 2^-25 m g.
+inline double load_bound_n(double weight_n) { return std::ldexp(1.0, -17) + std::ldexp(weight_n, -25); }
+
+/// docs/rover-loads.md, section 7.3.
+inline double drawbar_bound_n(double weight_n, double total_n) {
+  return std::ldexp(1.0, -17) + std::ldexp(weight_n + std::fabs(total_n), -28);
+}
+
+}  // namespace rover_test
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_HOST_TESTS_ROVER_TEST_SUPPORT_HPP

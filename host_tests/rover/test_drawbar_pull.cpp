@@ -1,0 +1,171 @@
+// Drawbar pulls from the force balance (docs/rover-loads.md, section 6): the
+// balance, the split by load, the DP_max cap, high slip and invalid inputs,
+// flight code and double twin.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+
+#include "rover_test_support.hpp"
+#include "sinkwatch/flight/drawbar_pull.hpp"
+#include "sinkwatch/flight/wheel_load.hpp"
+#include "sinkwatch/ground/rover_loads.hpp"
+
+namespace sinkwatch {
+namespace {
+
+using flight::DrawbarStatus;
+using rover_test::d;
+using rover_test::q;
+
+struct Scene {
+  flight::RoverParams params;
+  flight::WheelLoadResult loads;
+  double mg;
+};
+
+Scene scene(double pitch, double roll) {
+  Scene s{flight::yutu_like_rover_params(flight::kGravityMoon), {}, 0.0};
+  s.loads = flight::wheel_loads(s.params, rover_test::attitude(pitch, roll), rover_test::joints(0.1, -0.1, 0.2, -0.05));
+  s.mg = d(s.params.mass_kg) * d(s.params.gravity_mps2);
+  return s;
+}
+
+flight::DrawbarInput input(double accel, double pitch, double ratio) {
+  flight::DrawbarInput in{};
+  in.accel_mps2 = q<flight::AccelMps2>(accel);
+  in.pitch_rad = q<flight::AngleRad>(pitch);
+  in.slip_known = false;
+  in.slip = flight::Ratio::zero();
+  for (flight::Ratio& r : in.dp_max_ratio) r = q<flight::Ratio>(ratio);
+  return in;
+}
+
+double load_sum(const flight::WheelLoadResult& loads) {
+  double sum = 0.0;
+  for (const flight::WheelLoadN w : loads.load_n) sum += d(w);
+  return sum;
+}
+
+TEST(RoverDrawbarPull, SharesBalanceTheSlopeAndSplitByLoad) {
+  const Scene s = scene(0.2, 0.05);
+  ASSERT_EQ(s.loads.status, flight::WheelLoadStatus::ok);
+  const flight::DrawbarInput in = input(0.02, 0.2, 0.5);
+  const flight::DrawbarResult r = flight::drawbar_pulls(s.params, s.loads, in);
+  ASSERT_EQ(r.status, DrawbarStatus::ok);
+  const double m = d(s.params.mass_kg);
+  const double g = d(s.params.gravity_mps2);
+  const double total = m * (d(in.accel_mps2) + g * std::sin(d(in.pitch_rad)));
+  const double bound = rover_test::drawbar_bound_n(s.mg, total);
+  EXPECT_NEAR(d(r.total_n), total, bound);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < 6; ++i) {
+    sum += d(r.dp_n[i]);
+    // Equal DP/W on every wheel: the share is the load's fraction.
+    EXPECT_NEAR(d(r.dp_n[i]), total * d(s.loads.load_n[i]) / load_sum(s.loads), bound) << i;
+  }
+  EXPECT_NEAR(sum, total, 6.0 * bound);
+  EXPECT_EQ(r.capped_mask, 0U);
+  // The rear wheels carry more on an uphill pitch, so they pull more.
+  EXPECT_GT(d(r.dp_n[2]), d(r.dp_n[0]));
+}
+
+TEST(RoverDrawbarPull, DecelerationDownhillGivesNegativePull) {
+  const Scene s = scene(-0.15, 0.0);
+  const flight::DrawbarResult r = flight::drawbar_pulls(s.params, s.loads, input(-0.01, -0.15, 0.5));
+  ASSERT_EQ(r.status, DrawbarStatus::ok);
+  for (const flight::DrawbarPullN dp : r.dp_n) EXPECT_LT(dp.raw(), 0);
+}
+
+TEST(RoverDrawbarPull, ShareBeyondDpMaxIsCapped) {
+  const Scene s = scene(0.0, 0.0);
+  // a = 1 m/s^2 on the Moon: m a = 140 N, 0.61 of the weight, above DP_max/W = 0.3.
+  flight::DrawbarInput in = input(1.0, 0.0, 0.3);
+  in.dp_max_ratio[4] = q<flight::Ratio>(0.9);  // this wheel's soil can take its share
+  const flight::DrawbarResult r = flight::drawbar_pulls(s.params, s.loads, in);
+  ASSERT_EQ(r.status, DrawbarStatus::capped);
+  EXPECT_EQ(r.capped_mask, 0x2FU);  // all but wheel 4
+  const double total = d(s.params.mass_kg) * 1.0;
+  EXPECT_NEAR(d(r.total_n), total, rover_test::drawbar_bound_n(s.mg, total));
+  for (std::size_t i = 0; i < 6; ++i) {
+    const double w = d(s.loads.load_n[i]);
+    const double expected = (i == 4) ? total * w / load_sum(s.loads) : 0.3 * w;
+    EXPECT_NEAR(d(r.dp_n[i]), expected, rover_test::drawbar_bound_n(s.mg, total)) << i;
+  }
+  // Negative side: braking hard is capped at -DP_max.
+  const flight::DrawbarResult neg = flight::drawbar_pulls(s.params, s.loads, input(-1.0, 0.0, 0.3));
+  ASSERT_EQ(neg.status, DrawbarStatus::capped);
+  EXPECT_NEAR(d(neg.dp_n[0]), -0.3 * d(s.loads.load_n[0]), rover_test::drawbar_bound_n(s.mg, total));
+}
+
+TEST(RoverDrawbarPull, HighSlipTakesEveryWheelAtDpMax) {
+  const Scene s = scene(0.1, 0.0);
+  flight::DrawbarInput in = input(0.0, 0.1, 0.35);
+  in.slip_known = true;
+  in.slip = s.params.high_slip;  // at the level: saturated
+  const flight::DrawbarResult r = flight::drawbar_pulls(s.params, s.loads, in);
+  ASSERT_EQ(r.status, DrawbarStatus::saturated);
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_NEAR(d(r.dp_n[i]), 0.35 * d(s.loads.load_n[i]), rover_test::drawbar_bound_n(s.mg, 0.0)) << i;
+  }
+  in.slip = q<flight::Ratio>(0.59);  // just below: the balance
+  EXPECT_EQ(flight::drawbar_pulls(s.params, s.loads, in).status, DrawbarStatus::ok);
+  in.slip_known = false;
+  in.slip = q<flight::Ratio>(0.95);  // a value that is not a measurement is ignored
+  EXPECT_EQ(flight::drawbar_pulls(s.params, s.loads, in).status, DrawbarStatus::ok);
+}
+
+TEST(RoverDrawbarPull, InvalidInputsReturnStatusNotNumber) {
+  const Scene s = scene(0.0, 0.0);
+  const auto expect_invalid = [&](const flight::WheelLoadResult& loads, const flight::DrawbarInput& in,
+                                  DrawbarStatus expected) {
+    const flight::DrawbarResult r = flight::drawbar_pulls(s.params, loads, in);
+    EXPECT_EQ(r.status, expected);
+    EXPECT_FALSE(flight::usable(r.status));
+    for (const flight::DrawbarPullN dp : r.dp_n) EXPECT_EQ(dp.raw(), 0);
+  };
+  const flight::WheelLoadResult tipped =
+      flight::wheel_loads(s.params, rover_test::attitude(0.0, 0.8), rover_test::joints(0, 0, 0, 0));
+  ASSERT_EQ(tipped.status, flight::WheelLoadStatus::tip_over);
+  expect_invalid(tipped, input(0.0, 0.0, 0.3), DrawbarStatus::invalid_loads);
+  expect_invalid(s.loads, input(10.5, 0.0, 0.3), DrawbarStatus::invalid_input);
+  expect_invalid(s.loads, input(-10.5, 0.0, 0.3), DrawbarStatus::invalid_input);
+  expect_invalid(s.loads, input(0.0, 1.1, 0.3), DrawbarStatus::invalid_input);
+  flight::DrawbarInput zero_ratio = input(0.0, 0.0, 0.3);
+  zero_ratio.dp_max_ratio[3] = flight::Ratio::zero();
+  expect_invalid(s.loads, zero_ratio, DrawbarStatus::invalid_input);
+  flight::DrawbarInput big_ratio = input(0.0, 0.0, 2.5);
+  expect_invalid(s.loads, big_ratio, DrawbarStatus::invalid_input);
+  flight::DrawbarInput bad_slip = input(0.0, 0.0, 0.3);
+  bad_slip.slip_known = true;
+  bad_slip.slip = q<flight::Ratio>(1.2);
+  expect_invalid(s.loads, bad_slip, DrawbarStatus::invalid_input);
+  flight::RoverParams bad_params = s.params;
+  bad_params.mass_kg = flight::MassKg::zero();
+  EXPECT_EQ(flight::drawbar_pulls(bad_params, s.loads, input(0.0, 0.0, 0.3)).status, DrawbarStatus::invalid_input);
+}
+
+TEST(RoverDrawbarPull, ReferenceTwinAgreesOnTheSameCases) {
+  const Scene s = scene(0.25, -0.1);
+  ground::WheelLoads loads;
+  loads.status = ground::LoadStatus::ok;
+  for (std::size_t i = 0; i < 6; ++i) loads.load_n[i] = d(s.loads.load_n[i]);
+  const ground::RoverGeometry g = rover_test::to_ground(s.params);
+  ground::DrawbarParams p;
+  p.dp_max_over_w.fill(0.4);
+  p.high_slip = d(s.params.high_slip);
+  for (const double accel : {-0.5, 0.0, 0.03, 0.5}) {
+    const flight::DrawbarInput in = input(accel, 0.25, 0.4);
+    const flight::DrawbarResult r = flight::drawbar_pulls(s.params, s.loads, in);
+    const ground::DrawbarPulls ref =
+        ground::drawbar_pulls(g, loads, ground::DrawbarInput{d(in.accel_mps2), d(in.pitch_rad), false, 0.0}, p);
+    ASSERT_TRUE(flight::usable(r.status));
+    EXPECT_EQ(r.status == DrawbarStatus::capped, ref.status == ground::DrawbarStatus::capped) << accel;
+    for (std::size_t i = 0; i < 6; ++i) {
+      EXPECT_NEAR(d(r.dp_n[i]), ref.dp_n[i], rover_test::drawbar_bound_n(s.mg, ref.total_n)) << accel << " " << i;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace sinkwatch

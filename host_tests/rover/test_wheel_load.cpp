@@ -1,0 +1,488 @@
+// Wheel loads of the rocker-bogie: the flight function and its double twin
+// against the analytic cases of docs/rover-loads.md (sections 3.7, 3.8, 4),
+// against an independent 3-D equilibrium solve, and every status.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <random>
+
+#include "rover_test_support.hpp"
+#include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/rover_geometry.hpp"
+#include "sinkwatch/flight/wheel_load.hpp"
+#include "sinkwatch/ground/rover_loads.hpp"
+
+namespace sinkwatch {
+namespace {
+
+using flight::RoverParams;
+using flight::WheelLoadStatus;
+using rover_test::d;
+using rover_test::q;
+
+constexpr double kPi = 3.14159265358979323846;
+
+RoverParams earth() { return flight::yutu_like_rover_params(flight::kGravityEarth); }
+
+double weight(const RoverParams& p) { return d(p.mass_kg) * d(p.gravity_mps2); }
+
+// ------------------------------------------------------------- flat ground
+
+TEST(RoverWheelLoad, FlatGroundDefaultGivesEqualSixths) {
+  for (const flight::AccelMps2 g : {flight::kGravityMoon, flight::kGravityMars, flight::kGravityEarth}) {
+    const RoverParams p = flight::yutu_like_rover_params(g);
+    const double sixth = weight(p) / 6.0;
+    const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0));
+    ASSERT_EQ(r.status, WheelLoadStatus::ok);
+    const ground::WheelLoads ref =
+        ground::wheel_loads(rover_test::to_ground(p), ground::Attitude{}, ground::JointAngles{});
+    ASSERT_EQ(ref.status, ground::LoadStatus::ok);
+    for (std::size_t i = 0; i < 6; ++i) {
+      EXPECT_NEAR(ref.load_n[i], sixth, 1e-9 * sixth) << "wheel " << i;
+      EXPECT_NEAR(d(r.load_n[i]), sixth, rover_test::load_bound_n(weight(p))) << "wheel " << i;
+    }
+  }
+}
+
+// Section 3.7 with the centre of mass off the pivot axis and off the centre
+// line: S_L = m g (1/2 + y_c/t), M = m g x_c / 2, lever rules per side.
+TEST(RoverWheelLoad, FlatGroundOffCentreMatchesAnalyticSplit) {
+  RoverParams p = earth();
+  p.com_x_m = q<flight::LengthM>(0.06);
+  p.com_y_m = q<flight::LengthM>(-0.04);
+  ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
+  const ground::RoverGeometry g = rover_test::to_ground(p);
+  const double mg = weight(p);
+  const double t = g.track_width_m;
+  const double a = g.rocker_front_axle.x_m;
+  const double b = -g.rocker_bogie_pivot.x_m;
+  const double x_m = g.rocker_bogie_pivot.x_m + g.bogie_middle_axle.x_m;
+  const double x_r = g.rocker_bogie_pivot.x_m + g.bogie_rear_axle.x_m;
+  const double beta = (g.rocker_bogie_pivot.x_m - x_r) / (x_m - x_r);
+  const double moment = mg * g.com_x_m / 2.0;
+  const double side[2] = {mg * (0.5 + g.com_y_m / t), mg * (0.5 - g.com_y_m / t)};
+  double expected[6];
+  for (int s = 0; s < 2; ++s) {
+    const double front = (moment + b * side[s]) / (a + b);
+    expected[3 * s + 0] = front;
+    expected[3 * s + 1] = beta * (side[s] - front);
+    expected[3 * s + 2] = (1.0 - beta) * (side[s] - front);
+  }
+  const ground::WheelLoads ref = ground::wheel_loads(g, ground::Attitude{}, ground::JointAngles{});
+  const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0));
+  ASSERT_EQ(ref.status, ground::LoadStatus::ok);
+  ASSERT_EQ(r.status, WheelLoadStatus::ok);
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_NEAR(ref.load_n[i], expected[i], 1e-9 * mg) << "wheel " << i;
+    EXPECT_NEAR(d(r.load_n[i]), expected[i], rover_test::load_bound_n(mg)) << "wheel " << i;
+  }
+  // Forward centre of mass loads the front wheels, leftward... here rightward.
+  EXPECT_GT(expected[0], expected[2]);
+  EXPECT_GT(expected[3], expected[0]);
+}
+
+// ----------------------------------------------------- sum = m g cos cos
+
+TEST(RoverWheelLoad, LoadsSumToNormalWeightComponent) {
+  const RoverParams p = earth();
+  const ground::RoverGeometry g = rover_test::to_ground(p);
+  const double mg = weight(p);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int checked = 0;
+  for (int it = 0; it < 3000; ++it) {
+    const flight::RoverAttitude att = rover_test::attitude(0.6 * unit(rng), 0.6 * unit(rng));
+    const flight::JointAnglesRad j =
+        rover_test::joints(0.35 * unit(rng), 0.35 * unit(rng), 0.5 * unit(rng), 0.5 * unit(rng));
+    const double expected = mg * std::cos(d(att.pitch_rad)) * std::cos(d(att.roll_rad));
+    const ground::WheelLoads ref = ground::wheel_loads(g, rover_test::to_ground(att), rover_test::to_ground(j));
+    if (ref.status == ground::LoadStatus::degenerate) {
+      continue;
+    }
+    double ref_sum = 0.0;
+    for (const double w : ref.load_n) ref_sum += w;  // holds for tip_over numbers too
+    EXPECT_NEAR(ref_sum, expected, 1e-9 * mg);
+    const flight::WheelLoadResult r = flight::wheel_loads(p, att, j);
+    if (r.status != WheelLoadStatus::ok) {
+      continue;
+    }
+    double sum = 0.0;
+    for (const flight::WheelLoadN w : r.load_n) sum += d(w);
+    // Six independently rounded loads, each within the bound.
+    EXPECT_NEAR(sum, expected, 6.0 * rover_test::load_bound_n(mg));
+    EXPECT_NEAR(d(r.weight_normal_n), expected, rover_test::load_bound_n(mg));
+    ++checked;
+  }
+  EXPECT_GT(checked, 1000);
+}
+
+// ------------------------------------------------------ tilted, by hand
+
+// docs/rover-loads.md, section 3.8: pure pitch, zero joint angles.
+TEST(RoverWheelLoad, PurePitchMatchesHandComputation) {
+  const RoverParams p = earth();
+  const double mg = weight(p);
+  for (const double theta : {-0.5, -0.3, -0.1, 0.1, 0.3, 0.5}) {
+    const flight::RoverAttitude att = rover_test::attitude(theta, 0.0);
+    const double th = d(att.pitch_rad);
+    const double tau = std::tan(th);
+    const double front = mg * (0.125 - 0.125 * tau) / (0.75 + 0.3 * tau);
+    const double beta = (0.25 - 0.3 * tau) / 0.5;
+    const double bogie = mg / 2.0 - front;
+    const double expected[3] = {front * std::cos(th), beta * bogie * std::cos(th),
+                                (1.0 - beta) * bogie * std::cos(th)};
+    const flight::WheelLoadResult r = flight::wheel_loads(p, att, rover_test::joints(0, 0, 0, 0));
+    ASSERT_EQ(r.status, WheelLoadStatus::ok) << theta;
+    for (std::size_t s = 0; s < 2; ++s) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        EXPECT_NEAR(d(r.load_n[3 * s + k]), expected[k], rover_test::load_bound_n(mg)) << theta << " " << k;
+      }
+    }
+  }
+  // The numbers quoted in the document (0.3 rad, Earth).
+  const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0.3, 0.0), rover_test::joints(0, 0, 0, 0));
+  ASSERT_EQ(r.status, WheelLoadStatus::ok);
+  EXPECT_NEAR(d(r.load_n[0]), 134.40, 0.005);
+  EXPECT_NEAR(d(r.load_n[1]), 164.00, 0.005);
+  EXPECT_NEAR(d(r.load_n[2]), 357.63, 0.005);
+}
+
+TEST(RoverWheelLoad, PureRollMatchesHandComputation) {
+  const RoverParams p = earth();
+  const double mg = weight(p);
+  for (const double phi : {-0.6, -0.3, 0.2, 0.45, 0.6}) {
+    const flight::RoverAttitude att = rover_test::attitude(0.0, phi);
+    const double ph = d(att.roll_rad);
+    const double left = mg * (0.45 - 0.55 * std::tan(ph)) / 0.9;
+    const double right = mg - left;
+    const flight::WheelLoadResult r = flight::wheel_loads(p, att, rover_test::joints(0, 0, 0, 0));
+    ASSERT_EQ(r.status, WheelLoadStatus::ok) << phi;
+    for (std::size_t k = 0; k < 3; ++k) {
+      EXPECT_NEAR(d(r.load_n[k]), left / 3.0 * std::cos(ph), rover_test::load_bound_n(mg)) << phi;
+      EXPECT_NEAR(d(r.load_n[3 + k]), right / 3.0 * std::cos(ph), rover_test::load_bound_n(mg)) << phi;
+    }
+  }
+}
+
+// ------------------------------------- independent 3-D equilibrium solve
+
+// Solves the six equilibrium equations directly in 3-D vectors (forces
+// parallel to gravity, moments as cross products about the real pivot axes),
+// with the contact points from rotation matrices: nothing of the projection
+// of section 3.2 or of the closed form of section 3.5 is reused.
+Eigen::Matrix<double, 6, 1> equilibrium_loads(const ground::RoverGeometry& g, double pitch, double roll,
+                                               const ground::JointAngles& j) {
+  const Eigen::Vector3d up(std::sin(pitch), std::sin(roll) * std::cos(pitch), std::cos(roll) * std::cos(pitch));
+  const auto rot = [](double a) { return Eigen::AngleAxisd(a, -Eigen::Vector3d::UnitY()).toRotationMatrix(); };
+  const auto v = [](ground::SidePoint s, double y) { return Eigen::Vector3d(s.x_m, y, s.z_m); };
+  Eigen::Vector3d contact[6];
+  Eigen::Vector3d bogie_pivot[2];
+  for (int s = 0; s < 2; ++s) {
+    const double y = (s == 0) ? g.track_width_m / 2 : -g.track_width_m / 2;
+    const Eigen::Vector3d pivot(0.0, y, 0.0);
+    const Eigen::Vector3d down(0.0, 0.0, -g.wheel_radius_m);
+    const Eigen::Matrix3d rr = rot(j.rocker_rad[s]);
+    const Eigen::Matrix3d rb = rot(j.rocker_rad[s] + j.bogie_rad[s]);
+    bogie_pivot[s] = pivot + rr * v(g.rocker_bogie_pivot, 0.0);
+    contact[3 * s + 0] = pivot + rr * v(g.rocker_front_axle, 0.0) + down;
+    contact[3 * s + 1] = bogie_pivot[s] + rb * v(g.bogie_middle_axle, 0.0) + down;
+    contact[3 * s + 2] = bogie_pivot[s] + rb * v(g.bogie_rear_axle, 0.0) + down;
+  }
+  const Eigen::Vector3d com(g.com_x_m, g.com_y_m, g.com_z_m);
+  const double mg = g.mass_kg * g.gravity_mps2;
+  Eigen::Matrix<double, 6, 6> a = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> rhs = Eigen::Matrix<double, 6, 1>::Zero();
+  // Force along u, and the body-x and body-y moments about the origin.
+  for (int i = 0; i < 6; ++i) {
+    const Eigen::Vector3d m = contact[i].cross(up);
+    a(0, i) = 1.0;
+    a(1, i) = m.x();
+    a(2, i) = m.y();
+  }
+  rhs(0) = mg;
+  const Eigen::Vector3d mc = com.cross(up) * mg;
+  rhs(1) = mc.x();
+  rhs(2) = mc.y();
+  // Bogie pivots: no moment about the lateral axis through B.
+  for (int s = 0; s < 2; ++s) {
+    for (int k = 1; k < 3; ++k) {
+      a(3 + s, 3 * s + k) = (contact[3 * s + k] - bogie_pivot[s]).cross(up).y();
+    }
+  }
+  // Differential: equal moments about the two rocker pivots.
+  for (int s = 0; s < 2; ++s) {
+    const Eigen::Vector3d pivot(0.0, (s == 0) ? g.track_width_m / 2 : -g.track_width_m / 2, 0.0);
+    for (int k = 0; k < 3; ++k) {
+      a(5, 3 * s + k) = ((s == 0) ? 1.0 : -1.0) * (contact[3 * s + k] - pivot).cross(up).y();
+    }
+  }
+  const Eigen::Matrix<double, 6, 1> support = a.fullPivLu().solve(rhs);
+  return support * up.z();
+}
+
+TEST(RoverWheelLoad, ReferenceMatchesIndependentEquilibriumSolve) {
+  RoverParams p = earth();
+  p.com_x_m = q<flight::LengthM>(0.03);
+  p.com_y_m = q<flight::LengthM>(0.02);
+  const ground::RoverGeometry g = rover_test::to_ground(p);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int compared = 0;
+  for (int it = 0; it < 2000; ++it) {
+    ground::JointAngles j;
+    for (int s = 0; s < 2; ++s) {
+      j.rocker_rad[s] = 0.35 * unit(rng);
+      j.bogie_rad[s] = 0.5 * unit(rng);
+    }
+    const double pitch = 0.7 * unit(rng);
+    const double roll = 0.7 * unit(rng);
+    const ground::WheelLoads ref = ground::wheel_loads(g, ground::Attitude{pitch, roll}, j);
+    if (ref.status != ground::LoadStatus::ok && ref.status != ground::LoadStatus::tip_over) {
+      continue;
+    }
+    const Eigen::Matrix<double, 6, 1> solved = equilibrium_loads(g, pitch, roll, j);
+    for (int i = 0; i < 6; ++i) {
+      EXPECT_NEAR(ref.load_n[static_cast<std::size_t>(i)], solved(i), 1e-8 * g.mass_kg * g.gravity_mps2)
+          << "wheel " << i << " pitch " << pitch << " roll " << roll;
+    }
+    ++compared;
+  }
+  EXPECT_GT(compared, 1500);
+}
+
+// --------------------------------------------------------- stability limit
+
+double bisect_limit(const ground::RoverGeometry& g, bool pitch_axis, double sign) {
+  double lo = 0.0;
+  double hi = 1.0;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    const ground::Attitude a = pitch_axis ? ground::Attitude{sign * mid, 0.0} : ground::Attitude{0.0, sign * mid};
+    (ground::wheel_loads(g, a, ground::JointAngles{}).status == ground::LoadStatus::ok ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+TEST(RoverWheelLoad, TipOverLimitsMatchClosedForm) {
+  const ground::RoverGeometry g = rover_test::to_ground(earth());
+  const double pitch_limit = std::atan(0.25 / 0.30);
+  const double roll_limit = std::atan(0.45 / 0.55);
+  EXPECT_NEAR(bisect_limit(g, true, 1.0), pitch_limit, 1e-6);
+  EXPECT_NEAR(bisect_limit(g, true, -1.0), pitch_limit, 1e-6);
+  EXPECT_NEAR(bisect_limit(g, false, 1.0), roll_limit, 1e-6);
+  EXPECT_NEAR(bisect_limit(g, false, -1.0), roll_limit, 1e-6);
+  std::printf("tip-over limits, default geometry: pitch %.2f deg, roll %.2f deg\n", pitch_limit * 180.0 / kPi,
+              roll_limit * 180.0 / kPi);
+}
+
+TEST(RoverWheelLoad, BeyondStabilityLimitReturnsStatusNotNumber) {
+  const RoverParams p = earth();
+  const double pitch_limit = std::atan(0.25 / 0.30);
+  const double roll_limit = std::atan(0.45 / 0.55);
+  const flight::JointAnglesRad zero = rover_test::joints(0, 0, 0, 0);
+  struct Case {
+    double pitch, roll;
+    std::uint32_t lifting_first, lifting_second;  // either side's wheel of that kind
+  };
+  const Case cases[] = {
+      {pitch_limit + 0.01, 0.0, 1U, 4U},  // nose up: the middle wheels
+      {-pitch_limit - 0.01, 0.0, 2U, 5U},  // nose down: the rear wheels
+      {0.0, roll_limit + 0.01, 0U, 2U},    // right side down: a left wheel lifts
+      {0.0, -roll_limit - 0.01, 3U, 5U},   // left side down: a right wheel lifts
+  };
+  for (const Case& c : cases) {
+    const flight::WheelLoadResult inside =
+        flight::wheel_loads(p, rover_test::attitude(c.pitch * 0.98, c.roll * 0.98), zero);
+    EXPECT_EQ(inside.status, WheelLoadStatus::ok) << c.pitch << " " << c.roll;
+    const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(c.pitch, c.roll), zero);
+    EXPECT_EQ(r.status, WheelLoadStatus::tip_over) << c.pitch << " " << c.roll;
+    EXPECT_TRUE(r.lifting_wheel == c.lifting_first || r.lifting_wheel == c.lifting_second) << r.lifting_wheel;
+    for (const flight::WheelLoadN w : r.load_n) EXPECT_EQ(w.raw(), 0);
+    EXPECT_EQ(r.weight_normal_n.raw(), 0);
+  }
+  // A rocker at its limit brings the pitch limit down (section 4: 26 deg).
+  const flight::JointAnglesRad rocked = rover_test::joints(0.35, -0.35, 0, 0);
+  EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(0.44, 0.0), rocked).status, WheelLoadStatus::ok);
+  EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(0.47, 0.0), rocked).status, WheelLoadStatus::tip_over);
+}
+
+// ------------------------------------------------------------ input statuses
+
+TEST(RoverWheelLoad, AttitudeAndJointsBeyondLimitsAreRejected) {
+  const RoverParams p = earth();
+  const flight::JointAnglesRad zero = rover_test::joints(0, 0, 0, 0);
+  EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(1.01, 0), zero).status, WheelLoadStatus::attitude_out_of_range);
+  EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(0, -1.01), zero).status, WheelLoadStatus::attitude_out_of_range);
+  flight::RoverAttitude extreme{flight::AngleRad{flight::AngleQ::min()}, flight::AngleRad::zero()};
+  EXPECT_EQ(flight::wheel_loads(p, extreme, zero).status, WheelLoadStatus::attitude_out_of_range);
+  const flight::RoverAttitude level = rover_test::attitude(0, 0);
+  EXPECT_EQ(flight::wheel_loads(p, level, rover_test::joints(0.36, 0, 0, 0)).status,
+            WheelLoadStatus::joint_out_of_range);
+  EXPECT_EQ(flight::wheel_loads(p, level, rover_test::joints(0, 0, 0, -0.51)).status,
+            WheelLoadStatus::joint_out_of_range);
+  // The limits themselves are inside.
+  EXPECT_EQ(flight::wheel_loads(p, level, rover_test::joints(0.35, -0.35, 0.5, -0.5)).status, WheelLoadStatus::ok);
+}
+
+TEST(RoverWheelLoad, EveryParameterRuleHasItsReason) {
+  using S = flight::RoverParamStatus;
+  const RoverParams good = earth();
+  EXPECT_EQ(flight::validate_rover_params(good), S::ok);
+  struct Mutation {
+    void (*apply)(RoverParams&);
+    S expected;
+  };
+  const Mutation mutations[] = {
+      {[](RoverParams& p) { p.mass_kg = flight::MassKg::zero(); }, S::bad_mass},
+      {[](RoverParams& p) { p.mass_kg = q<flight::MassKg>(1000.5); }, S::bad_mass},
+      {[](RoverParams& p) { p.gravity_mps2 = q<flight::AccelMps2>(-1.62); }, S::bad_gravity},
+      {[](RoverParams& p) { p.gravity_mps2 = q<flight::AccelMps2>(10.5); }, S::bad_gravity},
+      {[](RoverParams& p) { p.wheel_radius_m = q<flight::LengthM>(0.005); }, S::bad_wheel_radius},
+      {[](RoverParams& p) { p.track_width_m = flight::LengthM::zero(); }, S::bad_track_width},
+      {[](RoverParams& p) { p.com_y_m = q<flight::LengthM>(0.45); }, S::bad_com},
+      {[](RoverParams& p) { p.com_z_m = q<flight::LengthM>(2.5); }, S::bad_com},
+      {[](RoverParams& p) { p.rocker_front_axle.x_m = q<flight::LengthM>(-0.1); }, S::bad_link_order},
+      {[](RoverParams& p) { p.bogie_rear_axle.x_m = q<flight::LengthM>(0.1); }, S::bad_link_order},
+      {[](RoverParams& p) { p.bogie_middle_axle.z_m = q<flight::LengthM>(-2.5); }, S::bad_link_length},
+      {[](RoverParams& p) { p.rocker_limit_rad = flight::AngleRad::zero(); }, S::bad_joint_limit},
+      {[](RoverParams& p) { p.bogie_limit_rad = q<flight::AngleRad>(0.9); }, S::bad_joint_limit},
+      {[](RoverParams& p) { p.attitude_limit_rad = q<flight::AngleRad>(1.2); }, S::bad_attitude_limit},
+      {[](RoverParams& p) { p.high_slip = q<flight::Ratio>(1.5); }, S::bad_high_slip},
+  };
+  for (const Mutation& m : mutations) {
+    RoverParams p = good;
+    m.apply(p);
+    EXPECT_EQ(flight::validate_rover_params(p), m.expected);
+    EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0)).status,
+              WheelLoadStatus::invalid_params);
+  }
+}
+
+TEST(RoverWheelLoad, CollapsedLeverIsDegenerateNotANumber) {
+  // A bogie whose axles sit one above the other projects to zero span on flat
+  // ground: the flight code must refuse to divide by it.
+  RoverParams p = earth();
+  p.bogie_middle_axle = flight::SidePointM{q<flight::LengthM>(0.0005), q<flight::LengthM>(0.10)};
+  p.bogie_rear_axle = flight::SidePointM{q<flight::LengthM>(-0.0001), q<flight::LengthM>(-0.30)};
+  ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
+  const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0));
+  EXPECT_EQ(r.status, WheelLoadStatus::degenerate);
+  EXPECT_EQ(ground::wheel_loads(rover_test::to_ground(p), ground::Attitude{}, ground::JointAngles{}).status,
+            ground::LoadStatus::degenerate);
+}
+
+// ---------------------------------------------- the bound's own premises
+
+// docs/rover-loads.md, section 7.2 builds the error bound on the largest
+// sensitivities of the loads to an angle (S_a <= 1.75 /rad) and to a position
+// (S_p <= 1.3 /m), per unit weight, over the default envelope's stable part.
+TEST(RoverWheelLoad, SensitivitiesBehindTheErrorBoundHold) {
+  const ground::RoverGeometry g = rover_test::to_ground(earth());
+  const double mg = g.mass_kg * g.gravity_mps2;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const double h = 1e-6;
+  double s_angle = 0.0;
+  double s_pos = 0.0;
+  for (int it = 0; it < 20000; ++it) {
+    ground::Attitude a{unit(rng), unit(rng)};
+    ground::JointAngles j;
+    for (int s = 0; s < 2; ++s) {
+      j.rocker_rad[s] = 0.35 * unit(rng);
+      j.bogie_rad[s] = 0.5 * unit(rng);
+    }
+    const ground::WheelLoads base = ground::wheel_loads(g, a, j);
+    if (base.status != ground::LoadStatus::ok) continue;
+    for (int k = 0; k < 6; ++k) {
+      ground::Attitude a2 = a;
+      ground::JointAngles j2 = j;
+      double* angle[6] = {&a2.pitch_rad, &a2.roll_rad, &j2.rocker_rad[0], &j2.rocker_rad[1], &j2.bogie_rad[0],
+                          &j2.bogie_rad[1]};
+      *angle[k] += h;
+      const ground::WheelLoads r = ground::wheel_loads(g, a2, j2);
+      if (r.status != ground::LoadStatus::ok) continue;
+      for (std::size_t i = 0; i < 6; ++i) s_angle = std::max(s_angle, std::fabs(r.load_n[i] - base.load_n[i]) / h / mg);
+    }
+    for (int k = 0; k < 4; ++k) {
+      ground::RoverGeometry g2 = g;
+      double* pos[4] = {&g2.com_x_m, &g2.com_y_m, &g2.com_z_m, &g2.track_width_m};
+      *pos[k] += h;
+      const ground::WheelLoads r = ground::wheel_loads(g2, a, j);
+      if (r.status != ground::LoadStatus::ok) continue;
+      for (std::size_t i = 0; i < 6; ++i) s_pos = std::max(s_pos, std::fabs(r.load_n[i] - base.load_n[i]) / h / mg);
+    }
+  }
+  std::printf("sampled sensitivities: S_a = %.3f /rad, S_p = %.3f /m\n", s_angle, s_pos);
+  EXPECT_LE(s_angle, 1.75);
+  EXPECT_LE(s_pos, 1.3);
+}
+
+// ------------------------------------------------- parameter-table section 6
+
+TEST(RoverParamSection, RoundTripsThroughTheSection) {
+  RoverParams p = flight::yutu_like_rover_params(flight::kGravityMars);
+  p.com_y_m = q<flight::LengthM>(-0.0123);
+  flight::ExtensionSection section{};
+  flight::encode_rover_section(p, section);
+  EXPECT_TRUE(section.present);
+  EXPECT_EQ(section.length, flight::kRoverSectionBytes);
+  RoverParams out{};
+  ASSERT_EQ(flight::decode_rover_section(section, out), flight::RoverParamStatus::ok);
+  EXPECT_EQ(out.com_y_m, p.com_y_m);
+  EXPECT_EQ(out.gravity_mps2, p.gravity_mps2);
+  EXPECT_EQ(out.bogie_rear_axle.z_m, p.bogie_rear_axle.z_m);
+  EXPECT_EQ(out.high_slip, p.high_slip);
+  EXPECT_TRUE(flight::rover_section_valid(section));
+}
+
+TEST(RoverParamSection, RejectsBadFramingAndBadValues) {
+  const RoverParams p = earth();
+  flight::ExtensionSection good{};
+  flight::encode_rover_section(p, good);
+  RoverParams out = p;
+  out.mass_kg = flight::MassKg::zero();  // must stay untouched on failure
+
+  flight::ExtensionSection absent = good;
+  absent.present = false;
+  EXPECT_EQ(flight::decode_rover_section(absent, out), flight::RoverParamStatus::bad_encoding);
+  flight::ExtensionSection shorter = good;
+  shorter.length = static_cast<std::uint16_t>(good.length - 4U);
+  EXPECT_EQ(flight::decode_rover_section(shorter, out), flight::RoverParamStatus::bad_encoding);
+  flight::ExtensionSection layout = good;
+  layout.bytes[0] = 2U;
+  EXPECT_EQ(flight::decode_rover_section(layout, out), flight::RoverParamStatus::bad_encoding);
+  RoverParams heavy = p;
+  heavy.mass_kg = q<flight::MassKg>(2000.0);
+  flight::ExtensionSection bad_value{};
+  flight::encode_rover_section(heavy, bad_value);
+  EXPECT_EQ(flight::decode_rover_section(bad_value, out), flight::RoverParamStatus::bad_mass);
+  EXPECT_FALSE(flight::rover_section_valid(bad_value));
+  EXPECT_EQ(out.mass_kg.raw(), 0);
+}
+
+TEST(RoverParamSection, ParameterTableRejectsABadGeometrySection) {
+  flight::ParameterTable table = flight::default_parameter_table();
+  flight::encode_rover_section(earth(), table.rover_geometry);
+  std::uint8_t bytes[flight::kMaxTableBytes] = {};
+  const flight::EncodeResult enc = flight::encode(table, bytes, sizeof bytes);
+  ASSERT_EQ(enc.status, flight::RejectReason::ok);
+  flight::ParameterTable decoded{};
+  ASSERT_EQ(flight::decode(bytes, enc.size, decoded, &flight::rover_section_valid), flight::RejectReason::ok);
+  RoverParams from_table{};
+  EXPECT_EQ(flight::decode_rover_section(decoded.rover_geometry, from_table), flight::RoverParamStatus::ok);
+  EXPECT_EQ(from_table.track_width_m, earth().track_width_m);
+
+  RoverParams bad = earth();
+  bad.track_width_m = flight::LengthM::zero();
+  flight::encode_rover_section(bad, table.rover_geometry);
+  const flight::EncodeResult enc_bad = flight::encode(table, bytes, sizeof bytes);
+  ASSERT_EQ(enc_bad.status, flight::RejectReason::ok);
+  EXPECT_EQ(flight::decode(bytes, enc_bad.size, decoded, &flight::rover_section_valid),
+            flight::RejectReason::extension_rejected);
+}
+
+}  // namespace
+}  // namespace sinkwatch
