@@ -1,0 +1,116 @@
+// rover_step.hpp: one control cycle of the on-board sinkage monitor, from raw
+// telemetry to each wheel's load, drawbar pull, torque, sinkage estimate,
+// current limit and state, and the rover's decision (the paper's section 7
+// chain: key technologies 2 and 4 feeding Eq. 15 and the current threshold).
+//
+//   telemetry -> validate (flag, age, repeated stamp, ranges)
+//             -> wheel loads W_i          (wheel_load.hpp, rocker-bogie statics)
+//             -> acceleration a           (measured, else the speed difference)
+//             -> slip s = 1 - v / (r w)   (when ground and rim speed are known)
+//             -> DP_max/W at each load    (corrections_at, Table 2's table)
+//             -> drawbar pulls DP_i       (drawbar_pull.hpp, force balance)
+//             -> RoverMonitor::step       (monitor.hpp: T, z, I_max, states, decision)
+//
+// One bounded call: no allocation, no recursion, loops over the six wheels.
+// Every input is validated. A cycle whose loads or pulls cannot be computed
+// still reaches the monitor, with its samples marked invalid, so the monitor
+// counts it and, after invalid_to_stop such cycles, stops the rover: blind
+// never means "continue". Attitudes beyond the stability limit stop the rover
+// in the same cycle. docs/rover-loads.md, section 8, gives the details.
+//
+// Sign convention: drawbar pulls are along body +x, the convention of the
+// torque (positive drives the rover forward).
+#ifndef SINKWATCH_FLIGHT_ROVER_STEP_HPP
+#define SINKWATCH_FLIGHT_ROVER_STEP_HPP
+
+#include <cstdint>
+
+#include "sinkwatch/flight/drawbar_pull.hpp"
+#include "sinkwatch/flight/monitor.hpp"
+#include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/rover_geometry.hpp"
+#include "sinkwatch/flight/units.hpp"
+#include "sinkwatch/flight/wheel_load.hpp"
+
+namespace sinkwatch {
+namespace flight {
+
+/// Accepted magnitude of the ground and rim speeds: a sensor reading beyond
+/// it is a fault (Yutu drives at 0.055 m/s).
+constexpr SpeedMps kMaxAbsSpeed{fx::constant<SpeedQ>(5.0)};
+/// Below this commanded rim speed the slip ratio is not defined.
+constexpr SpeedMps kMinRimSpeedForSlip{fx::constant<SpeedQ>(0.001)};
+
+/// One cycle's raw telemetry.
+struct RoverTelemetry {
+  TimeMs time;                              ///< when the sample was taken
+  bool valid;                               ///< the telemetry source's own flag
+  CurrentA current_a[kWheelCount];          ///< signed; positive drives forward
+  DriveDirection direction[kWheelCount];    ///< commanded direction per wheel
+  RoverAttitude attitude;                   ///< IMU pitch and roll
+  JointAnglesRad joints;                    ///< rocker and bogie angles
+  bool accel_valid;                         ///< accel_mps2 holds a measurement
+  AccelMps2 accel_mps2;                     ///< along the path (IMU / VO)
+  bool speed_valid;                         ///< speed_mps holds a measurement
+  SpeedMps speed_mps;                       ///< over the ground (odometry / VO), signed
+  bool rim_speed_valid;                     ///< rim_speed_mps holds a value
+  SpeedMps rim_speed_mps;                   ///< mean r w of the driven wheels, signed
+};
+
+enum class RoverStepStatus : std::uint8_t {
+  ok = 0U,
+  invalid_table = 1U,          ///< the parameter table failed validate(): monitor not run
+  invalid_rover_params = 2U,   ///< RoverParams failed validate_rover_params()
+  telemetry_invalid = 3U,      ///< the source flagged the sample invalid
+  telemetry_stale = 4U,        ///< older than the stale timeout, or from the future
+  telemetry_repeated = 5U,     ///< the same time stamp as the previous cycle
+  motion_out_of_range = 6U,    ///< acceleration or a speed beyond its accepted range
+  loads_failed = 7U,           ///< wheel_loads() gave no loads (see load_status)
+  tip_over = 8U,               ///< beyond the stability limit: stop and re-plan now
+  no_acceleration = 9U,        ///< no measured acceleration and no previous speed
+  drawbar_failed = 10U,        ///< drawbar_pulls() or DP_max/W gave no number
+};
+
+struct RoverStepOutput {
+  RoverStepStatus status;
+  WheelLoadStatus load_status;
+  DrawbarStatus drawbar_status;
+  bool loads_valid;                        ///< load_n holds this cycle's loads
+  WheelLoadN load_n[kWheelCount];
+  bool drawbar_valid;                      ///< drawbar_pull_n holds this cycle's pulls
+  DrawbarPullN drawbar_pull_n[kWheelCount];
+  bool accel_valid;
+  AccelMps2 accel_mps2;                    ///< the acceleration used (measured or differenced)
+  bool slip_known;
+  Ratio slip;                              ///< limited to [-1, 1]
+  std::uint32_t lifting_wheel;             ///< with tip_over: the wheel that lifts
+  RoverOutput monitor;                     ///< per wheel: torque, sinkage, I_max, state
+  RoverDecision decision;                  ///< the monitor's decision, or stop on tip_over / bad table
+};
+
+class RoverStep {
+ public:
+  RoverStep() noexcept;
+
+  /// One control cycle. `now` is the monitor's clock.
+  RoverStepOutput step(const RoverTelemetry& telemetry, TimeMs now, const ParameterTable& table,
+                       const RoverParams& rover) noexcept;
+
+  /// The ground's acknowledgement after a re-plan (RoverMonitor::clear_stop).
+  void clear_stop() noexcept;
+
+  [[nodiscard]] const RoverMonitor& monitor() const noexcept { return monitor_; }
+
+ private:
+  RoverMonitor monitor_;
+  bool have_time_;
+  TimeMs last_time_;
+  bool have_speed_;
+  SpeedMps last_speed_;
+  TimeMs last_speed_time_;
+};
+
+}  // namespace flight
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_FLIGHT_ROVER_STEP_HPP

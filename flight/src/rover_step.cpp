@@ -1,0 +1,207 @@
+// One control cycle from raw telemetry to the rover's decision; see
+// rover_step.hpp and docs/rover-loads.md, section 8.
+#include "sinkwatch/flight/rover_step.hpp"
+
+#include "sinkwatch/fixedpoint/literal.hpp"
+#include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/status.hpp"
+#include "sinkwatch/flight/correction.hpp"
+
+namespace sinkwatch {
+namespace flight {
+namespace {
+
+using W = WideQ;
+
+template <typename Quantity>
+bool within(Quantity v, Quantity limit) noexcept {
+  return (v <= limit) && (v.raw() >= -limit.raw());
+}
+
+/// The acceleration from two successive speeds, (v - v_prev) / dt.
+bool differenced_accel(SpeedMps speed, SpeedMps previous, std::uint32_t dt_ms, AccelMps2& out) noexcept {
+  fx::Status st;
+  const W dv = fx::sub(fx::rescale<W>(speed.q(), st), fx::rescale<W>(previous.q(), st), st);
+  const W per_second = fx::mul(dv, W::from_int(1000, st), st);
+  const W accel = fx::div(per_second, W::from_int(static_cast<std::int64_t>(dt_ms), st), st);
+  const AccelQ a = fx::rescale<AccelQ>(accel, st);
+  out = AccelMps2{a};
+  return st.ok();
+}
+
+/// s = 1 - v / v_rim, limited to [-1, 1] (beyond 1 the rover moves against
+/// its wheels; below -1 it skids faster than twice the rim speed).
+bool slip_ratio(SpeedMps speed, SpeedMps rim, Ratio& out) noexcept {
+  fx::Status st;
+  const W ratio = fx::div(fx::rescale<W>(speed.q(), st), fx::rescale<W>(rim.q(), st), st);
+  const W one = fx::constant<W>(1.0);
+  const W slip = fx::clamp(fx::sub(one, ratio, st), fx::constant<W>(-1.0), one, st);
+  out = Ratio{fx::rescale<RatioQ>(slip, st)};
+  return st.ok();
+}
+
+}  // namespace
+
+RoverStep::RoverStep() noexcept
+    : monitor_(), have_time_(false), last_time_{0U}, have_speed_(false), last_speed_(), last_speed_time_{0U} {}
+
+void RoverStep::clear_stop() noexcept { monitor_.clear_stop(); }
+
+RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const ParameterTable& table,
+                                const RoverParams& rover) noexcept {
+  RoverStepOutput out{};
+  out.status = RoverStepStatus::ok;
+  out.load_status = WheelLoadStatus::invalid_params;
+  out.drawbar_status = DrawbarStatus::invalid_loads;
+  out.lifting_wheel = kWheelCount;
+  out.decision = RoverDecision::continue_drive;
+
+  // Without a valid table the monitor has no thresholds: stop, fail-safe.
+  if (validate(table) != RejectReason::ok) {
+    out.status = RoverStepStatus::invalid_table;
+    out.decision = RoverDecision::stop_and_replan;
+    return out;
+  }
+
+  WheelInput inputs[kMaxWheels]{};
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    inputs[i].time = t.time;
+    inputs[i].current_a = t.current_a[i];
+    inputs[i].direction = t.direction[i];
+    inputs[i].load_n = WheelLoadN::zero();
+    inputs[i].drawbar_pull_n = DrawbarPullN::zero();
+    inputs[i].valid = false;  // set only when every number below exists
+  }
+
+  // 1. The telemetry itself, by the monitor's own rules.
+  bool usable = false;
+  bool pass_as_stale = false;
+  if (!t.valid) {
+    out.status = RoverStepStatus::telemetry_invalid;
+  } else if (elapsed_ms(t.time, now) > table.monitor.stale_timeout_ms) {
+    out.status = RoverStepStatus::telemetry_stale;
+    pass_as_stale = true;  // the monitor classifies it as stale by the same rule
+  } else if (have_time_ && (t.time.ms == last_time_.ms)) {
+    out.status = RoverStepStatus::telemetry_repeated;
+  } else {
+    have_time_ = true;
+    last_time_ = t.time;
+    usable = true;
+  }
+  if (usable && (validate_rover_params(rover) != RoverParamStatus::ok)) {
+    out.status = RoverStepStatus::invalid_rover_params;
+    usable = false;
+  }
+
+  // 2. Wheel loads.
+  if (usable) {
+    const WheelLoadResult loads = wheel_loads(rover, t.attitude, t.joints);
+    out.load_status = loads.status;
+    if (loads.status == WheelLoadStatus::tip_over) {
+      out.status = RoverStepStatus::tip_over;
+      out.lifting_wheel = loads.lifting_wheel;
+      usable = false;
+    } else if (loads.status != WheelLoadStatus::ok) {
+      out.status = RoverStepStatus::loads_failed;
+      usable = false;
+    } else {
+      out.loads_valid = true;
+      for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+        out.load_n[i] = loads.load_n[i];
+      }
+    }
+
+    // 3. Motion: ranges, acceleration, slip.
+    const bool motion_ok = (!t.accel_valid || within(t.accel_mps2, kMaxAbsAccel)) &&
+                           (!t.speed_valid || within(t.speed_mps, kMaxAbsSpeed)) &&
+                           (!t.rim_speed_valid || within(t.rim_speed_mps, kMaxAbsSpeed));
+    if (!motion_ok) {
+      if (usable) {
+        out.status = RoverStepStatus::motion_out_of_range;
+        usable = false;
+      }
+    } else {
+      if (t.accel_valid) {
+        out.accel_valid = true;
+        out.accel_mps2 = t.accel_mps2;
+      } else if (t.speed_valid && have_speed_) {
+        const std::uint32_t dt = elapsed_ms(last_speed_time_, t.time);
+        if ((dt > 0U) && (dt <= table.monitor.stale_timeout_ms)) {
+          AccelMps2 a{};
+          if (differenced_accel(t.speed_mps, last_speed_, dt, a) && within(a, kMaxAbsAccel)) {
+            out.accel_valid = true;
+            out.accel_mps2 = a;
+          }
+        }
+      } else {
+        // Neither a measurement nor two speeds: no acceleration this cycle.
+      }
+      if (t.speed_valid) {
+        have_speed_ = true;
+        last_speed_ = t.speed_mps;
+        last_speed_time_ = t.time;
+      }
+      if (t.speed_valid && t.rim_speed_valid && !within(t.rim_speed_mps, kMinRimSpeedForSlip)) {
+        Ratio s{};
+        if (slip_ratio(t.speed_mps, t.rim_speed_mps, s)) {
+          out.slip_known = true;
+          out.slip = s;
+        }
+      }
+      if (usable && !out.accel_valid) {
+        out.status = RoverStepStatus::no_acceleration;
+        usable = false;
+      }
+    }
+  }
+
+  // 4. Drawbar pulls, with DP_max/W at each wheel's load.
+  if (usable) {
+    DrawbarInput in{};
+    in.accel_mps2 = out.accel_mps2;
+    in.pitch_rad = t.attitude.pitch_rad;
+    in.slip_known = out.slip_known;
+    in.slip = out.slip;
+    bool ratios_ok = true;
+    for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+      const CorrectionResult c = corrections_at(table.correction, out.load_n[i]);
+      ratios_ok = ratios_ok && (c.status == EstimateStatus::ok);
+      in.dp_max_ratio[i] = c.dp_max_ratio;
+    }
+    WheelLoadResult loads{};
+    loads.status = WheelLoadStatus::ok;
+    for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+      loads.load_n[i] = out.load_n[i];
+    }
+    const DrawbarResult dp = ratios_ok ? drawbar_pulls(rover, loads, in) : DrawbarResult{};
+    out.drawbar_status = ratios_ok ? dp.status : DrawbarStatus::invalid_input;
+    if (ratios_ok && flight::usable(dp.status)) {
+      out.drawbar_valid = true;
+      for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+        out.drawbar_pull_n[i] = dp.dp_n[i];
+      }
+    } else {
+      out.status = RoverStepStatus::drawbar_failed;
+      usable = false;
+    }
+  }
+
+  // 5. The monitor sees every cycle: numbers when they all exist, else an
+  //    invalid sample it counts (and a stale one it classifies itself).
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    inputs[i].valid = usable || pass_as_stale;
+    if (usable) {
+      inputs[i].load_n = out.load_n[i];
+      inputs[i].drawbar_pull_n = out.drawbar_pull_n[i];
+    }
+  }
+  out.monitor = monitor_.step(inputs, now, table);
+  out.decision = out.monitor.decision;
+  if (out.status == RoverStepStatus::tip_over) {
+    out.decision = RoverDecision::stop_and_replan;
+  }
+  return out;
+}
+
+}  // namespace flight
+}  // namespace sinkwatch

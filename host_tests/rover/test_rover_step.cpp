@@ -1,0 +1,256 @@
+// The per-cycle step (docs/rover-loads.md, section 8): a nominal cycle end to
+// end, against the chain of flight functions called one by one; acceleration
+// from the speed difference; slip and high slip; every telemetry failure and
+// its fail-safe; tip-over stopping the rover at once.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+
+#include "rover_test_support.hpp"
+#include "sinkwatch/flight/correction.hpp"
+#include "sinkwatch/flight/estimator.hpp"
+#include "sinkwatch/flight/motor.hpp"
+#include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/rover_step.hpp"
+
+namespace sinkwatch {
+namespace {
+
+using flight::RoverStepStatus;
+using rover_test::d;
+using rover_test::q;
+
+flight::RoverTelemetry telemetry(std::uint32_t time_ms) {
+  flight::RoverTelemetry t{};
+  t.time = flight::TimeMs{time_ms};
+  t.valid = true;
+  for (std::size_t i = 0; i < flight::kWheelCount; ++i) {
+    t.current_a[i] = q<flight::CurrentA>(0.35);
+    t.direction[i] = flight::DriveDirection::forward;
+  }
+  t.attitude = rover_test::attitude(0.0, 0.0);
+  t.joints = rover_test::joints(0, 0, 0, 0);
+  t.accel_valid = true;
+  t.accel_mps2 = flight::AccelMps2::zero();
+  t.speed_valid = false;
+  t.rim_speed_valid = false;
+  return t;
+}
+
+class RoverStepTest : public ::testing::Test {
+ protected:
+  flight::ParameterTable table = flight::default_parameter_table();
+  flight::RoverParams rover = flight::yutu_like_rover_params(flight::kGravityMoon);
+  flight::RoverStep step;
+};
+
+TEST_F(RoverStepTest, NominalCycleGivesEveryNumberAndMatchesTheChain) {
+  flight::RoverTelemetry t = telemetry(1000U);
+  t.attitude = rover_test::attitude(0.12, -0.05);
+  t.joints = rover_test::joints(0.08, -0.08, 0.1, -0.02);
+  t.accel_mps2 = q<flight::AccelMps2>(0.01);
+  const flight::RoverStepOutput out = step.step(t, flight::TimeMs{1010U}, table, rover);
+  ASSERT_EQ(out.status, RoverStepStatus::ok);
+  ASSERT_TRUE(out.loads_valid);
+  ASSERT_TRUE(out.drawbar_valid);
+  EXPECT_EQ(out.decision, flight::RoverDecision::continue_drive);
+
+  // The same chain, one function at a time.
+  const flight::WheelLoadResult loads = flight::wheel_loads(rover, t.attitude, t.joints);
+  ASSERT_EQ(loads.status, flight::WheelLoadStatus::ok);
+  flight::DrawbarInput in{};
+  in.accel_mps2 = t.accel_mps2;
+  in.pitch_rad = t.attitude.pitch_rad;
+  for (std::size_t i = 0; i < flight::kWheelCount; ++i) {
+    in.dp_max_ratio[i] = flight::corrections_at(table.correction, loads.load_n[i]).dp_max_ratio;
+  }
+  const flight::DrawbarResult dp = flight::drawbar_pulls(rover, loads, in);
+  ASSERT_TRUE(flight::usable(dp.status));
+  for (std::size_t i = 0; i < flight::kWheelCount; ++i) {
+    EXPECT_EQ(out.load_n[i], loads.load_n[i]);
+    EXPECT_EQ(out.drawbar_pull_n[i], dp.dp_n[i]);
+    const flight::WheelOutput& w = out.monitor.wheels[i];
+    EXPECT_EQ(w.sample_status, flight::SampleStatus::ok) << i;
+    ASSERT_TRUE(w.estimate_valid) << i;
+    ASSERT_TRUE(w.limit_valid) << i;
+    EXPECT_EQ(w.state, flight::WheelState::nominal) << i;
+    const flight::TorqueResult torque =
+        flight::torque_from_current(table.motor, t.current_a[i], flight::DriveDirection::forward);
+    const flight::CorrectionResult corr = flight::corrections_at(table.correction, loads.load_n[i]);
+    const flight::SinkageResult z = flight::sinkage_from_pull(corr.coefficients, table.wheel_radius_m,
+                                                              loads.load_n[i], torque.torque_nm, dp.dp_n[i]);
+    EXPECT_EQ(w.torque_nm, torque.torque_nm) << i;
+    EXPECT_EQ(w.sinkage_m, z.sinkage_m) << i;
+    // The same 0.35 A on every wheel while climbing 0.12 rad: the uphill
+    // drawbar pull is not covered by that torque on the loaded rear wheels,
+    // so their estimates go negative (no sinkage) while staying small.
+    EXPECT_LT(std::fabs(d(w.sinkage_m)), 0.03) << i;
+  }
+}
+
+TEST_F(RoverStepTest, AccelerationFromTheSpeedDifference) {
+  flight::RoverTelemetry t = telemetry(2000U);
+  t.accel_valid = false;
+  t.speed_valid = true;
+  t.speed_mps = q<flight::SpeedMps>(0.05);
+  const flight::RoverStepOutput first = step.step(t, flight::TimeMs{2000U}, table, rover);
+  EXPECT_EQ(first.status, RoverStepStatus::no_acceleration);
+  EXPECT_TRUE(first.loads_valid);  // the loads exist, the pulls do not
+  EXPECT_FALSE(first.drawbar_valid);
+  EXPECT_EQ(first.monitor.wheels[0].sample_status, flight::SampleStatus::flagged_invalid);
+
+  t.time = flight::TimeMs{2100U};
+  t.speed_mps = q<flight::SpeedMps>(0.06);
+  const flight::RoverStepOutput second = step.step(t, flight::TimeMs{2100U}, table, rover);
+  ASSERT_EQ(second.status, RoverStepStatus::ok);
+  ASSERT_TRUE(second.accel_valid);
+  EXPECT_NEAR(d(second.accel_mps2), 0.1, 1e-6);
+  double sum = 0.0;
+  for (const flight::DrawbarPullN p : second.drawbar_pull_n) sum += d(p);
+  EXPECT_NEAR(sum, d(rover.mass_kg) * 0.1, 1e-3);  // flat ground: m a
+}
+
+TEST_F(RoverStepTest, SlipFromGroundAndRimSpeedAndHighSlipSaturates) {
+  flight::RoverTelemetry t = telemetry(3000U);
+  t.speed_valid = true;
+  t.speed_mps = q<flight::SpeedMps>(0.04);
+  t.rim_speed_valid = true;
+  t.rim_speed_mps = q<flight::SpeedMps>(0.05);
+  const flight::RoverStepOutput low = step.step(t, flight::TimeMs{3000U}, table, rover);
+  ASSERT_EQ(low.status, RoverStepStatus::ok);
+  ASSERT_TRUE(low.slip_known);
+  EXPECT_NEAR(d(low.slip), 0.2, 1e-6);
+  EXPECT_EQ(low.drawbar_status, flight::DrawbarStatus::ok);
+
+  t.time = flight::TimeMs{3100U};
+  t.speed_mps = q<flight::SpeedMps>(0.01);  // slip 0.8 >= high_slip 0.6
+  const flight::RoverStepOutput high = step.step(t, flight::TimeMs{3100U}, table, rover);
+  ASSERT_EQ(high.status, RoverStepStatus::ok);
+  EXPECT_NEAR(d(high.slip), 0.8, 1e-6);
+  EXPECT_EQ(high.drawbar_status, flight::DrawbarStatus::saturated);
+  for (std::size_t i = 0; i < flight::kWheelCount; ++i) {
+    EXPECT_NEAR(d(high.drawbar_pull_n[i]), 0.5 * d(high.load_n[i]), 1e-4);  // DP_max/W = 0.5
+  }
+
+  t.time = flight::TimeMs{3200U};
+  t.speed_mps = q<flight::SpeedMps>(-0.05);  // moving against the wheels: limited to 1
+  const flight::RoverStepOutput against = step.step(t, flight::TimeMs{3200U}, table, rover);
+  EXPECT_EQ(d(against.slip), 1.0);
+  t.time = flight::TimeMs{3300U};
+  t.rim_speed_mps = q<flight::SpeedMps>(0.0005);  // below 1 mm/s: slip undefined
+  const flight::RoverStepOutput idle = step.step(t, flight::TimeMs{3300U}, table, rover);
+  EXPECT_FALSE(idle.slip_known);
+}
+
+TEST_F(RoverStepTest, FlaggedStaleAndRepeatedTelemetryAreRefusedAndCounted) {
+  flight::RoverTelemetry t = telemetry(5000U);
+  t.valid = false;
+  flight::RoverStepOutput out = step.step(t, flight::TimeMs{5000U}, table, rover);
+  EXPECT_EQ(out.status, RoverStepStatus::telemetry_invalid);
+  EXPECT_FALSE(out.loads_valid);
+  EXPECT_EQ(out.monitor.wheels[0].sample_status, flight::SampleStatus::flagged_invalid);
+
+  t.valid = true;
+  out = step.step(t, flight::TimeMs{5000U + table.monitor.stale_timeout_ms + 1U}, table, rover);
+  EXPECT_EQ(out.status, RoverStepStatus::telemetry_stale);
+  EXPECT_EQ(out.monitor.wheels[3].sample_status, flight::SampleStatus::stale);
+  EXPECT_FALSE(out.loads_valid);
+
+  // From the future: stale as well (the wrapping age is huge).
+  out = step.step(t, flight::TimeMs{4000U}, table, rover);
+  EXPECT_EQ(out.status, RoverStepStatus::telemetry_stale);
+
+  out = step.step(t, flight::TimeMs{5010U}, table, rover);
+  EXPECT_EQ(out.status, RoverStepStatus::ok);
+  out = step.step(t, flight::TimeMs{5020U}, table, rover);  // same stamp again
+  EXPECT_EQ(out.status, RoverStepStatus::telemetry_repeated);
+  EXPECT_NE(out.monitor.wheels[0].sample_status, flight::SampleStatus::ok);
+  EXPECT_FALSE(out.monitor.wheels[0].estimate_valid);
+
+  const flight::WheelCounters& c = step.monitor().wheel(0U).counters();
+  EXPECT_EQ(c.by_status[static_cast<std::size_t>(flight::SampleStatus::stale)], 2U);
+  EXPECT_GE(c.by_status[static_cast<std::size_t>(flight::SampleStatus::flagged_invalid)], 1U);
+}
+
+TEST_F(RoverStepTest, MotionOutOfRangeIsRefused) {
+  flight::RoverTelemetry t = telemetry(6000U);
+  t.accel_mps2 = q<flight::AccelMps2>(12.0);
+  EXPECT_EQ(step.step(t, flight::TimeMs{6000U}, table, rover).status, RoverStepStatus::motion_out_of_range);
+  t.time = flight::TimeMs{6100U};
+  t.accel_mps2 = flight::AccelMps2::zero();
+  t.speed_valid = true;
+  t.speed_mps = q<flight::SpeedMps>(6.0);
+  EXPECT_EQ(step.step(t, flight::TimeMs{6100U}, table, rover).status, RoverStepStatus::motion_out_of_range);
+  t.time = flight::TimeMs{6200U};
+  t.speed_valid = false;
+  t.rim_speed_valid = true;
+  t.rim_speed_mps = q<flight::SpeedMps>(-5.5);
+  EXPECT_EQ(step.step(t, flight::TimeMs{6200U}, table, rover).status, RoverStepStatus::motion_out_of_range);
+}
+
+TEST_F(RoverStepTest, TipOverStopsTheRoverInTheSameCycle) {
+  flight::RoverTelemetry t = telemetry(7000U);
+  t.attitude = rover_test::attitude(0.0, 0.75);  // beyond the 39.3 deg roll limit
+  const flight::RoverStepOutput out = step.step(t, flight::TimeMs{7000U}, table, rover);
+  EXPECT_EQ(out.status, RoverStepStatus::tip_over);
+  EXPECT_EQ(out.load_status, flight::WheelLoadStatus::tip_over);
+  EXPECT_EQ(out.decision, flight::RoverDecision::stop_and_replan);
+  EXPECT_LT(out.lifting_wheel, 3U);  // a left wheel lifts
+  EXPECT_FALSE(out.loads_valid);
+  EXPECT_FALSE(out.drawbar_valid);
+  for (const flight::WheelLoadN w : out.load_n) EXPECT_EQ(w.raw(), 0);
+}
+
+TEST_F(RoverStepTest, PersistentlyUnusableTelemetryStopsTheRover) {
+  flight::RoverTelemetry t = telemetry(8000U);
+  t.attitude = rover_test::attitude(1.02, 0.0);  // beyond the attitude limit: no loads
+  flight::RoverStepOutput out{};
+  for (std::uint32_t k = 0U; k < table.monitor.invalid_to_stop; ++k) {
+    t.time = flight::TimeMs{8000U + 100U * k};
+    out = step.step(t, t.time, table, rover);
+    EXPECT_EQ(out.status, RoverStepStatus::loads_failed);
+    EXPECT_EQ(out.load_status, flight::WheelLoadStatus::attitude_out_of_range);
+    if (k + 1U < table.monitor.invalid_to_stop) {
+      EXPECT_EQ(out.decision, flight::RoverDecision::continue_drive) << k;
+    }
+  }
+  EXPECT_EQ(out.decision, flight::RoverDecision::stop_and_replan);
+  EXPECT_EQ(out.monitor.wheels[0].state, flight::WheelState::stop);
+  EXPECT_EQ(out.monitor.wheels[0].stop_reason, flight::StopReason::telemetry);
+}
+
+TEST_F(RoverStepTest, BadParametersFailSafe) {
+  flight::ParameterTable bad_table = table;
+  bad_table.wheel_radius_m = flight::LengthM::zero();
+  const flight::RoverStepOutput no_table = step.step(telemetry(9000U), flight::TimeMs{9000U}, bad_table, rover);
+  EXPECT_EQ(no_table.status, RoverStepStatus::invalid_table);
+  EXPECT_EQ(no_table.decision, flight::RoverDecision::stop_and_replan);
+
+  flight::RoverParams bad_rover = rover;
+  bad_rover.gravity_mps2 = flight::AccelMps2::zero();
+  const flight::RoverStepOutput out = step.step(telemetry(9100U), flight::TimeMs{9100U}, table, bad_rover);
+  EXPECT_EQ(out.status, RoverStepStatus::invalid_rover_params);
+  EXPECT_FALSE(out.loads_valid);
+  EXPECT_EQ(out.monitor.wheels[5].sample_status, flight::SampleStatus::flagged_invalid);
+}
+
+TEST_F(RoverStepTest, HighCurrentTripsStopThroughTheMonitor) {
+  // A current far above the limit on wheel 2, every cycle: STOP after trip_n.
+  flight::RoverStepOutput out{};
+  for (std::uint32_t k = 0U; k < table.monitor.trip_n; ++k) {
+    flight::RoverTelemetry t = telemetry(10000U + 100U * k);
+    t.current_a[2] = q<flight::CurrentA>(5.0);
+    out = step.step(t, t.time, table, rover);
+    ASSERT_EQ(out.status, RoverStepStatus::ok);
+  }
+  EXPECT_EQ(out.monitor.wheels[2].state, flight::WheelState::stop);
+  EXPECT_EQ(out.monitor.wheels[0].state, flight::WheelState::nominal);
+  EXPECT_EQ(out.decision, flight::RoverDecision::stop_and_replan);
+  step.clear_stop();
+  const flight::RoverStepOutput after = step.step(telemetry(11000U), flight::TimeMs{11000U}, table, rover);
+  EXPECT_EQ(after.monitor.wheels[2].state, flight::WheelState::nominal);
+}
+
+}  // namespace
+}  // namespace sinkwatch
