@@ -1,0 +1,318 @@
+// The monitor: every state transition, every sample status, the rover
+// decision and the event record.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+
+#include "sinkwatch/fixedpoint/host_convert.hpp"
+#include "sinkwatch/flight/monitor.hpp"
+#include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/ground/reference.hpp"
+
+namespace {
+
+using namespace sinkwatch;
+using namespace sinkwatch::flight;
+namespace ref = sinkwatch::ground::reference;
+
+template <typename Qty>
+Qty q(double v) {
+  fx::Status st;
+  const auto x = fx::from_double<typename Qty::q_type>(v, st);
+  EXPECT_TRUE(st.ok()) << v;
+  return Qty(x);
+}
+template <typename Qty>
+double d(Qty v) {
+  return fx::to_double(v.q());
+}
+
+// Default table at W = 98.1 N (10 kg: C = 1, 1, 0.13; DP_max/W = 0.5):
+// I_max = 2.3808 A, caution current 2.1427 A, clear below 2.0237 A;
+// sinkage caution 0.030 m, stop 0.045 m, clear below 0.025 m.
+constexpr double kW = 98.1;
+
+class MonitorTest : public ::testing::Test {
+ protected:
+  ParameterTable table = default_parameter_table();
+  ref::Parameters p = ref::from_flight(default_parameter_table());
+  WheelMonitor wheel{2U};
+  std::uint32_t t_ms = 1000U;
+
+  /// A fresh sample with current I (in the direction of motion) whose
+  /// drawbar pull puts the Eq. 11 estimate at z.
+  WheelInput sample(double current, double z, DriveDirection dir = DriveDirection::forward) {
+    const double signed_i = dir == DriveDirection::forward ? current : -current;
+    const double torque = ref::torque_nm(p.motor, signed_i, dir);
+    const ref::Coefficients c = ref::corrections_at(p.correction, kW).coefficients;
+    const double dp = kW * ((c.c1 * torque / kW - c.c2 * z) / p.wheel_radius_m - c.c3);
+    t_ms += 100U;
+    return WheelInput{TimeMs{t_ms}, q<CurrentA>(signed_i), q<WheelLoadN>(kW), q<DrawbarPullN>(dp), dir, true};
+  }
+  WheelOutput feed(const WheelInput& in) { return wheel.step(in, TimeMs{t_ms}, table); }
+  WheelOutput nominal() { return feed(sample(1.0, 0.01)); }
+  WheelOutput sink_caution() { return feed(sample(1.0, 0.035)); }
+  WheelOutput sink_stop() { return feed(sample(1.0, 0.05)); }
+  WheelOutput current_caution() { return feed(sample(2.2, 0.01)); }
+  WheelOutput current_stop() { return feed(sample(2.5, 0.01)); }
+  WheelOutput band() { return feed(sample(1.0, 0.027)); }  // inside the sinkage hysteresis
+  WheelOutput invalid() {
+    WheelInput in = sample(1.0, 0.01);
+    in.valid = false;
+    return feed(in);
+  }
+};
+
+TEST_F(MonitorTest, NominalSampleGivesEstimateAndLimit) {
+  const WheelOutput o = nominal();
+  EXPECT_EQ(o.state, WheelState::nominal);
+  EXPECT_EQ(o.sample_status, SampleStatus::ok);
+  ASSERT_TRUE(o.estimate_valid);
+  EXPECT_NEAR(d(o.sinkage_m), 0.01, 1e-5);
+  ASSERT_TRUE(o.limit_valid);
+  EXPECT_NEAR(d(o.current_limit_a), 2.380825, 1e-5);
+  EXPECT_EQ(o.clamp, LoadClamp::none);
+  EXPECT_FALSE(o.stop_tripped);
+}
+
+TEST_F(MonitorTest, OneOrTwoNoisySamplesDoNotTrip) {
+  sink_caution();
+  nominal();
+  EXPECT_EQ(current_caution().state, WheelState::nominal);
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(nominal().state, WheelState::nominal);
+  EXPECT_EQ(sink_stop().state, WheelState::nominal);
+  EXPECT_EQ(sink_stop().state, WheelState::nominal);
+  EXPECT_EQ(sink_stop().state, WheelState::stop);  // the third: straight from NOMINAL
+}
+
+TEST_F(MonitorTest, NominalToCautionOnNOfMSinkage) {
+  sink_caution();
+  nominal();
+  sink_caution();
+  nominal();
+  EXPECT_EQ(sink_caution().state, WheelState::caution);
+}
+
+TEST_F(MonitorTest, NominalToCautionOnNOfMCurrent) {
+  current_caution();
+  current_caution();
+  EXPECT_EQ(current_caution().state, WheelState::caution);
+}
+
+TEST_F(MonitorTest, CautionToNominalNeedsClearNCleanSamples) {
+  for (int i = 0; i < 3; ++i) sink_caution();
+  ASSERT_EQ(wheel.state(), WheelState::caution);
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(nominal().state, WheelState::caution);
+  EXPECT_EQ(nominal().state, WheelState::nominal);
+}
+
+TEST_F(MonitorTest, HysteresisBandNeitherTripsNorClears) {
+  for (int i = 0; i < 10; ++i) EXPECT_EQ(band().state, WheelState::nominal);
+  for (int i = 0; i < 3; ++i) sink_caution();
+  ASSERT_EQ(wheel.state(), WheelState::caution);
+  for (int i = 0; i < 20; ++i) EXPECT_EQ(band().state, WheelState::caution);
+  // Current in its band (0.85..0.9 of I_max) does not clear either.
+  for (int i = 0; i < 20; ++i) EXPECT_EQ(feed(sample(2.08, 0.01)).state, WheelState::caution);
+}
+
+TEST_F(MonitorTest, NominalToStopOnSinkageWithEvent) {
+  sink_stop();
+  sink_stop();
+  const WheelOutput o = sink_stop();
+  EXPECT_EQ(o.state, WheelState::stop);
+  EXPECT_TRUE(o.stop_tripped);
+  EXPECT_EQ(o.stop_reason, StopReason::sinkage);
+  ASSERT_TRUE(wheel.has_event());
+  const EventRecord& e = wheel.last_event();
+  EXPECT_EQ(e.wheel, 2U);
+  EXPECT_EQ(e.time.ms, t_ms);
+  EXPECT_EQ(e.reason, StopReason::sinkage);
+  EXPECT_TRUE(e.max_estimate_valid);
+  EXPECT_NEAR(d(e.max_estimated_sinkage_m), 0.05, 1e-5);
+}
+
+TEST_F(MonitorTest, CautionToStopOnCurrentRecordsPeakAndSection7Sinkage) {
+  for (int i = 0; i < 3; ++i) current_caution();
+  ASSERT_EQ(wheel.state(), WheelState::caution);
+  current_stop();
+  feed(sample(2.9, 0.01));  // the peak
+  const WheelOutput o = current_stop();
+  EXPECT_EQ(o.state, WheelState::stop);
+  EXPECT_EQ(o.stop_reason, StopReason::current);
+  const EventRecord& e = wheel.last_event();
+  EXPECT_EQ(e.reason, StopReason::current);
+  EXPECT_NEAR(d(e.peak_current_a), 2.9, 1e-6);
+  EXPECT_NEAR(d(e.load_at_peak_n), kW, 1e-4);
+  ASSERT_TRUE(e.peak_sinkage_valid);
+  // Section 7: Eq. 11 at the peak current's torque with DP = DP_max.
+  const ref::Corrections c = ref::corrections_at(p.correction, kW);
+  const double expected = ref::sinkage_m(c.coefficients, p.wheel_radius_m, kW,
+                                         ref::torque_nm(p.motor, 2.9, DriveDirection::forward), c.dp_max_ratio * kW);
+  EXPECT_NEAR(d(e.peak_sinkage_m), expected, 1e-5);
+  EXPECT_GT(d(e.peak_sinkage_m), 0.045);  // above z_max: the current was above I_max
+}
+
+TEST_F(MonitorTest, StopIsLatchedUntilCleared) {
+  for (int i = 0; i < 3; ++i) current_stop();
+  ASSERT_EQ(wheel.state(), WheelState::stop);
+  for (int i = 0; i < 20; ++i) {
+    const WheelOutput o = nominal();
+    EXPECT_EQ(o.state, WheelState::stop);
+    EXPECT_FALSE(o.stop_tripped);
+  }
+  wheel.clear_stop();
+  EXPECT_EQ(wheel.state(), WheelState::nominal);
+  EXPECT_EQ(nominal().state, WheelState::nominal);
+  EXPECT_EQ(nominal().stop_reason, StopReason::none);
+}
+
+TEST_F(MonitorTest, ReverseDrivingUsesTheCurrentInTheDirectionOfMotion) {
+  for (int i = 0; i < 3; ++i) feed(sample(2.5, 0.01, DriveDirection::reverse));
+  EXPECT_EQ(wheel.state(), WheelState::stop);
+  EXPECT_EQ(wheel.last_event().reason, StopReason::current);
+  EXPECT_NEAR(d(wheel.last_event().peak_current_a), 2.5, 1e-6);
+}
+
+TEST_F(MonitorTest, InvalidTelemetryIsCountedNeverEstimatedAndFailsSafe) {
+  WheelOutput o = invalid();
+  EXPECT_EQ(o.sample_status, SampleStatus::flagged_invalid);
+  EXPECT_FALSE(o.estimate_valid);
+  EXPECT_FALSE(o.limit_valid);
+  EXPECT_EQ(o.sinkage_m, SinkageM::zero());
+  invalid();
+  EXPECT_EQ(invalid().state, WheelState::caution);  // blind counts as caution evidence
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(invalid().state, WheelState::caution);
+  o = invalid();  // the 10th in a row
+  EXPECT_EQ(o.state, WheelState::stop);
+  EXPECT_EQ(o.stop_reason, StopReason::telemetry);
+  EXPECT_TRUE(o.stop_tripped);
+  EXPECT_FALSE(wheel.last_event().peak_sinkage_valid);
+  EXPECT_EQ(wheel.counters().by_status[static_cast<int>(SampleStatus::flagged_invalid)], 10U);
+  EXPECT_EQ(wheel.counters().samples, 10U);
+}
+
+TEST_F(MonitorTest, AGoodSampleResetsTheUnusableRun) {
+  for (int i = 0; i < 9; ++i) invalid();
+  nominal();
+  for (int i = 0; i < 9; ++i) EXPECT_NE(invalid().state, WheelState::stop);
+}
+
+TEST_F(MonitorTest, BlindWheelCannotClearCaution) {
+  for (int i = 0; i < 3; ++i) sink_caution();
+  // Every other sample unusable: 4 clear of the last 8, never the 6 needed.
+  for (int i = 0; i < 16; ++i) {
+    EXPECT_EQ(invalid().state, WheelState::caution);
+    EXPECT_EQ(nominal().state, WheelState::caution);
+  }
+}
+
+TEST_F(MonitorTest, EverySampleStatus) {
+  nominal();
+  WheelInput in = sample(1.0, 0.01);
+  in.time = TimeMs{t_ms - 600U};  // older than 500 ms
+  EXPECT_EQ(feed(in).sample_status, SampleStatus::stale);
+  in = sample(1.0, 0.01);
+  in.time = TimeMs{t_ms + 50U};  // from the future
+  EXPECT_EQ(feed(in).sample_status, SampleStatus::stale);
+  in = sample(1.0, 0.01);
+  EXPECT_EQ(feed(in).sample_status, SampleStatus::ok);
+  EXPECT_EQ(wheel.step(in, TimeMs{t_ms}, table).sample_status, SampleStatus::repeated_time);
+  in = sample(1.0, 0.01);
+  in.direction = static_cast<DriveDirection>(3);
+  EXPECT_EQ(feed(in).sample_status, SampleStatus::direction_invalid);
+  in = sample(1.0, 0.01);
+  in.current_a = q<CurrentA>(10.5);
+  EXPECT_EQ(feed(in).sample_status, SampleStatus::current_out_of_range);
+  in = sample(1.0, 0.01);
+  in.current_a = CurrentA::from_raw(INT32_MIN);
+  EXPECT_EQ(feed(in).sample_status, SampleStatus::current_out_of_range);
+  in = sample(1.0, 0.01);
+  in.load_n = q<WheelLoadN>(0.5);
+  EXPECT_EQ(feed(in).sample_status, SampleStatus::load_out_of_range);
+  in = sample(1.0, 0.01);
+  in.load_n = q<WheelLoadN>(2500.0);
+  EXPECT_EQ(feed(in).sample_status, SampleStatus::load_out_of_range);
+  in = sample(1.0, 0.01);
+  in.load_n = q<WheelLoadN>(1.0);
+  in.drawbar_pull_n = q<DrawbarPullN>(-30000.0);  // z = T/W + r 30000: beyond Q7.24
+  const WheelOutput o = feed(in);
+  EXPECT_EQ(o.sample_status, SampleStatus::estimate_failed);
+  EXPECT_FALSE(o.estimate_valid);
+  const WheelCounters& c = wheel.counters();
+  for (int s = 0; s < kSampleStatusCount; ++s) {
+    if (s == static_cast<int>(SampleStatus::flagged_invalid)) continue;
+    EXPECT_GE(c.by_status[s], 1U) << "status " << s;
+  }
+}
+
+TEST_F(MonitorTest, LoadOutsideTable2IsEstimatedWithTheClampReported) {
+  WheelInput in = sample(1.0, 0.01);
+  in.load_n = q<WheelLoadN>(300.0);
+  const WheelOutput o = feed(in);
+  EXPECT_EQ(o.sample_status, SampleStatus::ok);
+  EXPECT_EQ(o.clamp, LoadClamp::above_last);
+}
+
+TEST(RoverMonitor, AnyWheelStopsTheRoverWhenKIsOne) {
+  ParameterTable table = default_parameter_table();
+  const ref::Parameters p = ref::from_flight(table);
+  RoverMonitor rover;
+  std::uint32_t t = 1000U;
+  auto inputs = [&](int stopping_wheels) {
+    t += 100U;
+    std::array<WheelInput, kMaxWheels> a{};
+    for (int i = 0; i < kMaxWheels; ++i) {
+      const double z = i < stopping_wheels ? 0.05 : 0.01;
+      const double torque = ref::torque_nm(p.motor, 1.0, DriveDirection::forward);
+      const double dp = kW * ((torque / kW - z) / p.wheel_radius_m - 0.13);
+      a[static_cast<std::size_t>(i)] =
+          WheelInput{TimeMs{t}, q<CurrentA>(1.0), q<WheelLoadN>(kW), q<DrawbarPullN>(dp), DriveDirection::forward, true};
+    }
+    return a;
+  };
+  auto step = [&](int n) {
+    const auto a = inputs(n);
+    WheelInput raw[kMaxWheels];
+    std::copy(a.begin(), a.end(), raw);
+    return rover.step(raw, TimeMs{t}, table);
+  };
+  for (int i = 0; i < 5; ++i) EXPECT_EQ(step(0).decision, RoverDecision::continue_drive);
+  step(1);
+  step(1);
+  RoverOutput o = step(1);
+  EXPECT_EQ(o.decision, RoverDecision::stop_and_replan);
+  EXPECT_EQ(o.wheels_in_stop, 1U);
+  EXPECT_EQ(o.wheels[0].state, WheelState::stop);
+  EXPECT_EQ(rover.wheel(0).last_event().wheel, 0U);
+
+  // k = 2: one wheel in STOP is not enough.
+  rover.clear_stop();
+  table.monitor.rover_stop_k = 2U;
+  for (int i = 0; i < 3; ++i) o = step(1);
+  EXPECT_EQ(o.wheels_in_stop, 1U);
+  EXPECT_EQ(o.decision, RoverDecision::continue_drive);
+  for (int i = 0; i < 3; ++i) o = step(2);
+  EXPECT_EQ(o.wheels_in_stop, 2U);
+  EXPECT_EQ(o.decision, RoverDecision::stop_and_replan);
+
+  // Fewer monitored wheels: the others are ignored.
+  rover.clear_stop();
+  table.monitor.wheel_count = 4U;
+  table.monitor.rover_stop_k = 1U;
+  const auto a = inputs(0);
+  WheelInput raw[kMaxWheels];
+  std::copy(a.begin(), a.end(), raw);
+  raw[5].valid = false;
+  const std::uint32_t wheel5_samples = rover.wheel(5).counters().samples;
+  for (int i = 0; i < 12; ++i) {
+    t += 100U;
+    for (WheelInput& w : raw) w.time = TimeMs{t};
+    o = rover.step(raw, TimeMs{t}, table);
+  }
+  EXPECT_EQ(o.decision, RoverDecision::continue_drive);
+  EXPECT_EQ(rover.wheel(5).counters().samples, wheel5_samples);
+  EXPECT_EQ(o.wheels_in_caution, 0U);
+}
+
+}  // namespace

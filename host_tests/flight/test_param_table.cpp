@@ -1,0 +1,325 @@
+// The parameter table: CRC, byte format, every rejection reason, the store.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <functional>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sinkwatch/fixedpoint/host_convert.hpp"
+#include "sinkwatch/flight/crc32.hpp"
+#include "sinkwatch/flight/param_table.hpp"
+
+namespace {
+
+using namespace sinkwatch;
+using namespace sinkwatch::flight;
+using Bytes = std::vector<std::uint8_t>;
+
+template <typename Qty>
+Qty q(double v) {
+  fx::Status st;
+  return Qty(fx::from_double<typename Qty::q_type>(v, st));
+}
+
+Bytes encode_table(const ParameterTable& t) {
+  Bytes b(kMaxTableBytes);
+  const EncodeResult e = encode(t, b.data(), b.size());
+  EXPECT_EQ(e.status, RejectReason::ok);
+  b.resize(e.size);
+  return b;
+}
+
+void put_u16(Bytes& b, std::size_t at, std::uint16_t v) {
+  b[at] = static_cast<std::uint8_t>(v & 0xFF);
+  b[at + 1] = static_cast<std::uint8_t>(v >> 8);
+}
+void put_u32(Bytes& b, std::size_t at, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i) b[at + i] = static_cast<std::uint8_t>(v >> (8 * i));
+}
+void fix_crc(Bytes& b) { put_u32(b, b.size() - 4, crc32(b.data(), b.size() - 4)); }
+
+struct Section {
+  std::uint16_t id;
+  Bytes payload;
+};
+
+std::vector<Section> sections_of(const Bytes& b) {
+  std::vector<Section> out;
+  std::size_t pos = kTableHeaderBytes;
+  while (pos + 4 <= b.size() - 4) {
+    const std::uint16_t id = static_cast<std::uint16_t>(b[pos] | (b[pos + 1] << 8));
+    const std::uint16_t len = static_cast<std::uint16_t>(b[pos + 2] | (b[pos + 3] << 8));
+    out.push_back({id, Bytes(b.begin() + static_cast<long>(pos + 4), b.begin() + static_cast<long>(pos + 4 + len))});
+    pos += 4U + len;
+  }
+  return out;
+}
+
+/// A framed table with a correct CRC around arbitrary sections.
+Bytes frame(const std::vector<Section>& sections, int count_override = -1) {
+  Bytes b = {0x53, 0x57, 0x50, 0x54, 1, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+  for (const Section& s : sections) {
+    b.push_back(static_cast<std::uint8_t>(s.id & 0xFF));
+    b.push_back(static_cast<std::uint8_t>(s.id >> 8));
+    b.push_back(static_cast<std::uint8_t>(s.payload.size() & 0xFF));
+    b.push_back(static_cast<std::uint8_t>(s.payload.size() >> 8));
+    b.insert(b.end(), s.payload.begin(), s.payload.end());
+  }
+  b.resize(b.size() + 4);
+  put_u32(b, 8, static_cast<std::uint32_t>(b.size()));
+  put_u16(b, 12, static_cast<std::uint16_t>(count_override >= 0 ? count_override : static_cast<int>(sections.size())));
+  fix_crc(b);
+  return b;
+}
+
+RejectReason decode_bytes(const Bytes& b, ExtensionValidator v = nullptr) {
+  ParameterTable out{};
+  return decode(b.data(), b.size(), out, v);
+}
+
+TEST(Crc32, CheckValue) {
+  const std::string s = "123456789";
+  EXPECT_EQ(crc32(reinterpret_cast<const std::uint8_t*>(s.data()), s.size()), 0xCBF43926U);
+  EXPECT_EQ(crc32(nullptr, 0U), 0U);
+}
+
+TEST(ParamTable, DefaultIsValidAndRoundTrips) {
+  const ParameterTable t = default_parameter_table();
+  EXPECT_EQ(validate(t), RejectReason::ok);
+  const Bytes b = encode_table(t);
+  EXPECT_EQ(b.size(), 16U + (4 + 4) + (4 + 20) + (4 + 4 + 5 * 20) + (4 + 44) + (4 + 20) + 4U);
+  ParameterTable back{};
+  ASSERT_EQ(decode(b.data(), b.size(), back), RejectReason::ok);
+  EXPECT_EQ(encode_table(back), b);
+  EXPECT_EQ(back.correction.rows[4].c3, t.correction.rows[4].c3);
+  EXPECT_EQ(back.monitor.window_m, t.monitor.window_m);
+  EXPECT_EQ(back.escape.freed_sinkage_m, t.escape.freed_sinkage_m);
+}
+
+TEST(ParamTable, ByteLayoutIsLittleEndianAsDocumented) {
+  const Bytes b = encode_table(default_parameter_table());
+  EXPECT_EQ(Bytes(b.begin(), b.begin() + 4), (Bytes{'S', 'W', 'P', 'T'}));
+  EXPECT_EQ(b[4], 1U);  // format version 1, little-endian
+  EXPECT_EQ(b[5], 0U);
+  EXPECT_EQ(b[8] | (b[9] << 8), static_cast<int>(b.size()));
+  EXPECT_EQ(b[12], 5U);  // five sections
+  // Section 1 at offset 16: id 1, length 4, radius 0.15 m in Q7.24 = 2516582 = 0x00266666.
+  EXPECT_EQ(Bytes(b.begin() + 16, b.begin() + 24), (Bytes{1, 0, 4, 0, 0x66, 0x66, 0x26, 0x00}));
+}
+
+TEST(ParamTable, Eq15TableIsValid) { EXPECT_EQ(validate(eq15_parameter_table()), RejectReason::ok); }
+
+TEST(ParamTable, ExtensionSectionIsCarriedAndValidated) {
+  ParameterTable t = default_parameter_table();
+  t.rover_geometry.present = true;
+  t.rover_geometry.length = 3;
+  t.rover_geometry.bytes[0] = 7;
+  t.rover_geometry.bytes[1] = 8;
+  t.rover_geometry.bytes[2] = 9;
+  const Bytes b = encode_table(t);
+  ParameterTable back{};
+  ASSERT_EQ(decode(b.data(), b.size(), back), RejectReason::ok);
+  EXPECT_TRUE(back.rover_geometry.present);
+  EXPECT_EQ(back.rover_geometry.length, 3U);
+  EXPECT_EQ(back.rover_geometry.bytes[2], 9U);
+  const ExtensionValidator yes = [](const ExtensionSection&) noexcept { return true; };
+  const ExtensionValidator no = [](const ExtensionSection&) noexcept { return false; };
+  EXPECT_EQ(decode_bytes(b, yes), RejectReason::ok);
+  EXPECT_EQ(decode_bytes(b, no), RejectReason::extension_rejected);
+}
+
+// Every validation reason, by changing one field of a good table.
+struct Mutation {
+  const char* name;
+  std::function<void(ParameterTable&)> change;
+  RejectReason expected;
+};
+
+std::vector<Mutation> mutations() {
+  return {
+      {"radius 0", [](ParameterTable& t) { t.wheel_radius_m = LengthM::zero(); }, RejectReason::radius_out_of_range},
+      {"radius 3 m", [](ParameterTable& t) { t.wheel_radius_m = q<LengthM>(3.0); }, RejectReason::radius_out_of_range},
+      {"gear 0", [](ParameterTable& t) { t.motor.gear_ratio = GearRatio::zero(); }, RejectReason::gear_ratio_out_of_range},
+      {"gear 20000", [](ParameterTable& t) { t.motor.gear_ratio = q<GearRatio>(20000.0); }, RejectReason::gear_ratio_out_of_range},
+      {"eta 0", [](ParameterTable& t) { t.motor.efficiency = Efficiency::zero(); }, RejectReason::efficiency_out_of_range},
+      {"eta 1.1", [](ParameterTable& t) { t.motor.efficiency = q<Efficiency>(1.1); }, RejectReason::efficiency_out_of_range},
+      {"Kt 0", [](ParameterTable& t) { t.motor.kt_nm_per_a = TorqueConstantNmPerA::zero(); }, RejectReason::torque_constant_out_of_range},
+      {"Kt 5", [](ParameterTable& t) { t.motor.kt_nm_per_a = q<TorqueConstantNmPerA>(5.0); }, RejectReason::torque_constant_out_of_range},
+      {"I0 < 0", [](ParameterTable& t) { t.motor.no_load_current_a = q<CurrentA>(-0.1); }, RejectReason::no_load_current_out_of_range},
+      {"I0 200", [](ParameterTable& t) { t.motor.no_load_current_a = q<CurrentA>(200.0); }, RejectReason::no_load_current_out_of_range},
+      {"Imax <= I0", [](ParameterTable& t) { t.motor.current_abs_max_a = t.motor.no_load_current_a; }, RejectReason::current_range_out_of_range},
+      {"Imax 1500", [](ParameterTable& t) { t.motor.current_abs_max_a = q<CurrentA>(1500.0); }, RejectReason::current_range_out_of_range},
+      {"rows 0", [](ParameterTable& t) { t.correction.count = 0; }, RejectReason::correction_count_out_of_range},
+      {"rows 9", [](ParameterTable& t) { t.correction.count = 9; }, RejectReason::correction_count_out_of_range},
+      {"load 0", [](ParameterTable& t) { t.correction.rows[0].load_n = WheelLoadN::zero(); }, RejectReason::load_breakpoint_out_of_range},
+      {"load 31000", [](ParameterTable& t) { t.correction.rows[4].load_n = q<WheelLoadN>(31000.0); }, RejectReason::load_breakpoint_out_of_range},
+      {"loads equal", [](ParameterTable& t) { t.correction.rows[2].load_n = t.correction.rows[1].load_n; }, RejectReason::load_breakpoints_not_increasing},
+      {"C1 0.2", [](ParameterTable& t) { t.correction.rows[1].c1 = q<Ratio>(0.2); }, RejectReason::c1_out_of_range},
+      {"C2 0", [](ParameterTable& t) { t.correction.rows[1].c2 = Ratio::zero(); }, RejectReason::c2_out_of_range},
+      {"C2 -0.08 (Table 1 OLS)", [](ParameterTable& t) { t.correction.rows[0].c2 = q<Ratio>(-0.079); }, RejectReason::c2_out_of_range},
+      {"C3 1.2", [](ParameterTable& t) { t.correction.rows[3].c3 = q<Ratio>(1.2); }, RejectReason::c3_out_of_range},
+      {"DPmax 0", [](ParameterTable& t) { t.correction.rows[3].dp_max_ratio = Ratio::zero(); }, RejectReason::dp_max_out_of_range},
+      {"allowed 0", [](ParameterTable& t) { t.monitor.allowed_sinkage_m = SinkageM::zero(); }, RejectReason::allowed_sinkage_out_of_range},
+      {"allowed > r", [](ParameterTable& t) { t.monitor.allowed_sinkage_m = q<SinkageM>(0.2); }, RejectReason::allowed_sinkage_out_of_range},
+      {"caution 0", [](ParameterTable& t) { t.monitor.caution_sinkage_m = SinkageM::zero(); }, RejectReason::caution_sinkage_out_of_range},
+      {"caution >= stop", [](ParameterTable& t) { t.monitor.caution_sinkage_m = t.monitor.stop_sinkage_m; }, RejectReason::caution_sinkage_out_of_range},
+      {"stop > r", [](ParameterTable& t) { t.monitor.stop_sinkage_m = q<SinkageM>(0.2); }, RejectReason::stop_sinkage_out_of_range},
+      {"hysteresis >= caution", [](ParameterTable& t) { t.monitor.sinkage_hysteresis_m = t.monitor.caution_sinkage_m; }, RejectReason::sinkage_hysteresis_out_of_range},
+      {"hysteresis < 0", [](ParameterTable& t) { t.monitor.sinkage_hysteresis_m = q<SinkageM>(-0.001); }, RejectReason::sinkage_hysteresis_out_of_range},
+      {"fraction 0", [](ParameterTable& t) { t.monitor.current_caution_fraction = Ratio::zero(); }, RejectReason::current_caution_fraction_out_of_range},
+      {"fraction 1.1", [](ParameterTable& t) { t.monitor.current_caution_fraction = q<Ratio>(1.1); }, RejectReason::current_caution_fraction_out_of_range},
+      {"current hysteresis >= fraction", [](ParameterTable& t) { t.monitor.current_hysteresis_fraction = t.monitor.current_caution_fraction; }, RejectReason::current_hysteresis_out_of_range},
+      {"load min 0", [](ParameterTable& t) { t.monitor.load_min_n = WheelLoadN::zero(); }, RejectReason::load_envelope_out_of_range},
+      {"load max <= min", [](ParameterTable& t) { t.monitor.load_max_n = t.monitor.load_min_n; }, RejectReason::load_envelope_out_of_range},
+      {"stale 0", [](ParameterTable& t) { t.monitor.stale_timeout_ms = 0; }, RejectReason::stale_timeout_out_of_range},
+      {"stale 2 min", [](ParameterTable& t) { t.monitor.stale_timeout_ms = 120000; }, RejectReason::stale_timeout_out_of_range},
+      {"window 0", [](ParameterTable& t) { t.monitor.window_m = 0; }, RejectReason::window_out_of_range},
+      {"window 17", [](ParameterTable& t) { t.monitor.window_m = 17; }, RejectReason::window_out_of_range},
+      {"trip > window", [](ParameterTable& t) { t.monitor.trip_n = 9; }, RejectReason::trip_count_out_of_range},
+      {"trip 0", [](ParameterTable& t) { t.monitor.trip_n = 0; }, RejectReason::trip_count_out_of_range},
+      {"clear 0", [](ParameterTable& t) { t.monitor.clear_n = 0; }, RejectReason::clear_count_out_of_range},
+      {"invalid limit 0", [](ParameterTable& t) { t.monitor.invalid_to_stop = 0; }, RejectReason::invalid_limit_out_of_range},
+      {"wheels 7", [](ParameterTable& t) { t.monitor.wheel_count = 7; }, RejectReason::wheel_count_out_of_range},
+      {"k 0", [](ParameterTable& t) { t.monitor.rover_stop_k = 0; }, RejectReason::rover_stop_k_out_of_range},
+      {"k > wheels", [](ParameterTable& t) { t.monitor.wheel_count = 4; t.monitor.rover_stop_k = 5; }, RejectReason::rover_stop_k_out_of_range},
+      {"phase 50 ms", [](ParameterTable& t) { t.escape.forward_phase_ms = 50; }, RejectReason::escape_phase_out_of_range},
+      {"reverse phase 20 min", [](ParameterTable& t) { t.escape.reverse_phase_ms = 1200000; }, RejectReason::escape_phase_out_of_range},
+      {"cycles 0", [](ParameterTable& t) { t.escape.max_cycles = 0; }, RejectReason::escape_cycles_out_of_range},
+      {"patience > cycles", [](ParameterTable& t) { t.escape.patience_cycles = 11; }, RejectReason::escape_patience_out_of_range},
+      {"decrease < 0", [](ParameterTable& t) { t.escape.min_decrease_m = q<SinkageM>(-0.001); }, RejectReason::escape_decrease_out_of_range},
+      {"freed 0", [](ParameterTable& t) { t.escape.freed_sinkage_m = SinkageM::zero(); }, RejectReason::escape_freed_out_of_range},
+      {"freed >= stop", [](ParameterTable& t) { t.escape.freed_sinkage_m = t.monitor.stop_sinkage_m; }, RejectReason::escape_freed_out_of_range},
+      {"extension 300 bytes", [](ParameterTable& t) { t.rover_geometry.present = true; t.rover_geometry.length = 300; }, RejectReason::extension_too_long},
+  };
+}
+
+TEST(ParamTable, EveryRangeCheckRejectsWithItsReasonAndTheStoreKeepsItsTable) {
+  std::set<RejectReason> covered;
+  for (const Mutation& m : mutations()) {
+    ParameterTable t = default_parameter_table();
+    m.change(t);
+    EXPECT_EQ(validate(t), m.expected) << m.name;
+    Bytes b(kMaxTableBytes);
+    const EncodeResult e = encode(t, b.data(), b.size());
+    if (m.expected == RejectReason::extension_too_long) {
+      EXPECT_EQ(e.status, RejectReason::extension_too_long);
+      covered.insert(m.expected);
+      continue;
+    }
+    ASSERT_EQ(e.status, RejectReason::ok) << m.name;
+    b.resize(e.size);
+    ParameterStore store;
+    const ParameterTable before = store.active();
+    EXPECT_EQ(store.load(b.data(), b.size()), m.expected) << m.name;
+    EXPECT_EQ(store.rejected_count(), 1U);
+    EXPECT_EQ(store.last_rejection(), m.expected);
+    EXPECT_EQ(encode_table(store.active()), encode_table(before)) << m.name;
+    covered.insert(m.expected);
+  }
+  EXPECT_EQ(covered.size(), 33U);  // every validate() reason
+}
+
+TEST(ParamTable, FramingRejections) {
+  const Bytes good = encode_table(default_parameter_table());
+  const std::vector<Section> secs = sections_of(good);
+  ASSERT_EQ(secs.size(), 5U);
+  ASSERT_EQ(frame(secs), good);  // the test's framer agrees with encode()
+
+  ParameterTable out{};
+  EXPECT_EQ(decode(nullptr, 100, out), RejectReason::null_buffer);
+  EXPECT_EQ(decode(good.data(), 10, out), RejectReason::too_short);
+  Bytes big(kMaxTableBytes + 1, 0);
+  EXPECT_EQ(decode_bytes(big), RejectReason::too_long);
+
+  Bytes b = good;
+  b[0] = 'X';
+  EXPECT_EQ(decode_bytes(b), RejectReason::bad_magic);
+  b = good;
+  b[4] = 2;
+  EXPECT_EQ(decode_bytes(b), RejectReason::unsupported_format_version);
+  b = good;
+  b.pop_back();
+  EXPECT_EQ(decode_bytes(b), RejectReason::length_mismatch);
+  b = good;
+  b[14] = 1;
+  EXPECT_EQ(decode_bytes(b), RejectReason::reserved_not_zero);
+  b = good;
+  b[20] ^= 0x01;  // one bit of the radius
+  EXPECT_EQ(decode_bytes(b), RejectReason::crc_mismatch);
+
+  // A section whose length runs past the end.
+  b = good;
+  put_u16(b, 18, 600);
+  fix_crc(b);
+  EXPECT_EQ(decode_bytes(b), RejectReason::section_truncated);
+  // A section header cut by the CRC.
+  std::vector<Section> s = secs;
+  Bytes cut = frame(s);
+  cut.insert(cut.end() - 4, {1, 0});
+  put_u32(cut, 8, static_cast<std::uint32_t>(cut.size()));
+  fix_crc(cut);
+  EXPECT_EQ(decode_bytes(cut), RejectReason::section_truncated);
+
+  s = secs;
+  s[0].payload.push_back(0);  // radius section of 5 bytes
+  EXPECT_EQ(decode_bytes(frame(s)), RejectReason::section_length_mismatch);
+  s = secs;
+  s.push_back({9, {1, 2, 3, 4}});
+  EXPECT_EQ(decode_bytes(frame(s)), RejectReason::unknown_section);
+  s = secs;
+  s.push_back({0, {}});
+  EXPECT_EQ(decode_bytes(frame(s)), RejectReason::unknown_section);
+  s = secs;
+  s.push_back(secs[0]);
+  EXPECT_EQ(decode_bytes(frame(s)), RejectReason::duplicate_section);
+  s = secs;
+  s.pop_back();  // no escape section
+  EXPECT_EQ(decode_bytes(frame(s)), RejectReason::missing_section);
+  EXPECT_EQ(decode_bytes(frame(secs, 4)), RejectReason::section_count_mismatch);
+  s = secs;
+  s[3].payload[42] = 1;  // monitor section's reserved bytes
+  EXPECT_EQ(decode_bytes(frame(s)), RejectReason::reserved_not_zero);
+  s = secs;
+  s[2].payload[0] = 0;  // zero correction rows
+  EXPECT_EQ(decode_bytes(frame(s)), RejectReason::correction_count_out_of_range);
+  s = secs;
+  s[2].payload[0] = 4;  // four rows announced, five present
+  EXPECT_EQ(decode_bytes(frame(s)), RejectReason::section_length_mismatch);
+  s = secs;
+  s.push_back({6, Bytes(300, 0)});
+  EXPECT_EQ(decode_bytes(frame(s)), RejectReason::extension_too_long);
+  // Sections in another order are fine.
+  s = secs;
+  std::swap(s[0], s[4]);
+  EXPECT_EQ(decode_bytes(frame(s)), RejectReason::ok);
+}
+
+TEST(ParamTable, EncoderChecksItsBuffer) {
+  std::uint8_t small[10];
+  EXPECT_EQ(encode(default_parameter_table(), small, sizeof small).status, RejectReason::buffer_too_small);
+  EXPECT_EQ(encode(default_parameter_table(), nullptr, 100).status, RejectReason::null_buffer);
+}
+
+TEST(ParamTable, StoreAcceptsAGoodTableAndRemembersItsCrc) {
+  ParameterTable t = default_parameter_table();
+  t.table_version = 42;
+  t.monitor.trip_n = 4;
+  const Bytes b = encode_table(t);
+  ParameterStore store;
+  EXPECT_EQ(store.active_crc(), 0U);
+  ASSERT_EQ(store.load(b.data(), b.size()), RejectReason::ok);
+  EXPECT_EQ(store.active().table_version, 42U);
+  EXPECT_EQ(store.active().monitor.trip_n, 4U);
+  EXPECT_EQ(store.active_crc(), crc32(b.data(), b.size() - 4));
+  // A bad one afterwards leaves this one in force.
+  Bytes bad = b;
+  bad[30] ^= 0xFF;
+  EXPECT_EQ(store.load(bad.data(), bad.size()), RejectReason::crc_mismatch);
+  EXPECT_EQ(store.active().table_version, 42U);
+  EXPECT_EQ(store.rejected_count(), 1U);
+}
+
+}  // namespace
