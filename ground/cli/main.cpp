@@ -2,12 +2,19 @@
 // this file only assembles them.
 #include <CLI/CLI.hpp>
 
+#include "sinkwatch/ground/calibrate_command.hpp"
+#include "sinkwatch/ground/diagnose_command.hpp"
+#include "sinkwatch/ground/simulate_command.hpp"
+
 #include <cstdio>
 
 int main(int argc, char** argv) {
   CLI::App app{"sinkwatch: wheel-sinkage estimation and embedding prevention for planetary rovers"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "sinkwatch 0.1.0");
+  sinkwatch::ground::add_calibrate_command(app);
+  sinkwatch::ground::add_diagnose_command(app);
+  sinkwatch::ground::add_simulate_subcommand(app, sinkwatch::ground::join_command_line(argc, argv));
   CLI11_PARSE(app, argc, argv);
   return 0;
 }

@@ -1,0 +1,41 @@
+// calibrate_command.hpp: the `sinkwatch calibrate DATA.csv` subcommand. Reads
+// soil-bin data (soil_bin_csv.hpp), fits Eq. 11 by least squares
+// (calibration.hpp, the paper's Eq. 12/13) and writes the report, optionally
+// the JSON (--json) and the per-load C(W) table (--per-load).
+#ifndef SINKWATCH_GROUND_CALIBRATE_COMMAND_HPP
+#define SINKWATCH_GROUND_CALIBRATE_COMMAND_HPP
+
+#include <iosfwd>
+#include <optional>
+#include <string>
+
+namespace CLI {
+class App;
+}
+
+namespace sinkwatch {
+namespace ground {
+
+struct CalibrateOptions {
+  std::string data_path;
+  std::optional<double> wheel_radius_m;  // --radius
+  std::optional<double> load_n;          // --load, for data without load_N
+  bool per_load = false;                 // --per-load
+  std::string fix;                       // --fix c1=1,c2=1
+  std::string json_path;                 // --json FILE, empty: none
+};
+
+/// Runs a calibration: prints the report on `out` and writes the requested
+/// files. Every input is read and every result computed before the first file
+/// is written, and files are written through a temporary and renamed, so an
+/// error (thrown as an exception) leaves nothing behind.
+void run_calibrate(const CalibrateOptions& options, std::ostream& out);
+
+/// Registers the `calibrate` subcommand. Errors are printed on stderr and end
+/// the program with exit code 1.
+void add_calibrate_command(CLI::App& app);
+
+}  // namespace ground
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_GROUND_CALIBRATE_COMMAND_HPP

@@ -1,0 +1,122 @@
+// calibrate_command.cpp: the `sinkwatch calibrate` subcommand.
+#include "sinkwatch/ground/calibrate_command.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "sinkwatch/ground/calibration.hpp"
+#include "sinkwatch/ground/calibration_report.hpp"
+#include "sinkwatch/ground/soil_bin_csv.hpp"
+
+namespace sinkwatch {
+namespace ground {
+
+namespace {
+
+struct PendingFile {
+  std::string path;
+  std::string contents;
+};
+
+// Writes every file to "<path>.tmp" first and renames only when all are
+// written, so a failure leaves no half-written output.
+void write_all(const std::vector<PendingFile>& files) {
+  for (const PendingFile& file : files) {
+    const std::string temporary = file.path + ".tmp";
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out.write(file.contents.data(), static_cast<std::streamsize>(file.contents.size()));
+    out.close();
+    if (!out) {
+      for (const PendingFile& other : files) {
+        std::remove((other.path + ".tmp").c_str());
+      }
+      throw std::runtime_error(file.path + ": cannot write the file");
+    }
+  }
+  for (const PendingFile& file : files) {
+    if (std::rename((file.path + ".tmp").c_str(), file.path.c_str()) != 0) {
+      throw std::runtime_error(file.path + ": cannot rename the temporary file into place");
+    }
+  }
+}
+
+}  // namespace
+
+void run_calibrate(const CalibrateOptions& options, std::ostream& out) {
+  const FixedCoefficients fixed = parse_fixed_coefficients(options.fix);
+  SoilBinReadOptions read_options;
+  read_options.wheel_radius_m = options.wheel_radius_m;
+  read_options.load_n = options.load_n;
+  const SoilBinDataset dataset = read_soil_bin_csv(options.data_path, read_options);
+
+  CalibrationReport report;
+  report.source = dataset.source;
+  report.form = dataset.form;
+  report.fixed = fixed;
+  try {
+    report.fit = fit_sinkage_function(observations_of(dataset), fixed);
+  } catch (const CalibrationError& e) {
+    throw CalibrationError(dataset.source + ": " + e.what());
+  }
+  report.per_load = options.per_load;
+  if (options.per_load) {
+    report.load_table = fit_per_load(dataset, fixed);
+  }
+
+  std::vector<PendingFile> files;
+  if (!options.json_path.empty()) {
+    files.push_back({options.json_path, to_json(report)});
+  }
+  print_report(out, report);
+  write_all(files);
+}
+
+void add_calibrate_command(CLI::App& app) {
+  auto options = std::make_shared<CalibrateOptions>();
+  auto radius = std::make_shared<double>(0.0);
+  auto load = std::make_shared<double>(0.0);
+  CLI::App* sub = app.add_subcommand(
+      "calibrate",
+      "Fit C1, C2, C3 of DP/W = C1*T/(rW) - C2*z/r - C3 (Eq. 11) to soil-bin data by least squares");
+  sub->add_option("data", options->data_path,
+                  "soil-bin CSV: slip, load_N, torque_Nm, sinkage_m, drawbar_pull_N "
+                  "(+ wheel_radius_m or --radius), or slip, sinkage_ratio, drive_coeff, "
+                  "traction_coeff (+ optional load_N)")
+      ->required();
+  CLI::Option* radius_option =
+      sub->add_option("--radius", *radius, "wheel radius in metres, for dimensional data "
+                                           "without a wheel_radius_m column");
+  CLI::Option* load_option = sub->add_option(
+      "--load", *load, "wheel load in newtons of every row, for data without a load_N column");
+  sub->add_flag("--per-load", options->per_load,
+                "also fit each load separately and print the C(W) table (needs load_N)");
+  sub->add_option("--fix", options->fix,
+                  "hold coefficients fixed, e.g. c1=1,c2=1 (the paper's Table 2 form)");
+  sub->add_option("--json", options->json_path, "write every result as JSON to this file");
+  sub->callback([options, radius, radius_option, load, load_option]() {
+    if (radius_option->count() > 0) {
+      options->wheel_radius_m = *radius;
+    }
+    if (load_option->count() > 0) {
+      options->load_n = *load;
+    }
+    try {
+      run_calibrate(*options, std::cout);
+    } catch (const std::exception& e) {
+      std::cout.flush();
+      std::cerr << "sinkwatch calibrate: error: " << e.what() << '\n';
+      throw CLI::RuntimeError(1);
+    }
+  });
+}
+
+}  // namespace ground
+}  // namespace sinkwatch

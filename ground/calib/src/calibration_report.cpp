@@ -1,0 +1,267 @@
+// calibration_report.cpp: text and JSON output of a calibration.
+#include "sinkwatch/ground/calibration_report.hpp"
+
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <ostream>
+#include <sstream>
+
+namespace sinkwatch {
+namespace ground {
+
+namespace {
+
+constexpr std::array<const char*, kCoefficientCount> kNames = {"C1", "C2", "C3"};
+constexpr std::array<const char*, kCoefficientCount> kKeys = {"c1", "c2", "c3"};
+
+std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
+std::string format(const char* fmt, ...) {
+  char buffer[256];
+  va_list args;
+  va_start(args, fmt);
+  std::vsnprintf(buffer, sizeof buffer, fmt, args);
+  va_end(args);
+  return buffer;
+}
+
+// A number for the table, or "-" when it does not exist.
+std::string num(double value, const char* fmt = "%.4f") {
+  return std::isfinite(value) ? format(fmt, value) : std::string("-");
+}
+
+std::string describe_fixed(const FixedCoefficients& fixed) {
+  std::string text;
+  for (std::size_t k = 0; k < kCoefficientCount; ++k) {
+    if (fixed.value[k]) {
+      text += text.empty() ? "" : ", ";
+      text += std::string(kKeys[k]) + "=" + format("%g", *fixed.value[k]);
+    }
+  }
+  return text;
+}
+
+void print_fit(std::ostream& out, const CalibrationFit& fit) {
+  if (fit.free_count > 0) {
+    out << format("  least squares by SVD of A: %zu rows, %zu free, %zu degrees of freedom, "
+                  "t(0.975) = %.3f\n\n",
+                  fit.rows, fit.free_count, fit.dof, fit.t_quantile);
+  } else {
+    out << format("  all coefficients fixed: %zu rows evaluated, nothing fitted\n\n", fit.rows);
+  }
+  out << "  coef    estimate     std err    95 % interval\n";
+  for (std::size_t k = 0; k < kCoefficientCount; ++k) {
+    if (fit.free[k]) {
+      out << format("  %-4s %11.6f %11.6f    [%9.5f, %9.5f]\n", kNames[k], fit.c[k],
+                    fit.std_err[k], fit.ci_low[k], fit.ci_high[k]);
+    } else {
+      out << format("  %-4s %11.6f       fixed\n", kNames[k], fit.c[k]);
+    }
+  }
+  if (fit.free_count > 1) {
+    out << "\n  correlation ";
+    for (std::size_t k = 0; k < kCoefficientCount; ++k) {
+      if (fit.free[k]) {
+        out << format("%8s", kNames[k]);
+      }
+    }
+    out << '\n';
+    for (std::size_t k = 0; k < kCoefficientCount; ++k) {
+      if (!fit.free[k]) {
+        continue;
+      }
+      out << format("  %-11s", kNames[k]);
+      for (std::size_t q = 0; q < kCoefficientCount; ++q) {
+        if (fit.free[q]) {
+          out << format("%8.4f", fit.correlation[k][q]);
+        }
+      }
+      out << '\n';
+    }
+  }
+  out << '\n';
+  if (fit.free_count > 0) {
+    out << format("  condition number of A   %.4g   (columns scaled to unit length: %.4g)\n",
+                  fit.condition_number, fit.condition_number_scaled);
+  }
+  out << format("  residual RMS            %.5f", fit.rms);
+  if (fit.free_count > 0) {
+    out << format("   (residual std, n - p: %.5f)", fit.residual_std);
+  }
+  out << '\n';
+  out << "  leave-one-out RMS       " << num(fit.loo_rms, "%.5f") << '\n';
+  if (fit.free_count > 0) {
+    out << "  normal equations        C =";
+    for (std::size_t k = 0; k < kCoefficientCount; ++k) {
+      out << ' ' << num(fit.normal_equations_c[k], "%.6f");
+    }
+    out << format("   (max |difference| from SVD: %.2g)\n", fit.normal_equations_max_diff);
+  }
+  out << "\n  residuals by slip\n";
+  out << "      slip      DP/W    fitted  residual  LOO res.   line\n";
+  for (const Residual& r : fit.residuals) {
+    out << format("  %8.4f %9.4f %9.4f %9.4f ", r.slip, r.measured, r.fitted, r.residual)
+        << format("%9s", num(r.loo_residual).c_str()) << format(" %6zu\n", r.line);
+  }
+}
+
+// JSON helpers: a non-finite number has no JSON spelling and becomes null.
+std::string json_number(double value) {
+  return std::isfinite(value) ? format("%.17g", value) : std::string("null");
+}
+
+std::string json_string(const std::string& text) {
+  std::string quoted = "\"";
+  for (char ch : text) {
+    switch (ch) {
+      case '"':
+        quoted += "\\\"";
+        break;
+      case '\\':
+        quoted += "\\\\";
+        break;
+      case '\n':
+        quoted += "\\n";
+        break;
+      case '\t':
+        quoted += "\\t";
+        break;
+      case '\r':
+        quoted += "\\r";
+        break;
+      default:
+        if (static_cast<unsigned char>(ch) < 0x20) {
+          quoted += format("\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(ch)));
+        } else {
+          quoted += ch;
+        }
+    }
+  }
+  return quoted + "\"";
+}
+
+std::string json_per_coefficient(const Coefficients& values) {
+  std::string text = "{";
+  for (std::size_t k = 0; k < kCoefficientCount; ++k) {
+    text += format("\"%s\": ", kKeys[k]) + json_number(values[k]);
+    text += k + 1 < kCoefficientCount ? ", " : "}";
+  }
+  return text;
+}
+
+// The members of one fit, without braces, each line indented by `pad`.
+std::string json_fit_members(const CalibrationFit& fit, const std::string& pad) {
+  std::ostringstream out;
+  for (std::size_t k = 0; k < kCoefficientCount; ++k) {
+    out << pad << '"' << kKeys[k] << "\": " << json_number(fit.c[k]) << ",\n";
+  }
+  out << pad << "\"free\": {";
+  for (std::size_t k = 0; k < kCoefficientCount; ++k) {
+    out << '"' << kKeys[k] << "\": " << (fit.free[k] ? "true" : "false")
+        << (k + 1 < kCoefficientCount ? ", " : "},\n");
+  }
+  out << pad << "\"std_err\": " << json_per_coefficient(fit.std_err) << ",\n";
+  out << pad << "\"ci95\": {";
+  for (std::size_t k = 0; k < kCoefficientCount; ++k) {
+    out << '"' << kKeys[k] << "\": [" << json_number(fit.ci_low[k]) << ", "
+        << json_number(fit.ci_high[k]) << ']' << (k + 1 < kCoefficientCount ? ", " : "},\n");
+  }
+  out << pad << "\"correlation\": [";
+  for (std::size_t k = 0; k < kCoefficientCount; ++k) {
+    out << '[';
+    for (std::size_t q = 0; q < kCoefficientCount; ++q) {
+      out << json_number(fit.correlation[k][q]) << (q + 1 < kCoefficientCount ? ", " : "]");
+    }
+    out << (k + 1 < kCoefficientCount ? ", " : "],\n");
+  }
+  out << pad << "\"condition_number\": " << json_number(fit.condition_number) << ",\n";
+  out << pad << "\"condition_number_scaled\": " << json_number(fit.condition_number_scaled)
+      << ",\n";
+  out << pad << "\"rms\": " << json_number(fit.rms) << ",\n";
+  out << pad << "\"residual_std\": " << json_number(fit.residual_std) << ",\n";
+  out << pad << "\"loo_rms\": " << json_number(fit.loo_rms) << ",\n";
+  out << pad << "\"rows\": " << fit.rows << ",\n";
+  out << pad << "\"dof\": " << fit.dof << ",\n";
+  out << pad << "\"t_quantile_975\": " << json_number(fit.t_quantile) << ",\n";
+  out << pad << "\"normal_equations\": {\"c\": " << json_per_coefficient(fit.normal_equations_c)
+      << ", \"max_abs_diff_from_svd\": " << json_number(fit.normal_equations_max_diff) << "},\n";
+  out << pad << "\"residuals\": [";
+  for (std::size_t i = 0; i < fit.residuals.size(); ++i) {
+    const Residual& r = fit.residuals[i];
+    out << (i == 0 ? "\n" : ",\n") << pad << "  {\"line\": " << r.line
+        << ", \"slip\": " << json_number(r.slip) << ", \"measured\": " << json_number(r.measured)
+        << ", \"fitted\": " << json_number(r.fitted) << ", \"residual\": "
+        << json_number(r.residual) << ", \"loo_residual\": " << json_number(r.loo_residual)
+        << '}';
+  }
+  out << '\n' << pad << ']';
+  return out.str();
+}
+
+}  // namespace
+
+void print_report(std::ostream& out, const CalibrationReport& report) {
+  out << "sinkwatch calibrate: " << report.source << '\n';
+  out << "  " << report.fit.rows << " rows, " << to_string(report.form)
+      << " input; model DP/W = C1*T/(rW) - C2*z/r - C3 (Eq. 11)";
+  const std::string fixed = describe_fixed(report.fixed);
+  if (!fixed.empty()) {
+    out << "; fixed " << fixed;
+  }
+  out << '\n';
+  if (report.per_load) {
+    out << "  all loads pooled:\n";
+  }
+  print_fit(out, report.fit);
+  if (report.per_load) {
+    out << "\n  C(W) table, one fit per load\n";
+    out << "    load_N  rows        C1 +- se           C2 +- se           C3 +- se"
+           "       RMS   LOO RMS     cond\n";
+    for (const LoadFit& entry : report.load_table) {
+      const CalibrationFit& f = entry.fit;
+      out << format("  %8.3f %5zu", entry.load_n, f.rows);
+      for (std::size_t k = 0; k < kCoefficientCount; ++k) {
+        if (f.free[k]) {
+          out << format("  %8.4f +- %-6.4f", f.c[k], f.std_err[k]);
+        } else {
+          out << format("  %8.4f (fixed)  ", f.c[k]);
+        }
+      }
+      out << format("  %8.5f  %8s  %7s\n", f.rms, num(f.loo_rms, "%.5f").c_str(),
+                    num(f.condition_number, "%.3g").c_str());
+    }
+  }
+}
+
+std::string to_json(const CalibrationReport& report) {
+  std::ostringstream out;
+  out << "{\n";
+  out << "  \"source\": " << json_string(report.source) << ",\n";
+  out << "  \"form\": " << json_string(to_string(report.form)) << ",\n";
+  out << "  \"model\": \"DP/W = C1*T/(rW) - C2*z/r - C3\",\n";
+  out << "  \"solver\": \"SVD least squares\",\n";
+  out << "  \"fixed\": {";
+  bool first = true;
+  for (std::size_t k = 0; k < kCoefficientCount; ++k) {
+    if (report.fixed.value[k]) {
+      out << (first ? "" : ", ") << '"' << kKeys[k] << "\": " << json_number(*report.fixed.value[k]);
+      first = false;
+    }
+  }
+  out << "},\n";
+  out << json_fit_members(report.fit, "  ");
+  if (report.per_load) {
+    out << ",\n  \"per_load\": [";
+    for (std::size_t i = 0; i < report.load_table.size(); ++i) {
+      out << (i == 0 ? "\n" : ",\n") << "    {\n      \"load_N\": "
+          << json_number(report.load_table[i].load_n) << ",\n"
+          << json_fit_members(report.load_table[i].fit, "      ") << "\n    }";
+    }
+    out << "\n  ]";
+  }
+  out << "\n}\n";
+  return out.str();
+}
+
+}  // namespace ground
+}  // namespace sinkwatch

@@ -1,0 +1,392 @@
+// Tests of the least-squares calibration of Eq. 11 (Eq. 12/13): recovery of
+// known coefficients with and without noise, the statistics (standard errors,
+// intervals, correlations, condition number, leave-one-out) against
+// independent formulas, fixed coefficients, per-load fits, and refusals.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "sinkwatch/ground/calibration.hpp"
+#include "sinkwatch/ground/soil_bin_csv.hpp"
+
+namespace sinkwatch {
+namespace ground {
+namespace {
+
+// Soil-bin-like runs: slip from 0.05 to 0.65, drive coefficient and sinkage
+// ratio rising with slip but not in proportion (so the problem is solvable),
+// and DP/W from Eq. 11 with the given coefficients plus Gaussian noise.
+std::vector<Observation> synthetic(const Coefficients& c, std::size_t n, double noise_sd,
+                                   std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, noise_sd);
+  std::vector<Observation> data;
+  for (std::size_t i = 0; i < n; ++i) {
+    Observation o;
+    o.line = i + 2;
+    o.slip = 0.05 + 0.6 * static_cast<double>(i) / static_cast<double>(n - 1);
+    o.drive_coeff = 0.2 + 1.4 * o.slip - 1.0 * o.slip * o.slip;
+    o.sinkage_ratio = 0.07 + 0.2 * o.slip + 0.03 * std::cos(9.0 * o.slip);
+    o.traction_coeff = c[0] * o.drive_coeff - c[1] * o.sinkage_ratio - c[2];
+    if (noise_sd > 0.0) {
+      o.traction_coeff += noise(rng);
+    }
+    data.push_back(o);
+  }
+  return data;
+}
+
+FixedCoefficients fix(std::optional<double> c1, std::optional<double> c2, std::optional<double> c3) {
+  FixedCoefficients f;
+  f.value = {c1, c2, c3};
+  return f;
+}
+
+std::vector<Observation> table1() {
+  return observations_of(
+      read_soil_bin_csv(std::string(SINKWATCH_DATA_DIR) + "/paper/table1_3kg.csv"));
+}
+
+TEST(Calibration, RecoversExactCoefficientsFromNoiselessData) {
+  const Coefficients truth = {0.9, 1.3, 0.15};
+  const CalibrationFit fit = fit_sinkage_function(synthetic(truth, 16, 0.0, 1));
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_NEAR(fit.c[k], truth[k], 1e-10) << "C" << k + 1;
+    EXPECT_TRUE(fit.free[k]);
+  }
+  EXPECT_LT(fit.rms, 1e-12);
+  EXPECT_LT(fit.loo_rms, 1e-12);
+  EXPECT_EQ(fit.dof, 13U);
+}
+
+TEST(Calibration, RecoversThePapersCoefficientsFromNoiselessData) {
+  const Coefficients paper = {1.0, 1.0, 0.2};
+  const CalibrationFit fit = fit_sinkage_function(synthetic(paper, 16, 0.0, 1));
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_NEAR(fit.c[k], paper[k], 1e-10) << "C" << k + 1;
+  }
+}
+
+TEST(Calibration, NoisyEstimateLiesWithinAFewStandardErrors) {
+  const Coefficients truth = {0.9, 1.3, 0.15};
+  const double sd = 0.01;
+  const CalibrationFit fit = fit_sinkage_function(synthetic(truth, 40, sd, 20261121));
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_GT(fit.std_err[k], 0.0);
+    EXPECT_LT(std::abs(fit.c[k] - truth[k]), 3.0 * fit.std_err[k]) << "C" << k + 1;
+  }
+  // The residual spread estimates the noise: within 30 % for 37 dof.
+  EXPECT_NEAR(fit.residual_std, sd, 0.3 * sd);
+  EXPECT_GE(fit.loo_rms, fit.rms);  // predicting a held-out row is never easier
+}
+
+// The 95 % intervals must contain the true values in about 95 % of repeated
+// experiments: a check of the standard errors and the t quantile together.
+TEST(Calibration, ConfidenceIntervalsCoverTheTruthAtTheirNominalRate) {
+  const Coefficients truth = {0.9, 1.3, 0.15};
+  constexpr int kTrials = 400;
+  std::array<int, 3> covered{};
+  for (int trial = 0; trial < kTrials; ++trial) {
+    const CalibrationFit fit =
+        fit_sinkage_function(synthetic(truth, 12, 0.02, 1000 + static_cast<std::uint64_t>(trial)));
+    for (std::size_t k = 0; k < 3; ++k) {
+      covered[k] += (fit.ci_low[k] <= truth[k] && truth[k] <= fit.ci_high[k]) ? 1 : 0;
+    }
+  }
+  for (std::size_t k = 0; k < 3; ++k) {
+    const double rate = covered[k] / static_cast<double>(kTrials);
+    // 0.95 +- 3 binomial standard deviations (0.011 for 400 trials).
+    EXPECT_GT(rate, 0.917) << "C" << k + 1;
+    EXPECT_LT(rate, 0.983) << "C" << k + 1;
+  }
+}
+
+TEST(Calibration, StatisticsMatchTheTextbookFormulas) {
+  const std::vector<Observation> data = synthetic({1.1, 0.8, 0.1}, 20, 0.015, 7);
+  const CalibrationFit fit = fit_sinkage_function(data);
+
+  // Independent route: normal equations in long double-free plain Eigen,
+  // covariance s^2 (A'A)^-1, hat matrix H = A (A'A)^-1 A'.
+  const auto n = static_cast<Eigen::Index>(data.size());
+  Eigen::MatrixXd a(n, 3);
+  Eigen::VectorXd b(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Observation& o = data[static_cast<std::size_t>(i)];
+    a.row(i) << o.drive_coeff, -o.sinkage_ratio, -1.0;
+    b(i) = o.traction_coeff;
+  }
+  const Eigen::MatrixXd inv = (a.transpose() * a).inverse();
+  const Eigen::VectorXd c = inv * a.transpose() * b;
+  const Eigen::VectorXd e = b - a * c;
+  const double s2 = e.squaredNorm() / static_cast<double>(n - 3);
+  const Eigen::MatrixXd cov = s2 * inv;
+  const Eigen::MatrixXd hat = a * inv * a.transpose();
+  double loo_sum = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double loo = e(i) / (1.0 - hat(i, i));
+    loo_sum += loo * loo;
+  }
+
+  for (std::size_t k = 0; k < 3; ++k) {
+    const auto kk = static_cast<Eigen::Index>(k);
+    EXPECT_NEAR(fit.c[k], c(kk), 1e-9);
+    EXPECT_NEAR(fit.normal_equations_c[k], c(kk), 1e-9);
+    EXPECT_NEAR(fit.std_err[k], std::sqrt(cov(kk, kk)), 1e-9);
+    for (std::size_t q = 0; q < 3; ++q) {
+      const auto qq = static_cast<Eigen::Index>(q);
+      EXPECT_NEAR(fit.correlation[k][q], cov(kk, qq) / std::sqrt(cov(kk, kk) * cov(qq, qq)), 1e-9);
+    }
+  }
+  EXPECT_NEAR(fit.rms, std::sqrt(e.squaredNorm() / static_cast<double>(n)), 1e-12);
+  EXPECT_NEAR(fit.residual_std, std::sqrt(s2), 1e-12);
+  EXPECT_NEAR(fit.loo_rms, std::sqrt(loo_sum / static_cast<double>(n)), 1e-9);
+  // Residuals come back sorted by slip, and each is measured - fitted.
+  for (std::size_t i = 1; i < fit.residuals.size(); ++i) {
+    EXPECT_LE(fit.residuals[i - 1].slip, fit.residuals[i].slip);
+  }
+  for (const Residual& r : fit.residuals) {
+    EXPECT_DOUBLE_EQ(r.residual, r.measured - r.fitted);
+  }
+}
+
+TEST(Calibration, StudentTQuantileIsTheTabulatedValue) {
+  // 16 rows, 3 free: 13 degrees of freedom; t_{0.975,13} = 2.1604 (tables).
+  const CalibrationFit fit = fit_sinkage_function(synthetic({1, 1, 0.2}, 16, 0.01, 3));
+  EXPECT_NEAR(fit.t_quantile, 2.16037, 1e-5);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_NEAR(fit.ci_high[k] - fit.c[k], 2.16037 * fit.std_err[k], 1e-5 * fit.std_err[k]);
+    EXPECT_NEAR(fit.c[k] - fit.ci_low[k], fit.ci_high[k] - fit.c[k], 1e-12);
+  }
+}
+
+TEST(Calibration, ConditionNumberOfKnownColumns) {
+  // C1 fixed leaves the columns [-z/r, -1]; with z/r = +-a they are
+  // orthogonal, of lengths 2a and 2, so cond = 1/a and 1 once scaled.
+  std::vector<Observation> data;
+  const double a = 0.1;
+  for (int i = 0; i < 4; ++i) {
+    Observation o;
+    o.slip = 0.1 * i;
+    o.drive_coeff = 0.5;
+    o.sinkage_ratio = (i % 2 == 0) ? a : -a;
+    o.traction_coeff = 0.5 - 1.2 * o.sinkage_ratio - 0.1 + 0.001 * i;
+    data.push_back(o);
+  }
+  const CalibrationFit fit = fit_sinkage_function(data, fix(1.0, std::nullopt, std::nullopt));
+  EXPECT_NEAR(fit.condition_number, 1.0 / a, 1e-9);
+  EXPECT_NEAR(fit.condition_number_scaled, 1.0, 1e-12);
+  EXPECT_NEAR(fit.correlation[1][2], 0.0, 1e-12);  // orthogonal columns: uncorrelated
+  EXPECT_TRUE(std::isnan(fit.correlation[0][1]));  // C1 is fixed
+}
+
+// Why the SVD and not the normal equations: on nearly collinear columns the
+// normal equations square the condition number and lose the digits.
+TEST(Calibration, SvdSolutionSurvivesWhereTheNormalEquationsLoseDigits) {
+  const Coefficients truth = {0.9, 1.3, 0.15};
+  std::vector<Observation> data;
+  for (int i = 0; i < 16; ++i) {
+    Observation o;
+    o.slip = 0.05 + 0.04 * i;
+    o.drive_coeff = 0.3 + o.slip;
+    // z/r almost an affine function of T/(rW): cond(A) ~ 1e7.
+    o.sinkage_ratio = 0.05 + 0.2 * o.drive_coeff + 1e-7 * std::sin(5.0 * i);
+    o.traction_coeff = truth[0] * o.drive_coeff - truth[1] * o.sinkage_ratio - truth[2];
+    data.push_back(o);
+  }
+  const CalibrationFit fit = fit_sinkage_function(data);
+  EXPECT_GT(fit.condition_number, 1e6);
+  double svd_error = 0.0;
+  double normal_error = 0.0;
+  for (std::size_t k = 0; k < 3; ++k) {
+    svd_error = std::max(svd_error, std::abs(fit.c[k] - truth[k]));
+    normal_error = std::max(normal_error, std::abs(fit.normal_equations_c[k] - truth[k]));
+  }
+  EXPECT_LT(svd_error, 1e-6);
+  EXPECT_GT(normal_error, 10.0 * svd_error);
+}
+
+TEST(Calibration, FixingC1AndC2FitsC3AsTheMeanOffset) {
+  // With C1 = C2 = 1 the least-squares C3 is the mean of T/(rW) - z/r - DP/W
+  // and its standard error s/sqrt(n): closed forms, computed here directly.
+  const std::vector<Observation> data = table1();
+  double sum = 0.0;
+  for (const Observation& o : data) {
+    sum += o.drive_coeff - o.sinkage_ratio - o.traction_coeff;
+  }
+  const double n = static_cast<double>(data.size());
+  const double mean = sum / n;
+  double ss = 0.0;
+  for (const Observation& o : data) {
+    const double d = o.drive_coeff - o.sinkage_ratio - o.traction_coeff - mean;
+    ss += d * d;
+  }
+  const CalibrationFit fit = fit_sinkage_function(data, fix(1.0, 1.0, std::nullopt));
+  EXPECT_EQ(fit.free_count, 1U);
+  EXPECT_EQ(fit.dof, 15U);
+  EXPECT_DOUBLE_EQ(fit.c[0], 1.0);
+  EXPECT_DOUBLE_EQ(fit.c[1], 1.0);
+  EXPECT_NEAR(fit.c[2], mean, 1e-14);
+  EXPECT_NEAR(fit.std_err[2], std::sqrt(ss / (n - 1.0)) / std::sqrt(n), 1e-14);
+  EXPECT_NEAR(fit.rms, std::sqrt(ss / n), 1e-14);
+  EXPECT_TRUE(std::isnan(fit.std_err[0]));
+  EXPECT_NEAR(fit.condition_number, 1.0, 1e-14);
+}
+
+TEST(Calibration, AllFixedEvaluatesTheGivenCoefficients) {
+  const std::vector<Observation> data = table1();
+  const CalibrationFit fit = fit_sinkage_function(data, fix(1.0, 1.0, 0.2));
+  EXPECT_EQ(fit.free_count, 0U);
+  double ss = 0.0;
+  for (const Observation& o : data) {
+    const double r = o.traction_coeff - (o.drive_coeff - o.sinkage_ratio - 0.2);
+    ss += r * r;
+  }
+  const double rms = std::sqrt(ss / static_cast<double>(data.size()));
+  EXPECT_NEAR(fit.rms, rms, 1e-15);
+  EXPECT_NEAR(residual_rms(data, {1.0, 1.0, 0.2}), rms, 1e-15);
+  EXPECT_DOUBLE_EQ(fit.loo_rms, fit.rms);
+  EXPECT_TRUE(std::isnan(fit.condition_number));
+}
+
+TEST(Calibration, FullFitOfTable1IsTheLeastSquaresMinimum) {
+  // Whatever the coefficients are, no perturbation of them may lower the
+  // residual sum of squares: the defining property of the solution.
+  const std::vector<Observation> data = table1();
+  const CalibrationFit fit = fit_sinkage_function(data);
+  const double best = residual_rms(data, fit.c);
+  EXPECT_NEAR(best, fit.rms, 1e-15);
+  for (std::size_t k = 0; k < 3; ++k) {
+    for (const double step : {-1e-3, 1e-3}) {
+      Coefficients moved = fit.c;
+      moved[k] += step;
+      EXPECT_GT(residual_rms(data, moved), best);
+    }
+  }
+  EXPECT_LT(fit.normal_equations_max_diff, 1e-9);
+}
+
+TEST(Calibration, RefusesTooFewRows) {
+  const std::vector<Observation> three = synthetic({1, 1, 0.2}, 3, 0.0, 1);
+  try {
+    (void)fit_sinkage_function(three);
+    FAIL() << "fitted 3 coefficients to 3 rows";
+  } catch (const CalibrationError& e) {
+    EXPECT_NE(std::string(e.what()).find("too few rows"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("at least 4 rows"), std::string::npos) << e.what();
+  }
+  // One free coefficient needs two rows.
+  EXPECT_THROW((void)fit_sinkage_function({three[0]}, fix(1.0, 1.0, std::nullopt)),
+               CalibrationError);
+  EXPECT_NO_THROW((void)fit_sinkage_function({three[0], three[1]}, fix(1.0, 1.0, std::nullopt)));
+  EXPECT_THROW((void)fit_sinkage_function({}, fix(1.0, 1.0, 0.2)), CalibrationError);
+}
+
+TEST(Calibration, RefusesCollinearColumns) {
+  // Every run at the same operating point: the three columns are dependent.
+  std::vector<Observation> same(6, Observation{0, 0.3, 0.6, 0.12, 0.3});
+  try {
+    (void)fit_sinkage_function(same);
+    FAIL() << "fitted an unidentifiable problem";
+  } catch (const CalibrationError& e) {
+    EXPECT_NE(std::string(e.what()).find("linearly dependent"), std::string::npos) << e.what();
+  }
+  // Constant sinkage: -z/r is a multiple of the intercept column.
+  std::vector<Observation> flat = synthetic({1, 1, 0.2}, 8, 0.0, 1);
+  for (Observation& o : flat) {
+    o.sinkage_ratio = 0.1;
+  }
+  EXPECT_THROW((void)fit_sinkage_function(flat), CalibrationError);
+  // ... which is identifiable again once C2 is fixed.
+  EXPECT_NO_THROW((void)fit_sinkage_function(flat, fix(std::nullopt, 1.0, std::nullopt)));
+}
+
+TEST(FixedCoefficientsSpec, ParsesTheForms) {
+  EXPECT_EQ(parse_fixed_coefficients("").free_count(), 3U);
+  const FixedCoefficients f = parse_fixed_coefficients("c1=1, C2 = 1.0");
+  EXPECT_EQ(f.free_count(), 1U);
+  EXPECT_DOUBLE_EQ(*f.value[0], 1.0);
+  EXPECT_DOUBLE_EQ(*f.value[1], 1.0);
+  EXPECT_FALSE(f.value[2].has_value());
+  EXPECT_DOUBLE_EQ(*parse_fixed_coefficients("c3=-0.13").value[2], -0.13);
+}
+
+TEST(FixedCoefficientsSpec, RejectsMalformedSpecs) {
+  for (const char* bad : {"c4=1", "c1", "c1=", "c1=one", "c1=1,c1=2", "c1=nan", "c1=1x", "=1"}) {
+    EXPECT_THROW((void)parse_fixed_coefficients(bad), std::invalid_argument) << bad;
+  }
+  try {
+    (void)parse_fixed_coefficients("c1=1,c5=2");
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown coefficient 'c5'"), std::string::npos);
+  }
+}
+
+SoilBinDataset two_loads() {
+  // 3 kg and 10 kg runs with different corrections, rows interleaved.
+  std::ostringstream csv;
+  csv << "slip,load_N,sinkage_ratio,drive_coeff,traction_coeff\n";
+  const std::vector<Observation> light = synthetic({1.0, 1.0, 0.20}, 10, 0.0, 1);
+  const std::vector<Observation> heavy = synthetic({0.95, 1.1, 0.13}, 10, 0.0, 1);
+  for (std::size_t i = 0; i < 10; ++i) {
+    for (const auto& [load, o] : {std::pair{98.1, heavy[i]}, std::pair{29.43, light[i]}}) {
+      csv.precision(17);
+      csv << o.slip << ',' << load << ',' << o.sinkage_ratio << ',' << o.drive_coeff << ','
+          << o.traction_coeff << '\n';
+    }
+  }
+  std::istringstream in(csv.str());
+  return parse_soil_bin_csv(in, "loads.csv");
+}
+
+TEST(PerLoad, FitsEachLoadSeparatelyInLoadOrder) {
+  const std::vector<LoadFit> table = fit_per_load(two_loads());
+  ASSERT_EQ(table.size(), 2U);
+  EXPECT_DOUBLE_EQ(table[0].load_n, 29.43);
+  EXPECT_DOUBLE_EQ(table[1].load_n, 98.1);
+  EXPECT_EQ(table[0].fit.rows, 10U);
+  const Coefficients light = {1.0, 1.0, 0.20};
+  const Coefficients heavy = {0.95, 1.1, 0.13};
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_NEAR(table[0].fit.c[k], light[k], 1e-9);
+    EXPECT_NEAR(table[1].fit.c[k], heavy[k], 1e-9);
+  }
+}
+
+TEST(PerLoad, TheTable2FormFixesC1AndC2) {
+  const std::vector<LoadFit> table = fit_per_load(two_loads(), fix(1.0, 1.0, std::nullopt));
+  ASSERT_EQ(table.size(), 2U);
+  EXPECT_NEAR(table[0].fit.c[2], 0.20, 1e-12);  // generated with C1 = C2 = 1
+  EXPECT_FALSE(table[0].fit.free[0]);
+}
+
+TEST(PerLoad, NeedsLoadsAndEnoughRowsPerLoad) {
+  std::istringstream in("slip,sinkage_ratio,drive_coeff,traction_coeff\n0.1,0.08,0.35,0.1\n");
+  const SoilBinDataset no_load = parse_soil_bin_csv(in, "noload.csv");
+  try {
+    (void)fit_per_load(no_load);
+    FAIL();
+  } catch (const CalibrationError& e) {
+    EXPECT_NE(std::string(e.what()).find("needs a load_N column"), std::string::npos);
+  }
+  std::istringstream few(
+      "slip,load_N,sinkage_ratio,drive_coeff,traction_coeff\n"
+      "0.1,30,0.08,0.35,0.1\n0.2,30,0.09,0.5,0.2\n0.3,30,0.1,0.6,0.3\n0.4,30,0.12,0.7,0.3\n"
+      "0.1,60,0.08,0.35,0.1\n0.2,60,0.09,0.5,0.2\n");
+  try {
+    (void)fit_per_load(parse_soil_bin_csv(few, "few.csv"));
+    FAIL();
+  } catch (const CalibrationError& e) {
+    EXPECT_NE(std::string(e.what()).find("load 60 N: too few rows"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace ground
+}  // namespace sinkwatch
