@@ -1,0 +1,36 @@
+// diagnosis_report.hpp: the diagnosis as text (terminal and summary.md), as
+// JSON (--json: keys where, ranking, base_fit) and as gnuplot plots of the
+// residuals against slip and load before and after the top effect (--report).
+// gnuplot runs as an external process on a generated script; without it the
+// report directory still gets the data, the scripts and the summary, with a note.
+#ifndef SINKWATCH_GROUND_DIAGNOSIS_REPORT_HPP
+#define SINKWATCH_GROUND_DIAGNOSIS_REPORT_HPP
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "sinkwatch/ground/diagnosis.hpp"
+
+namespace sinkwatch {
+namespace ground {
+
+[[nodiscard]] std::string to_json(const DiagnosisResult& result);
+
+/// Human-readable summary (Markdown).
+[[nodiscard]] std::string summary_markdown(const DiagnosisResult& result);
+
+/// Writes summary.md, residuals.dat, residuals.gp and, when gnuplot runs,
+/// the SVG plots into `dir` (created if missing). Returns notes on what was
+/// and was not produced. `gnuplot` is the program to run ("" disables plots).
+std::vector<std::string> write_report(const DiagnosisResult& result, const std::string& dir,
+                                      const std::string& gnuplot);
+
+/// The gnuplot program to use: $SINKWATCH_GNUPLOT if set, else "gnuplot";
+/// empty when it cannot be run.
+[[nodiscard]] std::string find_gnuplot();
+
+}  // namespace ground
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_GROUND_DIAGNOSIS_REPORT_HPP

@@ -1,0 +1,299 @@
+// diagnosis_data.cpp: reading, splitting and model-free noise estimation.
+#include "sinkwatch/ground/diagnosis_data.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+namespace sinkwatch {
+namespace ground {
+
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto first = s.find_first_not_of(" \t\r\n");
+  if (first == std::string::npos) {
+    return {};
+  }
+  const auto last = s.find_last_not_of(" \t\r\n");
+  return s.substr(first, last - first + 1);
+}
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+  std::vector<std::string> fields;
+  std::stringstream ss(line);
+  std::string field;
+  while (std::getline(ss, field, ',')) {
+    fields.push_back(trim(field));
+  }
+  if (!line.empty() && line.back() == ',') {
+    fields.emplace_back();
+  }
+  return fields;
+}
+
+// The soil-bin reader does not read the wheel width; this scans the same file
+// for a wheel_width_m column and returns its value per source line. Lines and
+// columns are counted as the reader counts them (1-based, comments included).
+std::map<std::size_t, double> read_width_column(const std::string& path) {
+  std::map<std::size_t, double> widths;
+  std::ifstream in(path);
+  if (!in) {
+    throw DataError(path, 0, 0, "", "cannot open the file");
+  }
+  std::string line;
+  std::size_t line_no = 0;
+  std::optional<std::size_t> column;
+  bool header_seen = false;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const std::string t = trim(line);
+    if (t.empty() || t.front() == '#') {
+      continue;
+    }
+    const std::vector<std::string> fields = split_csv_line(t);
+    if (!header_seen) {
+      header_seen = true;
+      for (std::size_t i = 0; i < fields.size(); ++i) {
+        if (fields[i] == "wheel_width_m") {
+          column = i;
+        }
+      }
+      if (!column) {
+        return widths;
+      }
+      continue;
+    }
+    if (*column >= fields.size()) {
+      throw DataError(path, line_no, *column + 1, "wheel_width_m", "missing value");
+    }
+    const std::string& text = fields[*column];
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    if (text.empty() || end == nullptr || *end != '\0' || !std::isfinite(value) || value <= 0.0) {
+      throw DataError(path, line_no, *column + 1, "wheel_width_m",
+                      "'" + text + "' is not a positive number");
+    }
+    widths[line_no] = value;
+  }
+  return widths;
+}
+
+bool same_value(double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b)); }
+
+}  // namespace
+
+DiagnosisRow make_row(double slip, double load_n, double sinkage_m, double torque_nm, double drawbar_pull_n,
+                      double radius_m, double width_m) {
+  DiagnosisRow row;
+  row.slip = slip;
+  row.load_n = load_n;
+  row.load_measured = true;
+  row.radius_m = radius_m;
+  row.width_m = width_m;
+  row.sinkage_m = sinkage_m;
+  row.torque_nm = torque_nm;
+  row.drawbar_pull_n = drawbar_pull_n;
+  row.sinkage_ratio = sinkage_m / radius_m;
+  row.drive_coeff = torque_nm / (radius_m * load_n);
+  row.traction_coeff = drawbar_pull_n / load_n;
+  return row;
+}
+
+DiagnosisData read_diagnosis_data(const std::string& path, const DiagnosisReadOptions& options) {
+  for (const auto& [name, value] : {std::pair<const char*, std::optional<double>>{"--radius", options.radius_m},
+                                    {"--width", options.width_m}, {"--load", options.load_n}}) {
+    if (value && (!std::isfinite(*value) || *value <= 0.0)) {
+      throw DataError(path, 0, 0, "", std::string(name) + " must be a positive number");
+    }
+  }
+  SoilBinReadOptions read_options;
+  read_options.wheel_radius_m = options.radius_m;
+  const SoilBinDataset dataset = read_soil_bin_csv(path, read_options);
+  const std::map<std::size_t, double> widths = read_width_column(path);
+
+  DiagnosisData data;
+  data.source = dataset.source;
+  data.dimensional = dataset.form == SoilBinForm::dimensional;
+  data.loads_measured = dataset.has_load;
+  data.has_loads = dataset.has_load || options.load_n.has_value();
+  if (!widths.empty() && options.width_m) {
+    throw DataError(path, 0, 0, "wheel_width_m",
+                    "the wheel width is given twice (--width and the wheel_width_m column); give one");
+  }
+  if (dataset.rows.empty()) {
+    throw DataError(path, 0, 0, "", "no data rows");
+  }
+  for (const SoilBinRow& in : dataset.rows) {
+    DiagnosisRow row;
+    row.line = in.line;
+    row.slip = in.slip;
+    const std::optional<double> radius = in.wheel_radius_m ? in.wheel_radius_m : options.radius_m;
+    if (!radius) {
+      throw DataError(path, in.line, 0, "wheel_radius_m",
+                      "no wheel radius: give --radius or a wheel_radius_m column");
+    }
+    const auto width_it = widths.find(in.line);
+    const std::optional<double> width =
+        width_it != widths.end() ? std::optional<double>(width_it->second) : options.width_m;
+    if (!width) {
+      throw DataError(path, in.line, 0, "wheel_width_m",
+                      "no wheel width: give --width or a wheel_width_m column");
+    }
+    row.radius_m = *radius;
+    row.width_m = *width;
+    row.sinkage_ratio = in.sinkage_ratio;
+    row.drive_coeff = in.drive_coeff;
+    row.traction_coeff = in.traction_coeff;
+    if (in.load_n) {
+      row.load_n = *in.load_n;
+      row.load_measured = true;
+    } else if (options.load_n) {
+      row.load_n = *options.load_n;
+    }
+    if (in.sinkage_m && in.torque_nm && in.drawbar_pull_n) {
+      row.sinkage_m = *in.sinkage_m;
+      row.torque_nm = *in.torque_nm;
+      row.drawbar_pull_n = *in.drawbar_pull_n;
+    } else {
+      // Dimensionless input: the dimensional values follow from r and W
+      // (zero when no load is known; only the quantisation check needs them).
+      row.sinkage_m = row.sinkage_ratio * row.radius_m;
+      row.torque_nm = row.drive_coeff * row.radius_m * row.load_n;
+      row.drawbar_pull_n = row.traction_coeff * row.load_n;
+    }
+    data.rows.push_back(row);
+  }
+  return data;
+}
+
+std::vector<double> distinct_loads(const std::vector<DiagnosisRow>& rows) {
+  std::vector<double> loads;
+  for (const DiagnosisRow& row : rows) {
+    if (std::none_of(loads.begin(), loads.end(), [&](double l) { return same_value(l, row.load_n); })) {
+      loads.push_back(row.load_n);
+    }
+  }
+  std::sort(loads.begin(), loads.end());
+  return loads;
+}
+
+DataSplit split_rows(const std::vector<DiagnosisRow>& rows) {
+  constexpr std::size_t kMinRows = 8;
+  if (rows.size() < kMinRows) {
+    throw std::invalid_argument("the diagnosis needs at least 8 rows (training and held-out), got " +
+                                std::to_string(rows.size()));
+  }
+  DataSplit split;
+  const std::vector<double> loads = distinct_loads(rows);
+  if (loads.size() >= 2) {
+    const double top = loads.back();
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      (same_value(rows[i].load_n, top) ? split.heldout : split.train).push_back(i);
+    }
+    std::ostringstream rule;
+    rule << "by load: the " << split.heldout.size() << " rows at the highest load (" << top
+         << " N) are held out; the model is fitted to the other " << loads.size() - 1 << " load(s)";
+    split.rule = rule.str();
+    if (split.train.size() < 4) {
+      throw std::invalid_argument("too few training rows below the highest load (" +
+                                  std::to_string(split.train.size()) + ")");
+    }
+    return split;
+  }
+  std::vector<std::size_t> order(rows.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return rows[a].slip < rows[b].slip; });
+  const std::size_t n = order.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const bool held = (n - 1 - k) % 4 == 0;
+    (held ? split.heldout : split.train).push_back(order[k]);
+  }
+  std::sort(split.train.begin(), split.train.end());
+  std::sort(split.heldout.begin(), split.heldout.end());
+  split.rule = "by slip (one load): rows sorted by slip, every 4th row counting down from the highest slip is held out (" +
+               std::to_string(split.heldout.size()) + " held out, " + std::to_string(split.train.size()) +
+               " for training)";
+  return split;
+}
+
+NoiseEstimate estimate_noise(const std::vector<DiagnosisRow>& rows, const std::vector<double>& values) {
+  // Group by load; within a load, group replicates by slip.
+  std::map<std::size_t, std::vector<std::size_t>> by_load;
+  const std::vector<double> loads = distinct_loads(rows);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto it = std::find_if(loads.begin(), loads.end(), [&](double l) { return same_value(l, rows[i].load_n); });
+    by_load[static_cast<std::size_t>(it - loads.begin())].push_back(i);
+  }
+
+  double replicate_ss = 0.0;
+  std::size_t replicate_dof = 0;
+  double diff_sum = 0.0;
+  std::size_t diff_count = 0;
+  for (auto& [load_index, members] : by_load) {
+    (void)load_index;
+    std::stable_sort(members.begin(), members.end(),
+                     [&](std::size_t a, std::size_t b) { return rows[a].slip < rows[b].slip; });
+    // Replicate groups, and the slip-wise means that the differences use.
+    std::vector<double> xs;
+    std::vector<double> ys;
+    std::size_t start = 0;
+    while (start < members.size()) {
+      std::size_t end = start + 1;
+      while (end < members.size() && same_value(rows[members[end]].slip, rows[members[start]].slip)) {
+        ++end;
+      }
+      double mean = 0.0;
+      for (std::size_t k = start; k < end; ++k) {
+        mean += values[members[k]];
+      }
+      mean /= static_cast<double>(end - start);
+      for (std::size_t k = start; k < end; ++k) {
+        replicate_ss += (values[members[k]] - mean) * (values[members[k]] - mean);
+      }
+      replicate_dof += end - start - 1;
+      xs.push_back(rows[members[start]].slip);
+      ys.push_back(values[members[start]]);  // one representative per slip
+      start = end;
+    }
+    for (std::size_t j = 0; j + 3 < xs.size(); ++j) {
+      double d = 0.0;
+      double w2 = 0.0;
+      for (std::size_t a = j; a < j + 4; ++a) {
+        double prod = 1.0;
+        for (std::size_t m = j; m < j + 4; ++m) {
+          if (m != a) {
+            prod *= xs[a] - xs[m];
+          }
+        }
+        const double w = 1.0 / prod;
+        d += w * ys[a];
+        w2 += w * w;
+      }
+      diff_sum += d * d / w2;
+      ++diff_count;
+    }
+  }
+  NoiseEstimate estimate;
+  if (replicate_dof >= 3) {
+    estimate.sigma = std::sqrt(replicate_ss / static_cast<double>(replicate_dof));
+    estimate.method = "replicates";
+    estimate.dof = replicate_dof;
+  } else if (diff_count >= 3) {
+    estimate.sigma = std::sqrt(diff_sum / static_cast<double>(diff_count));
+    estimate.method = "neighbour_scatter";
+    estimate.dof = diff_count;
+  } else {
+    estimate.method = "none";
+  }
+  return estimate;
+}
+
+}  // namespace ground
+}  // namespace sinkwatch

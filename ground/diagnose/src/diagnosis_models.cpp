@@ -1,0 +1,296 @@
+// diagnosis_models.cpp: Eq. 11 and the Wong–Reece simulator as diagnosis models.
+#include "sinkwatch/ground/diagnosis_models.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <utility>
+
+#include "sinkwatch/fixedpoint/host_convert.hpp"
+#include "sinkwatch/flight/estimator.hpp"
+
+namespace sinkwatch {
+namespace ground {
+
+// ---------------------------------------------------------------------------
+// Eq. 11
+
+namespace {
+
+double mean_load(const std::vector<DiagnosisRow>& rows) {
+  double sum = 0.0;
+  for (const DiagnosisRow& row : rows) {
+    sum += row.load_n;
+  }
+  return rows.empty() ? 0.0 : sum / static_cast<double>(rows.size());
+}
+
+}  // namespace
+
+std::vector<ChannelInfo> EstimatorModel::channels() const { return {{"traction_coeff", "-"}}; }
+
+std::vector<double> EstimatorModel::measured(const DiagnosisRow& row) const { return {row.traction_coeff}; }
+
+std::vector<ParameterSpec> EstimatorModel::base_parameters(const std::vector<DiagnosisRow>& train) const {
+  (void)train;
+  return {{"c1", 1.0, -10.0, 10.0}, {"c2", 1.0, -10.0, 10.0}, {"c3", 0.0, -5.0, 5.0}};
+}
+
+std::vector<Candidate> EstimatorModel::candidates(const std::vector<DiagnosisRow>& train) const {
+  std::vector<Candidate> out;
+  out.push_back({"entry_angle_geometry",
+                 "exact entry angle: - C4 arccos(1 - z/r) beside the linear z/r term (Eq. 9 -> 10 step)",
+                 {{"c4", 0.0, -10.0, 10.0}},
+                 0.1,
+                 true,
+                 "",
+                 0.0});
+  Candidate load{"load_offset", "load-dependent offset: - C5 (W/W_ref - 1), W_ref = mean training load",
+                 {{"c5", 0.0, -5.0, 5.0}}, 0.05, true, "", 0.0};
+  load.reference = mean_load(train);
+  if (distinct_loads(train).size() < 2) {
+    load.identifiable = false;
+    load.note = "needs training rows at two or more loads";
+  }
+  out.push_back(load);
+  out.push_back({"slip_shear",
+                 "shear still developing at low slip: - C6 exp(-s/s0) (Janosi-Hanamoto)",
+                 {{"c6", 0.0, -5.0, 5.0}, {"s0", 0.1, 0.01, 1.0}},
+                 0.1,
+                 true,
+                 "",
+                 0.0});
+  out.push_back({"bulldozing_z2", "frontal bulldozing: - C7 (z/r)^2", {{"c7", 0.0, -100.0, 100.0}}, 1.0, true, "", 0.0});
+  // W_ref is a property of the training rows; keep it in the description.
+  if (!train.empty()) {
+    std::ostringstream os;
+    os.precision(4);
+    os << out[1].description << " (" << mean_load(train) << " N)";
+    out[1].description = os.str();
+  }
+  return out;
+}
+
+bool EstimatorModel::predict(const Candidate* candidate, const std::vector<double>& params, const DiagnosisRow& row,
+                             std::vector<double>& out) const {
+  double dpw = params[0] * row.drive_coeff - params[1] * row.sinkage_ratio - params[2];
+  if (candidate != nullptr) {
+    const std::string& name = candidate->name;
+    if (name == "entry_angle_geometry") {
+      const double x = std::clamp(1.0 - row.sinkage_ratio, -1.0, 1.0);
+      dpw -= params[3] * std::acos(x);
+    } else if (name == "load_offset") {
+      dpw -= params[3] * (row.load_n / candidate->reference - 1.0);
+    } else if (name == "slip_shear") {
+      dpw -= params[3] * std::exp(-row.slip / params[4]);
+    } else if (name == "bulldozing_z2") {
+      dpw -= params[3] * row.sinkage_ratio * row.sinkage_ratio;
+    } else {
+      return false;
+    }
+  }
+  out.assign(1, dpw);
+  return std::isfinite(dpw);
+}
+
+std::vector<GapComponent> EstimatorModel::gap_components(const std::vector<DiagnosisRow>& rows,
+                                                         const std::vector<double>& base_params,
+                                                         const std::vector<double>& sigma) const {
+  GapComponent q;
+  q.name = "fixed_point_quantisation";
+  q.channel = "traction_coeff";
+  GapComponent qz;
+  qz.name = "fixed_point_quantisation_sinkage";
+  qz.channel = "sinkage_m";
+  fx::Status st;
+  const flight::Coefficients c{flight::Ratio(fx::from_double<flight::RatioQ>(base_params[0], st)),
+                               flight::Ratio(fx::from_double<flight::RatioQ>(base_params[1], st)),
+                               flight::Ratio(fx::from_double<flight::RatioQ>(base_params[2], st))};
+  std::size_t used = 0;
+  std::size_t skipped = 0;
+  std::string first_problem;
+  double sum = 0.0;
+  double sum_z = 0.0;
+  for (const DiagnosisRow& row : rows) {
+    if (!(row.load_n > 0.0)) {
+      ++skipped;
+      first_problem = "no wheel load (give --load for a file without load_N)";
+      continue;
+    }
+    fx::Status in_st;
+    const flight::LengthM r(fx::from_double<flight::LengthQ>(row.radius_m, in_st));
+    const flight::WheelLoadN w(fx::from_double<flight::LoadQ>(row.load_n, in_st));
+    const flight::TorqueNm t(fx::from_double<flight::LoadQ>(row.torque_nm, in_st));
+    const flight::SinkageM z(fx::from_double<flight::LengthQ>(row.sinkage_m, in_st));
+    const flight::DrawbarPullN dp(fx::from_double<flight::LoadQ>(row.drawbar_pull_n, in_st));
+    const flight::DrawbarPullResult pull = flight::pull_from_sinkage(c, r, w, t, z);
+    const flight::SinkageResult sink = flight::sinkage_from_pull(c, r, w, t, dp);
+    if (!in_st.ok() || !st.ok() || pull.status != flight::EstimateStatus::ok ||
+        sink.status != flight::EstimateStatus::ok) {
+      ++skipped;
+      if (first_problem.empty()) {
+        first_problem = "the flight code rejected the inputs or the fitted coefficients (status " +
+                        std::to_string(static_cast<int>(pull.status)) + ")";
+      }
+      continue;
+    }
+    // Eq. 11 in double on the row's own numbers: the double twin.
+    const double dpw_double = base_params[0] * row.drive_coeff - base_params[1] * row.sinkage_ratio - base_params[2];
+    const double dpw_fixed = fx::to_double(pull.drawbar_pull_n.q()) / row.load_n;
+    const double z_double = (base_params[0] * row.torque_nm / row.load_n -
+                             row.radius_m * (base_params[2] + row.drawbar_pull_n / row.load_n)) /
+                            base_params[1];
+    const double z_fixed = fx::to_double(sink.sinkage_m.q());
+    const double e = dpw_fixed - dpw_double;
+    const double ez = z_fixed - z_double;
+    sum += e * e;
+    sum_z += ez * ez;
+    q.max_abs = std::max(q.max_abs, std::abs(e));
+    qz.max_abs = std::max(qz.max_abs, std::abs(ez));
+    ++used;
+  }
+  if (used == 0) {
+    q.note = "not computed: " + first_problem;
+    q.rms = std::nan("");
+    q.over_noise = std::nan("");
+    return {q};
+  }
+  q.rms = std::sqrt(sum / static_cast<double>(used));
+  qz.rms = std::sqrt(sum_z / static_cast<double>(used));
+  q.over_noise = q.rms / sigma[0];
+  // The traction-coefficient noise seen as sinkage: sigma_z = r sigma / C2.
+  const double sigma_z = rows.front().radius_m * sigma[0] / std::abs(base_params[1]);
+  qz.over_noise = qz.rms / sigma_z;
+  std::ostringstream os;
+  os << "flight Q-format Eq. 11 (pull_from_sinkage) minus Eq. 11 in double, same coefficients, " << used
+     << " rows";
+  if (skipped > 0) {
+    os << " (" << skipped << " skipped: " << first_problem << ")";
+  }
+  q.note = os.str();
+  qz.note = "flight sinkage_from_pull minus its double twin, in metres; noise = r sigma(DP/W) / C2";
+  return {q, qz};
+}
+
+// ---------------------------------------------------------------------------
+// Wong–Reece
+
+namespace {
+
+const ParameterInfo& info_of(const std::string& name) {
+  for (const ParameterInfo& info : parameter_catalogue()) {
+    if (info.name == name) {
+      return info;
+    }
+  }
+  throw std::invalid_argument("unknown simulator parameter " + name);
+}
+
+// The parameters of an effect the diagnosis fits: the primary one, plus the
+// load term of drive_friction (linear, identifiable whenever there are two
+// loads, and otherwise its default would be taken for the truth).
+std::vector<std::string> fitted_effect_parameters(Effect effect) {
+  std::vector<std::string> names{primary_parameter_name(effect)};
+  if (effect == Effect::drive_friction) {
+    for (const std::string& n : effect_parameter_names(effect)) {
+      if (n != names.front()) {
+        names.push_back(n);
+      }
+    }
+  }
+  return names;
+}
+
+}  // namespace
+
+WongReeceModel::WongReeceModel(SimParameters start) : start_(std::move(start)), base_names_(suggested_base_fit_parameters()) {
+  for (Effect e : kAllEffects) {
+    start_.effects.set_enabled(e, false);
+  }
+}
+
+std::vector<ChannelInfo> WongReeceModel::channels() const {
+  return {{"sinkage_m", "m"}, {"torque_nm", "N m"}, {"drawbar_pull_n", "N"}};
+}
+
+std::vector<double> WongReeceModel::measured(const DiagnosisRow& row) const {
+  return {row.sinkage_m, row.torque_nm, row.drawbar_pull_n};
+}
+
+std::vector<ParameterSpec> WongReeceModel::base_parameters(const std::vector<DiagnosisRow>& train) const {
+  (void)train;
+  std::vector<ParameterSpec> specs;
+  for (const std::string& name : base_names_) {
+    const ParameterInfo& info = info_of(name);
+    specs.push_back({name, get_parameter(start_, name), info.lower, info.upper});
+  }
+  return specs;
+}
+
+Candidate WongReeceModel::candidate_for(Effect effect) const {
+  SimParameters with = start_;
+  with.effects = EffectSettings{};  // documented default sizes
+  Candidate c;
+  c.name = std::string(effect_name(effect));
+  std::ostringstream description;
+  description << "simulator effect " << c.name << " (fitted:";
+  for (const std::string& name : fitted_effect_parameters(effect)) {
+    const ParameterInfo& info = info_of(name);
+    const double nominal = get_parameter(with, name);
+    // Start half-way to the documented default size: neither at "off" (where
+    // some effects have a flat cost) nor at the default itself.
+    c.extra.push_back({name, 0.5 * nominal, info.lower, info.upper});
+    description << " " << name;
+    if (c.extra.size() == 1) {
+      c.nominal_size = nominal;
+    }
+  }
+  description << ")";
+  c.description = description.str();
+  return c;
+}
+
+std::vector<Candidate> WongReeceModel::candidates(const std::vector<DiagnosisRow>& train) const {
+  std::vector<Candidate> out;
+  for (Effect effect : kAllEffects) {
+    Candidate c = candidate_for(effect);
+    if (effect == Effect::drive_friction && distinct_loads(train).size() < 2) {
+      // t0 and k_w W are collinear at one load: fit t0 alone.
+      c.extra.resize(1);
+      c.note = "one training load: drive_friction.k_w_m held at its default";
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+bool WongReeceModel::predict(const Candidate* candidate, const std::vector<double>& params, const DiagnosisRow& row,
+                             std::vector<double>& out) const {
+  SimParameters p = start_;
+  p.wheel.radius_m = row.radius_m;
+  p.wheel.width_m = row.width_m;
+  try {
+    for (std::size_t i = 0; i < base_names_.size(); ++i) {
+      set_parameter(p, base_names_[i], params[i]);
+    }
+    if (candidate != nullptr) {
+      const Effect effect = effect_from_name(candidate->name);
+      p.effects.set_enabled(effect, true);
+      for (std::size_t k = 0; k < candidate->extra.size(); ++k) {
+        set_parameter(p, candidate->extra[k].name, params[base_names_.size() + k]);
+      }
+    }
+  } catch (const std::invalid_argument&) {
+    return false;
+  }
+  const Evaluation e = evaluate(p, row.load_n, row.slip);
+  if (!e.ok()) {
+    return false;
+  }
+  out = {e.state.sinkage_m, e.state.torque_nm, e.state.drawbar_pull_n};
+  return true;
+}
+
+}  // namespace ground
+}  // namespace sinkwatch

@@ -1,0 +1,328 @@
+// diagnosis_report.cpp: JSON, Markdown summary and gnuplot plots.
+#include "sinkwatch/ground/diagnosis_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace sinkwatch {
+namespace ground {
+
+namespace {
+
+std::string num(double v) {
+  if (!std::isfinite(v)) {
+    return "null";
+  }
+  std::ostringstream os;
+  os << std::setprecision(10) << v;
+  return os.str();
+}
+
+std::string quote(const std::string& s) {
+  std::string out = "\"";
+  for (char ch : s) {
+    switch (ch) {
+      case '"': out += "\\\""; break;
+      case '\\': out += "\\\\"; break;
+      case '\n': out += "\\n"; break;
+      case '\t': out += "\\t"; break;
+      default:
+        if (static_cast<unsigned char>(ch) < 0x20) {
+          char buf[8];
+          std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(ch)));
+          out += buf;
+        } else {
+          out += ch;
+        }
+    }
+  }
+  return out + "\"";
+}
+
+std::string per_channel(const std::vector<ChannelInfo>& channels, const std::vector<double>& values) {
+  std::string out = "{";
+  for (std::size_t c = 0; c < channels.size() && c < values.size(); ++c) {
+    out += (c > 0 ? ", " : "") + quote(channels[c].name) + ": " + num(values[c]);
+  }
+  return out + "}";
+}
+
+std::string fit_json(const DiagnosisResult& r, const FitResult& fit, const std::string& indent) {
+  std::ostringstream os;
+  os << "{\n" << indent << "  \"label\": " << quote(fit.label) << ",\n" << indent << "  \"parameters\": {";
+  for (std::size_t i = 0; i < fit.names.size(); ++i) {
+    os << (i > 0 ? ", " : "") << quote(fit.names[i]) << ": " << num(fit.values[i]);
+  }
+  os << "},\n"
+     << indent << "  \"converged\": " << (fit.converged ? "true" : "false") << ",\n"
+     << indent << "  \"solver_message\": " << quote(fit.solver_message) << ",\n"
+     << indent << "  \"iterations\": " << fit.iterations << ",\n"
+     << indent << "  \"train_rows\": " << fit.train_rows << ",\n"
+     << indent << "  \"train_chi2\": " << num(fit.train_chi2) << ",\n"
+     << indent << "  \"aic\": " << num(fit.aic) << ",\n"
+     << indent << "  \"bic\": " << num(fit.bic) << ",\n"
+     << indent << "  \"train_rms\": " << per_channel(r.channels, fit.train_rms) << ",\n"
+     << indent << "  \"heldout_rms\": " << per_channel(r.channels, fit.heldout_rms) << ",\n"
+     << indent << "  \"train_rms_noise_units\": " << num(fit.train_rms_scaled) << ",\n"
+     << indent << "  \"heldout_rms_noise_units\": " << num(fit.heldout_rms_scaled) << ",\n"
+     << indent << "  \"heldout_failures\": " << fit.heldout_failures << "\n"
+     << indent << "}";
+  return os.str();
+}
+
+const RankedEffect* top_effect(const DiagnosisResult& r) {
+  if (r.ranking.empty() || !r.ranking.front().identifiable) {
+    return nullptr;
+  }
+  return &r.ranking.front();
+}
+
+}  // namespace
+
+std::string to_json(const DiagnosisResult& r) {
+  std::ostringstream os;
+  os << "{\n  \"model\": " << quote(r.model) << ",\n  \"source\": " << quote(r.source) << ",\n"
+     << "  \"rows\": " << r.rows.size() << ",\n  \"train_rows\": " << r.train.size()
+     << ",\n  \"heldout_rows\": " << r.heldout.size() << ",\n  \"split_rule\": " << quote(r.split_rule) << ",\n"
+     << "  \"verdict\": " << quote(r.verdict) << ",\n  \"verdict_text\": " << quote(r.verdict_text) << ",\n";
+  os << "  \"noise\": [";
+  for (std::size_t c = 0; c < r.noise.size(); ++c) {
+    os << (c > 0 ? ", " : "") << "{\"channel\": " << quote(r.noise[c].channel) << ", \"sigma\": " << num(r.noise[c].sigma)
+       << ", \"method\": " << quote(r.noise[c].method) << ", \"dof\": " << r.noise[c].dof << "}";
+  }
+  os << "],\n  \"base_fit\": " << fit_json(r, r.base, "  ") << ",\n";
+  os << "  \"where\": {\n    \"largest\": " << quote(r.where.largest) << ",\n    \"channels\": [";
+  for (std::size_t c = 0; c < r.where.channels.size(); ++c) {
+    const ChannelGap& g = r.where.channels[c];
+    os << (c > 0 ? "," : "") << "\n      {\"channel\": " << quote(g.channel) << ", \"unit\": " << quote(g.unit)
+       << ", \"noise_sigma\": " << num(g.noise_sigma) << ", \"noise_method\": " << quote(g.noise_method)
+       << ", \"train_rms\": " << num(g.train_rms) << ", \"heldout_rms\": " << num(g.heldout_rms)
+       << ", \"heldout_bias\": " << num(g.heldout_bias) << ", \"train_over_noise\": " << num(g.train_over_noise)
+       << ", \"heldout_over_noise\": " << num(g.heldout_over_noise) << "}";
+  }
+  os << "\n    ],\n    \"regimes\": [";
+  for (std::size_t b = 0; b < r.where.bins.size(); ++b) {
+    const RegimeBin& bin = r.where.bins[b];
+    os << (b > 0 ? "," : "") << "\n      {\"regime\": " << quote(bin.regime) << ", \"label\": " << quote(bin.label)
+       << ", \"low\": " << num(bin.low) << ", \"high\": " << num(bin.high) << ", \"rows\": " << bin.rows
+       << ", \"heldout_rows\": " << bin.heldout_rows << ", \"rms\": " << per_channel(r.channels, bin.rms)
+       << ", \"mean\": " << per_channel(r.channels, bin.mean)
+       << ", \"rms_over_noise\": " << per_channel(r.channels, bin.rms_over_noise) << "}";
+  }
+  os << "\n    ],\n    \"components\": [";
+  for (std::size_t k = 0; k < r.where.components.size(); ++k) {
+    const GapComponent& g = r.where.components[k];
+    os << (k > 0 ? "," : "") << "\n      {\"name\": " << quote(g.name) << ", \"channel\": " << quote(g.channel)
+       << ", \"rms\": " << num(g.rms) << ", \"max_abs\": " << num(g.max_abs) << ", \"over_noise\": " << num(g.over_noise)
+       << ", \"note\": " << quote(g.note) << "}";
+  }
+  os << "\n    ]\n  },\n  \"ranking\": [";
+  for (std::size_t k = 0; k < r.ranking.size(); ++k) {
+    const RankedEffect& e = r.ranking[k];
+    os << (k > 0 ? "," : "") << "\n    {\"rank\": " << k + 1 << ", \"effect\": " << quote(e.effect)
+       << ", \"description\": " << quote(e.description) << ", \"identifiable\": " << (e.identifiable ? "true" : "false")
+       << ", \"note\": " << quote(e.note) << ",\n     \"heldout_rms_before\": " << num(e.heldout_rms_before)
+       << ", \"heldout_rms_after\": " << num(e.heldout_rms_after) << ", \"shrink_pct\": " << num(e.shrink_pct)
+       << ", \"rms_unit\": \"noise-scaled, combined over channels\""
+       << ",\n     \"channels\": {";
+    for (std::size_t c = 0; c < r.channels.size(); ++c) {
+      os << (c > 0 ? ", " : "") << quote(r.channels[c].name) << ": {\"heldout_rms_before\": " << num(e.channel_before[c])
+         << ", \"heldout_rms_after\": " << num(e.channel_after[c]) << ", \"shrink_pct\": " << num(e.channel_shrink_pct[c])
+         << ", \"unit\": " << quote(r.channels[c].unit) << "}";
+    }
+    os << "},\n     \"fitted\": {";
+    std::size_t i = 0;
+    for (const auto& [name, value] : e.fitted) {
+      os << (i++ > 0 ? ", " : "") << quote(name) << ": " << num(value);
+    }
+    os << "}, \"nominal_size\": " << num(e.nominal_size) << ", \"train_bic\": " << num(e.train_bic)
+       << ", \"delta_bic\": " << num(e.delta_bic) << ",\n     \"fit\": "
+       << (e.identifiable ? fit_json(r, e.fit, "     ") : std::string("null")) << "}";
+  }
+  os << "\n  ],\n  \"notes\": [";
+  for (std::size_t k = 0; k < r.notes.size(); ++k) {
+    os << (k > 0 ? ", " : "") << quote(r.notes[k]);
+  }
+  os << "]\n}\n";
+  return os.str();
+}
+
+std::string summary_markdown(const DiagnosisResult& r) {
+  std::ostringstream os;
+  os << std::setprecision(4);
+  os << "# Sim-to-real gap diagnosis\n\n"
+     << "- data: " << r.source << " (" << r.rows.size() << " rows)\n"
+     << "- model: " << r.model << "\n"
+     << "- split: " << r.split_rule << "\n"
+     << "- verdict: **" << r.verdict << "**: " << r.verdict_text << "\n\n";
+  os << "## Noise per channel\n\n| channel | sigma | method | dof |\n|---|---|---|---|\n";
+  for (const ChannelNoiseEstimate& n : r.noise) {
+    os << "| " << n.channel << " | " << n.sigma << " | " << n.method << " | " << n.dof << " |\n";
+  }
+  os << "\n## Base fit\n\n";
+  for (std::size_t i = 0; i < r.base.names.size(); ++i) {
+    os << (i > 0 ? ", " : "") << r.base.names[i] << " = " << r.base.values[i];
+  }
+  os << "\n\n(" << (r.base.converged ? "converged" : "NOT converged") << ", " << r.base.iterations << " iterations)\n\n";
+  os << "## Where\n\n" << r.where.largest << "\n\n"
+     << "| channel | unit | noise | train RMS | held-out RMS | held-out bias | train/noise | held-out/noise |\n"
+     << "|---|---|---|---|---|---|---|---|\n";
+  for (const ChannelGap& g : r.where.channels) {
+    os << "| " << g.channel << " | " << g.unit << " | " << g.noise_sigma << " | " << g.train_rms << " | "
+       << g.heldout_rms << " | " << g.heldout_bias << " | " << g.train_over_noise << " | " << g.heldout_over_noise
+       << " |\n";
+  }
+  os << "\nResiduals of the base fit (all rows) by regime, RMS / noise per channel:\n\n| regime | bin | rows (held out) |";
+  for (const ChannelInfo& c : r.channels) {
+    os << " " << c.name << " |";
+  }
+  os << "\n|---|---|---|";
+  for (std::size_t c = 0; c < r.channels.size(); ++c) {
+    os << "---|";
+  }
+  os << "\n";
+  for (const RegimeBin& bin : r.where.bins) {
+    os << "| " << bin.regime << " | " << bin.label << " | " << bin.rows << " (" << bin.heldout_rows << ") |";
+    for (std::size_t c = 0; c < r.channels.size(); ++c) {
+      os << " " << bin.rms_over_noise[c] << " (bias " << bin.mean[c] << ") |";
+    }
+    os << "\n";
+  }
+  if (!r.where.components.empty()) {
+    os << "\nOther components of the gap:\n\n| component | channel | RMS | max | RMS / noise | note |\n|---|---|---|---|---|---|\n";
+    for (const GapComponent& g : r.where.components) {
+      os << "| " << g.name << " | " << g.channel << " | " << g.rms << " | " << g.max_abs << " | " << g.over_noise
+         << " | " << g.note << " |\n";
+    }
+  }
+  os << "\n## Which effect, and how far it shrinks the held-out gap\n\n"
+     << "Held-out RMS in noise units, combined over channels; ranked by held-out RMS after, near-ties by training BIC.\n\n"
+     << "| rank | effect | before | after | shrink % | delta BIC | fitted | per channel before -> after (unit) |\n"
+     << "|---|---|---|---|---|---|---|---|\n";
+  for (std::size_t k = 0; k < r.ranking.size(); ++k) {
+    const RankedEffect& e = r.ranking[k];
+    os << "| " << k + 1 << " | " << e.effect << " | " << e.heldout_rms_before << " | " << e.heldout_rms_after << " | "
+       << e.shrink_pct << " | " << e.delta_bic << " | ";
+    for (const auto& [name, value] : e.fitted) {
+      os << name << " = " << value << " ";
+    }
+    if (!e.note.empty()) {
+      os << "(" << e.note << ")";
+    }
+    os << " | ";
+    for (std::size_t c = 0; c < r.channels.size(); ++c) {
+      os << r.channels[c].name << " " << e.channel_before[c] << " -> " << e.channel_after[c] << " ("
+         << e.channel_shrink_pct[c] << " %); ";
+    }
+    os << "|\n";
+  }
+  for (const std::string& note : r.notes) {
+    os << "\nNote: " << note << "\n";
+  }
+  return os.str();
+}
+
+std::string find_gnuplot() {
+  const char* env = std::getenv("SINKWATCH_GNUPLOT");
+  const std::string program = env != nullptr ? std::string(env) : std::string("gnuplot");
+  if (program.empty()) {
+    return {};
+  }
+  const std::string probe = "\"" + program + "\" -e \"exit\" >/dev/null 2>&1";
+  return std::system(probe.c_str()) == 0 ? program : std::string();
+}
+
+std::vector<std::string> write_report(const DiagnosisResult& r, const std::string& dir, const std::string& gnuplot) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> notes;
+  fs::create_directories(dir);
+  const fs::path base(dir);
+  const RankedEffect* top = top_effect(r);
+
+  // residuals.dat: one line per row; residuals in noise units so that the
+  // channels share one axis.
+  {
+    std::ofstream dat(base / "residuals.dat");
+    dat << "# slip load_N sinkage_ratio heldout";
+    for (const ChannelInfo& c : r.channels) {
+      dat << " base_" << c.name;
+    }
+    for (const ChannelInfo& c : r.channels) {
+      dat << " top_" << c.name;
+    }
+    dat << "  (residual = measured - model, in units of the channel's noise)\n";
+    std::vector<bool> held(r.rows.size(), false);
+    for (std::size_t i : r.heldout) {
+      held[i] = true;
+    }
+    dat << std::setprecision(8);
+    for (std::size_t i = 0; i < r.rows.size(); ++i) {
+      dat << r.rows[i].slip << ' ' << r.rows[i].load_n << ' ' << r.rows[i].sinkage_ratio << ' ' << (held[i] ? 1 : 0);
+      for (std::size_t c = 0; c < r.channels.size(); ++c) {
+        const double v = r.base.residuals[i][c] / r.noise[c].sigma;
+        dat << ' ' << (std::isfinite(v) ? num(v) : std::string("NaN"));
+      }
+      for (std::size_t c = 0; c < r.channels.size(); ++c) {
+        const double v = top != nullptr ? top->fit.residuals[i][c] / r.noise[c].sigma : std::nan("");
+        dat << ' ' << (std::isfinite(v) ? num(v) : std::string("NaN"));
+      }
+      dat << '\n';
+    }
+  }
+  // residuals.gp: residual vs slip and vs load, base and top effect.
+  const std::string top_name = top != nullptr ? top->effect : std::string("none");
+  {
+    std::ofstream gp(base / "residuals.gp");
+    gp << "# gnuplot script written by sinkwatch diagnose; run: gnuplot residuals.gp\n"
+       << "set terminal svg size 1200," << 360 * r.channels.size() << " dynamic font 'sans,11'\n"
+       << "set datafile missing 'NaN'\n"
+       << "set key outside right top\nset grid\nset xzeroaxis lt -1\n";
+    const std::size_t nch = r.channels.size();
+    for (const std::string& axis : {std::string("slip"), std::string("load")}) {
+      const int xcol = axis == "slip" ? 1 : 2;
+      gp << "set output 'residuals_vs_" << axis << ".svg'\n"
+         << "set multiplot layout " << nch << ",2 title 'residual / noise against " << axis
+         << " (open: training, filled: held out)'\n";
+      for (std::size_t c = 0; c < nch; ++c) {
+        for (int which = 0; which < 2; ++which) {
+          const std::size_t col = 5 + c + (which == 1 ? nch : 0);
+          gp << "set title '" << r.channels[c].name << ": " << (which == 0 ? std::string("base") : "base + " + top_name)
+             << "'\nset xlabel '" << (axis == "slip" ? "slip" : "load (N)") << "'\nset ylabel 'residual / noise'\n"
+             << "plot 'residuals.dat' using " << xcol << ":($4==0 ? $" << col << " : 1/0) with points pt 6 title 'train', "
+             << "'' using " << xcol << ":($4==1 ? $" << col << " : 1/0) with points pt 7 title 'held out'\n";
+        }
+      }
+      gp << "unset multiplot\n";
+    }
+  }
+  {
+    std::ofstream md(base / "summary.md");
+    md << summary_markdown(r);
+    if (gnuplot.empty()) {
+      md << "\nNote: gnuplot was not found, so no plots were drawn; residuals.dat and residuals.gp are here "
+            "(run `gnuplot residuals.gp` in this folder where gnuplot is installed).\n";
+    } else {
+      md << "\nPlots: residuals_vs_slip.svg, residuals_vs_load.svg (base and base + " << top_name << ").\n";
+    }
+  }
+  if (gnuplot.empty()) {
+    notes.push_back("gnuplot not found: wrote residuals.dat, residuals.gp and summary.md but no plots");
+    return notes;
+  }
+  const std::string command = "cd \"" + fs::absolute(base).string() + "\" && \"" + gnuplot + "\" residuals.gp 2>gnuplot.log";
+  if (std::system(command.c_str()) != 0) {
+    notes.push_back("gnuplot failed (see " + (base / "gnuplot.log").string() + "); data and script are in " + dir);
+  } else {
+    notes.push_back("plots written: " + (base / "residuals_vs_slip.svg").string() + ", " +
+                    (base / "residuals_vs_load.svg").string());
+  }
+  return notes;
+}
+
+}  // namespace ground
+}  // namespace sinkwatch
