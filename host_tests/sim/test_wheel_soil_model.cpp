@@ -119,6 +119,25 @@ TEST(WheelSoilModel, SolvedSinkageCarriesTheLoad) {
 
 // A self-propelled wheel (DP = 0) exists at a small slip on firm soil and
 // needs more slip as the load (and so the sinkage and compaction) grows.
+// The default quadrature goal is on tanh-sinh's (pessimistic) error estimate;
+// tightening it by four orders of magnitude must not move any output by more
+// than 1e-12 relative, with every effect on (rear region, load dependence).
+TEST(WheelSoilModel, QuadratureToleranceIsConservative) {
+  sg::SimParameters p = base();
+  for (sg::Effect e : sg::kAllEffects) p.effects.set_enabled(e, true);
+  sg::SimParameters tight = p;
+  tight.quadrature_rel_tol = 1e-13;
+  for (double load : {5.0, 100.0}) {
+    for (double slip : {0.05, 0.6}) {
+      const sg::WheelSoilState a = eval(p, load, slip);
+      const sg::WheelSoilState b = eval(tight, load, slip);
+      EXPECT_NEAR(a.sinkage_m / b.sinkage_m, 1.0, 1e-12);
+      EXPECT_NEAR(a.torque_nm / b.torque_nm, 1.0, 1e-12);
+      EXPECT_NEAR(a.drawbar_pull_n, b.drawbar_pull_n, 1e-12 * load);
+    }
+  }
+}
+
 TEST(WheelSoilModel, SelfPropelledSlipIsSmallOnFirmSoil) {
   const sg::SimParameters p = base();
   const double s3 = self_propelled_slip(p, 3 * kG);

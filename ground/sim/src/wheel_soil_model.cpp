@@ -8,6 +8,7 @@
 #include <boost/math/tools/toms748_solve.hpp>
 
 #include <cmath>
+#include <complex>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -130,35 +131,41 @@ struct Contact {
   double c = 0, phi0 = 0, K = 0;       // shear
   double s = 0;                        // slip
   double theta1 = 0, theta2 = 0, thetam = 0;
+  double cos1 = 1, sin1 = 0;           // cos(theta1), sin(theta1), hoisted out of the integrands
   bool load_dependent = false;
   double dphi_rad = 0, sigma_ref = 1;
-  double k_rn = 0;                     // k r^n, hoisted out of the integrand
+  double k_rn = 0;                     // k r^n
   double tan_phi0 = 0;
+  double rel_tol = kDefaultQuadratureRelTol;
 
-  double sigma_front(double theta) const {
-    // cos(theta) - cos(theta1), written as a product so that it keeps its
-    // relative accuracy close to theta1, where both cosines are nearly equal.
-    const double d = 2.0 * std::sin(0.5 * (theta1 + theta)) * std::sin(0.5 * (theta1 - theta));
-    return d > 0.0 ? k_rn * std::pow(d, n) : 0.0;
-  }
-  double sigma(double theta) const {
-    if (theta >= thetam) return sigma_front(theta);
-    // Rear region: the front profile mapped onto [theta2, thetam] (Wong–Reece).
-    const double theta_e = theta1 - (theta - theta2) * (theta1 - thetam) / (thetam - theta2);
-    return sigma_front(theta_e);
-  }
-  double shear_displacement(double theta) const {
-    const double dsin = 2.0 * std::cos(0.5 * (theta1 + theta)) * std::sin(0.5 * (theta1 - theta));
-    return rs * ((theta1 - theta) - (1.0 - s) * dsin);
-  }
-  double tau(double theta, double sig) const {
+  struct Point {
+    double sigma, tau, cos_t, sin_t;
+  };
+
+  // Normal and shear stress at theta. Near theta1, cos(theta) - cos(theta1)
+  // loses relative accuracy, but only where sigma is negligibly small; the
+  // integrals do not see it.
+  Point at(double theta) const {
+    Point pt{};
+    pt.sin_t = std::sin(theta);
+    pt.cos_t = std::cos(theta);
+    double d = 0.0;
+    if (theta >= thetam) {
+      d = pt.cos_t - cos1;
+    } else {
+      // Rear region: the front profile mapped onto [theta2, thetam] (Wong–Reece).
+      const double theta_e = theta1 - (theta - theta2) * (theta1 - thetam) / (thetam - theta2);
+      d = std::cos(theta_e) - cos1;
+    }
+    pt.sigma = d > 0.0 ? k_rn * std::pow(d, n) : 0.0;
+    const double j = rs * ((theta1 - theta) - (1.0 - s) * (sin1 - pt.sin_t));
     double tan_phi = tan_phi0;
     if (load_dependent) {
-      const double phi = std::max(0.0, phi0 - dphi_rad * std::log1p(sig / sigma_ref));
+      const double phi = std::max(0.0, phi0 - dphi_rad * std::log1p(pt.sigma / sigma_ref));
       tan_phi = std::tan(phi);
     }
-    const double j = shear_displacement(theta);
-    return (c + sig * tan_phi) * (-std::expm1(-j / K));
+    pt.tau = (c + pt.sigma * tan_phi) * (-std::expm1(-j / K));
+    return pt;
   }
 };
 
@@ -193,10 +200,13 @@ Contact make_contact(const SimParameters& p, double sinkage_m, double slip) {
                   ? -std::acos(1.0 - std::min(1.0, p.effects.rear_contact.lambda_r * zr))
                   : 0.0;
   ct.thetam = max_stress_ratio(p, slip) * ct.theta1;
+  ct.cos1 = 1.0 - zr;
+  ct.sin1 = std::sin(ct.theta1);
   ct.load_dependent = p.effects.load_dependence.enabled;
   ct.dphi_rad = p.effects.load_dependence.dphi_deg * kDegToRad;
   ct.sigma_ref = p.effects.load_dependence.sigma_ref_pa;
   ct.k_rn = ct.k * std::pow(ct.r, ct.n);
+  ct.rel_tol = p.quadrature_rel_tol;
   return ct;
 }
 
@@ -210,9 +220,9 @@ class QuadratureFailure : public std::runtime_error {
 // derivatives ((theta1 - theta)^n with non-integer n) that it handles with
 // double-exponential convergence.
 template <class F>
-double integrate_contact(const Contact& ct, F f) {
+auto integrate_contact(const Contact& ct, F f) {
   thread_local boost::math::quadrature::tanh_sinh<double> integrator(15);
-  double total = 0.0;
+  decltype(f(0.0)) total{};
   const double pieces[3] = {ct.theta2, ct.thetam, ct.theta1};
   for (int i = 0; i < 2; ++i) {
     const double a = pieces[i];
@@ -220,10 +230,10 @@ double integrate_contact(const Contact& ct, F f) {
     if (!(b > a)) continue;
     double error = 0.0;
     double l1 = 0.0;
-    const double value = integrator.integrate(f, a, b, kQuadratureRelTol, &error, &l1);
+    const auto value = integrator.integrate(f, a, b, ct.rel_tol, &error, &l1);
     // tanh-sinh's estimate is the difference between its last two levels, so
     // it overstates the true error; 1e3 x the goal flags a real failure only.
-    if (!std::isfinite(value) || error > 1e3 * kQuadratureRelTol * std::max(l1, 1e-300)) {
+    if (!std::isfinite(std::abs(value)) || error > 1e3 * ct.rel_tol * std::max(l1, 1e-300)) {
       std::ostringstream msg;
       msg << "quadrature did not converge on [" << a << ", " << b << "] rad: error estimate " << error
           << " against L1 norm " << l1;
@@ -236,8 +246,8 @@ double integrate_contact(const Contact& ct, F f) {
 
 double vertical_force(const Contact& ct) {
   const double integral = integrate_contact(ct, [&ct](double th) {
-    const double sig = ct.sigma(th);
-    return sig * std::cos(th) + ct.tau(th, sig) * std::sin(th);
+    const Contact::Point pt = ct.at(th);
+    return pt.sigma * pt.cos_t + pt.tau * pt.sin_t;
   });
   return ct.r * ct.b * integral;
 }
@@ -251,6 +261,7 @@ std::string check_parameters(const SimParameters& p, double load_n, double slip)
   if (!(p.wheel.radius_m > 0.0) || !std::isfinite(p.wheel.radius_m)) return bad("wheel radius must be > 0 m", p.wheel.radius_m);
   if (!(p.wheel.width_m > 0.0) || !std::isfinite(p.wheel.width_m)) return bad("wheel width must be > 0 m", p.wheel.width_m);
   if (!(load_n > 0.0) || !std::isfinite(load_n)) return bad("load must be > 0 N", load_n);
+  if (!(p.quadrature_rel_tol >= 1e-15 && p.quadrature_rel_tol <= 1e-3)) return bad("quadrature_rel_tol must be in [1e-15, 1e-3]", p.quadrature_rel_tol);
   if (!(slip >= 0.0 && slip <= 1.0)) return bad("slip must be in [0, 1] (driving; skid is not modelled)", slip);
   const double k = p.soil.kc / p.wheel.width_m + p.soil.kphi;
   if (!(k > 0.0) || !std::isfinite(k)) return bad("kc/b + kphi must be > 0", k);
@@ -453,36 +464,52 @@ Evaluation evaluate(const SimParameters& p, double load_n, double slip) {
   }
   const double r = p.wheel.radius_m;
   try {
-    auto residual = [&](double z) { return vertical_force(make_contact(p, z, slip)) - load_n; };
+    // Solve ln W(z) = ln load in x = ln z: W grows about like z^(n+1/2), so
+    // the residual is nearly linear in x and toms748 converges in a few steps.
+    const double log_load = std::log(load_n);
+    auto residual = [&](double x) {
+      const double w = vertical_force(make_contact(p, std::exp(x), slip));
+      return std::log(std::max(w, 1e-300)) - log_load;
+    };
+    const double x_max = std::log(r);
 
-    // Bracket the root: start around Bekker's closed-form static sinkage and
-    // widen. W(z) grows with z, from 0 at z = 0 to its largest value at z = r.
+    // Bracket the root: one residual at Bekker's closed-form static sinkage,
+    // then a step of 1.2 x the Newton step for W ~ z^(n+1/2) (slope n + 1/2
+    // in log-log), which usually brackets at once; widen by factors of e if
+    // not. W(z) grows with z, from 0 at z = 0 to its largest value at z = r.
     const Contact probe = make_contact(p, 0.5 * r, slip);
-    const double guess = std::min(r, std::max(1e-9 * r, bekker_sinkage_guess(probe, load_n)));
-    double lo = 0.5 * guess;
-    double hi = std::min(r, 2.0 * guess);
-    double f_lo = residual(lo);
-    for (int i = 0; i < 40 && f_lo > 0.0; ++i) {
-      hi = lo;
-      lo *= 0.25;
+    const double x0 = std::log(std::min(r, std::max(1e-9 * r, bekker_sinkage_guess(probe, load_n))));
+    const double f0 = residual(x0);
+    const double step = 1.2 * std::fabs(f0) / (probe.n + 0.5) + 1e-6;
+    double lo = x0, f_lo = f0, hi = x0, f_hi = f0;
+    if (f0 > 0.0) {
+      lo = x0 - step;
       f_lo = residual(lo);
-    }
-    if (f_lo > 0.0) {
-      ev.status = SimStatus::numerical_failure;
-      ev.message = "could not bracket the sinkage from below";
-      return ev;
-    }
-    double f_hi = residual(hi);
-    for (int i = 0; i < 60 && f_hi < 0.0 && hi < r; ++i) {
-      lo = hi;
-      f_lo = f_hi;
-      hi = std::min(r, 2.0 * hi);
+      for (int i = 0; i < 40 && f_lo > 0.0; ++i) {
+        hi = lo;
+        f_hi = f_lo;
+        lo -= 1.0;
+        f_lo = residual(lo);
+      }
+      if (f_lo > 0.0) {
+        ev.status = SimStatus::numerical_failure;
+        ev.message = "could not bracket the sinkage from below";
+        return ev;
+      }
+    } else {
+      hi = std::min(x_max, x0 + step);
       f_hi = residual(hi);
+      for (int i = 0; i < 60 && f_hi < 0.0 && hi < x_max; ++i) {
+        lo = hi;
+        f_lo = f_hi;
+        hi = std::min(x_max, hi + 1.0);
+        f_hi = residual(hi);
+      }
     }
     if (f_hi < 0.0) {
       std::ostringstream msg;
-      msg << "no equilibrium: at sinkage z = r = " << r << " m the soil carries only " << f_hi + load_n
-          << " N of the " << load_n << " N load (the wheel sinks past its axle)";
+      msg << "no equilibrium: at sinkage z = r = " << r << " m the soil carries only "
+          << load_n * std::exp(f_hi) << " N of the " << load_n << " N load (the wheel sinks past its axle)";
       ev.status = SimStatus::no_solution;
       ev.message = msg.str();
       return ev;
@@ -495,13 +522,24 @@ Evaluation evaluate(const SimParameters& p, double load_n, double slip) {
       ev.message = "root finder did not converge in 100 iterations";
       return ev;
     }
-    const double z = 0.5 * (bracket.first + bracket.second);
+    const double z = std::exp(0.5 * (bracket.first + bracket.second));
 
+    // The four remaining integrals in two passes: a complex integrand carries
+    // two real ones on the same nodes (tanh-sinh takes any value type).
     const Contact ct = make_contact(p, z, slip);
     const double rb = ct.r * ct.b;
-    const double h = rb * integrate_contact(ct, [&ct](double th) { return ct.tau(th, ct.sigma(th)) * std::cos(th); });
-    const double rc = rb * integrate_contact(ct, [&ct](double th) { return ct.sigma(th) * std::sin(th); });
-    const double tau_int = integrate_contact(ct, [&ct](double th) { return ct.tau(th, ct.sigma(th)); });
+    using Pair = std::complex<double>;
+    const Pair h_rc = rb * integrate_contact(ct, [&ct](double th) {
+      const Contact::Point pt = ct.at(th);
+      return Pair(pt.tau * pt.cos_t, pt.sigma * pt.sin_t);
+    });
+    const Pair tau_w = integrate_contact(ct, [&ct](double th) {
+      const Contact::Point pt = ct.at(th);
+      return Pair(pt.tau, pt.sigma * pt.cos_t + pt.tau * pt.sin_t);
+    });
+    const double h = h_rc.real();
+    const double rc = h_rc.imag();
+    const double tau_int = tau_w.real();
 
     WheelSoilState& st = ev.state;
     st.sinkage_m = z;
@@ -525,7 +563,7 @@ Evaluation evaluate(const SimParameters& p, double load_n, double slip) {
     }
     st.torque_nm = st.soil_torque_nm + st.drive_friction_torque_nm;
     st.drawbar_pull_n = h - rc - st.bulldozing_resistance_n;
-    st.vertical_force_n = vertical_force(ct);
+    st.vertical_force_n = rb * tau_w.imag();
     st.root_iterations = static_cast<int>(iterations);
   } catch (const QuadratureFailure& e) {
     ev.status = SimStatus::numerical_failure;
