@@ -103,7 +103,7 @@ TEST(Table1, Eq14AndEq15AreTheEq10ValuesShiftedByTheirC3) {
   }
 }
 
-// Finding (docs/findings.md): least squares on Table 1 (Eq. 12-13) does not
+// Finding F-2 (docs/derivation.md): least squares on Table 1 (Eq. 12-13) does not
 // give Eq. 14's C = (1, 1, 0.2). This test records the numbers, so a change
 // in the data file or the arithmetic shows up.
 TEST(Table1, LeastSquaresDoesNotGiveEq14Finding) {
