@@ -12,6 +12,8 @@ namespace {
 
 using W = WideQ;
 
+constexpr Ratio kMaxSlip{fx::constant<RatioQ>(1.0)};
+
 DrawbarResult failed(DrawbarStatus status) noexcept {
   DrawbarResult r{};
   r.status = status;
@@ -33,8 +35,7 @@ DrawbarResult drawbar_pulls(const RoverParams& params, const WheelLoadResult& lo
   const bool accel_ok = (input.accel_mps2 <= kMaxAbsAccel) && (input.accel_mps2.raw() >= -kMaxAbsAccel.raw());
   const bool pitch_ok = (input.pitch_rad <= params.attitude_limit_rad) &&
                         (input.pitch_rad.raw() >= -params.attitude_limit_rad.raw());
-  const Ratio one{fx::constant<RatioQ>(1.0)};
-  const bool slip_ok = !input.slip_known || (input.slip <= one);
+  const bool slip_ok = !input.slip_known || (input.slip <= kMaxSlip);
   if (!accel_ok || !pitch_ok || !slip_ok) {
     return failed(DrawbarStatus::invalid_input);
   }

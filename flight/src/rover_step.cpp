@@ -13,6 +13,10 @@ namespace {
 
 using W = WideQ;
 
+// Constants are built at compile time: no floating point at run time.
+constexpr W kOne{fx::constant<W>(1.0)};
+constexpr W kMinusOne{fx::constant<W>(-1.0)};
+
 template <typename Quantity>
 bool within(Quantity v, Quantity limit) noexcept {
   return (v <= limit) && (v.raw() >= -limit.raw());
@@ -34,8 +38,7 @@ bool differenced_accel(SpeedMps speed, SpeedMps previous, std::uint32_t dt_ms, A
 bool slip_ratio(SpeedMps speed, SpeedMps rim, Ratio& out) noexcept {
   fx::Status st;
   const W ratio = fx::div(fx::rescale<W>(speed.q(), st), fx::rescale<W>(rim.q(), st), st);
-  const W one = fx::constant<W>(1.0);
-  const W slip = fx::clamp(fx::sub(one, ratio, st), fx::constant<W>(-1.0), one, st);
+  const W slip = fx::clamp(fx::sub(kOne, ratio, st), kMinusOne, kOne, st);
   out = Ratio{fx::rescale<RatioQ>(slip, st)};
   return st.ok();
 }

@@ -27,6 +27,8 @@ constexpr AngleRad kMaxAttitudeLimit{fx::constant<AngleQ>(1.05)};
 /// (never inside the validated envelope of a sane geometry): report it rather
 /// than divide by it.
 constexpr W kMinLever{fx::constant<W>(0.001)};
+constexpr W kHalf{fx::constant<W>(0.5)};
+constexpr Ratio kMaxHighSlip{fx::constant<RatioQ>(1.0)};
 
 bool within(LengthM v, LengthM limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
 bool within(AngleRad v, AngleRad limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
@@ -102,7 +104,7 @@ RoverParamStatus validate_rover_params(const RoverParams& p) noexcept {
   if (!positive_at_most(p.attitude_limit_rad, kMaxAttitudeLimit)) {
     return RoverParamStatus::bad_attitude_limit;
   }
-  if ((p.high_slip.raw() <= 0) || (p.high_slip > Ratio{fx::constant<RatioQ>(1.0)})) {
+  if ((p.high_slip.raw() <= 0) || (p.high_slip > kMaxHighSlip)) {
     return RoverParamStatus::bad_high_slip;
   }
   return RoverParamStatus::ok;
@@ -136,11 +138,10 @@ WheelLoadResult wheel_loads(const RoverParams& params, const RoverAttitude& atti
   const W weight_n = fx::mul<W>(params.mass_kg.q(), params.gravity_mps2.q(), st);
   const W com_xt = project(wide(params.com_x_m, st), wide(params.com_z_m, st), kx, st);
   const W com_yt = project(wide(params.com_y_m, st), wide(params.com_z_m, st), ky, st);
-  const W half = fx::constant<W>(0.5);
   // Differential: equal pivot moments, which the pitch balance fixes (3.4).
-  const W pivot_moment = fx::mul(fx::mul(half, weight_n, st), com_xt, st);
+  const W pivot_moment = fx::mul(fx::mul(kHalf, weight_n, st), com_xt, st);
 
-  const W half_track = fx::mul(half, wide(params.track_width_m, st), st);
+  const W half_track = fx::mul(kHalf, wide(params.track_width_m, st), st);
   const W radius = wide(params.wheel_radius_m, st);
   const Point rocker_front = wide(params.rocker_front_axle, st);
   const Point rocker_bogie = wide(params.rocker_bogie_pivot, st);

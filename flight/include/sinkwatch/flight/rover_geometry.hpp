@@ -102,26 +102,34 @@ enum class RoverParamStatus : std::uint8_t {
 /// Checks every field; the first failing rule is reported.
 [[nodiscard]] RoverParamStatus validate_rover_params(const RoverParams& p) noexcept;
 
-/// The assumed Yutu-like rover (docs/rover-loads.md, section 8): 140 kg,
-/// 0.15 m wheel radius (published), link lengths assumed.
+namespace detail {
+/// Built once at compile time (a variable, not a function body), so that no
+/// fx::constant is ever evaluated at run time, even in a -O0 build.
+constexpr RoverParams kYutuLikeRoverParams{
+    MassKg{fx::constant<MassQ>(140.0)},
+    kGravityMoon,
+    LengthM{fx::constant<LengthQ>(0.0)},
+    LengthM{fx::constant<LengthQ>(0.0)},
+    LengthM{fx::constant<LengthQ>(0.10)},
+    LengthM{fx::constant<LengthQ>(0.90)},
+    LengthM{fx::constant<LengthQ>(0.15)},
+    SidePointM{LengthM{fx::constant<LengthQ>(0.50)}, LengthM{fx::constant<LengthQ>(-0.30)}},
+    SidePointM{LengthM{fx::constant<LengthQ>(-0.25)}, LengthM{fx::constant<LengthQ>(-0.15)}},
+    SidePointM{LengthM{fx::constant<LengthQ>(0.25)}, LengthM{fx::constant<LengthQ>(-0.15)}},
+    SidePointM{LengthM{fx::constant<LengthQ>(-0.25)}, LengthM{fx::constant<LengthQ>(-0.15)}},
+    AngleRad{fx::constant<AngleQ>(0.35)},
+    AngleRad{fx::constant<AngleQ>(0.50)},
+    AngleRad{fx::constant<AngleQ>(1.0)},
+    Ratio{fx::constant<RatioQ>(0.6)},
+};
+}  // namespace detail
+
+/// The assumed Yutu-like rover (docs/rover-loads.md, section 5): 140 kg and
+/// the 0.15 m wheel radius are published, the link lengths are assumed.
 [[nodiscard]] constexpr RoverParams yutu_like_rover_params(AccelMps2 gravity_mps2) noexcept {
-  return RoverParams{
-      MassKg{fx::constant<MassQ>(140.0)},
-      gravity_mps2,
-      LengthM{fx::constant<LengthQ>(0.0)},
-      LengthM{fx::constant<LengthQ>(0.0)},
-      LengthM{fx::constant<LengthQ>(0.10)},
-      LengthM{fx::constant<LengthQ>(0.90)},
-      LengthM{fx::constant<LengthQ>(0.15)},
-      SidePointM{LengthM{fx::constant<LengthQ>(0.50)}, LengthM{fx::constant<LengthQ>(-0.30)}},
-      SidePointM{LengthM{fx::constant<LengthQ>(-0.25)}, LengthM{fx::constant<LengthQ>(-0.15)}},
-      SidePointM{LengthM{fx::constant<LengthQ>(0.25)}, LengthM{fx::constant<LengthQ>(-0.15)}},
-      SidePointM{LengthM{fx::constant<LengthQ>(-0.25)}, LengthM{fx::constant<LengthQ>(-0.15)}},
-      AngleRad{fx::constant<AngleQ>(0.35)},
-      AngleRad{fx::constant<AngleQ>(0.50)},
-      AngleRad{fx::constant<AngleQ>(1.0)},
-      Ratio{fx::constant<RatioQ>(0.6)},
-  };
+  RoverParams p = detail::kYutuLikeRoverParams;
+  p.gravity_mps2 = gravity_mps2;
+  return p;
 }
 
 // ------------------------------------------------ parameter-table section 6
