@@ -1,0 +1,138 @@
+/* sinkwatch.h: the C interface of the flight module, for C flight frameworks
+ * (cFS applications, plain C firmware).
+ *
+ * It wraps the per-cycle step (flight/rover_step.hpp: telemetry -> wheel
+ * loads -> drawbar pulls -> Eq. 15 sinkage, current limits, wheel states and
+ * the rover's stop-and-replan decision) and the parameter-table loader
+ * (flight/param_table.hpp). No allocation: the caller owns the context's
+ * storage, typically a static object. Every number crosses the interface as
+ * the raw integer of its Q format, named in the field (q20 = 20 fraction
+ * bits): there is no floating point on either side.
+ *
+ * Threading: a context is used by one task at a time.
+ */
+#ifndef SINKWATCH_H
+#define SINKWATCH_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define SW_WHEELS 6U
+/* Storage for one context. The implementation checks at compile time that
+ * its state fits; docs/firmware.md gives the measured size. */
+#define SW_CONTEXT_BYTES 4096U
+
+typedef struct sw_context {
+  union {
+    uint64_t align_; /* 8-byte alignment for the state inside */
+    uint8_t bytes[SW_CONTEXT_BYTES];
+  } opaque;
+} sw_context;
+
+/* Results of sw_init and sw_step. Values 1..10 mirror RoverStepStatus. */
+typedef enum sw_status {
+  SW_OK = 0,
+  SW_INVALID_TABLE = 1,
+  SW_INVALID_ROVER_PARAMS = 2,
+  SW_TELEMETRY_INVALID = 3,
+  SW_TELEMETRY_STALE = 4,
+  SW_TELEMETRY_REPEATED = 5,
+  SW_MOTION_OUT_OF_RANGE = 6,
+  SW_LOADS_FAILED = 7,
+  SW_TIP_OVER = 8,
+  SW_NO_ACCELERATION = 9,
+  SW_DRAWBAR_FAILED = 10,
+  SW_NULL_ARGUMENT = 100,
+  SW_NOT_INITIALISED = 101
+} sw_status;
+
+enum { SW_DIRECTION_FORWARD = 0, SW_DIRECTION_REVERSE = 1 };
+enum { SW_WHEEL_NOMINAL = 0, SW_WHEEL_CAUTION = 1, SW_WHEEL_STOP = 2 };
+enum { SW_DECISION_CONTINUE = 0, SW_DECISION_STOP_AND_REPLAN = 1 };
+
+/* One cycle's raw telemetry. Wheel order: left front, left middle, left rear,
+ * right front, right middle, right rear (flight/rover_geometry.hpp). */
+typedef struct sw_telemetry {
+  uint32_t time_ms;                  /* when the sample was taken */
+  uint8_t valid;                     /* the source's own validity flag */
+  uint8_t direction[SW_WHEELS];      /* SW_DIRECTION_* commanded per wheel */
+  int32_t current_a_q20[SW_WHEELS];  /* motor current, A, Q11.20, + drives forward */
+  int32_t pitch_rad_q28;             /* IMU pitch, rad, Q3.28, nose up + */
+  int32_t roll_rad_q28;              /* IMU roll, rad, Q3.28, right side down + */
+  int32_t rocker_rad_q28[2];         /* left, right; rad, Q3.28 */
+  int32_t bogie_rad_q28[2];          /* left, right; rad, Q3.28 */
+  uint8_t accel_valid;
+  int32_t accel_mps2_q24;            /* along the path, m/s^2, Q7.24 */
+  uint8_t speed_valid;
+  int32_t speed_mps_q24;             /* over the ground, m/s, Q7.24 */
+  uint8_t rim_speed_valid;
+  int32_t rim_speed_mps_q24;         /* mean r*omega of the driven wheels, m/s, Q7.24 */
+} sw_telemetry;
+
+typedef struct sw_wheel_result {
+  uint8_t state;                /* SW_WHEEL_* */
+  uint8_t sample_status;        /* SampleStatus of flight/monitor.hpp */
+  uint8_t stop_reason;          /* StopReason: 0 none, 1 current, 2 sinkage, 3 telemetry */
+  uint8_t stop_tripped;         /* entered STOP this cycle: read sw_last_event */
+  uint8_t estimate_valid;       /* torque and sinkage hold this cycle's numbers */
+  uint8_t limit_valid;          /* current limit holds this cycle's number */
+  int32_t load_n_q16;           /* wheel load, N, Q15.16 (valid when loads_valid) */
+  int32_t drawbar_pull_n_q16;   /* drawbar pull, N, Q15.16 (valid when drawbar_valid) */
+  int32_t torque_nm_q16;        /* drive torque, N*m, Q15.16 */
+  int32_t sinkage_m_q24;        /* Eq. 15 sinkage, m, Q7.24 */
+  int32_t current_limit_a_q20;  /* maximum drive current, A, Q11.20 */
+} sw_wheel_result;
+
+typedef struct sw_cycle_result {
+  uint8_t status;         /* sw_status of the step */
+  uint8_t decision;       /* SW_DECISION_* */
+  uint8_t loads_valid;
+  uint8_t drawbar_valid;
+  uint8_t wheels_in_stop;
+  uint8_t wheels_in_caution;
+  sw_wheel_result wheel[SW_WHEELS];
+} sw_cycle_result;
+
+/* Written when a wheel enters STOP: what the ground needs to reproduce it. */
+typedef struct sw_event {
+  uint8_t wheel;
+  uint8_t reason;                /* StopReason */
+  uint8_t peak_sinkage_valid;
+  uint8_t max_estimate_valid;
+  uint32_t time_ms;
+  int32_t peak_current_a_q20;    /* largest drive current of the episode */
+  int32_t load_at_peak_n_q16;
+  int32_t peak_sinkage_m_q24;    /* Eq. 15 at the peak current with DP = DP_max */
+  int32_t max_estimate_m_q24;    /* largest per-cycle sinkage estimate */
+} sw_event;
+
+/* Puts a context in its initial state: the default parameter table (Table 2's
+ * corrections) and the Yutu-like rover on the Moon. */
+sw_status sw_init(sw_context* ctx);
+
+/* Loads a parameter table from bytes. Returns 0 when it is in force, else the
+ * RejectReason (flight/param_table.hpp) and the previous table stays in force.
+ * A table with a rover-geometry section replaces the rover parameters too. */
+uint8_t sw_load_table(sw_context* ctx, const uint8_t* bytes, size_t size);
+
+/* CRC-32 of the table in force (0 for the built-in default). */
+uint32_t sw_active_table_crc(const sw_context* ctx);
+
+/* One control cycle; `now_ms` is the monitor's clock. */
+sw_status sw_step(sw_context* ctx, const sw_telemetry* telemetry, uint32_t now_ms, sw_cycle_result* out);
+
+/* The ground's acknowledgement after a re-plan: every wheel back to NOMINAL. */
+void sw_clear_stop(sw_context* ctx);
+
+/* The last event of a wheel. Returns 1 and fills `out` when there is one. */
+int sw_last_event(const sw_context* ctx, uint8_t wheel, sw_event* out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SINKWATCH_H */
