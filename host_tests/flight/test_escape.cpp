@@ -68,6 +68,14 @@ TEST_F(EscapeTest, FreedAsSoonAsTheSinkageIsLowEnough) {
   EXPECT_EQ(at(now + 1000U, 0.06).state, EscapeState::freed);  // final
 }
 
+TEST_F(EscapeTest, FreedDuringAReversePhase) {
+  seq.start(TimeMs{0U}, z(0.06));
+  EXPECT_EQ(at(5000U, 0.05).state, EscapeState::reverse);
+  const EscapeOutput o = at(6000U, 0.019);
+  EXPECT_EQ(o.state, EscapeState::freed);
+  EXPECT_EQ(o.cycles_done, 0U);
+}
+
 TEST_F(EscapeTest, AbortsWhenTheSinkageStopsDecreasing) {
   seq.start(TimeMs{0U}, z(0.06));
   EXPECT_EQ(cycle(0.05).state, EscapeState::forward);    // progress

@@ -153,6 +153,39 @@ TEST_F(MonitorTest, CautionToStopOnCurrentRecordsPeakAndSection7Sinkage) {
   EXPECT_GT(d(e.peak_sinkage_m), 0.045);  // above z_max: the current was above I_max
 }
 
+TEST_F(MonitorTest, NominalToStopOnCurrentDirectly) {
+  current_stop();
+  current_stop();
+  const WheelOutput o = current_stop();
+  EXPECT_EQ(o.state, WheelState::stop);
+  EXPECT_EQ(o.stop_reason, StopReason::current);
+  EXPECT_TRUE(o.stop_tripped);
+}
+
+TEST_F(MonitorTest, CautionToStopOnSinkage) {
+  for (int i = 0; i < 3; ++i) current_caution();
+  ASSERT_EQ(wheel.state(), WheelState::caution);
+  sink_stop();
+  sink_stop();
+  const WheelOutput o = sink_stop();
+  EXPECT_EQ(o.state, WheelState::stop);
+  EXPECT_EQ(o.stop_reason, StopReason::sinkage);
+  EXPECT_EQ(wheel.last_event().reason, StopReason::sinkage);
+  // The peak current of the episode is the caution-level current.
+  EXPECT_NEAR(d(wheel.last_event().peak_current_a), 2.2, 1e-6);
+}
+
+TEST_F(MonitorTest, NominalToStopOnLostTelemetryDirectly) {
+  table.monitor.trip_n = 8U;  // caution needs 8 samples, telemetry loss only 2
+  table.monitor.invalid_to_stop = 2U;
+  ASSERT_EQ(validate(table), RejectReason::ok);
+  EXPECT_EQ(invalid().state, WheelState::nominal);
+  const WheelOutput o = invalid();
+  EXPECT_EQ(o.state, WheelState::stop);
+  EXPECT_EQ(o.stop_reason, StopReason::telemetry);
+  EXPECT_FALSE(wheel.last_event().peak_sinkage_valid);
+}
+
 TEST_F(MonitorTest, StopIsLatchedUntilCleared) {
   for (int i = 0; i < 3; ++i) current_stop();
   ASSERT_EQ(wheel.state(), WheelState::stop);
