@@ -17,6 +17,13 @@ from pathlib import Path
 # (measured on the disassembly of libgcc.a from gcc-arm-none-eabi 12.2).
 RUNTIME_ALLOWANCE = 64
 
+# GCC names the target of a call through a function pointer __indirect_call.
+# The flight code has one kind: the parameter table's extension validator.
+# Its possible targets are listed in flight/firmware/indirect_targets.txt and
+# the deepest of them is charged; an indirect call with no listed target makes
+# the bound unknown.
+INDIRECT = '__indirect_call'
+
 NODE = re.compile(r'^node: \{ title: "([^"]*)" label: "([^"]*)"')
 EDGE = re.compile(r'^edge: \{ sourcename: "([^"]*)" targetname: "([^"]*)"')
 FRAME = re.compile(r'\\n(\d+) bytes \(([a-z,]+)\)')
@@ -47,10 +54,18 @@ def load(build_dir):
     return frames, qualifiers, labels, calls
 
 
+def load_indirect_targets():
+    path = Path(__file__).resolve().parent.parent / 'flight' / 'firmware' / 'indirect_targets.txt'
+    if not path.exists():
+        return []
+    return [l.strip() for l in path.read_text().splitlines() if l.strip() and not l.startswith('#')]
+
+
 def worst(entry, frames, qualifiers, calls):
     """(bytes, path, problems) of the deepest call chain from entry."""
     memo = {}
     problems = set()
+    indirect_targets = load_indirect_targets()
 
     def visit(name, stack):
         if name in stack:
@@ -58,6 +73,12 @@ def worst(entry, frames, qualifiers, calls):
             return 0, [name]
         if name in memo:
             return memo[name]
+        if name == INDIRECT:
+            known = [t for t in indirect_targets if t in frames]
+            if not known:
+                problems.add('indirect call with no known target')
+                return 0, [name]
+            return max((visit(t, stack) for t in known), key=lambda d: d[0])
         if name not in frames:
             memo[name] = (RUNTIME_ALLOWANCE, [name + ' (runtime allowance)'])
             return memo[name]
