@@ -137,8 +137,13 @@ int main(int argc, char** argv) {
   }
   // Current limit (section 7).
   for (int i = 0; i < 60; ++i) {
-    golden::Row row = motor_row(golden::Kind::limit, uniform(50, 1000), uniform(0.3, 1.0), uniform(0.005, 0.1),
-                                uniform(0.0, 0.3), 20.0);
+    // One draw per statement: the order of evaluation of function arguments
+    // is unspecified, and the file must be the same on every compiler.
+    const double n = uniform(50, 1000);
+    const double eta = uniform(0.3, 1.0);
+    const double kt = uniform(0.005, 0.1);
+    const double i0 = uniform(0.0, 0.3);
+    golden::Row row = motor_row(golden::Kind::limit, n, eta, kt, i0, 20.0);
     row.in[5] = raw<LengthQ>(uniform(0.05, 0.4));
     row.in[6] = raw<LoadQ>(uniform(5.0, 400.0));
     row.in[7] = raw<LengthQ>(uniform(0.005, 0.1));
