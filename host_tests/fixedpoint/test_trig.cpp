@@ -67,14 +67,14 @@ TEST(FxSinCos, ExactPoints) {
 
 TEST(FxSinCos, WorkedExamplesWithinOneLsb) {
   fx::Status s;
-  const Q1_30 pi_6 = fx::constant<Q1_30>(0.52359877559829887);
+  constexpr Q1_30 pi_6 = fx::constant<Q1_30>(0.52359877559829887);
   EXPECT_LE(std::fabs(lsb_error(fx::sin(pi_6, s), sinl(std::ldexp(static_cast<long double>(pi_6.raw()), -30)))), 1.0L);
   EXPECT_NEAR(static_cast<double>(fx::sin(pi_6, s).raw()), 536870912.0, 2.0);  // 0.5
-  const Q31_32 pi_3 = fx::constant<Q31_32>(1.0471975511965976);
+  constexpr Q31_32 pi_3 = fx::constant<Q31_32>(1.0471975511965976);
   EXPECT_NEAR(static_cast<double>(fx::cos(pi_3, s).raw()), 536870912.0, 2.0);
-  const Q15_16 minus_pi_2 = fx::constant<Q15_16>(-1.5707963267948966);
+  constexpr Q15_16 minus_pi_2 = fx::constant<Q15_16>(-1.5707963267948966);
   EXPECT_NEAR(static_cast<double>(fx::sin(minus_pi_2, s).raw()), -1073741824.0, 1.0);
-  const Q15_16 pi = fx::constant<Q15_16>(3.141592653589793);
+  constexpr Q15_16 pi = fx::constant<Q15_16>(3.141592653589793);
   EXPECT_NEAR(static_cast<double>(fx::cos(pi, s).raw()), -1073741824.0, 1.0);
   EXPECT_TRUE(s.ok());
 }
@@ -179,8 +179,8 @@ TEST(FxEntryAngle, EndsAndMiddle) {
 TEST(FxEntryAngle, WheelExampleMatchesArccos) {
   // A 0.13 m wheel sunk 5 mm: theta1 = arccos(1 - 0.005/0.13) = 0.27808 rad.
   fx::Status s;
-  const Q15_16 z_m = fx::constant<Q15_16>(0.005);
-  const Q15_16 r_m = fx::constant<Q15_16>(0.13);
+  constexpr Q15_16 z_m = fx::constant<Q15_16>(0.005);
+  constexpr Q15_16 r_m = fx::constant<Q15_16>(0.13);
   const Q1_30 ratio = fx::div<Q1_30>(z_m, r_m, s);
   const Q3_28 theta1 = fx::entry_angle(ratio, s);
   EXPECT_TRUE(s.ok());

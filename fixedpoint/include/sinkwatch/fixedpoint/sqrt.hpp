@@ -80,8 +80,10 @@ template <typename S, std::int32_t F>
 /// 1 / a in the format Out, within 0.5 LSB; a == 0 raises div_by_zero.
 template <typename Out, typename S, std::int32_t F>
 [[nodiscard]] constexpr Out reciprocal(Q<S, F> a, Status& status) noexcept {
-  // 1 as a Q<int64_t, 0>: exact, and div rounds once.
-  return div<Out>(Q<std::int64_t, 0>::from_raw(1), a, status);
+  // 1 as a Q<S, 0>: exact, and div rounds once. Same storage as `a`, so for
+  // 32-bit formats the division stays in 64 bits (2^(Fo + F) <= 2^60) instead
+  // of taking the 128-bit long-division loop.
+  return div<Out>(Q<S, 0>::from_raw(1), a, status);
 }
 
 }  // namespace fx
