@@ -25,7 +25,7 @@ namespace flight {
 
 /// One drive motor and its gearbox (all six wheels share the type).
 struct MotorParams {
-  GearRatio gear_ratio;              ///< N, wheel turns per motor turn inverted (N > 1 reduces speed)
+  GearRatio gear_ratio;              ///< N, motor turns per wheel turn (torque multiplier)
   Efficiency efficiency;             ///< eta in (0, 1]
   TorqueConstantNmPerA kt_nm_per_a;  ///< Kt at the motor shaft
   CurrentA no_load_current_a;        ///< I0 >= 0
