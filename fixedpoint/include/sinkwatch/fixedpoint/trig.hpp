@@ -1,11 +1,12 @@
 // trig.hpp: sin, cos, asin, acos and the wheel entry angle in Q format.
 //
-// The entry angle is the paper's theta1 = arccos(1 - z/r) (the angle at which
-// the soil first touches a wheel of radius r sunk by z; it bounds the
-// integrals of the Wong-Reece stress model, docs/derivation.md). It is
-// computed as 2 asin(sqrt(z / (2 r))): the same number, but accurate near zero
-// sinkage, where 1 - z/r loses every significant bit of z. sin and cos serve
-// the attitude (slope) terms.
+// The entry angle is the paper's geometry cos theta1 = 1 - z/r (the angle at
+// which the soil first touches a wheel of radius r sunk by z; the upper bound
+// of the Wong-Reece stress integrals, Eqs. 1-8, and the term Eqs. 9-10
+// approximate by z/r; docs/derivation.md). It is computed as
+// 2 asin(sqrt(z / (2 r))): the same number, but accurate near zero sinkage,
+// where 1 - z/r loses the significant bits of z. sin and cos serve the
+// attitude (slope) terms and the trigonometric terms of Eqs. 7-8.
 //
 // Every function here runs on an FPU-less Cortex-M0 every control cycle for
 // six wheels, so:
