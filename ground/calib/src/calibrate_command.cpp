@@ -12,8 +12,11 @@
 
 #include <CLI/CLI.hpp>
 
+#include "sinkwatch/fixedpoint/host_convert.hpp"
+
 #include "sinkwatch/ground/calibration.hpp"
 #include "sinkwatch/ground/calibration_report.hpp"
+#include "sinkwatch/ground/flight_table.hpp"
 #include "sinkwatch/ground/soil_bin_csv.hpp"
 
 namespace sinkwatch {
@@ -72,6 +75,35 @@ void run_calibrate(const CalibrateOptions& options, std::ostream& out) {
   }
 
   std::vector<PendingFile> files;
+  if (!options.table_path.empty()) {
+    const flight::ParameterTable base = options.base_table_path.empty()
+                                            ? flight::default_parameter_table()
+                                            : read_flight_table(options.base_table_path);
+    FlightTableRequest request;
+    request.rows = correction_entries(dataset, report.fit,
+                                      options.per_load ? &report.load_table : nullptr);
+    request.wheel_radius_m = common_wheel_radius(dataset);
+    request.table_version = options.table_version;
+    const FlightTable table = build_flight_table(base, request);
+
+    FlightTableSummary summary;
+    summary.path = options.table_path;
+    summary.bytes = table.bytes.size();
+    summary.crc = table.crc;
+    summary.table_version = table.table.table_version;
+    summary.wheel_radius_m = fx::to_double(table.table.wheel_radius_m.q());
+    summary.radius_from_data = request.wheel_radius_m.has_value();
+    summary.base = options.base_table_path.empty() ? "flight default table"
+                                                   : "base table " + options.base_table_path;
+    for (std::uint8_t i = 0U; i < table.table.correction.count; ++i) {
+      const flight::CorrectionRow& row = table.table.correction.rows[i];
+      summary.rows.push_back({fx::to_double(row.load_n.q()), fx::to_double(row.c1.q()),
+                              fx::to_double(row.c2.q()), fx::to_double(row.c3.q()),
+                              fx::to_double(row.dp_max_ratio.q())});
+    }
+    report.flight_table = summary;
+    files.push_back({options.table_path, std::string(table.bytes.begin(), table.bytes.end())});
+  }
   if (!options.json_path.empty()) {
     files.push_back({options.json_path, to_json(report)});
   }
@@ -101,7 +133,19 @@ void add_calibrate_command(CLI::App& app) {
   sub->add_option("--fix", options->fix,
                   "hold coefficients fixed, e.g. c1=1,c2=1 (the paper's Table 2 form)");
   sub->add_option("--json", options->json_path, "write every result as JSON to this file");
-  sub->callback([options, radius, radius_option, load, load_option]() {
+  sub->add_option("--table", options->table_path,
+                  "write the binary flight parameter table (with its CRC) holding the fitted "
+                  "C(W) rows; needs the load (load_N or --load)");
+  sub->add_option("--base-table", options->base_table_path,
+                  "take the other sections of --table from this table file (default: the "
+                  "flight module's default table)");
+  auto version = std::make_shared<std::uint16_t>(0U);
+  CLI::Option* version_option =
+      sub->add_option("--table-version", *version, "table version written into --table");
+  sub->callback([options, radius, radius_option, load, load_option, version, version_option]() {
+    if (version_option->count() > 0) {
+      options->table_version = *version;
+    }
     if (radius_option->count() > 0) {
       options->wheel_radius_m = *radius;
     }

@@ -198,6 +198,20 @@ std::string json_fit_members(const CalibrationFit& fit, const std::string& pad) 
   return out.str();
 }
 
+void print_flight_table(std::ostream& out, const FlightTableSummary& t) {
+  out << format("\n  flight parameter table %s: %zu bytes, CRC-32 0x%08x, table version %u\n",
+                t.path.c_str(), t.bytes, static_cast<unsigned>(t.crc),
+                static_cast<unsigned>(t.table_version));
+  out << "  other sections from the " << t.base << "; wheel radius " << format("%.6g", t.wheel_radius_m)
+      << " m " << (t.radius_from_data ? "from the data (or --radius)" : "kept from the base table") << '\n';
+  out << "  as the flight code reads it (Q7.24 coefficients, Q15.16 loads):\n";
+  out << "    load_N          C1          C2          C3   DP_max/W\n";
+  for (const FlightTableSummary::Row& r : t.rows) {
+    out << format("  %8.3f  %10.7f  %10.7f  %10.7f  %9.6f\n", r.load_n, r.c1, r.c2, r.c3,
+                  r.dp_max_ratio);
+  }
+}
+
 }  // namespace
 
 void print_report(std::ostream& out, const CalibrationReport& report) {
@@ -231,6 +245,9 @@ void print_report(std::ostream& out, const CalibrationReport& report) {
                     num(f.condition_number, "%.3g").c_str());
     }
   }
+  if (report.flight_table) {
+    print_flight_table(out, *report.flight_table);
+  }
 }
 
 std::string to_json(const CalibrationReport& report) {
@@ -258,6 +275,22 @@ std::string to_json(const CalibrationReport& report) {
           << json_fit_members(report.load_table[i].fit, "      ") << "\n    }";
     }
     out << "\n  ]";
+  }
+  if (report.flight_table) {
+    const FlightTableSummary& t = *report.flight_table;
+    out << ",\n  \"flight_table\": {\"path\": " << json_string(t.path) << ", \"bytes\": " << t.bytes
+        << ", \"crc32\": " << t.crc << ", \"table_version\": " << t.table_version
+        << ", \"wheel_radius_m\": " << json_number(t.wheel_radius_m)
+        << ", \"radius_from_data\": " << (t.radius_from_data ? "true" : "false")
+        << ", \"base\": " << json_string(t.base) << ", \"rows\": [";
+    for (std::size_t i = 0; i < t.rows.size(); ++i) {
+      const FlightTableSummary::Row& r = t.rows[i];
+      out << (i == 0 ? "" : ", ") << "{\"load_N\": " << json_number(r.load_n)
+          << ", \"c1\": " << json_number(r.c1) << ", \"c2\": " << json_number(r.c2)
+          << ", \"c3\": " << json_number(r.c3) << ", \"dp_max_ratio\": " << json_number(r.dp_max_ratio)
+          << '}';
+    }
+    out << "]}";
   }
   out << "\n}\n";
   return out.str();

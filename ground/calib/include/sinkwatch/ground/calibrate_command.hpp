@@ -1,10 +1,12 @@
 // calibrate_command.hpp: the `sinkwatch calibrate DATA.csv` subcommand. Reads
 // soil-bin data (soil_bin_csv.hpp), fits Eq. 11 by least squares
 // (calibration.hpp, the paper's Eq. 12/13) and writes the report, optionally
-// the JSON (--json) and the per-load C(W) table (--per-load).
+// the per-load C(W) table (--per-load), the JSON (--json) and the binary
+// flight parameter table (--table, flight_table.hpp).
 #ifndef SINKWATCH_GROUND_CALIBRATE_COMMAND_HPP
 #define SINKWATCH_GROUND_CALIBRATE_COMMAND_HPP
 
+#include <cstdint>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -23,6 +25,9 @@ struct CalibrateOptions {
   bool per_load = false;                 // --per-load
   std::string fix;                       // --fix c1=1,c2=1
   std::string json_path;                 // --json FILE, empty: none
+  std::string table_path;                // --table FILE: binary flight parameter table
+  std::string base_table_path;           // --base-table FILE, empty: the flight default
+  std::optional<std::uint16_t> table_version;  // --table-version
 };
 
 /// Runs a calibration: prints the report on `out` and writes the requested

@@ -4,7 +4,9 @@
 #ifndef SINKWATCH_GROUND_CALIBRATION_REPORT_HPP
 #define SINKWATCH_GROUND_CALIBRATION_REPORT_HPP
 
+#include <cstdint>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +16,26 @@
 namespace sinkwatch {
 namespace ground {
 
+/// What went into the flight parameter table (--table), read back from the
+/// decoded bytes: the numbers the flight code will use.
+struct FlightTableSummary {
+  struct Row {
+    double load_n = 0.0;
+    double c1 = 0.0;
+    double c2 = 0.0;
+    double c3 = 0.0;
+    double dp_max_ratio = 0.0;
+  };
+  std::string path;
+  std::size_t bytes = 0;
+  std::uint32_t crc = 0;
+  std::uint16_t table_version = 0;
+  double wheel_radius_m = 0.0;
+  bool radius_from_data = false;  // else kept from the base table
+  std::string base;               // "flight default" or the base table's path
+  std::vector<Row> rows;
+};
+
 struct CalibrationReport {
   std::string source;
   SoilBinForm form = SoilBinForm::dimensionless;
@@ -21,6 +43,7 @@ struct CalibrationReport {
   CalibrationFit fit;               // all rows pooled
   bool per_load = false;
   std::vector<LoadFit> load_table;  // the C(W) table when per_load
+  std::optional<FlightTableSummary> flight_table;
 };
 
 /// The default terminal output: coefficients with standard errors and 95 %

@@ -1,0 +1,293 @@
+// flight_table.cpp: the calibration's C(W) table as flight parameter-table bytes.
+#include "sinkwatch/ground/flight_table.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include "sinkwatch/fixedpoint/host_convert.hpp"
+#include "sinkwatch/flight/estimator.hpp"
+
+namespace sinkwatch {
+namespace ground {
+
+namespace {
+
+// Rows whose loads agree to this relative tolerance are one load (as in
+// fit_per_load).
+constexpr double kSameLoad = 1e-9;
+
+template <typename QuantityType>
+QuantityType quantise(double value, const char* what, double load_n) {
+  fx::Status status;
+  const auto q = fx::from_double<typename QuantityType::q_type>(value, status);
+  if (!status.ok()) {
+    std::ostringstream message;
+    message << "flight table: " << what << " = " << value << " at load " << load_n
+            << " N does not fit its fixed-point format";
+    throw CalibrationError(message.str());
+  }
+  return QuantityType(q);
+}
+
+template <typename QuantityType>
+double as_double(QuantityType value) {
+  return fx::to_double(value.q());
+}
+
+std::string describe_rows(const flight::CorrectionTable& c) {
+  std::ostringstream out;
+  out.precision(6);
+  for (std::uint8_t i = 0U; i < c.count && i < flight::kMaxCorrectionRows; ++i) {
+    const flight::CorrectionRow& row = c.rows[i];
+    out << "\n  load " << as_double(row.load_n) << " N: C1 " << as_double(row.c1) << ", C2 "
+        << as_double(row.c2) << ", C3 " << as_double(row.c3) << ", DP_max/W "
+        << as_double(row.dp_max_ratio);
+  }
+  return out.str();
+}
+
+}  // namespace
+
+std::string reject_reason_name(flight::RejectReason reason) {
+  using R = flight::RejectReason;
+  switch (reason) {
+    case R::ok:
+      return "ok";
+    case R::null_buffer:
+      return "null_buffer";
+    case R::too_short:
+      return "too_short";
+    case R::too_long:
+      return "too_long";
+    case R::bad_magic:
+      return "bad_magic";
+    case R::unsupported_format_version:
+      return "unsupported_format_version";
+    case R::length_mismatch:
+      return "length_mismatch";
+    case R::reserved_not_zero:
+      return "reserved_not_zero";
+    case R::crc_mismatch:
+      return "crc_mismatch";
+    case R::section_truncated:
+      return "section_truncated";
+    case R::section_length_mismatch:
+      return "section_length_mismatch";
+    case R::unknown_section:
+      return "unknown_section";
+    case R::duplicate_section:
+      return "duplicate_section";
+    case R::missing_section:
+      return "missing_section";
+    case R::section_count_mismatch:
+      return "section_count_mismatch";
+    case R::radius_out_of_range:
+      return "radius_out_of_range";
+    case R::gear_ratio_out_of_range:
+      return "gear_ratio_out_of_range";
+    case R::efficiency_out_of_range:
+      return "efficiency_out_of_range";
+    case R::torque_constant_out_of_range:
+      return "torque_constant_out_of_range";
+    case R::no_load_current_out_of_range:
+      return "no_load_current_out_of_range";
+    case R::current_range_out_of_range:
+      return "current_range_out_of_range";
+    case R::correction_count_out_of_range:
+      return "correction_count_out_of_range";
+    case R::load_breakpoint_out_of_range:
+      return "load_breakpoint_out_of_range";
+    case R::load_breakpoints_not_increasing:
+      return "load_breakpoints_not_increasing";
+    case R::c1_out_of_range:
+      return "c1_out_of_range";
+    case R::c2_out_of_range:
+      return "c2_out_of_range";
+    case R::c3_out_of_range:
+      return "c3_out_of_range";
+    case R::dp_max_out_of_range:
+      return "dp_max_out_of_range";
+    case R::allowed_sinkage_out_of_range:
+      return "allowed_sinkage_out_of_range";
+    case R::caution_sinkage_out_of_range:
+      return "caution_sinkage_out_of_range";
+    case R::stop_sinkage_out_of_range:
+      return "stop_sinkage_out_of_range";
+    case R::sinkage_hysteresis_out_of_range:
+      return "sinkage_hysteresis_out_of_range";
+    case R::current_caution_fraction_out_of_range:
+      return "current_caution_fraction_out_of_range";
+    case R::current_hysteresis_out_of_range:
+      return "current_hysteresis_out_of_range";
+    case R::load_envelope_out_of_range:
+      return "load_envelope_out_of_range";
+    case R::stale_timeout_out_of_range:
+      return "stale_timeout_out_of_range";
+    case R::window_out_of_range:
+      return "window_out_of_range";
+    case R::trip_count_out_of_range:
+      return "trip_count_out_of_range";
+    case R::clear_count_out_of_range:
+      return "clear_count_out_of_range";
+    case R::invalid_limit_out_of_range:
+      return "invalid_limit_out_of_range";
+    case R::wheel_count_out_of_range:
+      return "wheel_count_out_of_range";
+    case R::rover_stop_k_out_of_range:
+      return "rover_stop_k_out_of_range";
+    case R::escape_phase_out_of_range:
+      return "escape_phase_out_of_range";
+    case R::escape_cycles_out_of_range:
+      return "escape_cycles_out_of_range";
+    case R::escape_patience_out_of_range:
+      return "escape_patience_out_of_range";
+    case R::escape_decrease_out_of_range:
+      return "escape_decrease_out_of_range";
+    case R::escape_freed_out_of_range:
+      return "escape_freed_out_of_range";
+    case R::extension_too_long:
+      return "extension_too_long";
+    case R::extension_rejected:
+      return "extension_rejected";
+    case R::buffer_too_small:
+      return "buffer_too_small";
+  }
+  return "reason " + std::to_string(static_cast<unsigned>(reason));
+}
+
+std::vector<CorrectionEntry> correction_entries(const SoilBinDataset& dataset,
+                                                const CalibrationFit& pooled,
+                                                const std::vector<LoadFit>* per_load) {
+  if (!dataset.has_load) {
+    throw CalibrationError(dataset.source +
+                           ": the flight table needs the wheel load: a load_N column or --load");
+  }
+  auto dp_max_at = [&dataset](double load_n) {
+    double best = -HUGE_VAL;
+    for (const SoilBinRow& row : dataset.rows) {
+      if (std::abs(*row.load_n - load_n) <= kSameLoad * load_n) {
+        best = std::max(best, row.traction_coeff);
+      }
+    }
+    return best;
+  };
+  std::vector<CorrectionEntry> rows;
+  if (per_load != nullptr) {
+    for (const LoadFit& entry : *per_load) {
+      rows.push_back({entry.load_n, entry.fit.c, dp_max_at(entry.load_n)});
+    }
+    return rows;
+  }
+  const double load = *dataset.rows.front().load_n;
+  for (const SoilBinRow& row : dataset.rows) {
+    if (std::abs(*row.load_n - load) > kSameLoad * load) {
+      throw CalibrationError(dataset.source +
+                             ": the data hold several loads; use --per-load to build the C(W) "
+                             "table for the flight table");
+    }
+  }
+  rows.push_back({load, pooled.c, dp_max_at(load)});
+  return rows;
+}
+
+std::optional<double> common_wheel_radius(const SoilBinDataset& dataset) {
+  std::optional<double> radius;
+  for (const SoilBinRow& row : dataset.rows) {
+    if (!row.wheel_radius_m) {
+      continue;
+    }
+    if (radius && *radius != *row.wheel_radius_m) {
+      throw CalibrationError(dataset.source + ":" + std::to_string(row.line) +
+                             ": the wheel radius differs between rows; the flight table holds one");
+    }
+    radius = row.wheel_radius_m;
+  }
+  return radius;
+}
+
+FlightTable build_flight_table(const flight::ParameterTable& base,
+                               const FlightTableRequest& request) {
+  if (request.rows.empty() || request.rows.size() > flight::kMaxCorrectionRows) {
+    throw CalibrationError("flight table: " + std::to_string(request.rows.size()) +
+                           " loads, the table holds 1 to " +
+                           std::to_string(flight::kMaxCorrectionRows));
+  }
+  flight::ParameterTable table = base;
+  if (request.table_version) {
+    table.table_version = *request.table_version;
+  }
+  if (request.wheel_radius_m) {
+    table.wheel_radius_m =
+        quantise<flight::LengthM>(*request.wheel_radius_m, "wheel radius", request.rows[0].load_n);
+  }
+  table.correction = flight::CorrectionTable{};
+  table.correction.count = static_cast<std::uint8_t>(request.rows.size());
+  for (std::size_t i = 0; i < request.rows.size(); ++i) {
+    const CorrectionEntry& e = request.rows[i];
+    flight::CorrectionRow& row = table.correction.rows[i];
+    row.load_n = quantise<flight::WheelLoadN>(e.load_n, "load", e.load_n);
+    row.c1 = quantise<flight::Ratio>(e.c[0], "C1", e.load_n);
+    row.c2 = quantise<flight::Ratio>(e.c[1], "C2", e.load_n);
+    row.c3 = quantise<flight::Ratio>(e.c[2], "C3", e.load_n);
+    row.dp_max_ratio = quantise<flight::Ratio>(e.dp_max_ratio, "DP_max/W", e.load_n);
+  }
+
+  const flight::RejectReason verdict = flight::validate(table);
+  if (verdict != flight::RejectReason::ok) {
+    std::ostringstream message;
+    message.precision(4);
+    message << "the flight validation refuses the table (" << reject_reason_name(verdict)
+            << "); the flight estimator accepts C1 and C2 in ["
+            << as_double(flight::kMinC12) << ", " << as_double(flight::kMaxC12) << "], C3 in ["
+            << as_double(flight::kMinC3) << ", " << as_double(flight::kMaxC3)
+            << "] and a wheel radius in [" << as_double(flight::kMinRadiusM) << ", "
+            << as_double(flight::kMaxRadiusM) << "] m; the table would hold"
+            << describe_rows(table.correction);
+    throw CalibrationError(message.str());
+  }
+
+  std::array<std::uint8_t, flight::kMaxTableBytes> buffer{};
+  const flight::EncodeResult encoded = flight::encode(table, buffer.data(), buffer.size());
+  if (encoded.status != flight::RejectReason::ok) {
+    throw CalibrationError("flight table: encode failed (" + reject_reason_name(encoded.status) +
+                           ")");
+  }
+  FlightTable result;
+  result.bytes.assign(buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(encoded.size));
+  // Round trip through the loader's own decoder: what we hand out must load.
+  const flight::RejectReason loaded =
+      flight::decode(result.bytes.data(), result.bytes.size(), result.table);
+  if (loaded != flight::RejectReason::ok) {
+    throw CalibrationError("flight table: the encoded bytes do not decode (" +
+                           reject_reason_name(loaded) + ")");
+  }
+  const std::size_t n = result.bytes.size();
+  result.crc = static_cast<std::uint32_t>(result.bytes[n - 4]) |
+               (static_cast<std::uint32_t>(result.bytes[n - 3]) << 8U) |
+               (static_cast<std::uint32_t>(result.bytes[n - 2]) << 16U) |
+               (static_cast<std::uint32_t>(result.bytes[n - 1]) << 24U);
+  return result;
+}
+
+flight::ParameterTable read_flight_table(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw CalibrationError(path + ": cannot open the base table for reading");
+  }
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                        std::istreambuf_iterator<char>());
+  flight::ParameterTable table{};
+  const flight::RejectReason reason = flight::decode(bytes.data(), bytes.size(), table);
+  if (reason != flight::RejectReason::ok) {
+    throw CalibrationError(path + ": the flight loader refuses this table (" +
+                           reject_reason_name(reason) + ")");
+  }
+  return table;
+}
+
+}  // namespace ground
+}  // namespace sinkwatch
