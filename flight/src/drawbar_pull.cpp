@@ -22,6 +22,27 @@ DrawbarResult failed(DrawbarStatus status) noexcept {
 
 bool ratio_in_range(Ratio r) noexcept { return (r.raw() > 0) && (r <= kMaxDpMaxRatio); }
 
+/// The parameters, the acceleration, the slope, the slip and every ratio and
+/// load are in their accepted ranges.
+bool inputs_in_range(const RoverParams& params, const WheelLoadResult& loads, const DrawbarInput& input) noexcept {
+  if (validate_rover_params(params) != RoverParamStatus::ok) {
+    return false;
+  }
+  const bool accel_ok = (input.accel_mps2 <= kMaxAbsAccel) && (input.accel_mps2.raw() >= -kMaxAbsAccel.raw());
+  const bool pitch_ok = (input.pitch_rad <= params.attitude_limit_rad) &&
+                        (input.pitch_rad.raw() >= -params.attitude_limit_rad.raw());
+  const bool slip_ok = !input.slip_known || (input.slip <= kMaxSlip);
+  if (!accel_ok || !pitch_ok || !slip_ok) {
+    return false;
+  }
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    if (!ratio_in_range(input.dp_max_ratio[i]) || (loads.load_n[i].raw() < 0)) {
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 DrawbarResult drawbar_pulls(const RoverParams& params, const WheelLoadResult& loads,
@@ -29,22 +50,12 @@ DrawbarResult drawbar_pulls(const RoverParams& params, const WheelLoadResult& lo
   if (loads.status != WheelLoadStatus::ok) {
     return failed(DrawbarStatus::invalid_loads);
   }
-  if (validate_rover_params(params) != RoverParamStatus::ok) {
-    return failed(DrawbarStatus::invalid_input);
-  }
-  const bool accel_ok = (input.accel_mps2 <= kMaxAbsAccel) && (input.accel_mps2.raw() >= -kMaxAbsAccel.raw());
-  const bool pitch_ok = (input.pitch_rad <= params.attitude_limit_rad) &&
-                        (input.pitch_rad.raw() >= -params.attitude_limit_rad.raw());
-  const bool slip_ok = !input.slip_known || (input.slip <= kMaxSlip);
-  if (!accel_ok || !pitch_ok || !slip_ok) {
+  if (!inputs_in_range(params, loads, input)) {
     return failed(DrawbarStatus::invalid_input);
   }
   fx::Status st;
   W load_sum = W::zero();
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    if (!ratio_in_range(input.dp_max_ratio[i]) || (loads.load_n[i].raw() < 0)) {
-      return failed(DrawbarStatus::invalid_input);
-    }
     load_sum = fx::add(load_sum, fx::rescale<W>(loads.load_n[i].q(), st), st);
   }
   if (load_sum.raw() <= 0) {

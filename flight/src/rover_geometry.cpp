@@ -7,6 +7,8 @@ namespace flight {
 namespace {
 
 constexpr std::uint32_t kFieldCount = 19U;
+static_assert((4U + (4U * kFieldCount)) == kRoverSectionBytes, "layout: header and 19 fields");
+static_assert(kRoverSectionBytes <= kExtensionMaxBytes, "the section fits its frame");
 
 /// The fields in section order, as raw int32 values.
 void to_raw(const RoverParams& p, std::int32_t (&raw)[kFieldCount]) noexcept {
@@ -46,28 +48,36 @@ RoverParams from_raw(const std::int32_t (&raw)[kFieldCount]) noexcept {
   return p;
 }
 
-void put_u16(std::uint8_t* out, std::uint16_t v) noexcept {
-  out[0] = static_cast<std::uint8_t>(v & 0xFFU);
-  out[1] = static_cast<std::uint8_t>((v >> 8U) & 0xFFU);
+using SectionBytes = std::uint8_t[kExtensionMaxBytes];
+
+// Byte access by index into the section's fixed-size array: every offset used
+// below is a constant below kRoverSectionBytes <= kExtensionMaxBytes.
+void put_u16(SectionBytes& out, std::uint32_t at, std::uint16_t v) noexcept {
+  const std::uint32_t u = v;
+  out[at] = static_cast<std::uint8_t>(u & 0xFFU);
+  out[at + 1U] = static_cast<std::uint8_t>((u >> 8U) & 0xFFU);
 }
 
-std::uint16_t get_u16(const std::uint8_t* in) noexcept {
-  return static_cast<std::uint16_t>(static_cast<std::uint32_t>(in[0]) | (static_cast<std::uint32_t>(in[1]) << 8U));
+std::uint16_t get_u16(const SectionBytes& in, std::uint32_t at) noexcept {
+  const std::uint32_t lo = in[at];
+  const std::uint32_t hi = in[at + 1U];
+  return static_cast<std::uint16_t>(lo | (hi << 8U));
 }
 
-// Two's complement through uint32: the conversion of a value above INT32_MAX
-// back to int32 is done by subtracting 2^32 in int64, which is exact.
-void put_i32(std::uint8_t* out, std::int32_t v) noexcept {
-  const std::uint32_t u = static_cast<std::uint32_t>(static_cast<std::int64_t>(v) & 0xFFFFFFFFLL);
+// Two's complement through uint32: int32 -> uint32 is modular (defined), and
+// the way back subtracts 2^32 in int64, which is exact.
+void put_i32(SectionBytes& out, std::uint32_t at, std::int32_t v) noexcept {
+  const std::uint32_t u = static_cast<std::uint32_t>(v);
   for (std::uint32_t k = 0U; k < 4U; ++k) {
-    out[k] = static_cast<std::uint8_t>((u >> (8U * k)) & 0xFFU);
+    out[at + k] = static_cast<std::uint8_t>((u >> (8U * k)) & 0xFFU);
   }
 }
 
-std::int32_t get_i32(const std::uint8_t* in) noexcept {
+std::int32_t get_i32(const SectionBytes& in, std::uint32_t at) noexcept {
   std::uint32_t u = 0U;
   for (std::uint32_t k = 0U; k < 4U; ++k) {
-    u |= static_cast<std::uint32_t>(in[k]) << (8U * k);
+    const std::uint32_t byte = in[at + k];
+    u |= byte << (8U * k);
   }
   const std::int64_t wide = (u > 0x7FFFFFFFU) ? (static_cast<std::int64_t>(u) - 0x100000000LL)
                                               : static_cast<std::int64_t>(u);
@@ -81,21 +91,21 @@ void encode_rover_section(const RoverParams& params, ExtensionSection& out) noex
   to_raw(params, raw);
   out.present = true;
   out.length = kRoverSectionBytes;
-  put_u16(&out.bytes[0], kRoverSectionLayout);
-  put_u16(&out.bytes[2], 0U);
+  put_u16(out.bytes, 0U, kRoverSectionLayout);
+  put_u16(out.bytes, 2U, 0U);
   for (std::uint32_t i = 0U; i < kFieldCount; ++i) {
-    put_i32(&out.bytes[4U + (4U * i)], raw[i]);
+    put_i32(out.bytes, 4U + (4U * i), raw[i]);
   }
 }
 
 RoverParamStatus decode_rover_section(const ExtensionSection& section, RoverParams& out) noexcept {
   if (!section.present || (section.length != kRoverSectionBytes) ||
-      (get_u16(&section.bytes[0]) != kRoverSectionLayout) || (get_u16(&section.bytes[2]) != 0U)) {
+      (get_u16(section.bytes, 0U) != kRoverSectionLayout) || (get_u16(section.bytes, 2U) != 0U)) {
     return RoverParamStatus::bad_encoding;
   }
   std::int32_t raw[kFieldCount]{};
   for (std::uint32_t i = 0U; i < kFieldCount; ++i) {
-    raw[i] = get_i32(&section.bytes[4U + (4U * i)]);
+    raw[i] = get_i32(section.bytes, 4U + (4U * i));
   }
   const RoverParams decoded = from_raw(raw);
   const RoverParamStatus status = validate_rover_params(decoded);

@@ -43,12 +43,115 @@ bool slip_ratio(SpeedMps speed, SpeedMps rim, Ratio& out) noexcept {
   return st.ok();
 }
 
+/// Every motion input that is flagged valid lies in its accepted range.
+bool motion_in_range(const RoverTelemetry& t) noexcept {
+  return (!t.accel_valid || within(t.accel_mps2, kMaxAbsAccel)) &&
+         (!t.speed_valid || within(t.speed_mps, kMaxAbsSpeed)) &&
+         (!t.rim_speed_valid || within(t.rim_speed_mps, kMaxAbsSpeed));
+}
+
+/// Stage 2: the wheel loads into `out`; ok, tip_over or loads_failed.
+RoverStepStatus load_stage(const RoverParams& rover, const RoverTelemetry& t, RoverStepOutput& out) noexcept {
+  const WheelLoadResult loads = wheel_loads(rover, t.attitude, t.joints);
+  out.load_status = loads.status;
+  if (loads.status == WheelLoadStatus::tip_over) {
+    out.lifting_wheel = loads.lifting_wheel;
+    return RoverStepStatus::tip_over;
+  }
+  if (loads.status != WheelLoadStatus::ok) {
+    return RoverStepStatus::loads_failed;
+  }
+  out.loads_valid = true;
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    out.load_n[i] = loads.load_n[i];
+  }
+  return RoverStepStatus::ok;
+}
+
+/// Stage 4: DP_max/W at each load, then the drawbar pulls into `out`.
+RoverStepStatus drawbar_stage(const RoverParams& rover, const RoverTelemetry& t, const ParameterTable& table,
+                              RoverStepOutput& out) noexcept {
+  DrawbarInput in{};
+  in.accel_mps2 = out.accel_mps2;
+  in.pitch_rad = t.attitude.pitch_rad;
+  in.slip_known = out.slip_known;
+  in.slip = out.slip;
+  WheelLoadResult loads{};
+  loads.status = WheelLoadStatus::ok;
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    const CorrectionResult c = corrections_at(table.correction, out.load_n[i]);
+    if (c.status != EstimateStatus::ok) {
+      out.drawbar_status = DrawbarStatus::invalid_input;
+      return RoverStepStatus::drawbar_failed;
+    }
+    in.dp_max_ratio[i] = c.dp_max_ratio;
+    loads.load_n[i] = out.load_n[i];
+  }
+  const DrawbarResult dp = drawbar_pulls(rover, loads, in);
+  out.drawbar_status = dp.status;
+  if (!usable(dp.status)) {
+    return RoverStepStatus::drawbar_failed;
+  }
+  out.drawbar_valid = true;
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    out.drawbar_pull_n[i] = dp.dp_n[i];
+  }
+  return RoverStepStatus::ok;
+}
+
 }  // namespace
 
 RoverStep::RoverStep() noexcept
-    : monitor_(), have_time_(false), last_time_{0U}, have_speed_(false), last_speed_(), last_speed_time_{0U} {}
+    : have_time_(false), last_time_{0U}, have_speed_(false), last_speed_time_{0U} {}
 
 void RoverStep::clear_stop() noexcept { monitor_.clear_stop(); }
+
+RoverStepStatus RoverStep::classify(const RoverTelemetry& t, TimeMs now, const ParameterTable& table) noexcept {
+  if (!t.valid) {
+    return RoverStepStatus::telemetry_invalid;
+  }
+  // A time stamp after `now` wraps to a huge age: stale as well.
+  if (elapsed_ms(t.time, now) > table.monitor.stale_timeout_ms) {
+    return RoverStepStatus::telemetry_stale;
+  }
+  if (have_time_ && (t.time.ms == last_time_.ms)) {
+    return RoverStepStatus::telemetry_repeated;
+  }
+  have_time_ = true;
+  last_time_ = t.time;
+  return RoverStepStatus::ok;
+}
+
+void RoverStep::motion(const RoverTelemetry& t, const ParameterTable& table, RoverStepOutput& out) noexcept {
+  if (t.accel_valid) {
+    out.accel_valid = true;
+    out.accel_mps2 = t.accel_mps2;
+  } else if (t.speed_valid && have_speed_) {
+    // The difference needs a previous speed that is neither this sample's
+    // own time nor older than the stale timeout.
+    const std::uint32_t dt = elapsed_ms(last_speed_time_, t.time);
+    AccelMps2 a{};
+    if ((dt > 0U) && (dt <= table.monitor.stale_timeout_ms) && differenced_accel(t.speed_mps, last_speed_, dt, a) &&
+        within(a, kMaxAbsAccel)) {
+      out.accel_valid = true;
+      out.accel_mps2 = a;
+    }
+  } else {
+    // Neither a measurement nor two speeds: no acceleration this cycle.
+  }
+  if (t.speed_valid) {
+    have_speed_ = true;
+    last_speed_ = t.speed_mps;
+    last_speed_time_ = t.time;
+  }
+  if (t.speed_valid && t.rim_speed_valid && !within(t.rim_speed_mps, kMinRimSpeedForSlip)) {
+    Ratio s{};
+    if (slip_ratio(t.speed_mps, t.rim_speed_mps, s)) {
+      out.slip_known = true;
+      out.slip = s;
+    }
+  }
+}
 
 RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const ParameterTable& table,
                                 const RoverParams& rover) noexcept {
@@ -66,137 +169,49 @@ RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const Param
     return out;
   }
 
+  // 1. The telemetry itself, by the monitor's own rules, and the parameters.
+  out.status = classify(t, now, table);
+  const bool fresh = (out.status == RoverStepStatus::ok);
+  if (fresh && (validate_rover_params(rover) != RoverParamStatus::ok)) {
+    out.status = RoverStepStatus::invalid_rover_params;
+  }
+  const bool computable = (out.status == RoverStepStatus::ok);
+
+  // 2. Wheel loads.
+  if (computable) {
+    out.status = load_stage(rover, t, out);
+  }
+  // 3. Motion. Kept up to date even when the loads failed, so that the speed
+  //    difference is ready on the next good cycle.
+  if (computable) {
+    if (!motion_in_range(t)) {
+      if (out.status == RoverStepStatus::ok) {
+        out.status = RoverStepStatus::motion_out_of_range;
+      }
+    } else {
+      motion(t, table, out);
+      if ((out.status == RoverStepStatus::ok) && !out.accel_valid) {
+        out.status = RoverStepStatus::no_acceleration;
+      }
+    }
+  }
+  // 4. Drawbar pulls.
+  if (out.status == RoverStepStatus::ok) {
+    out.status = drawbar_stage(rover, t, table, out);
+  }
+
+  // 5. The monitor sees every cycle: numbers when they all exist, else an
+  //    invalid sample it counts (and a stale one it classifies itself).
+  const bool usable_sample = (out.status == RoverStepStatus::ok);
+  const bool pass_as_stale = (out.status == RoverStepStatus::telemetry_stale);
   WheelInput inputs[kMaxWheels]{};
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     inputs[i].time = t.time;
     inputs[i].current_a = t.current_a[i];
     inputs[i].direction = t.direction[i];
-    inputs[i].load_n = WheelLoadN::zero();
-    inputs[i].drawbar_pull_n = DrawbarPullN::zero();
-    inputs[i].valid = false;  // set only when every number below exists
-  }
-
-  // 1. The telemetry itself, by the monitor's own rules.
-  bool usable = false;
-  bool pass_as_stale = false;
-  if (!t.valid) {
-    out.status = RoverStepStatus::telemetry_invalid;
-  } else if (elapsed_ms(t.time, now) > table.monitor.stale_timeout_ms) {
-    out.status = RoverStepStatus::telemetry_stale;
-    pass_as_stale = true;  // the monitor classifies it as stale by the same rule
-  } else if (have_time_ && (t.time.ms == last_time_.ms)) {
-    out.status = RoverStepStatus::telemetry_repeated;
-  } else {
-    have_time_ = true;
-    last_time_ = t.time;
-    usable = true;
-  }
-  if (usable && (validate_rover_params(rover) != RoverParamStatus::ok)) {
-    out.status = RoverStepStatus::invalid_rover_params;
-    usable = false;
-  }
-
-  // 2. Wheel loads.
-  if (usable) {
-    const WheelLoadResult loads = wheel_loads(rover, t.attitude, t.joints);
-    out.load_status = loads.status;
-    if (loads.status == WheelLoadStatus::tip_over) {
-      out.status = RoverStepStatus::tip_over;
-      out.lifting_wheel = loads.lifting_wheel;
-      usable = false;
-    } else if (loads.status != WheelLoadStatus::ok) {
-      out.status = RoverStepStatus::loads_failed;
-      usable = false;
-    } else {
-      out.loads_valid = true;
-      for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-        out.load_n[i] = loads.load_n[i];
-      }
-    }
-
-    // 3. Motion: ranges, acceleration, slip.
-    const bool motion_ok = (!t.accel_valid || within(t.accel_mps2, kMaxAbsAccel)) &&
-                           (!t.speed_valid || within(t.speed_mps, kMaxAbsSpeed)) &&
-                           (!t.rim_speed_valid || within(t.rim_speed_mps, kMaxAbsSpeed));
-    if (!motion_ok) {
-      if (usable) {
-        out.status = RoverStepStatus::motion_out_of_range;
-        usable = false;
-      }
-    } else {
-      if (t.accel_valid) {
-        out.accel_valid = true;
-        out.accel_mps2 = t.accel_mps2;
-      } else if (t.speed_valid && have_speed_) {
-        const std::uint32_t dt = elapsed_ms(last_speed_time_, t.time);
-        if ((dt > 0U) && (dt <= table.monitor.stale_timeout_ms)) {
-          AccelMps2 a{};
-          if (differenced_accel(t.speed_mps, last_speed_, dt, a) && within(a, kMaxAbsAccel)) {
-            out.accel_valid = true;
-            out.accel_mps2 = a;
-          }
-        }
-      } else {
-        // Neither a measurement nor two speeds: no acceleration this cycle.
-      }
-      if (t.speed_valid) {
-        have_speed_ = true;
-        last_speed_ = t.speed_mps;
-        last_speed_time_ = t.time;
-      }
-      if (t.speed_valid && t.rim_speed_valid && !within(t.rim_speed_mps, kMinRimSpeedForSlip)) {
-        Ratio s{};
-        if (slip_ratio(t.speed_mps, t.rim_speed_mps, s)) {
-          out.slip_known = true;
-          out.slip = s;
-        }
-      }
-      if (usable && !out.accel_valid) {
-        out.status = RoverStepStatus::no_acceleration;
-        usable = false;
-      }
-    }
-  }
-
-  // 4. Drawbar pulls, with DP_max/W at each wheel's load.
-  if (usable) {
-    DrawbarInput in{};
-    in.accel_mps2 = out.accel_mps2;
-    in.pitch_rad = t.attitude.pitch_rad;
-    in.slip_known = out.slip_known;
-    in.slip = out.slip;
-    bool ratios_ok = true;
-    for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-      const CorrectionResult c = corrections_at(table.correction, out.load_n[i]);
-      ratios_ok = ratios_ok && (c.status == EstimateStatus::ok);
-      in.dp_max_ratio[i] = c.dp_max_ratio;
-    }
-    WheelLoadResult loads{};
-    loads.status = WheelLoadStatus::ok;
-    for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-      loads.load_n[i] = out.load_n[i];
-    }
-    const DrawbarResult dp = ratios_ok ? drawbar_pulls(rover, loads, in) : DrawbarResult{};
-    out.drawbar_status = ratios_ok ? dp.status : DrawbarStatus::invalid_input;
-    if (ratios_ok && flight::usable(dp.status)) {
-      out.drawbar_valid = true;
-      for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-        out.drawbar_pull_n[i] = dp.dp_n[i];
-      }
-    } else {
-      out.status = RoverStepStatus::drawbar_failed;
-      usable = false;
-    }
-  }
-
-  // 5. The monitor sees every cycle: numbers when they all exist, else an
-  //    invalid sample it counts (and a stale one it classifies itself).
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    inputs[i].valid = usable || pass_as_stale;
-    if (usable) {
-      inputs[i].load_n = out.load_n[i];
-      inputs[i].drawbar_pull_n = out.drawbar_pull_n[i];
-    }
+    inputs[i].valid = usable_sample || pass_as_stale;
+    inputs[i].load_n = usable_sample ? out.load_n[i] : WheelLoadN::zero();
+    inputs[i].drawbar_pull_n = usable_sample ? out.drawbar_pull_n[i] : DrawbarPullN::zero();
   }
   out.monitor = monitor_.step(inputs, now, table);
   out.decision = out.monitor.decision;

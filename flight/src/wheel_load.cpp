@@ -63,9 +63,8 @@ WheelLoadResult failed(WheelLoadStatus status) noexcept {
   return r;
 }
 
-}  // namespace
-
-RoverParamStatus validate_rover_params(const RoverParams& p) noexcept {
+/// Mass, gravity, wheel, track and centre of mass.
+RoverParamStatus validate_body(const RoverParams& p) noexcept {
   if ((p.mass_kg.raw() <= 0) || (p.mass_kg > kMaxMass)) {
     return RoverParamStatus::bad_mass;
   }
@@ -88,6 +87,11 @@ RoverParamStatus validate_rover_params(const RoverParams& p) noexcept {
   if ((twice_com_y >= track) || (twice_com_y <= -track)) {
     return RoverParamStatus::bad_com;
   }
+  return RoverParamStatus::ok;
+}
+
+/// Link lengths and order, joint and attitude limits, the high-slip level.
+RoverParamStatus validate_suspension(const RoverParams& p) noexcept {
   const SidePointM links[4] = {p.rocker_front_axle, p.rocker_bogie_pivot, p.bogie_middle_axle, p.bogie_rear_axle};
   for (const SidePointM& l : links) {
     if (!within(l.x_m, kMaxLink) || !within(l.z_m, kMaxLink)) {
@@ -110,18 +114,87 @@ RoverParamStatus validate_rover_params(const RoverParams& p) noexcept {
   return RoverParamStatus::ok;
 }
 
-WheelLoadResult wheel_loads(const RoverParams& params, const RoverAttitude& attitude,
-                            const JointAnglesRad& joints) noexcept {
+/// The three lever quantities of one side (sections 3.3 to 3.5).
+struct SideLevers {
+  W a;          ///< x~_front - x~_pivot
+  W b;          ///< x~_pivot - x~_bogie
+  W beta;       ///< the middle wheel's share of the bogie
+  W yt_front;   ///< y~ of the front contact
+  W yt_bogie;   ///< y~ of the bogie's resultant
+};
+
+/// The suspension's link vectors in the wide format, and the contact offset.
+struct Links {
+  Point rocker_front;
+  Point rocker_bogie;
+  Point bogie_middle;
+  Point bogie_rear;
+  Point down;  ///< one wheel radius down the body z axis
+};
+
+/// One side's contacts and projected levers; false when a lever collapsed.
+bool side_levers(const Links& l, AngleRad rocker_rad, AngleRad bogie_rad, W y_side, W kx, W ky, SideLevers& out,
+                 fx::Status& st) noexcept {
+  const fx::Q3_28 rocker = rocker_rad.q();
+  // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
+  const fx::Q3_28 bogie_abs = fx::add(rocker, bogie_rad.q(), st);
+  const W cr = wide(fx::cos(rocker, st), st);
+  const W sr = wide(fx::sin(rocker, st), st);
+  const W cb = wide(fx::cos(bogie_abs, st), st);
+  const W sb = wide(fx::sin(bogie_abs, st), st);
+  // Contacts one radius below the axles along the body z axis (section 2).
+  const Point pivot_b = rotate(l.rocker_bogie, cr, sr, st);
+  const Point front = plus(rotate(l.rocker_front, cr, sr, st), l.down, st);
+  const Point middle = plus(plus(pivot_b, rotate(l.bogie_middle, cb, sb, st), st), l.down, st);
+  const Point rear = plus(plus(pivot_b, rotate(l.bogie_rear, cb, sb, st), st), l.down, st);
+
+  const W xt_f = project(front.x, front.z, kx, st);
+  const W xt_m = project(middle.x, middle.z, kx, st);
+  const W xt_r = project(rear.x, rear.z, kx, st);
+  const W xt_b = project(pivot_b.x, pivot_b.z, kx, st);
+  out.a = xt_f;
+  out.b = fx::neg(xt_b, st);
+  const W span = fx::sub(xt_m, xt_r, st);
+  if ((fx::add(out.a, out.b, st) < kMinLever) || (span < kMinLever)) {
+    return false;
+  }
+  out.beta = fx::div(fx::sub(xt_b, xt_r, st), span, st);
+  out.yt_front = project(y_side, front.z, ky, st);
+  const W yt_m = project(y_side, middle.z, ky, st);
+  const W yt_r = project(y_side, rear.z, ky, st);
+  // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
+  out.yt_bogie = fx::add(yt_r, fx::mul(out.beta, fx::sub(yt_m, yt_r, st), st), st);
+  return true;
+}
+
+WheelLoadStatus check_inputs(const RoverParams& params, const RoverAttitude& attitude,
+                             const JointAnglesRad& joints) noexcept {
   if (validate_rover_params(params) != RoverParamStatus::ok) {
-    return failed(WheelLoadStatus::invalid_params);
+    return WheelLoadStatus::invalid_params;
   }
   if (!within(attitude.pitch_rad, params.attitude_limit_rad) || !within(attitude.roll_rad, params.attitude_limit_rad)) {
-    return failed(WheelLoadStatus::attitude_out_of_range);
+    return WheelLoadStatus::attitude_out_of_range;
   }
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
     if (!within(joints.rocker_rad[s], params.rocker_limit_rad) || !within(joints.bogie_rad[s], params.bogie_limit_rad)) {
-      return failed(WheelLoadStatus::joint_out_of_range);
+      return WheelLoadStatus::joint_out_of_range;
     }
+  }
+  return WheelLoadStatus::ok;
+}
+
+}  // namespace
+
+RoverParamStatus validate_rover_params(const RoverParams& p) noexcept {
+  const RoverParamStatus body = validate_body(p);
+  return (body != RoverParamStatus::ok) ? body : validate_suspension(p);
+}
+
+WheelLoadResult wheel_loads(const RoverParams& params, const RoverAttitude& attitude,
+                            const JointAnglesRad& joints) noexcept {
+  const WheelLoadStatus input_status = check_inputs(params, attitude, joints);
+  if (input_status != WheelLoadStatus::ok) {
+    return failed(input_status);
   }
 
   fx::Status st;
@@ -142,59 +215,25 @@ WheelLoadResult wheel_loads(const RoverParams& params, const RoverAttitude& atti
   const W pivot_moment = fx::mul(fx::mul(kHalf, weight_n, st), com_xt, st);
 
   const W half_track = fx::mul(kHalf, wide(params.track_width_m, st), st);
-  const W radius = wide(params.wheel_radius_m, st);
-  const Point rocker_front = wide(params.rocker_front_axle, st);
-  const Point rocker_bogie = wide(params.rocker_bogie_pivot, st);
-  const Point bogie_middle = wide(params.bogie_middle_axle, st);
-  const Point bogie_rear = wide(params.bogie_rear_axle, st);
-  const Point down{W::zero(), fx::neg(radius, st)};
-
-  W lever_a[kSideCount]{};
-  W lever_b[kSideCount]{};
-  W beta[kSideCount]{};
-  W yt_front[kSideCount]{};
-  W yt_bogie[kSideCount]{};
+  const Links links{wide(params.rocker_front_axle, st), wide(params.rocker_bogie_pivot, st),
+                    wide(params.bogie_middle_axle, st), wide(params.bogie_rear_axle, st),
+                    Point{W::zero(), fx::neg(wide(params.wheel_radius_m, st), st)}};
+  SideLevers side[kSideCount]{};
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
     const W y_side = (s == 0U) ? half_track : fx::neg(half_track, st);
-    const fx::Q3_28 rocker = joints.rocker_rad[s].q();
-    // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
-    const fx::Q3_28 bogie_abs = fx::add(rocker, joints.bogie_rad[s].q(), st);
-    const W cr = wide(fx::cos(rocker, st), st);
-    const W sr = wide(fx::sin(rocker, st), st);
-    const W cb = wide(fx::cos(bogie_abs, st), st);
-    const W sb = wide(fx::sin(bogie_abs, st), st);
-    // Contacts one radius below the axles along the body z axis (section 2).
-    const Point pivot_b = rotate(rocker_bogie, cr, sr, st);
-    const Point front = plus(rotate(rocker_front, cr, sr, st), down, st);
-    const Point middle = plus(plus(pivot_b, rotate(bogie_middle, cb, sb, st), st), down, st);
-    const Point rear = plus(plus(pivot_b, rotate(bogie_rear, cb, sb, st), st), down, st);
-
-    const W xt_f = project(front.x, front.z, kx, st);
-    const W xt_m = project(middle.x, middle.z, kx, st);
-    const W xt_r = project(rear.x, rear.z, kx, st);
-    const W xt_b = project(pivot_b.x, pivot_b.z, kx, st);
-    lever_a[s] = xt_f;
-    lever_b[s] = fx::neg(xt_b, st);
-    const W span = fx::sub(xt_m, xt_r, st);
-    if ((fx::add(lever_a[s], lever_b[s], st) < kMinLever) || (span < kMinLever)) {
+    if (!side_levers(links, joints.rocker_rad[s], joints.bogie_rad[s], y_side, kx, ky, side[s], st)) {
       return failed(st.ok() ? WheelLoadStatus::degenerate : WheelLoadStatus::overflow);
     }
-    beta[s] = fx::div(fx::sub(xt_b, xt_r, st), span, st);
-    yt_front[s] = project(y_side, front.z, ky, st);
-    const W yt_m = project(y_side, middle.z, ky, st);
-    const W yt_r = project(y_side, rear.z, ky, st);
-    // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
-    yt_bogie[s] = fx::add(yt_r, fx::mul(beta[s], fx::sub(yt_m, yt_r, st), st), st);
   }
 
   // Roll balance (section 3.5).
   W big_y[kSideCount]{};
   W big_z[kSideCount]{};
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    const W lever = fx::add(lever_a[s], lever_b[s], st);
-    const W moment = fx::add(fx::mul(lever_b[s], yt_front[s], st), fx::mul(lever_a[s], yt_bogie[s], st), st);
+    const W lever = fx::add(side[s].a, side[s].b, st);
+    const W moment = fx::add(fx::mul(side[s].b, side[s].yt_front, st), fx::mul(side[s].a, side[s].yt_bogie, st), st);
     big_y[s] = fx::div(moment, lever, st);
-    big_z[s] = fx::div(fx::sub(yt_front[s], yt_bogie[s], st), lever, st);
+    big_z[s] = fx::div(fx::sub(side[s].yt_front, side[s].yt_bogie, st), lever, st);
   }
   const W lateral_span = fx::sub(big_y[0], big_y[1], st);
   if (lateral_span < kMinLever) {
@@ -209,10 +248,10 @@ WheelLoadResult wheel_loads(const RoverParams& params, const RoverAttitude& atti
 
   W support[kWheelCount]{};
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    const W lever = fx::add(lever_a[s], lever_b[s], st);
-    const W front = fx::div(fx::add(pivot_moment, fx::mul(lever_b[s], side_total[s], st), st), lever, st);
+    const W lever = fx::add(side[s].a, side[s].b, st);
+    const W front = fx::div(fx::add(pivot_moment, fx::mul(side[s].b, side_total[s], st), st), lever, st);
     const W bogie = fx::sub(side_total[s], front, st);
-    const W middle = fx::mul(beta[s], bogie, st);
+    const W middle = fx::mul(side[s].beta, bogie, st);
     support[(3U * s) + 0U] = front;
     support[(3U * s) + 1U] = middle;
     support[(3U * s) + 2U] = fx::sub(bogie, middle, st);

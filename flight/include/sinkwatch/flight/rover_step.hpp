@@ -102,6 +102,11 @@ class RoverStep {
   [[nodiscard]] const RoverMonitor& monitor() const noexcept { return monitor_; }
 
  private:
+  /// Stage 1: flagged, stale, repeated, or ok (then remembered as the last).
+  RoverStepStatus classify(const RoverTelemetry& t, TimeMs now, const ParameterTable& table) noexcept;
+  /// Stage 3: the acceleration (measured or differenced) and the slip.
+  void motion(const RoverTelemetry& t, const ParameterTable& table, RoverStepOutput& out) noexcept;
+
   RoverMonitor monitor_;
   bool have_time_;
   TimeMs last_time_;
