@@ -174,6 +174,10 @@ RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const Param
   const bool fresh = (out.status == RoverStepStatus::ok);
   if (fresh && (validate_rover_params(rover) != RoverParamStatus::ok)) {
     out.status = RoverStepStatus::invalid_rover_params;
+  } else if (fresh && (rover.wheel_radius_m != table.wheel_radius_m)) {
+    out.status = RoverStepStatus::radius_mismatch;
+  } else {
+    // fresh and consistent, or already refused by classify()
   }
   const bool computable = (out.status == RoverStepStatus::ok);
 

@@ -233,6 +233,14 @@ TEST_F(RoverStepTest, BadParametersFailSafe) {
   EXPECT_EQ(out.status, RoverStepStatus::invalid_rover_params);
   EXPECT_FALSE(out.loads_valid);
   EXPECT_EQ(out.monitor.wheels[5].sample_status, flight::SampleStatus::flagged_invalid);
+
+  flight::RoverParams other_wheel = rover;
+  other_wheel.wheel_radius_m = q<flight::LengthM>(0.16);
+  ASSERT_EQ(flight::validate_rover_params(other_wheel), flight::RoverParamStatus::ok);
+  const flight::RoverStepOutput mismatch = step.step(telemetry(9200U), flight::TimeMs{9200U}, table, other_wheel);
+  EXPECT_EQ(mismatch.status, RoverStepStatus::radius_mismatch);
+  EXPECT_FALSE(mismatch.loads_valid);
+  EXPECT_EQ(mismatch.monitor.wheels[0].sample_status, flight::SampleStatus::flagged_invalid);
 }
 
 TEST_F(RoverStepTest, HighCurrentTripsStopThroughTheMonitor) {

@@ -69,6 +69,7 @@ enum class RoverStepStatus : std::uint8_t {
   tip_over = 8U,               ///< beyond the stability limit: stop and re-plan now
   no_acceleration = 9U,        ///< no measured acceleration and no previous speed
   drawbar_failed = 10U,        ///< drawbar_pulls() or DP_max/W gave no number
+  radius_mismatch = 11U,       ///< RoverParams and the table disagree on the wheel radius
 };
 
 struct RoverStepOutput {
@@ -92,7 +93,10 @@ class RoverStep {
  public:
   RoverStep() noexcept;
 
-  /// One control cycle. `now` is the monitor's clock.
+  /// One control cycle. `now` is the monitor's clock. `rover` is the table's
+  /// section 6 decoded once when the table is loaded (decode_rover_section);
+  /// its wheel radius must equal the table's (the statics and Eq. 15 must
+  /// describe the same wheel).
   RoverStepOutput step(const RoverTelemetry& telemetry, TimeMs now, const ParameterTable& table,
                        const RoverParams& rover) noexcept;
 
