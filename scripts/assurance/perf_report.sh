@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# The performance report (docs/performance.md): a benchmark that prints
+# figures and never fails on a number. For the six-wheel per-cycle step:
+#
+#   instructions_per_step target=<name> impl=<fixed|double> value=<n>
+#     host:       x86-64 g++ -O2 (RelWithDebInfo), valgrind --tool=callgrind,
+#                 (Ir of N steps - Ir of 0 steps) / N;
+#     cortex-m0:  arm-none-eabi-g++ -mcpu=cortex-m0 -mthumb -mfloat-abi=soft
+#                 -Os (the firmware-m0 flags), run under qemu-arm with one
+#                 instruction per translation block and no chaining, every
+#                 executed instruction logged: (count(N) - count(0)) / N.
+#   code_size, stack: arm-none-eabi-size and scripts/stack_report.py on the
+#                 Cortex-M0 build (build/perf-m0, same flags as firmware-m0).
+#
+#   scripts/assurance/perf_report.sh [--host-bin DIR]
+# DIR holds perf_step_fixed and perf_step_double (the perf-report target
+# passes its own build directory); without it the default preset is built.
+# A missing tool skips its lines with a note; exit status is 0 unless a
+# driver fails to build or run.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+
+host_bin=""
+if [ "${1:-}" = "--host-bin" ]; then host_bin=$2; fi
+host_steps=${SINKWATCH_PERF_HOST_STEPS:-2000}
+arm_steps=${SINKWATCH_PERF_ARM_STEPS:-8}   # at most 9 (one digit in the check)
+
+check_full() {  # driver output, expected cycles, label
+  local full
+  full=$(sed -nE 's/.*full_chain_steps=([0-9]+).*/\1/p' <<<"$1")
+  if [ "$full" != "$2" ]; then
+    echo "note: $3: only $full of $2 cycles ran the whole chain"
+  fi
+}
+
+# ---- host: callgrind
+if [ -z "$host_bin" ]; then
+  cmake --preset default >/dev/null
+  cmake --build --preset default --target perf_step_fixed perf_step_double >/dev/null
+  host_bin=build/default/perf
+fi
+if command -v valgrind >/dev/null; then
+  for impl in fixed double; do
+    bin="$host_bin/perf_step_$impl"
+    ir() { valgrind --tool=callgrind --callgrind-out-file=/dev/null "$bin" "$1" 2>&1 | sed -nE 's/.*Collected : ([0-9]+).*/\1/p'; }
+    out=$("$bin" "$host_steps")
+    check_full "$out" "$host_steps" "host $impl"
+    with=$(ir "$host_steps")
+    without=$(ir 0)
+    echo "instructions_per_step target=host-x86_64 impl=$impl value=$(( (with - without) / host_steps ))"
+  done
+else
+  echo "note: valgrind missing: host figures skipped"
+fi
+
+# ---- Cortex-M0 under qemu-arm
+if ! command -v arm-none-eabi-g++ >/dev/null || ! command -v qemu-arm >/dev/null; then
+  echo "note: arm-none-eabi-g++ or qemu-arm missing: Cortex-M0 figures skipped"
+  exit 0
+fi
+cmake --preset perf-m0 >/dev/null
+cmake --build --preset perf-m0 >/dev/null
+m0=build/perf-m0
+out_dir=$m0/perf
+mkdir -p "$out_dir"
+cpu="-mcpu=cortex-m0 -mthumb -mfloat-abi=soft -Os -ffunction-sections -fdata-sections -Wno-psabi"
+inc="-Iflight/include -Ifixedpoint/include -Iground/reference/include"
+ld="-nostartfiles --specs=nosys.specs -Wl,--gc-sections"
+flight_lib="$m0/flight/libsinkwatch_flight.a"
+arm-none-eabi-gcc $cpu -c perf/arm_start.c -o "$out_dir/arm_start.o"
+# The double reference is host code (exceptions, std::vector): built as it is.
+ref_objs=()
+for src in ground/reference/src/*.cpp; do
+  obj="$out_dir/$(basename "$src" .cpp).o"
+  arm-none-eabi-g++ -std=c++17 $cpu $inc -c "$src" -o "$obj"
+  ref_objs+=("$obj")
+done
+
+count_insns() {  # elf -> executed instructions
+  qemu-arm -cpu any -singlestep -d exec,nochain "$1" 2>&1 >/dev/null | grep -c '^Trace'
+}
+
+for impl in fixed double; do
+  extra=(-fno-exceptions -fno-rtti)
+  objs=()
+  if [ "$impl" = double ]; then extra=(-DPERF_IMPL_DOUBLE); objs=("${ref_objs[@]}"); fi
+  for n in 0 "$arm_steps"; do
+    elf="$out_dir/perf_step_${impl}_$n.elf"
+    arm-none-eabi-g++ -std=c++17 $cpu $inc "${extra[@]}" -DPERF_BARE_METAL -DPERF_STEPS="$n" \
+      perf/perf_step.cpp "${objs[@]}" "$out_dir/arm_start.o" "$flight_lib" $ld -o "$elf" 2>&1 \
+      | grep -vE 'is not implemented and will always fail|^collect2|in function|warning: .*has a LOAD segment' || true
+  done
+  out=$(qemu-arm -cpu any "$out_dir/perf_step_${impl}_${arm_steps}.elf")
+  check_full "$out" "$arm_steps" "cortex-m0 $impl"
+  with=$(count_insns "$out_dir/perf_step_${impl}_${arm_steps}.elf")
+  without=$(count_insns "$out_dir/perf_step_${impl}_0.elf")
+  echo "instructions_per_step target=cortex-m0 impl=$impl value=$(( (with - without) / arm_steps ))"
+  arm-none-eabi-size "$out_dir/perf_step_${impl}_${arm_steps}.elf" |
+    awk -v i="$impl" 'NR==2 {printf "code_size target=cortex-m0 impl=%s driver_text=%d data=%d bss=%d (whole program: driver, libraries, newlib)\n", i, $1, $2, $3}'
+done
+
+# Flight library text (what a firmware links at most) and the stack of a cycle.
+arm-none-eabi-size -t "$m0/flight/libsinkwatch_flight.a" | awk '/\(TOTALS\)/ {printf "code_size target=cortex-m0 impl=fixed library=libsinkwatch_flight.a text=%d data=%d bss=%d\n", $1, $2, $3}'
+arm-none-eabi-size "$m0/flight/firmware/sinkwatch_heap_trap" | awk 'NR==2 {printf "image_size target=cortex-m0 heap_trap_text=%d data=%d bss=%d\n", $1, $2, $3}'
+python3 scripts/stack_report.py "$m0" cortex-m0 sw_step main
