@@ -84,12 +84,12 @@ void print_fit(std::ostream& out, const CalibrationFit& fit) {
     out << format("  condition number of A   %.4g   (columns scaled to unit length: %.4g)\n",
                   fit.condition_number, fit.condition_number_scaled);
   }
-  out << format("  residual RMS            %.5f", fit.rms);
+  out << format("  residual RMS            %.4g", fit.rms);
   if (fit.free_count > 0) {
-    out << format("   (residual std, n - p: %.5f)", fit.residual_std);
+    out << format("   (residual std, n - p: %.4g)", fit.residual_std);
   }
   out << '\n';
-  out << "  leave-one-out RMS       " << num(fit.loo_rms, "%.5f") << '\n';
+  out << "  leave-one-out RMS       " << num(fit.loo_rms, "%.4g") << '\n';
   if (fit.free_count > 0) {
     out << "  normal equations        C =";
     for (std::size_t k = 0; k < kCoefficientCount; ++k) {
@@ -229,19 +229,19 @@ void print_report(std::ostream& out, const CalibrationReport& report) {
   print_fit(out, report.fit);
   if (report.per_load) {
     out << "\n  C(W) table, one fit per load\n";
-    out << "    load_N  rows        C1 +- se           C2 +- se           C3 +- se"
-           "       RMS   LOO RMS     cond\n";
+    out << "    load_N  rows        C1 +- se            C2 +- se            C3 +- se"
+           "              RMS   LOO RMS      cond\n";
     for (const LoadFit& entry : report.load_table) {
       const CalibrationFit& f = entry.fit;
       out << format("  %8.3f %5zu", entry.load_n, f.rows);
       for (std::size_t k = 0; k < kCoefficientCount; ++k) {
         if (f.free[k]) {
-          out << format("  %8.4f +- %-6.4f", f.c[k], f.std_err[k]);
+          out << format("  %8.4f +- %-7.2g", f.c[k], f.std_err[k]);
         } else {
-          out << format("  %8.4f (fixed)  ", f.c[k]);
+          out << format("  %8.4f (fixed)   ", f.c[k]);
         }
       }
-      out << format("  %8.5f  %8s  %7s\n", f.rms, num(f.loo_rms, "%.5f").c_str(),
+      out << format("  %9.4g %9s  %8s\n", f.rms, num(f.loo_rms, "%.4g").c_str(),
                     num(f.condition_number, "%.3g").c_str());
     }
   }
