@@ -38,7 +38,7 @@ constexpr Ratio kMaxDpMaxRatio{fx::constant<RatioQ>(2.0)};
 struct DrawbarInput {
   AccelMps2 accel_mps2;  ///< along the path (body x), positive speeding up forward
   AngleRad pitch_rad;    ///< path slope; the body pitch, positive nose up
-  bool slip_known;       ///< whether `slip` holds a measurement this cycle
+  bool slip_known{false};  ///< whether `slip` holds a measurement this cycle
   Ratio slip;            ///< rover slip 1 - v/(r w), at most 1
   Ratio dp_max_ratio[kWheelCount];  ///< (DP_max/W) at each wheel's load, (0, 2]
 };
@@ -55,8 +55,8 @@ enum class DrawbarStatus : std::uint8_t {
 struct DrawbarResult {
   DrawbarPullN dp_n[kWheelCount];  ///< zero unless status is ok, capped or saturated
   DrawbarPullN total_n;            ///< m (a + g sin(pitch)) before any limit
-  std::uint8_t capped_mask;        ///< bit i: wheel i was limited
-  DrawbarStatus status;
+  std::uint8_t capped_mask{0U};    ///< bit i: wheel i was limited
+  DrawbarStatus status{DrawbarStatus::invalid_input};  ///< a default result is never usable
 };
 
 /// True for the statuses whose dp_n may be used.

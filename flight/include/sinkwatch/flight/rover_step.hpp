@@ -43,17 +43,17 @@ constexpr SpeedMps kMinRimSpeedForSlip{fx::constant<SpeedQ>(0.001)};
 
 /// One cycle's raw telemetry.
 struct RoverTelemetry {
-  TimeMs time;                              ///< when the sample was taken
-  bool valid;                               ///< the telemetry source's own flag
+  TimeMs time{0U};                          ///< when the sample was taken
+  bool valid{false};                        ///< the telemetry source's own flag
   CurrentA current_a[kWheelCount];          ///< signed; positive drives forward
-  DriveDirection direction[kWheelCount];    ///< commanded direction per wheel
+  DriveDirection direction[kWheelCount]{};  ///< commanded direction per wheel
   RoverAttitude attitude;                   ///< IMU pitch and roll
   JointAnglesRad joints;                    ///< rocker and bogie angles
-  bool accel_valid;                         ///< accel_mps2 holds a measurement
+  bool accel_valid{false};                  ///< accel_mps2 holds a measurement
   AccelMps2 accel_mps2;                     ///< along the path (IMU / VO)
-  bool speed_valid;                         ///< speed_mps holds a measurement
+  bool speed_valid{false};                  ///< speed_mps holds a measurement
   SpeedMps speed_mps;                       ///< over the ground (odometry / VO), signed
-  bool rim_speed_valid;                     ///< rim_speed_mps holds a value
+  bool rim_speed_valid{false};              ///< rim_speed_mps holds a value
   SpeedMps rim_speed_mps;                   ///< mean r w of the driven wheels, signed
 };
 
@@ -73,20 +73,20 @@ enum class RoverStepStatus : std::uint8_t {
 };
 
 struct RoverStepOutput {
-  RoverStepStatus status;
-  WheelLoadStatus load_status;
-  DrawbarStatus drawbar_status;
-  bool loads_valid;                        ///< load_n holds this cycle's loads
+  RoverStepStatus status{RoverStepStatus::ok};
+  WheelLoadStatus load_status{WheelLoadStatus::invalid_params};
+  DrawbarStatus drawbar_status{DrawbarStatus::invalid_loads};
+  bool loads_valid{false};                 ///< load_n holds this cycle's loads
   WheelLoadN load_n[kWheelCount];
-  bool drawbar_valid;                      ///< drawbar_pull_n holds this cycle's pulls
+  bool drawbar_valid{false};               ///< drawbar_pull_n holds this cycle's pulls
   DrawbarPullN drawbar_pull_n[kWheelCount];
-  bool accel_valid;
+  bool accel_valid{false};
   AccelMps2 accel_mps2;                    ///< the acceleration used (measured or differenced)
-  bool slip_known;
+  bool slip_known{false};
   Ratio slip;                              ///< limited to [-1, 1]
-  std::uint32_t lifting_wheel;             ///< with tip_over: the wheel that lifts
-  RoverOutput monitor;                     ///< per wheel: torque, sinkage, I_max, state
-  RoverDecision decision;                  ///< the monitor's decision, or stop on tip_over / bad table
+  std::uint32_t lifting_wheel{kWheelCount};  ///< with tip_over: the wheel that lifts
+  RoverOutput monitor{};                   ///< per wheel: torque, sinkage, I_max, state
+  RoverDecision decision{RoverDecision::stop_and_replan};  ///< the monitor's, or stop on tip_over / bad table
 };
 
 class RoverStep {

@@ -62,8 +62,8 @@ struct WheelLoadResult {
   WheelLoadN weight_normal_n;      ///< m g cos(pitch) cos(roll), zero unless ok
   /// With tip_over: the wheel with the most negative load (the one lifting);
   /// else kWheelCount.
-  std::uint32_t lifting_wheel;
-  WheelLoadStatus status;
+  std::uint32_t lifting_wheel{kWheelCount};
+  WheelLoadStatus status{WheelLoadStatus::invalid_params};  ///< a default result is never usable
 };
 
 /// The quasi-static wheel loads; bounded, no allocation, every input checked.
