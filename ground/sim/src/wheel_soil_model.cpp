@@ -96,7 +96,7 @@ const std::vector<ParameterRow>& rows() {
                     "multiplier on the Bekker/Wong bulldozing resistance", 0.0, 10.0),
         [](SimParameters& p) -> double& { return p.effects.bulldozing.scale; });
     add(effect_info(Effect::load_dependence, true, "load_dependence.dphi_deg", "deg",
-                    "phi = phi0 - dphi ln(1 + sigma/sigma_ref)", 0.0, 10.0),
+                    "phi = phi0 (1 + sigma/sigma_ref)^(-dphi/phi0) ~ phi0 - dphi ln(1 + sigma/sigma_ref)", 0.0, 10.0),
         [](SimParameters& p) -> double& { return p.effects.load_dependence.dphi_deg; });
     add(effect_info(Effect::load_dependence, false, "load_dependence.sigma_ref_pa", "Pa",
                     "reference normal stress", 1.0, 1e6),
@@ -125,47 +125,71 @@ const ParameterRow& find_row(std::string_view name) {
 // ---------------------------------------------------------------------------
 // The contact problem at a given sinkage.
 
+// The contact patch is integrated in a normalized variable u in [0, 1] that
+// runs from a stress-free edge (u = 0) to the stress peak (u = 1), for the
+// front region theta = theta1 - u (theta1 - thetam) and for the rear region
+// theta = theta2 + u (thetam - theta2) together. Wong–Reece's rear profile is
+// the front profile mapped onto [theta2, thetam], so sigma is the same
+// function of u in both regions: one pow per node, one quadrature per
+// integral, the (theta1 - theta)^n behaviour always at u = 0 and no kink
+// inside the interval. A region of zero or tiny width costs nothing and
+// cannot upset the quadrature.
 struct Contact {
   double r = 0, b = 0, rs = 0;         // radius, width, shear radius
   double k = 0, n = 0;                 // kc/b + kphi, exponent
   double c = 0, phi0 = 0, K = 0;       // shear
   double s = 0;                        // slip
   double theta1 = 0, theta2 = 0, thetam = 0;
-  double cos1 = 1, sin1 = 0;           // cos(theta1), sin(theta1), hoisted out of the integrands
+  double front_width = 0, rear_width = 0;  // theta1 - thetam, thetam - theta2
+  double sin1 = 0;                     // sin(theta1)
   bool load_dependent = false;
   double dphi_rad = 0, sigma_ref = 1;
   double k_rn = 0;                     // k r^n
   double tan_phi0 = 0;
   double rel_tol = kDefaultQuadratureRelTol;
 
-  struct Point {
-    double sigma, tau, cos_t, sin_t;
+  struct Side {
+    double tau, cos_t, sin_t;
+  };
+  struct Sample {
+    double sigma;
+    Side front, rear;
   };
 
-  // Normal and shear stress at theta. Near theta1, cos(theta) - cos(theta1)
-  // loses relative accuracy, but only where sigma is negligibly small; the
-  // integrals do not see it.
-  Point at(double theta) const {
-    Point pt{};
-    pt.sin_t = std::sin(theta);
-    pt.cos_t = std::cos(theta);
-    double d = 0.0;
-    if (theta >= thetam) {
-      d = pt.cos_t - cos1;
-    } else {
-      // Rear region: the front profile mapped onto [theta2, thetam] (Wong–Reece).
-      const double theta_e = theta1 - (theta - theta2) * (theta1 - thetam) / (thetam - theta2);
-      d = std::cos(theta_e) - cos1;
-    }
-    pt.sigma = d > 0.0 ? k_rn * std::pow(d, n) : 0.0;
-    const double j = rs * ((theta1 - theta) - (1.0 - s) * (sin1 - pt.sin_t));
+  double shear(double sigma, double j) const {
     double tan_phi = tan_phi0;
-    if (load_dependent) {
-      const double phi = std::max(0.0, phi0 - dphi_rad * std::log1p(pt.sigma / sigma_ref));
+    if (load_dependent && phi0 > 0.0) {
+      // phi0 (1 + sigma/sigma_ref)^(-dphi/phi0): to first order
+      // phi0 - dphi ln(1 + sigma/sigma_ref), but smooth and never negative
+      // (a clamp at zero would put a kink inside the integrand).
+      const double phi = phi0 * std::exp(-(dphi_rad / phi0) * std::log1p(sigma / sigma_ref));
       tan_phi = std::tan(phi);
     }
-    pt.tau = (c + pt.sigma * tan_phi) * (-std::expm1(-j / K));
-    return pt;
+    return (c + sigma * tan_phi) * (-std::expm1(-j / K));
+  }
+
+  Sample at(double u) const {
+    Sample sm{};
+    // theta1 - theta on the front side, exact in u.
+    const double gap = u * front_width;
+    const double theta_f = theta1 - gap;
+    // cos(theta_f) - cos(theta1) and sin(theta1) - sin(theta_f) as products,
+    // so that they keep their relative accuracy as u -> 0.
+    const double half_gap_sin = std::sin(0.5 * gap);
+    const double mid = theta1 - 0.5 * gap;
+    const double d = 2.0 * std::sin(mid) * half_gap_sin;
+    const double dsin = 2.0 * std::cos(mid) * half_gap_sin;
+    sm.sigma = d > 0.0 ? k_rn * std::pow(d, n) : 0.0;
+    sm.front.sin_t = std::sin(theta_f);
+    sm.front.cos_t = std::cos(theta_f);
+    sm.front.tau = shear(sm.sigma, rs * (gap - (1.0 - s) * dsin));
+    if (rear_width > 0.0) {
+      const double theta_r = theta2 + u * rear_width;
+      sm.rear.sin_t = std::sin(theta_r);
+      sm.rear.cos_t = std::cos(theta_r);
+      sm.rear.tau = shear(sm.sigma, rs * ((theta1 - theta_r) - (1.0 - s) * (sin1 - sm.rear.sin_t)));
+    }
+    return sm;
   }
 };
 
@@ -200,7 +224,8 @@ Contact make_contact(const SimParameters& p, double sinkage_m, double slip) {
                   ? -std::acos(1.0 - std::min(1.0, p.effects.rear_contact.lambda_r * zr))
                   : 0.0;
   ct.thetam = max_stress_ratio(p, slip) * ct.theta1;
-  ct.cos1 = 1.0 - zr;
+  ct.front_width = ct.theta1 - ct.thetam;
+  ct.rear_width = ct.thetam - ct.theta2;
   ct.sin1 = std::sin(ct.theta1);
   ct.load_dependent = p.effects.load_dependence.enabled;
   ct.dphi_rad = p.effects.load_dependence.dphi_deg * kDegToRad;
@@ -215,39 +240,31 @@ class QuadratureFailure : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Integral of f over [theta2, theta1], split at theta_m where sigma has a kink.
-// tanh-sinh because the integrands have endpoint singularities in their
-// derivatives ((theta1 - theta)^n with non-integer n) that it handles with
-// double-exponential convergence.
+// Integral over the contact, f(u) already weighted by the region widths (see
+// Contact). tanh-sinh because the integrands behave like u^n at u = 0 with
+// non-integer n, which it handles with double-exponential convergence.
 template <class F>
 auto integrate_contact(const Contact& ct, F f) {
   thread_local boost::math::quadrature::tanh_sinh<double> integrator(15);
-  decltype(f(0.0)) total{};
-  const double pieces[3] = {ct.theta2, ct.thetam, ct.theta1};
-  for (int i = 0; i < 2; ++i) {
-    const double a = pieces[i];
-    const double b = pieces[i + 1];
-    if (!(b > a)) continue;
-    double error = 0.0;
-    double l1 = 0.0;
-    const auto value = integrator.integrate(f, a, b, ct.rel_tol, &error, &l1);
-    // tanh-sinh's estimate is the difference between its last two levels, so
-    // it overstates the true error; 1e3 x the goal flags a real failure only.
-    if (!std::isfinite(std::abs(value)) || error > 1e3 * ct.rel_tol * std::max(l1, 1e-300)) {
-      std::ostringstream msg;
-      msg << "quadrature did not converge on [" << a << ", " << b << "] rad: error estimate " << error
-          << " against L1 norm " << l1;
-      throw QuadratureFailure(msg.str());
-    }
-    total += value;
+  double error = 0.0;
+  double l1 = 0.0;
+  const auto value = integrator.integrate(f, 0.0, 1.0, ct.rel_tol, &error, &l1);
+  // tanh-sinh's estimate is the difference between its last two levels, so
+  // it overstates the true error; 1e3 x the goal flags a real failure only.
+  if (!std::isfinite(std::abs(value)) || error > 1e3 * ct.rel_tol * std::max(l1, 1e-300)) {
+    std::ostringstream msg;
+    msg << "quadrature did not converge on [" << ct.theta2 << ", " << ct.theta1 << "] rad: error estimate "
+        << error << " against L1 norm " << l1;
+    throw QuadratureFailure(msg.str());
   }
-  return total;
+  return value;
 }
 
 double vertical_force(const Contact& ct) {
-  const double integral = integrate_contact(ct, [&ct](double th) {
-    const Contact::Point pt = ct.at(th);
-    return pt.sigma * pt.cos_t + pt.tau * pt.sin_t;
+  const double integral = integrate_contact(ct, [&ct](double u) {
+    const Contact::Sample sm = ct.at(u);
+    return ct.front_width * (sm.sigma * sm.front.cos_t + sm.front.tau * sm.front.sin_t) +
+           ct.rear_width * (sm.sigma * sm.rear.cos_t + sm.rear.tau * sm.rear.sin_t);
   });
   return ct.r * ct.b * integral;
 }
@@ -529,13 +546,18 @@ Evaluation evaluate(const SimParameters& p, double load_n, double slip) {
     const Contact ct = make_contact(p, z, slip);
     const double rb = ct.r * ct.b;
     using Pair = std::complex<double>;
-    const Pair h_rc = rb * integrate_contact(ct, [&ct](double th) {
-      const Contact::Point pt = ct.at(th);
-      return Pair(pt.tau * pt.cos_t, pt.sigma * pt.sin_t);
+    const double wf = ct.front_width;
+    const double wr = ct.rear_width;
+    const Pair h_rc = rb * integrate_contact(ct, [&ct, wf, wr](double u) {
+      const Contact::Sample sm = ct.at(u);
+      return Pair(wf * sm.front.tau * sm.front.cos_t + wr * sm.rear.tau * sm.rear.cos_t,
+                  sm.sigma * (wf * sm.front.sin_t + wr * sm.rear.sin_t));
     });
-    const Pair tau_w = integrate_contact(ct, [&ct](double th) {
-      const Contact::Point pt = ct.at(th);
-      return Pair(pt.tau, pt.sigma * pt.cos_t + pt.tau * pt.sin_t);
+    const Pair tau_w = integrate_contact(ct, [&ct, wf, wr](double u) {
+      const Contact::Sample sm = ct.at(u);
+      return Pair(wf * sm.front.tau + wr * sm.rear.tau,
+                  wf * (sm.sigma * sm.front.cos_t + sm.front.tau * sm.front.sin_t) +
+                      wr * (sm.sigma * sm.rear.cos_t + sm.rear.tau * sm.rear.sin_t));
     });
     const double h = h_rc.real();
     const double rc = h_rc.imag();

@@ -72,7 +72,8 @@ struct EffectSettings {
   // bulldozing: Rb = scale b (0.67 c z Kpc + 0.5 z^2 gamma Kpgamma) (Bekker/Wong,
   // Terzaghi factors), subtracted from the drawbar pull.
   struct Bulldozing { bool enabled = false; double scale = 1.0; } bulldozing;
-  // load_dependence: phi(sigma) = phi0 - dphi ln(1 + sigma/sigma_ref) (after Bolton 1986).
+  // load_dependence: phi(sigma) = phi0 (1 + sigma/sigma_ref)^(-dphi/phi0), which is
+  // phi0 - dphi ln(1 + sigma/sigma_ref) to first order (after Bolton 1986).
   struct LoadDependence { bool enabled = false; double dphi_deg = 1.5; double sigma_ref_pa = 1000.0; } load_dependence;
   // drive_friction: T_measured = T_soil + t0 + k_w W (gearbox drag + bearing load term).
   struct DriveFriction { bool enabled = false; double t0_nm = 0.1; double k_w_m = 1.0e-3; } drive_friction;
