@@ -1,0 +1,113 @@
+// The per-cycle step on arbitrary raw telemetry (any bits in every field, any
+// time stamps): it must never produce a number from an invalid input, and
+// whatever it returns must be consistent. Run under the sanitizer build, this
+// is also the undefined-behaviour check of the whole chain.
+#include <gtest/gtest.h>
+#include <rapidcheck.h>
+#include <rapidcheck/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+
+#include "rover_test_support.hpp"
+#include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/rover_step.hpp"
+
+namespace sinkwatch {
+namespace {
+
+using rover_test::d;
+
+std::int32_t any_raw() { return *rc::gen::arbitrary<std::int32_t>(); }
+
+/// Mostly plausible values (so that the chain runs through), sometimes any bits.
+template <typename Quantity>
+Quantity plausible(double limit) {
+  if (*rc::gen::weightedElement<bool>({{1, true}, {4, false}})) {
+    return Quantity::from_raw(any_raw());
+  }
+  const std::int32_t lim = rover_test::q<Quantity>(limit).raw();
+  return Quantity::from_raw(*rc::gen::resize(rc::kNominalSize, rc::gen::inRange<std::int32_t>(-lim, lim + 1)));
+}
+
+RC_GTEST_PROP(RoverStepProp, NeverANumberFromInvalidInputAndAlwaysConsistent, ()) {
+  const flight::ParameterTable table = flight::default_parameter_table();
+  const flight::RoverParams rover = flight::yutu_like_rover_params(flight::kGravityMoon);
+  flight::RoverStep step;
+  const int cycles = *rc::gen::inRange(1, 12);
+  std::uint32_t now = *rc::gen::arbitrary<std::uint32_t>();
+  for (int c = 0; c < cycles; ++c) {
+    flight::RoverTelemetry t{};
+    now += *rc::gen::inRange<std::uint32_t>(0U, 300U);
+    // Usually a fresh stamp, sometimes any stamp (stale, future, repeated).
+    t.time = flight::TimeMs{*rc::gen::weightedElement<bool>({{4, true}, {1, false}})
+                                ? now - *rc::gen::inRange<std::uint32_t>(0U, 50U)
+                                : *rc::gen::arbitrary<std::uint32_t>()};
+    t.valid = *rc::gen::weightedElement<bool>({{9, true}, {1, false}});
+    for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+      t.current_a[i] = plausible<flight::CurrentA>(3.0);
+      t.direction[i] = *rc::gen::weightedElement<flight::DriveDirection>(
+          {{8, flight::DriveDirection::forward}, {1, flight::DriveDirection::reverse},
+           {1, static_cast<flight::DriveDirection>(7U)}});
+    }
+    t.attitude.pitch_rad = plausible<flight::AngleRad>(0.8);
+    t.attitude.roll_rad = plausible<flight::AngleRad>(0.8);
+    for (std::uint32_t s = 0U; s < flight::kSideCount; ++s) {
+      t.joints.rocker_rad[s] = plausible<flight::AngleRad>(0.4);
+      t.joints.bogie_rad[s] = plausible<flight::AngleRad>(0.55);
+    }
+    t.accel_valid = *rc::gen::arbitrary<bool>();
+    t.accel_mps2 = plausible<flight::AccelMps2>(0.5);
+    t.speed_valid = *rc::gen::arbitrary<bool>();
+    t.speed_mps = plausible<flight::SpeedMps>(0.2);
+    t.rim_speed_valid = *rc::gen::arbitrary<bool>();
+    t.rim_speed_mps = plausible<flight::SpeedMps>(0.2);
+
+    const flight::RoverStepOutput out = step.step(t, flight::TimeMs{now}, table, rover);
+
+    const bool ok = out.status == flight::RoverStepStatus::ok;
+    RC_CLASSIFY(ok, "full chain");
+    RC_CLASSIFY(out.status == flight::RoverStepStatus::tip_over, "tip-over");
+    for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+      // No estimate without the whole chain behind it.
+      if (!ok) {
+        RC_ASSERT(!out.monitor.wheels[i].estimate_valid);
+        RC_ASSERT(!out.monitor.wheels[i].limit_valid);
+        RC_ASSERT(out.monitor.wheels[i].sample_status != flight::SampleStatus::ok);
+      }
+    }
+    if (!t.valid || (static_cast<std::uint32_t>(now - t.time.ms) > table.monitor.stale_timeout_ms)) {
+      RC_ASSERT(!out.loads_valid);
+      RC_ASSERT(!out.drawbar_valid);
+    }
+    if (out.status == flight::RoverStepStatus::tip_over) {
+      RC_ASSERT(out.decision == flight::RoverDecision::stop_and_replan);
+      RC_ASSERT(out.lifting_wheel < flight::kWheelCount);
+    }
+    if (ok) {
+      RC_ASSERT(out.loads_valid && out.drawbar_valid && out.accel_valid);
+    }
+    if (out.loads_valid) {
+      const double mg = d(rover.mass_kg) * d(rover.gravity_mps2);
+      const double normal = mg * std::cos(d(t.attitude.pitch_rad)) * std::cos(d(t.attitude.roll_rad));
+      double sum = 0.0;
+      for (const flight::WheelLoadN w : out.load_n) {
+        RC_ASSERT(w.raw() >= 0);
+        sum += d(w);
+      }
+      RC_ASSERT(std::fabs(sum - normal) <= 6.0 * rover_test::load_bound_n(mg) + 1e-6 * mg);
+    }
+    if (out.drawbar_valid) {
+      // The default table's DP_max/W is 0.5 at every load: the cap holds.
+      for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+        RC_ASSERT(std::fabs(d(out.drawbar_pull_n[i])) <= 0.5 * d(out.load_n[i]) + 1e-4);
+      }
+    }
+    if (out.slip_known) {
+      RC_ASSERT(std::fabs(d(out.slip)) <= 1.0);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace sinkwatch
