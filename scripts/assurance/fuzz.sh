@@ -14,7 +14,7 @@ cd "$(dirname "$0")/../.."
 seconds=${1:-${SINKWATCH_FUZZ_SECONDS:-25}}
 shift || true
 harnesses=("$@")
-[ ${#harnesses[@]} -gt 0 ] || harnesses=(param_table rover_step soil_bin_csv telemetry_csv)
+[ ${#harnesses[@]} -gt 0 ] || harnesses=(param_table rover_step soil_bin_csv telemetry_csv wide_divmod)
 
 if ! command -v clang++ >/dev/null || ! ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1; then
   echo "fuzz: clang++ or libFuzzer (libclang-rt-14-dev) missing: skipped"
