@@ -222,6 +222,17 @@ TEST(WheelSoilEffects, RearContactOpensAnExitAngle) {
   EXPECT_NEAR(on.exit_angle_rad, -std::acos(1.0 - 0.9 * on.sinkage_m / p.wheel.radius_m), 1e-14);
   EXPECT_LT(on.sinkage_m, off.sinkage_m);  // a longer contact carries the load at less sinkage
   EXPECT_GT(on.drawbar_pull_n, off.drawbar_pull_n);
+  // lambda_r = 0 closes the rear contact again: the base model.
+  p.effects.rear_contact.lambda_r = 0.0;
+  const sg::WheelSoilState closed = eval(p, 10 * kG, 0.3);
+  EXPECT_EQ(closed.exit_angle_rad, 0.0);
+  EXPECT_NEAR(closed.sinkage_m / off.sinkage_m, 1.0, 1e-12);
+  EXPECT_NEAR(closed.drawbar_pull_n / off.drawbar_pull_n, 1.0, 1e-12);
+  // Its size grows with lambda_r.
+  p.effects.rear_contact.lambda_r = 0.3;
+  const sg::WheelSoilState small = eval(p, 10 * kG, 0.3);
+  EXPECT_LT(small.sinkage_m, off.sinkage_m);
+  EXPECT_GT(small.sinkage_m, on.sinkage_m);
 }
 
 TEST(WheelSoilEffects, GrouserLengthensShearRadius) {
