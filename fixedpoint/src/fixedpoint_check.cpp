@@ -40,6 +40,7 @@ T all_core(T a, T b, Status& s) {
   static_cast<void>(asin(r, s));
   static_cast<void>(acos(r, s));
   static_cast<void>(entry_angle(r, s));
+  static_cast<void>(atan2(r, a, s));
   return r;
 }
 

@@ -143,6 +143,21 @@ std::string check_entry_angle(QT ratio, Worst* worst = nullptr) {
   return check_value("entry_angle", th, s, reference, input_name(ratio), worst);
 }
 
+/// atan2: domain error at (0, 0), else within 1 LSB of atan2l (the inputs
+/// share a format, so y / x is exact in long double whenever both raws are).
+template <typename QT>
+std::string check_atan2(QT y, QT x, Worst* worst = nullptr) {
+  fx::Status s;
+  const fx::Q3_28 r = fx::atan2(y, x, s);
+  if (y.raw() == 0 && x.raw() == 0) {
+    if (s.bits() != static_cast<std::uint8_t>(fx::Flag::domain) || r.raw() != 0) {
+      return "atan2(0, 0): expected domain only and zero";
+    }
+    return "";
+  }
+  return check_value("atan2", r, s, atan2l(value_of(y), value_of(x)), input_name(y) + ", " + input_name(x), worst);
+}
+
 // ------------------------------------------------------------ generators
 
 /// Raw values next to the interesting points of asin's domain: +-1, +-1/2
@@ -206,6 +221,26 @@ QT angle_arg() {
   RC_GTEST_PROP(FxTrig_##Suffix, EntryAngleWithinOneLsbOrDomain, ()) {                \
     RC_ASSERT(check_entry_angle(entry_arg<QT>()) == std::string());                   \
   }
+
+#define FX_ATAN2_PROP(Suffix, QT)                                                     \
+  RC_GTEST_PROP(FxTrig_##Suffix, Atan2WithinOneLsbOrDomain, ()) {                     \
+    const QT y = *fxref::q<QT>();                                                     \
+    /* Half the time x is next to +-y or +-y tan(pi/8): the octant seams. */          \
+    const int mode = *rc::gen::inRange(0, 4);                                         \
+    const I128 yr = y.raw();                                                          \
+    const I128 target = (mode == 0) ? yr : ((mode == 1) ? -yr : (yr * 5741) / 2378);  \
+    const QT x = (mode == 3) ? *fxref::q<QT>()                                        \
+                             : QT::from_raw(fxref::clamp_to<typename QT::storage_type>( \
+                                   target + *rc::gen::inRange<std::int64_t>(-2, 3))); \
+    RC_ASSERT(check_atan2(y, x) == std::string());                                    \
+    RC_ASSERT(check_atan2(x, y) == std::string());                                    \
+  }
+
+FX_ATAN2_PROP(Q15_16, fx::Q15_16)
+FX_ATAN2_PROP(Q1_30, fx::Q1_30)
+FX_ATAN2_PROP(Int32, QInt32)
+FX_ATAN2_PROP(Q31_32, fx::Q31_32)
+FX_ATAN2_PROP(Int64, QInt64)
 
 FX_TRIG_PROPS(Q15_16, fx::Q15_16)
 FX_TRIG_PROPS(Q1_30, fx::Q1_30)
@@ -324,4 +359,22 @@ TEST(FxTrigExhaustive, EntryAngleQ2_29Ends) {
   }
   EXPECT_EQ(failures, 0) << first;
   std::cout << "entry_angle Q2_29 ends: worst error " << static_cast<double>(worst.lsb) << " LSB\n";
+}
+
+// atan2 of every (y, x) on a 1024 x 1024 grid of Q15_16 raws around the
+// origin: every octant and every seam.
+TEST(FxTrigExhaustive, Atan2GridQ15_16) {
+  Worst worst;
+  std::int64_t failures = 0;
+  std::string first;
+  for (std::int32_t y = -512; y < 512; ++y) {
+    for (std::int32_t x = -512; x < 512; ++x) {
+      const std::string e = check_atan2(fx::Q15_16::from_raw(y), fx::Q15_16::from_raw(x), &worst);
+      if (!e.empty() && failures++ == 0) {
+        first = e;
+      }
+    }
+  }
+  EXPECT_EQ(failures, 0) << first;
+  std::cout << "atan2 Q15_16 grid: worst error " << static_cast<double>(worst.lsb) << " LSB\n";
 }

@@ -1,4 +1,4 @@
-// trig.hpp: sin, cos, asin, acos and the wheel entry angle in Q format.
+// trig.hpp: sin, cos, asin, acos, atan2 and the wheel entry angle in Q format.
 //
 // The entry angle is the paper's geometry cos theta1 = 1 - z/r (the angle at
 // which the soil first touches a wheel of radius r sunk by z; the upper bound
@@ -18,13 +18,14 @@
 //    bound and its proof);
 //  * results: sin and cos in Q1_30 within 1 LSB of the exact value of the
 //    exact input angle, for every representable angle; asin, acos and
-//    entry_angle in Q3_28 (radians) within 1 LSB.
+//    entry_angle and atan2 in Q3_28 (radians) within 1 LSB.
 //
 // Errors, in the caller's sticky Status:
 //  * asin/acos of |x| > 1 raise Flag::domain and return zero. There is no
 //    silent clamp to +-1: an argument past 1 means the caller's geometry is
 //    wrong, and a clamp would hide it.
 //  * entry_angle of z/r < 0 or z/r > 2 raises Flag::domain and returns zero.
+//  * atan2(0, 0) raises Flag::domain and returns zero.
 //  * sin and cos cannot fail: they take a Status only for uniformity.
 //
 // Range reduction for sin and cos multiplies the angle by 1/(2 pi) held to
@@ -72,6 +73,17 @@ constexpr std::uint32_t k_cos_shift[6] = {1U, 5U, 11U, 18U, 25U, 33U};
 constexpr std::uint32_t k_asin_c[12] = {715827883U, 322122547U, 191739611U, 130489458U,
                                         96087692U,  74529556U,  59978547U,  49614607U,
                                         41925794U,  36036218U,  31407059U,  27690557U};
+
+/// Taylor coefficients 1/(2n + 1) of atan(u) = u - u^3/3 + u^5/5 - ...,
+/// n = 1 .. 11, in units of 2^-32.
+constexpr std::uint32_t k_atan_c[11] = {1431655765U, 858993459U, 613566757U, 477218588U, 390451572U, 330382100U,
+                                        286331153U,  252645135U, 226050910U, 204522252U, 186737709U};
+
+/// tan(pi/8) in units of 2^-31; pi/4 and pi in units of 2^-32 rad (errors
+/// 0.131 and 0.478 unit).
+constexpr std::uint64_t k_tan_pi_8_q31 = 889516852U;
+constexpr std::uint64_t k_quarter_pi_q32 = 3373259426U;
+constexpr std::uint64_t k_pi_q32 = 13493037705U;
 
 /// round(a * b / 2^shift) for 1 <= shift <= 63, a * b + 2^(shift-1) < 2^64.
 constexpr std::uint64_t mul_round(std::uint64_t a, std::uint64_t b, std::uint32_t shift) noexcept {
@@ -203,6 +215,19 @@ constexpr std::uint64_t asin_magnitude(std::uint64_t m, std::uint64_t d) noexcep
   return k_half_pi_q32 - (2U * asin_poly(s32));
 }
 
+/// atan(u) in units of 2^-32 rad for u = u32 * 2^-32 in [0, tan(pi/8)].
+constexpr std::uint64_t atan_poly(std::uint64_t u32) noexcept {
+  const std::uint64_t w = mul_round(u32, u32, 32U);  // u^2 <= 0.1716
+  // atan(u) = u - u w B_1, B_n = c_n - w B_(n+1): every bracket is positive
+  // (c_n > c_(n+1), w < 1), so the Horner steps stay unsigned.
+  std::uint64_t b = k_atan_c[10];
+  for (std::uint32_t step = 0U; step < 10U; ++step) {
+    const std::uint32_t n = 9U - step;
+    b = k_atan_c[n] - mul_round(w, b, 32U);
+  }
+  return u32 - mul_round(u32, mul_round(w, b, 32U), 32U);
+}
+
 /// Q3_28 from a sign and an angle in units of 2^-32 rad (< 4 pi).
 constexpr Q3_28 q3_28_from_q32(bool negative, std::uint64_t angle_q32) noexcept {
   const std::int32_t v = static_cast<std::int32_t>((angle_q32 + 8U) >> 4U);
@@ -296,6 +321,51 @@ template <typename S, std::int32_t F>
   // y < 0: theta1 = pi/2 + asin(|y|), |y| = z/r - 1, 1 - |y| = 2 - z/r.
   const std::uint64_t a = detail::trig::asin_magnitude<F>(m - one, (2U * one) - m);
   return detail::trig::q3_28_from_q32(false, detail::trig::k_half_pi_q32 + a);
+}
+
+/// atan2(y, x): the angle of the vector (x, y) in radians, in (-pi, pi],
+/// Q3_28, within 1 LSB of the exact value (for the attitude: roll and pitch
+/// from accelerometer components). y and x share a format, which cancels in
+/// the ratio. atan2(0, 0) raises Flag::domain and returns zero.
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Q3_28 atan2(Q<S, F> y, Q<S, F> x, Status& status) noexcept {
+  if ((y.raw() == 0) && (x.raw() == 0)) {
+    status.raise(Flag::domain);
+    return Q3_28::zero();
+  }
+  const std::uint64_t my = detail::magnitude(y.raw());
+  const std::uint64_t mx = detail::magnitude(x.raw());
+  // Fold into the first octant: phi = atan(a / b), a <= b.
+  const bool steep = my > mx;
+  std::uint64_t a = steep ? mx : my;
+  std::uint64_t b = steep ? my : mx;
+  // 64-bit magnitudes are brought to 32 bits (rounded, the same shift for
+  // both) so that the one division below stays in 64 bits.
+  const std::uint32_t len = wide::bit_length(b);
+  if (len > 32U) {
+    const std::uint32_t k = len - 32U;
+    const std::uint64_t half = std::uint64_t{1U} << (k - 1U);
+    a = (a >> k) + (((a & half) != 0U) ? 1U : 0U);
+    b = (b >> k) + (((b & half) != 0U) ? 1U : 0U);
+  }
+  std::uint64_t phi = 0U;
+  if ((a << 31U) <= (b * detail::trig::k_tan_pi_8_q31)) {
+    // a / b <= tan(pi/8): the series directly. a 2^32 < 0.42 * 2^64.
+    const std::uint64_t u = ((a << 32U) + (b >> 1U)) / b;
+    phi = detail::trig::atan_poly(u);
+  } else {
+    // atan(a/b) = pi/4 - atan((b - a) / (b + a)), the argument below tan(pi/8).
+    const std::uint64_t den = a + b;
+    const std::uint64_t u = (((b - a) << 32U) + (den >> 1U)) / den;
+    phi = detail::trig::k_quarter_pi_q32 - detail::trig::atan_poly(u);
+  }
+  if (steep) {
+    phi = detail::trig::k_half_pi_q32 - phi;
+  }
+  if (x.raw() < 0) {
+    phi = detail::trig::k_pi_q32 - phi;
+  }
+  return detail::trig::q3_28_from_q32((y.raw() < 0) && (phi != 0U), phi);
 }
 
 }  // namespace fx
