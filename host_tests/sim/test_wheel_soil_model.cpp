@@ -328,6 +328,26 @@ TEST(WheelSoilEffects, EveryEffectChangesSomeOutputAndNamesRoundTrip) {
   EXPECT_THROW(sg::effect_from_name("mud"), std::invalid_argument);
 }
 
+// Each effect at zero size is the base model (nested models: the diagnosis
+// compares base + effect against base, and a fitted size of 0 must mean "no
+// effect").
+TEST(WheelSoilEffects, EveryEffectAtZeroSizeIsTheBaseModel) {
+  const sg::SimParameters p = base();
+  for (double slip : {0.1, 0.6}) {
+    const sg::WheelSoilState off = eval(p, 10 * kG, slip);
+    for (sg::Effect e : sg::kAllEffects) {
+      sg::SimParameters q = p;
+      q.effects.set_enabled(e, true);
+      sg::set_parameter(q, sg::primary_parameter_name(e), 0.0);
+      if (e == sg::Effect::drive_friction) q.effects.drive_friction.k_w_m = 0.0;
+      const sg::WheelSoilState zero = eval(q, 10 * kG, slip);
+      EXPECT_NEAR(zero.sinkage_m / off.sinkage_m, 1.0, 1e-12) << sg::effect_name(e);
+      EXPECT_NEAR(zero.torque_nm / off.torque_nm, 1.0, 1e-12) << sg::effect_name(e);
+      EXPECT_NEAR(zero.drawbar_pull_n / off.drawbar_pull_n, 1.0, 1e-12) << sg::effect_name(e);
+    }
+  }
+}
+
 // --- parameter vector ------------------------------------------------------
 
 TEST(WheelSoilParameters, NamedVectorRoundTripsAndIsComplete) {
