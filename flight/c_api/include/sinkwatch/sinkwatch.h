@@ -33,7 +33,7 @@ typedef struct sw_context {
   } opaque;
 } sw_context;
 
-/* Results of sw_init and sw_step. Values 1..10 mirror RoverStepStatus. */
+/* Results of sw_init and sw_step. Values 1..11 mirror RoverStepStatus. */
 typedef enum sw_status {
   SW_OK = 0,
   SW_INVALID_TABLE = 1,
@@ -46,6 +46,7 @@ typedef enum sw_status {
   SW_TIP_OVER = 8,
   SW_NO_ACCELERATION = 9,
   SW_DRAWBAR_FAILED = 10,
+  SW_RADIUS_MISMATCH = 11,
   SW_NULL_ARGUMENT = 100,
   SW_NOT_INITIALISED = 101
 } sw_status;
