@@ -240,8 +240,9 @@ CalibrationFit fit_sinkage_function(const std::vector<Observation>& data,
       fit.ci_high[k] = fit.c[k] + fit.t_quantile * fit.std_err[k];
       for (Eigen::Index l = 0; l < m; ++l) {
         const std::size_t q = p.free_index[static_cast<std::size_t>(l)];
-        fit.correlation[k][q] =
-            covariance(j, l) / std::sqrt(covariance(j, j) * covariance(l, l));
+        // A perfect fit (zero residual) has no spread to correlate.
+        const double scale = std::sqrt(covariance(j, j) * covariance(l, l));
+        fit.correlation[k][q] = scale > 0.0 ? covariance(j, l) / scale : kNaN;
       }
     }
   }

@@ -299,6 +299,11 @@ SoilBinDataset parse_soil_bin_csv(std::istream& in, const std::string& source,
       row.sinkage_ratio = *row.sinkage_m / radius_m;
       row.drive_coeff = *row.torque_nm / (radius_m * load_n);
       row.traction_coeff = *row.drawbar_pull_n / load_n;
+      if (!std::isfinite(row.sinkage_ratio) || !std::isfinite(row.drive_coeff) ||
+          !std::isfinite(row.traction_coeff)) {
+        throw DataError(source, line_number, 0, "",
+                        "z/r, T/(rW) or DP/W is not a finite number (extreme values in this row)");
+      }
     } else {
       row.sinkage_ratio = parse.number(header.find("sinkage_ratio"));
       row.drive_coeff = parse.number(header.find("drive_coeff"));
