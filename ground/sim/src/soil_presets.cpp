@@ -37,10 +37,11 @@ const std::vector<SoilPreset>& soil_presets() {
       {make("hit-lss1", 15.6e3, 2407.4e3, 1.1, 250.0, 31.9, 0.010, 1600.0),
        "Ding et al. 2015, J. Field Robotics 32(6):827-859, Table I (via gz-terramechanics)"},
       // Dry sand (Land Locomotion Lab) from Wong, Theory of Ground Vehicles,
-      // Table 2.3; K = 10 mm (firm sand end of Wong's 10-25 mm range);
-      // density 1600 kg/m^3 is an assumption.
+      // terrain-value table, as also transcribed by gz-terramechanics; K = 10 mm
+      // (firm end of the 10-25 mm range noted there); density 1600 kg/m^3 is
+      // an assumption.
       {make("dry-sand", 0.99e3, 1528.43e3, 1.1, 1040.0, 28.0, 0.010, 1600.0),
-       "Wong, Theory of Ground Vehicles (4th ed. 2008), Table 2.3, dry sand (LLL)"},
+       "Wong, Theory of Ground Vehicles, terrain values, dry sand (LLL) (via gz-terramechanics)"},
   };
   return presets;
 }
