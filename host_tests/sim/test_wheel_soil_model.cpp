@@ -8,7 +8,10 @@
 #include <boost/math/special_functions/gamma.hpp>
 
 #include <cmath>
+#include <functional>
 #include <set>
+#include <thread>
+#include <vector>
 
 namespace sg = sinkwatch::ground;
 
@@ -450,4 +453,26 @@ TEST(WheelSoilPresets, PresetsAndBodiesAreKnownAndSane) {
   EXPECT_DOUBLE_EQ(sg::body_gravity("moon"), 1.62);
   EXPECT_THROW(sg::soil_preset("mud"), std::invalid_argument);
   EXPECT_THROW(sg::body_gravity("pluto"), std::invalid_argument);
+}
+
+// Ceres may evaluate residuals on several threads: the same results from two
+// threads at once as from one.
+TEST(WheelSoilModel, ConcurrentEvaluationsMatchSerialOnes) {
+  sg::SimParameters p = base();
+  for (sg::Effect e : sg::kAllEffects) p.effects.set_enabled(e, true);
+  const std::vector<double> slips = {0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7};
+  std::vector<double> serial;
+  for (double s : slips) serial.push_back(eval(p, 50.0, s).drawbar_pull_n);
+  std::vector<double> a(slips.size()), b(slips.size());
+  auto work = [&](std::vector<double>& out) {
+    for (std::size_t i = 0; i < slips.size(); ++i) out[i] = sg::evaluate(p, 50.0, slips[i]).state.drawbar_pull_n;
+  };
+  std::thread t1(work, std::ref(a));
+  std::thread t2(work, std::ref(b));
+  t1.join();
+  t2.join();
+  for (std::size_t i = 0; i < slips.size(); ++i) {
+    EXPECT_EQ(a[i], serial[i]);
+    EXPECT_EQ(b[i], serial[i]);
+  }
 }
