@@ -429,3 +429,31 @@ TEST(FxExhaustive, MulDivSmallFormat) {
   }
   EXPECT_EQ(failures, 0) << first;
 }
+
+// ------------------------------------------------------------ the checkers can fail
+
+// The reference checkers must reject wrong results, or every property above
+// would pass vacuously.
+TEST(FxReference, CheckersRejectWrongResults) {
+  fx::Status clean;
+  fx::Status overflowed;
+  overflowed.raise(fx::Flag::overflow);
+  // 7/2 = 3.5 rounds to 4 (tie away from zero); -3.5 to -4.
+  EXPECT_EQ(fxref::check_rounded(fx::Q15_16::from_raw(4), clean, false, 7, 2), "");
+  EXPECT_NE(fxref::check_rounded(fx::Q15_16::from_raw(3), clean, false, 7, 2), "");  // tie toward zero
+  EXPECT_EQ(fxref::check_rounded(fx::Q15_16::from_raw(-4), clean, true, 7, 2), "");
+  EXPECT_NE(fxref::check_rounded(fx::Q15_16::from_raw(-3), clean, true, 7, 2), "");  // asymmetric
+  EXPECT_NE(fxref::check_rounded(fx::Q15_16::from_raw(4), clean, true, 7, 2), "");   // wrong sign
+  // 10/3 = 3.33: 3 is right, 4 is 0.67 LSB off.
+  EXPECT_EQ(fxref::check_rounded(fx::Q15_16::from_raw(3), clean, false, 10, 3), "");
+  EXPECT_NE(fxref::check_rounded(fx::Q15_16::from_raw(4), clean, false, 10, 3), "");
+  // Right value, but a flag raised, or none where saturation was due.
+  EXPECT_NE(fxref::check_rounded(fx::Q15_16::from_raw(3), overflowed, false, 10, 3), "");
+  const U128 too_big = static_cast<U128>(1) << 40;
+  EXPECT_EQ(fxref::check_rounded(fx::Q15_16::max(), overflowed, false, too_big, 1), "");
+  EXPECT_NE(fxref::check_rounded(fx::Q15_16::max(), clean, false, too_big, 1), "");
+  EXPECT_NE(fxref::check_rounded(fx::Q15_16::min(), overflowed, false, too_big, 1), "");
+  EXPECT_EQ(fxref::check_exact(fx::Q15_16::from_raw(5), clean, 5), "");
+  EXPECT_NE(fxref::check_exact(fx::Q15_16::from_raw(5), clean, 6), "");
+  EXPECT_NE(fxref::check_exact(fx::Q15_16::max(), clean, static_cast<I128>(1) << 40), "");
+}
