@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 
 #include <CLI/CLI.hpp>
@@ -36,7 +37,17 @@ void run_diagnose(const DiagnoseOptions& options, std::ostream& out) {
     }
     SimParameters start = default_parameters(options.soil);
     start.gravity_m_s2 = options.gravity_m_s2;
-    model = std::make_unique<WongReeceModel>(start);
+    std::vector<std::string> names = WongReeceModel::default_base_parameters();
+    if (!options.base_fit.empty()) {
+      names.clear();
+      std::stringstream list(options.base_fit);
+      std::string name;
+      while (std::getline(list, name, ',')) {
+        (void)get_parameter(start, name);  // throws naming an unknown parameter
+        names.push_back(name);
+      }
+    }
+    model = std::make_unique<WongReeceModel>(start, names);
   }
   const DiagnosisResult result = diagnose(*model, data.rows, data.source);
 
@@ -78,6 +89,9 @@ void add_diagnose_command(CLI::App& app) {
       sub->add_option("--load", *load, "wheel load in newtons of every row, for files without load_N");
   sub->add_option("--soil", options->soil, "soil preset the wong-reece fit starts from (default hit-lss1)");
   sub->add_option("--gravity", options->gravity_m_s2, "gravity in m/s^2 for the wong-reece model (default 9.81)");
+  sub->add_option("--fit", options->base_fit,
+                  "wong-reece: simulator parameters of the base fit, comma-separated (default "
+                  "soil.kphi,soil.n,soil.c_pa,soil.phi_deg,soil.K_m)");
   sub->add_option("--json", options->json_path, "write where / ranking / base_fit as JSON to this file");
   sub->add_option("--report", options->report_dir, "write summary.md and residual plots (gnuplot SVG) to this folder");
   sub->callback([options, radius, radius_option, width, width_option, load, load_option]() {

@@ -202,9 +202,36 @@ FitResult fit_model(const DiagnosisModel& model, const Candidate* candidate, con
     x[i] = std::clamp(x[i], specs[i].lower, specs[i].upper);
   }
 
+  // Ceres needs a start where every training row evaluates. Try, in order:
+  // the given start; the candidate's terms at their lower end of "small"
+  // (a tenth of their initial value); the model's own initial values.
+  auto start_ok = [&](const std::vector<double>& start) {
+    std::vector<double> predicted;
+    return std::all_of(train.begin(), train.end(), [&](const DiagnosisRow& row) {
+      return model.predict(candidate, start, row, predicted);
+    });
+  };
+  if (!start_ok(x)) {
+    std::vector<double> small = x;
+    for (std::size_t i = initial_base.size(); i < specs.size(); ++i) {
+      small[i] = std::clamp(0.1 * specs[i].initial, specs[i].lower, specs[i].upper);
+    }
+    std::vector<double> own(specs.size());
+    for (std::size_t i = 0; i < specs.size(); ++i) {
+      own[i] = specs[i].initial;
+    }
+    if (start_ok(small)) {
+      x = small;
+    } else if (start_ok(own)) {
+      x = own;
+    } else {
+      throw DiagnosisError("the " + fit.label + " model has no solution at its starting point on some training rows");
+    }
+  }
+
   ceres::Problem problem;
   for (const DiagnosisRow& row : train) {
-    auto* cost = new ceres::DynamicNumericDiffCostFunction<RowResidual, ceres::CENTRAL>(
+    auto* cost = new ceres::DynamicNumericDiffCostFunction<RowResidual, ceres::FORWARD>(
         new RowResidual(model, candidate, row, model.measured(row), sigma, specs));
     cost->AddParameterBlock(static_cast<int>(specs.size()));
     cost->SetNumResiduals(static_cast<int>(sigma.size()));
@@ -419,11 +446,36 @@ DiagnosisResult diagnose(const DiagnosisModel& model, const std::vector<Diagnosi
     effect.heldout_rms_before = before;
     effect.channel_before = result.base.heldout_rms;
     if (candidate.identifiable) {
-      try {
-        effect.fit = fit_model(model, &candidate, rows, split, result.noise, result.base.values, settings);
-      } catch (const DiagnosisError& e) {
+      // Several starts for the candidate's own terms (multiples of its
+      // initial value), each from the fitted base; the lowest training
+      // cost wins. A local minimum would otherwise read as "no shrink".
+      bool fitted = false;
+      std::string failure;
+      std::vector<std::vector<double>> tried;
+      for (double multiple : settings.start_multiples) {
+        Candidate start = candidate;
+        std::vector<double> extra_start;
+        for (ParameterSpec& spec : start.extra) {
+          spec.initial = std::clamp(multiple * spec.initial, spec.lower, spec.upper);
+          extra_start.push_back(spec.initial);
+        }
+        if (std::find(tried.begin(), tried.end(), extra_start) != tried.end()) {
+          continue;
+        }
+        tried.push_back(extra_start);
+        try {
+          FitResult fit = fit_model(model, &start, rows, split, result.noise, result.base.values, settings);
+          if (!fitted || fit.train_chi2 < effect.fit.train_chi2) {
+            effect.fit = std::move(fit);
+            fitted = true;
+          }
+        } catch (const DiagnosisError& e) {
+          failure = e.what();
+        }
+      }
+      if (!fitted) {
         effect.identifiable = false;
-        effect.note = e.what();
+        effect.note = failure;
       }
     }
     if (effect.identifiable) {
@@ -442,10 +494,12 @@ DiagnosisResult diagnose(const DiagnosisModel& model, const std::vector<Diagnosi
       effect.heldout_rms_after = kNaN;
       effect.channel_after.assign(sigma.size(), kNaN);
     }
-    effect.shrink_pct = 100.0 * (before - effect.heldout_rms_after) / before;
+    effect.shrink_pct = before > 0.0 ? 100.0 * (before - effect.heldout_rms_after) / before : kNaN;
     for (std::size_t c = 0; c < sigma.size(); ++c) {
-      effect.channel_shrink_pct.push_back(100.0 * (effect.channel_before[c] - effect.channel_after[c]) /
-                                          effect.channel_before[c]);
+      effect.channel_shrink_pct.push_back(
+          effect.channel_before[c] > 0.0
+              ? 100.0 * (effect.channel_before[c] - effect.channel_after[c]) / effect.channel_before[c]
+              : kNaN);
     }
     result.ranking.push_back(std::move(effect));
   }
@@ -497,6 +551,19 @@ DiagnosisResult diagnose(const DiagnosisModel& model, const std::vector<Diagnosi
     result.verdict = "explained";
     verdict << best->effect << " explains the gap: held-out RMS " << before << " -> " << best->heldout_rms_after
             << "x noise (" << best->shrink_pct << " % shrink)";
+  }
+  if (best != nullptr && result.verdict != "no_gap") {
+    std::string tied;
+    for (std::size_t i = 1; i < result.ranking.size(); ++i) {
+      const RankedEffect& other = result.ranking[i];
+      if (other.identifiable && std::abs(other.heldout_rms_after - best->heldout_rms_after) <= tie) {
+        tied += (tied.empty() ? "" : ", ") + other.effect;
+      }
+    }
+    if (!tied.empty()) {
+      verdict << "; near-tie on held-out rows with " << tied
+              << " (within " << 100.0 * settings.tie_fraction << " % of the base's held-out RMS; ordered by training BIC)";
+    }
   }
   result.verdict_text = verdict.str();
   return result;

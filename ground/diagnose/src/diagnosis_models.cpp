@@ -9,6 +9,7 @@
 
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/flight/estimator.hpp"
+#include "sinkwatch/ground/reference.hpp"
 
 namespace sinkwatch {
 namespace ground {
@@ -103,10 +104,30 @@ std::vector<GapComponent> EstimatorModel::gap_components(const std::vector<Diagn
   GapComponent qz;
   qz.name = "fixed_point_quantisation_sinkage";
   qz.channel = "sinkage_m";
+  // The flight code runs only coefficients inside its validated envelope
+  // (estimator.hpp); outside it, the quantisation is measured with the
+  // paper's Eq. 14 coefficients (1, 1, 0.2) instead: its size does not
+  // depend on the coefficients' values, only on the Q formats.
+  std::vector<double> coeff(base_params.begin(), base_params.begin() + 3);
+  std::string coeff_note = "the fitted coefficients";
   fx::Status st;
-  const flight::Coefficients c{flight::Ratio(fx::from_double<flight::RatioQ>(base_params[0], st)),
-                               flight::Ratio(fx::from_double<flight::RatioQ>(base_params[1], st)),
-                               flight::Ratio(fx::from_double<flight::RatioQ>(base_params[2], st))};
+  flight::Coefficients c{flight::Ratio(fx::from_double<flight::RatioQ>(coeff[0], st)),
+                         flight::Ratio(fx::from_double<flight::RatioQ>(coeff[1], st)),
+                         flight::Ratio(fx::from_double<flight::RatioQ>(coeff[2], st))};
+  const flight::LengthM probe_r(fx::from_double<flight::LengthQ>(rows.front().radius_m, st));
+  const flight::WheelLoadN probe_w(fx::constant<flight::LoadQ>(1.0));
+  if (!st.ok() || flight::check_estimator_inputs(c, probe_r, probe_w) == flight::EstimateStatus::invalid_coefficient) {
+    coeff = {1.0, 1.0, 0.2};
+    coeff_note = "Eq. 14's C = (1, 1, 0.2), because the fitted coefficients are outside the flight envelope "
+                 "(C1, C2 in [0.25, 4], C3 in [-1, 1])";
+    st = fx::Status{};
+    c = flight::Coefficients{flight::Ratio(fx::from_double<flight::RatioQ>(coeff[0], st)),
+                             flight::Ratio(fx::from_double<flight::RatioQ>(coeff[1], st)),
+                             flight::Ratio(fx::from_double<flight::RatioQ>(coeff[2], st))};
+  }
+  // The double twin takes the coefficients as the flight code holds them,
+  // so that the difference is the arithmetic's rounding alone.
+  const reference::Coefficients twin = reference::from_flight(c);
   std::size_t used = 0;
   std::size_t skipped = 0;
   std::string first_problem;
@@ -135,12 +156,13 @@ std::vector<GapComponent> EstimatorModel::gap_components(const std::vector<Diagn
       }
       continue;
     }
-    // Eq. 11 in double on the row's own numbers: the double twin.
-    const double dpw_double = base_params[0] * row.drive_coeff - base_params[1] * row.sinkage_ratio - base_params[2];
-    const double dpw_fixed = fx::to_double(pull.drawbar_pull_n.q()) / row.load_n;
-    const double z_double = (base_params[0] * row.torque_nm / row.load_n -
-                             row.radius_m * (base_params[2] + row.drawbar_pull_n / row.load_n)) /
-                            base_params[1];
+    // The double twin on the same (quantised) inputs.
+    const double r_d = fx::to_double(r.q());
+    const double w_d = fx::to_double(w.q());
+    const double t_d = fx::to_double(t.q());
+    const double dpw_double = reference::drawbar_pull_n(twin, r_d, w_d, t_d, fx::to_double(z.q())) / w_d;
+    const double dpw_fixed = fx::to_double(pull.drawbar_pull_n.q()) / w_d;
+    const double z_double = reference::sinkage_m(twin, r_d, w_d, t_d, fx::to_double(dp.q()));
     const double z_fixed = fx::to_double(sink.sinkage_m.q());
     const double e = dpw_fixed - dpw_double;
     const double ez = z_fixed - z_double;
@@ -160,11 +182,12 @@ std::vector<GapComponent> EstimatorModel::gap_components(const std::vector<Diagn
   qz.rms = std::sqrt(sum_z / static_cast<double>(used));
   q.over_noise = q.rms / sigma[0];
   // The traction-coefficient noise seen as sinkage: sigma_z = r sigma / C2.
-  const double sigma_z = rows.front().radius_m * sigma[0] / std::abs(base_params[1]);
+  const double sigma_z = rows.front().radius_m * sigma[0] / std::abs(coeff[1]);
   qz.over_noise = qz.rms / sigma_z;
   std::ostringstream os;
-  os << "flight Q-format Eq. 11 (pull_from_sinkage) minus Eq. 11 in double, same coefficients, " << used
-     << " rows";
+  os << "flight Q-format Eq. 11 (pull_from_sinkage) minus its double twin (ground/reference) on the same "
+        "quantised inputs, with "
+     << coeff_note << ", " << used << " rows";
   if (skipped > 0) {
     os << " (" << skipped << " skipped: " << first_problem << ")";
   }
@@ -204,10 +227,17 @@ std::vector<std::string> fitted_effect_parameters(Effect effect) {
 
 }  // namespace
 
-WongReeceModel::WongReeceModel(SimParameters start) : start_(std::move(start)), base_names_(suggested_base_fit_parameters()) {
+WongReeceModel::WongReeceModel(SimParameters start, std::vector<std::string> base_names)
+    : start_(std::move(start)), base_names_(std::move(base_names)) {
   for (Effect e : kAllEffects) {
     start_.effects.set_enabled(e, false);
   }
+}
+
+std::vector<std::string> WongReeceModel::default_base_parameters() {
+  std::vector<std::string> names = suggested_base_fit_parameters();
+  names.erase(std::remove(names.begin(), names.end(), std::string("model.a0")), names.end());
+  return names;
 }
 
 std::vector<ChannelInfo> WongReeceModel::channels() const {

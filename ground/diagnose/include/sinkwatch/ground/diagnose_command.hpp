@@ -24,6 +24,7 @@ struct DiagnoseOptions {
   std::optional<double> load_n;          // --load (files without load_N)
   std::string soil = "hit-lss1";         // --soil: starting point of the Wong–Reece fit
   double gravity_m_s2 = 9.81;            // --gravity
+  std::string base_fit;                  // --fit: simulator parameters of the base fit (comma list)
   std::string json_path;                 // --json
   std::string report_dir;                // --report
 };

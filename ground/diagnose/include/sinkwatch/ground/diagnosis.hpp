@@ -183,6 +183,10 @@ struct DiagnosisSettings {
   double gap_threshold = 1.5;           // base held-out below 1.5x noise: no significant gap
   double residual_threshold = 2.0;      // best still above 2x noise: only partly explained
   int max_iterations = 100;
+  // Starts of each candidate fit: its terms at these multiples of their
+  // initial value (the Wong–Reece candidates start at half their documented
+  // default size, so 1 and 4 mean half and twice that size).
+  std::vector<double> start_multiples{1.0, 4.0};
 };
 
 struct DiagnosisResult {

@@ -19,7 +19,7 @@
 // WongReeceModel: the reference simulator (ground/sim, Wong–Reece with
 // Bekker and Janosi–Hanamoto), three channels sinkage_m, torque_nm,
 // drawbar_pull_n. Base: the simulator with every effect off and the soil
-// parameters of suggested_base_fit_parameters() free. Candidates: each effect
+// parameters kphi, n, c, phi, K free (default_base_parameters()). Candidates: each effect
 // of the simulator's catalogue, with its primary parameter free and its other
 // parameters at the simulator's documented defaults (a reduced parameter set).
 #ifndef SINKWATCH_GROUND_DIAGNOSIS_MODELS_HPP
@@ -52,7 +52,16 @@ class WongReeceModel final : public DiagnosisModel {
  public:
   /// `start`: the simulator parameters the fit starts from (soil preset,
   /// gravity); every effect in it is switched off for the base.
-  explicit WongReeceModel(SimParameters start);
+  /// `base_names`: the base parameters to fit (default_base_parameters()).
+  explicit WongReeceModel(SimParameters start, std::vector<std::string> base_names = default_base_parameters());
+
+  /// The soil parameters of the simulator's suggested_base_fit_parameters()
+  /// without model.a0 (theta_m = a0 theta1): a0 is a constant of the
+  /// Wong–Reece stress profile, not a soil property, and left free it trades
+  /// off against the candidates (stress_peak_shift, bulldozing,
+  /// drive_friction) so that the fit picks a wrong combination on training
+  /// rows (docs/diagnosis.md, "Base parameters").
+  [[nodiscard]] static std::vector<std::string> default_base_parameters();
 
   [[nodiscard]] std::string name() const override { return "wong-reece"; }
   [[nodiscard]] std::vector<ChannelInfo> channels() const override;
