@@ -1,0 +1,26 @@
+// `sinkwatch replay [TELEMETRY.csv]`: the subcommand. ground/cli/main.cpp
+// only registers it.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace sinkwatch::ground {
+
+/// The shipped scenarios compiled into the binary ("embedding", "nominal");
+/// empty when the build had no data/telemetry/<name>.csv.
+const std::string& embedded_scenario_text(const std::string& name);
+
+/// Adds `replay` to app. Errors end the program with exit code 2.
+CLI::App* add_replay_subcommand(CLI::App& app);
+
+/// Runs `sinkwatch replay ARGS...` (without the program name and "replay")
+/// and returns the exit code; for tests and scripting.
+int run_replay_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err);
+
+}  // namespace sinkwatch::ground

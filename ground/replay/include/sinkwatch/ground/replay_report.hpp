@@ -1,0 +1,53 @@
+// What `sinkwatch replay` prints and writes: the compact report, the full
+// time series as CSV and the gnuplot plot (docs/replay.md, "Output").
+#pragma once
+
+#include "sinkwatch/ground/replay.hpp"
+#include "sinkwatch/ground/telemetry_log.hpp"
+
+#include <iosfwd>
+#include <optional>
+#include <string>
+
+namespace sinkwatch::ground {
+
+struct ReportOptions {
+  bool verbose = false;     // one line per cycle
+  double every_s = 30.0;    // a status line at least this often (besides changes)
+  std::string title;        // e.g. "embedded default scenario 'embedding'"
+};
+
+/// The simulated embedding a scenario records, when it has one.
+struct EmbeddingTruth {
+  double x_m = 0.0;
+  double time_s = 0.0;
+  std::string reason;
+};
+std::optional<EmbeddingTruth> log_embedding(const TelemetryLog& log);
+
+/// How far before the embedding the rover stopped (negative: after it).
+struct Lead {
+  double distance_m = 0.0;
+  double time_s = 0.0;
+};
+std::optional<Lead> stop_lead(const TelemetryLog& log, const ReplayResult& result);
+
+void print_report(std::ostream& out, const TelemetryLog& log, const ReplayConfig& config,
+                  const ReplayResult& result, const ReportOptions& options);
+
+/// Every cycle: time, position, status, decision, slip, and per wheel W, DP,
+/// I, I_max, T, z and state, the escape and the simulator's truth.
+void write_series_csv(std::ostream& out, const TelemetryLog& log, const ReplayResult& result);
+
+/// The gnuplot script that draws currents against limits, sinkage and the
+/// decisions over time into `image_path` (.png or .svg).
+std::string plot_script(const TelemetryLog& log, const ReplayConfig& config, const ReplayResult& result,
+                        const std::string& image_path);
+
+/// Runs gnuplot on plot_script(). Returns an empty string on success, else a
+/// note for the user (gnuplot missing or failing); the script is then kept
+/// next to the image as IMAGE.gp so it can be drawn later.
+std::string draw_plot(const TelemetryLog& log, const ReplayConfig& config, const ReplayResult& result,
+                      const std::string& image_path);
+
+}  // namespace sinkwatch::ground

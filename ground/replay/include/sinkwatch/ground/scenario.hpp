@@ -1,0 +1,96 @@
+// Telemetry scenarios made with the reference wheel–soil simulator
+// (docs/scenarios.md): a Yutu-like rover drives a path whose soil and slope
+// change along x; each cycle the simulator gives every wheel's sinkage, torque
+// and drawbar pull at the wheel's load and the rover's slip, and the torque
+// becomes a motor current through the inverse of the flight motor model.
+//
+// The rover's slip is the one at which the six simulated drawbar pulls carry
+// the rover: sum_i DP_sim(W_i, s) = m (g sin(slope) + a). Embedding, in the
+// simulator's world, is the first point of the path where no slip up to
+// kEmbedMaxSlip gives that much net traction (the rover can no longer balance
+// its resistance and its slip runs away to 100 %), or where the soil can no
+// longer carry a wheel's load above the axle.
+//
+// The flight software is in the loop (OnboardLoop, replay.hpp): the rover
+// drives until the flight code decides to stop, then follows the escape
+// sequencer's commands. The open-loop drive is continued without telemetry
+// to find where and when the rover would have embedded had it not stopped.
+#pragma once
+
+#include "sinkwatch/ground/replay.hpp"
+#include "sinkwatch/ground/telemetry_log.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sinkwatch::ground {
+
+inline constexpr double kEmbedMaxSlip = 0.95;
+
+/// The path: soil softness and slope, linear between knots, held beyond.
+struct TerrainKnot {
+  double x_m = 0.0;
+  double soil_scale = 1.0;  // multiplies kc, kphi and the cohesion of the base soil (< 1: softer)
+  double slope_deg = 0.0;   // path slope, positive uphill
+};
+
+struct ScenarioNoise {
+  double current_abs_a = 0.004;   // motor-current sensor: sigma = hypot(abs, rel * |I|)
+  double current_rel = 0.01;
+  double attitude_deg = 0.05;     // IMU pitch and roll
+  double joint_deg = 0.05;        // rocker and bogie potentiometers
+  double accel_mps2 = 0.003;      // IMU along the path
+  double speed_mps = 0.001;       // visual odometry
+};
+
+struct ScenarioSpec {
+  std::string name;
+  std::string description;
+  std::uint64_t seed = 1;
+  std::string soil = "hit-lss1";   // base soil preset of the simulator
+  double gravity_mps2 = 1.62;      // the Moon
+  double cycle_s = 0.2;            // 5 Hz
+  double speed_mps = 0.05;         // commanded rim speed (Yutu: 200 m/h = 0.056 m/s)
+  double ramp_s = 1.0;             // speed ramps at starts and reversals
+  double end_x_m = 20.0;           // the drive's goal
+  double max_time_s = 1500.0;
+  double stuck_tail_s = 20.0;      // rows logged after an embedding (no stop)
+  double settle_s = 5.0;           // rows logged after the escape ends
+  double escape_soil_gain = 1.5;   // soil_scale factor per direction reversal (assumption)
+  std::vector<TerrainKnot> terrain;
+  ScenarioNoise noise;
+  ReplayConfig flight;             // the flight software in the loop
+};
+
+/// From firm ground into a soft ripple until the wheels would embed
+/// (after Opportunity at Purgatory, sol 446), then the escape.
+ScenarioSpec embedding_scenario();
+/// Firm and moderately soft ground with gentle slopes: must not stop.
+ScenarioSpec nominal_scenario();
+/// By name: "embedding" or "nominal"; throws std::invalid_argument otherwise.
+ScenarioSpec scenario_by_name(const std::string& name);
+
+struct ScenarioTruth {
+  bool embedded = false;        // the open-loop drive embeds before the goal
+  double embed_x_m = 0.0;
+  double embed_time_s = 0.0;
+  std::string embed_reason;
+  std::optional<double> stop_time_s;  // the flight code's stop in the loop
+  std::optional<double> stop_x_m;
+};
+
+struct Scenario {
+  TelemetryLog log;
+  ScenarioTruth truth;
+};
+
+/// Deterministic: the same spec gives the same rows on any machine with
+/// IEEE doubles (own Box–Muller on mt19937_64). `command_line` is recorded.
+/// `progress` (may be empty) gets the simulated time in seconds.
+Scenario generate_scenario(const ScenarioSpec& spec, const std::string& command_line,
+                           const std::function<void(double)>& progress = {});
+
+}  // namespace sinkwatch::ground

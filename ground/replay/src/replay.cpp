@@ -1,0 +1,300 @@
+// The onboard loop and the replay (replay.hpp).
+#include "sinkwatch/ground/replay.hpp"
+
+#include "sinkwatch/fixedpoint/host_convert.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sinkwatch::ground {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegToRad = kPi / 180.0;
+
+template <typename QType>
+QType to_q(double v, const TelemetryRow& row, const std::string& source, const char* what) {
+  fx::Status st;
+  const QType q = fx::from_double<QType>(v, st);
+  if (!st.ok()) {
+    throw TelemetryError(source, row.line, 1,
+                         std::string(what) + " = " + std::to_string(v) + " does not fit the flight code's format");
+  }
+  return q;
+}
+
+template <typename Quantity>
+double to_d(Quantity q) {
+  return fx::to_double(q.q());
+}
+
+StopRecord convert(const flight::EventRecord& e) {
+  StopRecord r;
+  r.wheel = e.wheel;
+  r.time_s = static_cast<double>(e.time.ms) / 1000.0;
+  r.reason = e.reason;
+  r.peak_current_a = to_d(e.peak_current_a);
+  r.load_at_peak_n = to_d(e.load_at_peak_n);
+  if (e.peak_sinkage_valid) r.peak_sinkage_m = to_d(e.peak_sinkage_m);
+  if (e.max_estimate_valid) r.max_estimated_sinkage_m = to_d(e.max_estimated_sinkage_m);
+  return r;
+}
+
+}  // namespace
+
+std::optional<double> CycleRecord::max_sinkage_m() const {
+  std::optional<double> m;
+  for (const WheelCycle& w : wheels) {
+    if (w.estimate_valid && (!m || w.sinkage_m > *m)) m = w.sinkage_m;
+  }
+  return m;
+}
+
+std::optional<double> CycleRecord::max_current_ratio() const {
+  std::optional<double> m;
+  for (const WheelCycle& w : wheels) {
+    if (w.limit_valid && w.current_limit_a > 0.0) {
+      const double r = std::fabs(w.current_a) / w.current_limit_a;
+      if (!m || r > *m) m = r;
+    }
+  }
+  return m;
+}
+
+flight::WheelState CycleRecord::worst_state() const {
+  flight::WheelState s = flight::WheelState::nominal;
+  for (const WheelCycle& w : wheels) {
+    if (static_cast<int>(w.state) > static_cast<int>(s)) s = w.state;
+  }
+  return s;
+}
+
+OnboardLoop::OnboardLoop(ReplayConfig config) : config_(config) {
+  fx::Status st;
+  const flight::AccelMps2 g{fx::from_double<flight::AccelQ>(config_.gravity_mps2, st)};
+  if (!st.ok() || config_.gravity_mps2 <= 0.0) {
+    throw std::invalid_argument("gravity " + std::to_string(config_.gravity_mps2) + " m/s^2 is not usable");
+  }
+  rover_ = flight::yutu_like_rover_params(g);
+  if (flight::validate_rover_params(rover_) != flight::RoverParamStatus::ok) {
+    throw std::invalid_argument("gravity " + std::to_string(config_.gravity_mps2) +
+                                " m/s^2 is outside the rover model's range (0, 10]");
+  }
+}
+
+double OnboardLoop::escape_best_sinkage_m() const { return to_d(escape_.best_sinkage_m()); }
+
+CycleRecord OnboardLoop::step(const TelemetryRow& row, const std::string& source, double x_m) {
+  using namespace flight;
+  RoverTelemetry t{};
+  const double ms = std::round(row.time_s * 1000.0);
+  t.time = TimeMs{static_cast<std::uint32_t>(ms)};
+  t.valid = row.valid;
+  for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
+    t.current_a[i] = CurrentA{to_q<CurrentQ>(row.current_a[i], row, source, "motor current")};
+    t.direction[i] = row.reverse ? DriveDirection::reverse : DriveDirection::forward;
+  }
+  t.attitude.pitch_rad = AngleRad{to_q<AngleQ>(row.pitch_deg * kDegToRad, row, source, "pitch")};
+  t.attitude.roll_rad = AngleRad{to_q<AngleQ>(row.roll_deg * kDegToRad, row, source, "roll")};
+  for (std::size_t s = 0; s < 2; ++s) {
+    t.joints.rocker_rad[s] = AngleRad{to_q<AngleQ>(row.rocker_deg[s] * kDegToRad, row, source, "rocker angle")};
+    t.joints.bogie_rad[s] = AngleRad{to_q<AngleQ>(row.bogie_deg[s] * kDegToRad, row, source, "bogie angle")};
+  }
+  t.accel_valid = row.accel_mps2.has_value();
+  if (t.accel_valid) t.accel_mps2 = AccelMps2{to_q<AccelQ>(*row.accel_mps2, row, source, "acceleration")};
+  t.speed_valid = row.speed_mps.has_value();
+  if (t.speed_valid) t.speed_mps = SpeedMps{to_q<SpeedQ>(*row.speed_mps, row, source, "speed")};
+  t.rim_speed_valid = row.rim_speed_mps.has_value();
+  if (t.rim_speed_valid) t.rim_speed_mps = SpeedMps{to_q<SpeedQ>(*row.rim_speed_mps, row, source, "rim speed")};
+
+  const RoverStepOutput out = step_.step(t, t.time, config_.table, rover_);
+
+  CycleRecord rec;
+  rec.time_s = row.time_s;
+  rec.x_m = x_m;
+  rec.status = out.status;
+  rec.decision = out.decision;
+  if (out.slip_known) rec.slip = to_d(out.slip);
+  if (out.accel_valid) rec.accel_mps2 = to_d(out.accel_mps2);
+  rec.drawbar_saturated = out.drawbar_status == DrawbarStatus::saturated;
+  for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
+    const WheelOutput& w = out.monitor.wheels[i];
+    WheelCycle& c = rec.wheels[i];
+    c.current_a = row.current_a[i];
+    c.load_valid = out.loads_valid;
+    c.load_n = to_d(out.load_n[i]);
+    c.drawbar_pull_n = out.drawbar_valid ? to_d(out.drawbar_pull_n[i]) : 0.0;
+    c.estimate_valid = w.estimate_valid;
+    c.torque_nm = to_d(w.torque_nm);
+    c.sinkage_m = to_d(w.sinkage_m);
+    c.limit_valid = w.limit_valid;
+    c.current_limit_a = to_d(w.current_limit_a);
+    c.state = w.state;
+    c.sample = w.sample_status;
+    c.stop_reason = w.stop_reason;
+    c.stop_tripped = w.stop_tripped;
+    if (w.stop_tripped) {
+      rec.new_events.push_back(convert(step_.monitor().wheel(static_cast<std::uint8_t>(i)).last_event()));
+    }
+  }
+
+  // The escape: started on the first stop, then fed forward-driving estimates.
+  if (out.decision == RoverDecision::stop_and_replan && !stopped_) {
+    stopped_ = true;
+    if (config_.run_escape) {
+      const std::optional<double> deepest = rec.max_sinkage_m();
+      double start_m = deepest.value_or(0.0);
+      for (const StopRecord& e : rec.new_events) {
+        if (e.max_estimated_sinkage_m) start_m = std::max(start_m, *e.max_estimated_sinkage_m);
+      }
+      fx::Status st;
+      const SinkageM z0{fx::from_double<LengthQ>(start_m, st)};
+      rec.escape_started = escape_.start(t.time, z0);
+    }
+  } else if (escape_.state() == EscapeState::forward || escape_.state() == EscapeState::reverse) {
+    const EscapeState before = escape_.state();
+    const EscapeCommand expected =
+        before == EscapeState::forward ? EscapeCommand::drive_forward : EscapeCommand::drive_reverse;
+    rec.direction_mismatch = (expected == EscapeCommand::drive_reverse) != row.reverse;
+    EscapeInput in{};
+    in.now = t.time;
+    const std::optional<double> deepest = rec.max_sinkage_m();
+    const bool driving_forward = !row.reverse && row.rim_speed_mps.has_value() &&
+                                 *row.rim_speed_mps >= kEscapeMinRimSpeedMps && !rec.drawbar_saturated;
+    in.sinkage_valid = driving_forward && deepest.has_value();
+    if (in.sinkage_valid) {
+      fx::Status st;
+      in.sinkage_m = SinkageM{fx::from_double<LengthQ>(*deepest, st)};
+      in.sinkage_valid = st.ok();
+      if (in.sinkage_valid) rec.escape_input_m = *deepest;
+    }
+    const EscapeOutput eo = escape_.step(in, config_.table.escape);
+    rec.escape_finished_now = eo.finished;
+  }
+  rec.escape_active = escape_.state() != EscapeState::idle;
+  rec.escape_state = escape_.state();
+  rec.escape_cycles = escape_.cycles_done();
+  switch (escape_.state()) {
+    case EscapeState::forward: rec.escape_command = EscapeCommand::drive_forward; break;
+    case EscapeState::reverse: rec.escape_command = EscapeCommand::drive_reverse; break;
+    default: rec.escape_command = EscapeCommand::stop; break;
+  }
+  return rec;
+}
+
+double log_gravity(const TelemetryLog& log) { return log.number("gravity_mps2").value_or(1.62); }
+
+ReplayResult run_replay(const TelemetryLog& log, const ReplayConfig& config,
+                        const std::function<void(double)>& progress) {
+  OnboardLoop loop(config);
+  ReplayResult result;
+  result.cycles.reserve(log.rows.size());
+  double x = 0.0;
+  double x0 = 0.0;
+  for (std::size_t i = 0; i < log.rows.size(); ++i) {
+    const TelemetryRow& row = log.rows[i];
+    if (row.x_m) {
+      x = *row.x_m;
+    } else if (i > 0) {
+      const double dt = row.time_s - log.rows[i - 1].time_s;
+      const std::optional<double>& v = row.speed_mps ? row.speed_mps : row.rim_speed_mps;
+      if (v && dt > 0.0) x += *v * dt;
+    }
+    if (i == 0) x0 = x;
+    CycleRecord rec = loop.step(row, log.source, x);
+    rec.row = i;
+    result.status_counts.at(static_cast<std::size_t>(rec.status))++;
+    for (const StopRecord& e : rec.new_events) result.events.push_back(e);
+    if (rec.decision == flight::RoverDecision::stop_and_replan && !result.first_stop) {
+      result.first_stop = result.cycles.size();
+    }
+    if (rec.escape_finished_now) result.escape_end = result.cycles.size();
+    if (rec.direction_mismatch) ++result.direction_mismatches;
+    result.cycles.push_back(std::move(rec));
+    if (progress && (i % 64 == 0 || i + 1 == log.rows.size())) {
+      progress(static_cast<double>(i + 1) / static_cast<double>(log.rows.size()));
+    }
+  }
+  result.distance_m = x - x0;
+  return result;
+}
+
+const char* to_string(flight::WheelState s) {
+  switch (s) {
+    case flight::WheelState::nominal: return "NOMINAL";
+    case flight::WheelState::caution: return "CAUTION";
+    case flight::WheelState::stop: return "STOP";
+  }
+  return "?";
+}
+
+const char* to_string(flight::RoverDecision d) {
+  return d == flight::RoverDecision::stop_and_replan ? "STOP AND RE-PLAN" : "continue";
+}
+
+const char* to_string(flight::RoverStepStatus s) {
+  using S = flight::RoverStepStatus;
+  switch (s) {
+    case S::ok: return "ok";
+    case S::invalid_table: return "invalid parameter table";
+    case S::invalid_rover_params: return "invalid rover parameters";
+    case S::telemetry_invalid: return "telemetry flagged invalid";
+    case S::telemetry_stale: return "telemetry stale";
+    case S::telemetry_repeated: return "repeated time stamp";
+    case S::motion_out_of_range: return "motion out of range";
+    case S::loads_failed: return "wheel loads failed";
+    case S::tip_over: return "tip-over limit";
+    case S::no_acceleration: return "no acceleration";
+    case S::drawbar_failed: return "drawbar pull failed";
+    case S::radius_mismatch: return "wheel radius differs between rover and table";
+  }
+  return "?";
+}
+
+const char* to_string(flight::StopReason r) {
+  switch (r) {
+    case flight::StopReason::none: return "none";
+    case flight::StopReason::current: return "current at its limit";
+    case flight::StopReason::sinkage: return "sinkage at the stop level";
+    case flight::StopReason::telemetry: return "unusable telemetry";
+  }
+  return "?";
+}
+
+const char* to_string(flight::EscapeState s) {
+  switch (s) {
+    case flight::EscapeState::idle: return "idle";
+    case flight::EscapeState::forward: return "forward";
+    case flight::EscapeState::reverse: return "reverse";
+    case flight::EscapeState::freed: return "FREED";
+    case flight::EscapeState::aborted: return "ABORTED";
+    case flight::EscapeState::gave_up: return "GAVE UP";
+  }
+  return "?";
+}
+
+const char* to_string(flight::EscapeCommand c) {
+  switch (c) {
+    case flight::EscapeCommand::stop: return "stop";
+    case flight::EscapeCommand::drive_forward: return "forward";
+    case flight::EscapeCommand::drive_reverse: return "reverse";
+  }
+  return "?";
+}
+
+const char* to_string(flight::SampleStatus s) {
+  using S = flight::SampleStatus;
+  switch (s) {
+    case S::ok: return "ok";
+    case S::flagged_invalid: return "flagged invalid";
+    case S::stale: return "stale";
+    case S::repeated_time: return "repeated time";
+    case S::current_out_of_range: return "current out of range";
+    case S::load_out_of_range: return "load out of range";
+    case S::direction_invalid: return "direction invalid";
+    case S::estimate_failed: return "estimate failed";
+  }
+  return "?";
+}
+
+}  // namespace sinkwatch::ground

@@ -1,0 +1,367 @@
+// The replay's report, time-series CSV and plot (replay_report.hpp).
+#include "sinkwatch/ground/replay_report.hpp"
+
+#include "sinkwatch/fixedpoint/host_convert.hpp"
+
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <ostream>
+#include <sstream>
+
+namespace sinkwatch::ground {
+namespace {
+
+std::string strf(const char* format, ...) __attribute__((format(printf, 1, 2)));
+std::string strf(const char* format, ...) {
+  char buf[512];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(buf, sizeof buf, format, args);
+  va_end(args);
+  return buf;
+}
+
+template <typename Quantity>
+double to_d(Quantity q) {
+  return fx::to_double(q.q());
+}
+
+// Negative estimates (the data above the fitted plane) are shown as "<0":
+// the monitor treats them as no sinkage; the CSV keeps the raw number.
+std::string mm(std::optional<double> m) {
+  if (!m) return "    -   ";
+  return *m < 0.0 ? std::string("   <0 mm") : strf("%5.1f mm", *m * 1000.0);
+}
+
+std::string ratio(std::optional<double> r) { return r ? strf("%4.2f", *r) : std::string("  - "); }
+
+std::string states(const CycleRecord& c) {
+  std::size_t count[3] = {0, 0, 0};
+  for (const WheelCycle& w : c.wheels) count[static_cast<int>(w.state)]++;
+  if (count[0] == kTelemetryWheels) return "all NOMINAL";
+  std::string s;
+  for (int st = 2; st >= 1; --st) {
+    for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
+      if (static_cast<int>(c.wheels[i].state) == st) {
+        s += std::string(s.empty() ? "" : " ") + kWheelNames[i] + (st == 2 ? ":STOP" : ":CAUTION");
+      }
+    }
+  }
+  return s;
+}
+
+std::string status_line(const CycleRecord& c) {
+  std::string line = strf("%8.1f s %7.2f m  %5s  %s   %s   %-28s %s", c.time_s, c.x_m,
+                          c.slip ? strf("%4.2f", *c.slip).c_str() : "  - ", mm(c.max_sinkage_m()).c_str(),
+                          ratio(c.max_current_ratio()).c_str(), states(c).c_str(), to_string(c.decision));
+  if (c.status != flight::RoverStepStatus::ok) line += std::string("  [") + to_string(c.status) + "]";
+  return line;
+}
+
+std::string verbose_line(const CycleRecord& c) {
+  std::string line = strf("%8.1f s %7.2f m slip %5s |", c.time_s, c.x_m, c.slip ? strf("%4.2f", *c.slip).c_str() : "-");
+  for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
+    const WheelCycle& w = c.wheels[i];
+    line += strf(" %s %s %5.3f/%s %c |", kWheelNames[i],
+                 w.estimate_valid ? strf("%5.1f", w.sinkage_m * 1000.0).c_str() : "  -  ", w.current_a,
+                 w.limit_valid ? strf("%5.3f", w.current_limit_a).c_str() : "  -  ", to_string(w.state)[0]);
+  }
+  line += std::string(" ") + to_string(c.decision);
+  if (c.status != flight::RoverStepStatus::ok) line += std::string(" [") + to_string(c.status) + "]";
+  if (c.escape_active) line += std::string(" escape:") + to_string(c.escape_state);
+  return line;
+}
+
+void wheel_table(std::ostream& out, const CycleRecord& c) {
+  out << "       wheel   W [N]   DP [N]  T [N m]   I [A]  I_max [A]  z est [mm]  state\n";
+  for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
+    const WheelCycle& w = c.wheels[i];
+    out << strf("       %-4s %7.2f  %7.2f  %7.3f  %6.3f   %8s  %10s  %s\n", kWheelNames[i], w.load_n,
+                w.drawbar_pull_n, w.torque_nm, w.current_a,
+                w.limit_valid ? strf("%6.3f", w.current_limit_a).c_str() : "-",
+                w.estimate_valid ? strf("%5.1f", w.sinkage_m * 1000.0).c_str() : "-", to_string(w.state));
+  }
+}
+
+std::string event_text(const StopRecord& e) {
+  std::string s = strf("%s at %.1f s: %s; peak current %.3f A at W = %.1f N", kWheelNames[e.wheel], e.time_s,
+                       to_string(e.reason), e.peak_current_a, e.load_at_peak_n);
+  if (e.peak_sinkage_m) s += strf("; Eq. 11 at that current and DP_max: %.1f mm", *e.peak_sinkage_m * 1000.0);
+  if (e.max_estimated_sinkage_m) s += strf("; deepest estimate of the episode %.1f mm", *e.max_estimated_sinkage_m * 1000.0);
+  return s;
+}
+
+std::optional<double> truth_sinkage_mm(const TelemetryLog& log, const CycleRecord& c) {
+  return log.rows[c.row].true_sinkage_mm;
+}
+
+}  // namespace
+
+std::optional<EmbeddingTruth> log_embedding(const TelemetryLog& log) {
+  const auto it = log.metadata.find("embedding_x_m");
+  if (it == log.metadata.end() || it->second == "none") return std::nullopt;
+  EmbeddingTruth e;
+  e.x_m = *log.number("embedding_x_m");
+  const std::optional<double> t = log.number("embedding_time_s");
+  if (!t) throw TelemetryError(log.source, 0, 0, "metadata 'embedding_x_m' without 'embedding_time_s'");
+  e.time_s = *t;
+  const auto reason = log.metadata.find("embedding_reason");
+  if (reason != log.metadata.end()) e.reason = reason->second;
+  return e;
+}
+
+std::optional<Lead> stop_lead(const TelemetryLog& log, const ReplayResult& result) {
+  const std::optional<EmbeddingTruth> e = log_embedding(log);
+  if (!e || !result.first_stop) return std::nullopt;
+  const CycleRecord& stop = result.cycles[*result.first_stop];
+  return Lead{e->x_m - stop.x_m, e->time_s - stop.time_s};
+}
+
+void print_report(std::ostream& out, const TelemetryLog& log, const ReplayConfig& config, const ReplayResult& r,
+                  const ReportOptions& options) {
+  const flight::MonitorParams& mp = config.table.monitor;
+  const double duration = r.cycles.empty() ? 0.0 : r.cycles.back().time_s - r.cycles.front().time_s;
+  out << "sinkwatch replay: " << options.title << '\n';
+  if (!log.comments.empty()) out << "  " << log.comments.front() << '\n';
+  out << strf("  rover: Yutu-like, 140 kg, g = %.2f m/s^2; %zu cycles over %.1f s\n", config.gravity_mps2,
+              r.cycles.size(), duration);
+  out << strf("  flight code: RoverStep, fixed point, parameter table v%u: stop at an estimated sinkage >= %.1f mm or a "
+              "current >= I_max,\n  in %u of %u samples; %u wheel(s) in STOP stop the rover\n",
+              static_cast<unsigned>(config.table.table_version), to_d(mp.stop_sinkage_m) * 1000.0,
+              static_cast<unsigned>(mp.trip_n), static_cast<unsigned>(mp.window_m),
+              static_cast<unsigned>(mp.rover_stop_k));
+  out << "\n      time       x   slip   deepest z  I/Imax  wheels                       decision\n";
+
+  double next_line = -1e300;
+  const CycleRecord* previous = nullptr;
+  flight::EscapeState escape_before = flight::EscapeState::idle;
+  std::optional<double> last_escape_input;
+  for (const CycleRecord& c : r.cycles) {
+    bool changed = previous == nullptr;
+    std::string changes;
+    if (previous) {
+      for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
+        if (c.wheels[i].state != previous->wheels[i].state) {
+          changed = true;
+          changes += strf("%s%s %s -> %s", changes.empty() ? "" : ", ", kWheelNames[i],
+                          to_string(previous->wheels[i].state), to_string(c.wheels[i].state));
+        }
+      }
+      changed = changed || c.decision != previous->decision || c.status != previous->status;
+    }
+    if (options.verbose) {
+      out << verbose_line(c) << '\n';
+    } else if (changed || c.time_s >= next_line || &c == &r.cycles.back()) {
+      out << status_line(c) << (changes.empty() ? "" : "   <- " + changes) << '\n';
+      next_line = c.time_s + options.every_s;
+    }
+    if (!c.new_events.empty() && (!previous || previous->decision != c.decision ||
+                                  c.decision == flight::RoverDecision::stop_and_replan)) {
+      if (c.decision == flight::RoverDecision::stop_and_replan && (!previous || previous->decision != c.decision)) {
+        out << strf("\n  >>> STOP AND RE-PLAN at %.1f s, x = %.2f m. The wheels at the stop:\n", c.time_s, c.x_m);
+        wheel_table(out, c);
+      }
+      for (const StopRecord& e : c.new_events) out << "      event record: " << event_text(e) << '\n';
+      out << '\n';
+    }
+    if (c.escape_started) {
+      out << strf("  >>> escape sequence started (section 7: alternate forward and reverse, %.0f s + %.0f s per "
+                  "cycle)\n",
+                  config.table.escape.forward_phase_ms / 1000.0, config.table.escape.reverse_phase_ms / 1000.0);
+    }
+    if (c.escape_input_m) last_escape_input = c.escape_input_m;
+    if (c.escape_active && c.escape_state != escape_before && !c.escape_started) {
+      std::optional<double> truth = truth_sinkage_mm(log, c);
+      out << strf("%8.1f s %7.2f m  escape: %-8s cycles done %u, last forward estimate of the deepest wheel %s%s\n",
+                  c.time_s, c.x_m, to_string(c.escape_state), static_cast<unsigned>(c.escape_cycles),
+                  last_escape_input ? strf("%.1f mm", *last_escape_input * 1000.0).c_str() : "-",
+                  truth ? strf(" (simulator: %.1f mm)", *truth).c_str() : "");
+    }
+    escape_before = c.escape_state;
+    previous = &c;
+  }
+
+  // Summary.
+  out << "\nSummary\n";
+  std::size_t bad = 0;
+  std::string issues;
+  for (std::size_t s = 1; s < r.status_counts.size(); ++s) {
+    if (r.status_counts[s] == 0) continue;
+    bad += r.status_counts[s];
+    issues += strf("%s%zu %s", issues.empty() ? "" : ", ", r.status_counts[s],
+                   to_string(static_cast<flight::RoverStepStatus>(s)));
+  }
+  out << strf("  cycles     %zu over %.1f s, %.2f m driven; cycles the flight code could not use: %s\n", r.cycles.size(),
+              duration, r.distance_m, bad == 0 ? "none" : issues.c_str());
+  std::size_t stops = 0;
+  for (std::size_t i = 0; i < r.cycles.size(); ++i) {
+    if (r.cycles[i].decision == flight::RoverDecision::stop_and_replan &&
+        (i == 0 || r.cycles[i - 1].decision != flight::RoverDecision::stop_and_replan)) {
+      ++stops;
+    }
+  }
+  if (r.first_stop) {
+    const CycleRecord& s = r.cycles[*r.first_stop];
+    out << strf("  stops      %zu; the first at %.1f s, x = %.2f m\n", stops, s.time_s, s.x_m);
+  } else {
+    out << "  stops      none: the rover was never stopped\n";
+  }
+  const std::optional<EmbeddingTruth> emb = log_embedding(log);
+  if (emb) {
+    out << strf("  embedding  the simulator's rover would embed at x = %.2f m, %.1f s (%s)\n", emb->x_m, emb->time_s,
+                emb->reason.c_str());
+    const std::optional<Lead> lead = stop_lead(log, r);
+    if (lead && lead->distance_m > 0.0) {
+      out << strf("  lead       stopped %.2f m and %.1f s BEFORE the embedding\n", lead->distance_m, lead->time_s);
+    } else if (lead) {
+      out << strf("  lead       stopped %.2f m and %.1f s AFTER the embedding: too late\n", -lead->distance_m,
+                  -lead->time_s);
+    } else {
+      out << "  lead       none: the rover drove into the embedding without stopping\n";
+    }
+  } else if (log.metadata.count("embedding_x_m")) {
+    out << "  embedding  none in this scenario (the simulator's rover never embeds on this path)\n";
+  }
+  out << strf("  events     %zu event record(s)%s\n", r.events.size(),
+              r.events.empty() ? "" : (": " + event_text(r.events.front())).c_str());
+  if (r.first_stop && r.cycles[*r.first_stop].escape_active) {
+    const CycleRecord& start = r.cycles[*r.first_stop];
+    if (r.escape_end) {
+      const CycleRecord& end = r.cycles[*r.escape_end];
+      std::optional<double> t0 = truth_sinkage_mm(log, start);
+      std::optional<double> t1 = truth_sinkage_mm(log, end);
+      out << strf("  escape     %s after %u forward/reverse cycle(s), %.1f s", to_string(end.escape_state),
+                  static_cast<unsigned>(end.escape_cycles), end.time_s - start.time_s);
+      if (end.escape_input_m) out << strf("; last estimate %.1f mm", *end.escape_input_m * 1000.0);
+      out << strf(" (freed at <= %.1f mm)", to_d(config.table.escape.freed_sinkage_m) * 1000.0);
+      if (t0 && t1) out << strf("; simulator's deepest wheel %.1f -> %.1f mm", *t0, *t1);
+      out << '\n';
+    } else {
+      out << strf("  escape     still %s when the log ends\n", to_string(r.cycles.back().escape_state));
+    }
+    if (r.direction_mismatches > 0) {
+      out << strf("  warning    %zu escape cycle(s) where the log's wheel direction differs from the sequencer's "
+                  "command\n             (the log was made with other parameters or by another sequencer)\n",
+                  r.direction_mismatches);
+    }
+  }
+}
+
+void write_series_csv(std::ostream& out, const TelemetryLog& log, const ReplayResult& r) {
+  out << "time_s,x_m,status,decision,slip,accel_mps2";
+  for (const char* w : kWheelNames) {
+    out << ",W_" << w << "_n,DP_" << w << "_n,I_" << w << "_a,Imax_" << w << "_a,T_" << w << "_nm,z_" << w
+        << "_mm,state_" << w;
+  }
+  out << ",escape_state,escape_command,escape_input_mm,true_slip,true_sinkage_mm\n";
+  const auto opt = [](const std::optional<double>& v, const char* f) { return v ? strf(f, *v) : std::string(); };
+  for (const CycleRecord& c : r.cycles) {
+    out << strf("%.3f,%.4f,", c.time_s, c.x_m) << to_string(c.status) << ','
+        << (c.decision == flight::RoverDecision::stop_and_replan ? "stop" : "continue") << ',' << opt(c.slip, "%.5f")
+        << ',' << opt(c.accel_mps2, "%.5f");
+    for (const WheelCycle& w : c.wheels) {
+      out << ',' << (w.load_valid ? strf("%.4f", w.load_n) : "") << ',' << (w.load_valid ? strf("%.4f", w.drawbar_pull_n) : "")
+          << ',' << strf("%.5f", w.current_a) << ',' << (w.limit_valid ? strf("%.5f", w.current_limit_a) : "") << ','
+          << (w.estimate_valid ? strf("%.5f", w.torque_nm) : "") << ','
+          << (w.estimate_valid ? strf("%.3f", w.sinkage_m * 1000.0) : "") << ',' << to_string(w.state);
+    }
+    const TelemetryRow& row = log.rows[c.row];
+    out << ',' << to_string(c.escape_state) << ',' << to_string(c.escape_command) << ','
+        << (c.escape_input_m ? strf("%.3f", *c.escape_input_m * 1000.0) : "") << ',' << opt(row.true_slip, "%.4f")
+        << ',' << opt(row.true_sinkage_mm, "%.3f") << '\n';
+  }
+}
+
+std::string plot_script(const TelemetryLog& log, const ReplayConfig& config, const ReplayResult& r,
+                        const std::string& image_path) {
+  const bool svg = image_path.size() >= 4 && image_path.compare(image_path.size() - 4, 4, ".svg") == 0;
+  std::ostringstream s;
+  s << "# gnuplot script written by sinkwatch replay for " << log.source << "\n";
+  s << (svg ? "set terminal svg size 1100,900 dynamic font 'sans,11'\n"
+            : "set terminal pngcairo size 1100,900 font 'sans,10'\n");
+  s << "set output '" << image_path << "'\n";
+  s << "$D << EOD\n";
+  bool truth = false;
+  for (const CycleRecord& c : r.cycles) {
+    s << strf("%.3f", c.time_s);
+    for (const WheelCycle& w : c.wheels) s << strf(" %.5f", std::fabs(w.current_a));
+    for (const WheelCycle& w : c.wheels) s << (w.limit_valid ? strf(" %.5f", w.current_limit_a) : " NaN");
+    for (const WheelCycle& w : c.wheels) s << (w.estimate_valid ? strf(" %.3f", w.sinkage_m * 1000.0) : " NaN");
+    const std::optional<double>& tz = log.rows[c.row].true_sinkage_mm;
+    truth = truth || tz.has_value();
+    s << (tz ? strf(" %.3f", *tz) : " NaN");
+    s << ' ' << static_cast<int>(c.worst_state()) << ' '
+      << (c.decision == flight::RoverDecision::stop_and_replan ? 1 : 0) << ' ';
+    const int esc = c.escape_command == flight::EscapeCommand::drive_forward   ? 1
+                    : c.escape_command == flight::EscapeCommand::drive_reverse ? -1
+                                                                               : 0;
+    s << esc << '\n';
+  }
+  s << "EOD\n";
+  s << "set multiplot layout 3,1 title '" << log.source << ": sinkwatch flight code replay'\n";
+  s << "set grid\nset key outside right\nset lmargin 10\nset rmargin 28\n";
+  if (r.first_stop) {
+    s << strf("set arrow 1 from %.3f, graph 0 to %.3f, graph 1 nohead dt 2 lw 2 lc rgb 'red'\n",
+              r.cycles[*r.first_stop].time_s, r.cycles[*r.first_stop].time_s);
+    s << strf("set label 1 'stop' at %.3f, graph 0.95 right offset -0.5,0 tc rgb 'red'\n", r.cycles[*r.first_stop].time_s);
+  }
+  const std::optional<EmbeddingTruth> emb = log_embedding(log);
+  if (emb) {
+    s << strf("set arrow 2 from %.3f, graph 0 to %.3f, graph 1 nohead dt 3 lw 2 lc rgb 'black'\n", emb->time_s, emb->time_s);
+    s << strf("set label 2 'simulated embedding' at %.3f, graph 0.85 left offset 0.5,0\n", emb->time_s);
+  }
+  s << "set ylabel 'current [A]'\nset format x ''\n";
+  s << "plot ";
+  for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
+    s << (i ? ", " : "") << "$D u 1:" << 2 + i << " w l lw 1 lc " << i + 1 << " t '|I| " << kWheelNames[i] << "'";
+  }
+  for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
+    s << ", $D u 1:" << 8 + i << " w l dt 2 lc " << i + 1 << (i == 0 ? " t 'I_{max} (dashed)'" : " notitle");
+  }
+  s << "\n";
+  const double stop_mm = fx::to_double(config.table.monitor.stop_sinkage_m.q()) * 1000.0;
+  const double caution_mm = fx::to_double(config.table.monitor.caution_sinkage_m.q()) * 1000.0;
+  s << "set ylabel 'sinkage [mm]'\n";
+  s << "plot ";
+  for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
+    s << (i ? ", " : "") << "$D u 1:" << 14 + i << " w l lw 1 lc " << i + 1 << " t 'z est " << kWheelNames[i] << "'";
+  }
+  s << strf(", %.3f w l lw 2 lc rgb 'red' t 'stop level', %.3f w l lw 1 lc rgb 'orange' t 'caution level'", stop_mm,
+            caution_mm);
+  if (truth) s << ", $D u 1:20 w l lw 2 dt 4 lc rgb 'black' t 'simulator: deepest wheel'";
+  s << "\n";
+  s << "set format x '%g'\nset xlabel 'time [s]'\nset ylabel 'decision'\nset yrange [-1.5:2.5]\n";
+  s << "set ytics ('reverse' -1, 'nominal / -' 0, 'caution / fwd' 1, 'stop' 2)\n";
+  s << "plot $D u 1:21 w steps lw 2 lc rgb 'orange' t 'worst wheel state', "
+       "$D u 1:($22*2) w steps lw 2 lc rgb 'red' t 'rover: stop and re-plan', "
+       "$D u 1:23 w steps lw 1 lc rgb 'blue' t 'escape command'\n";
+  s << "unset multiplot\n";
+  return s.str();
+}
+
+std::string draw_plot(const TelemetryLog& log, const ReplayConfig& config, const ReplayResult& result,
+                      const std::string& image_path) {
+  const std::string script_path = image_path + ".gp";
+  {
+    std::ofstream f(script_path);
+    if (!f) return "cannot write the plot script " + script_path;
+    f << plot_script(log, config, result, image_path);
+  }
+  const std::string quoted = "'" + script_path + "'";
+  if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
+    return "gnuplot was not found, so the plot was not drawn (Debian: apt-get install gnuplot-nox); the script is " +
+           script_path + " (run: gnuplot " + quoted + ")";
+  }
+  const int rc = std::system(("gnuplot " + quoted + " 2>" + quoted + ".log").c_str());
+  if (rc != 0) {
+    return "gnuplot failed on " + script_path + " (its messages are in " + script_path + ".log)";
+  }
+  std::remove(script_path.c_str());
+  std::remove((script_path + ".log").c_str());
+  return "";
+}
+
+}  // namespace sinkwatch::ground

@@ -1,0 +1,513 @@
+// Scenario generator (scenario.hpp, docs/scenarios.md).
+#include "sinkwatch/ground/scenario.hpp"
+
+#include "sinkwatch/ground/reference.hpp"
+#include "sinkwatch/ground/rover_loads.hpp"
+#include "sinkwatch/ground/soil_presets.hpp"
+#include "sinkwatch/ground/wheel_soil_model.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+namespace sinkwatch::ground {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+constexpr std::size_t kN = kTelemetryWheels;
+
+// Portable Gaussian draws: the standard library's distributions differ
+// between implementations, the engine does not.
+class Noise {
+ public:
+  explicit Noise(std::uint64_t seed) : engine_(seed) {}
+  double gauss(double sigma) {
+    if (sigma <= 0.0) return 0.0;
+    if (has_spare_) {
+      has_spare_ = false;
+      return sigma * spare_;
+    }
+    double u1 = 0.0;
+    do {
+      u1 = uniform();
+    } while (u1 <= 0.0);
+    const double u2 = uniform();
+    const double r = std::sqrt(-2.0 * std::log(u1));
+    spare_ = r * std::sin(2.0 * kPi * u2);
+    has_spare_ = true;
+    return sigma * r * std::cos(2.0 * kPi * u2);
+  }
+
+ private:
+  double uniform() { return static_cast<double>(engine_() >> 11) * (1.0 / 9007199254740992.0); }
+  std::mt19937_64 engine_;
+  bool has_spare_ = false;
+  double spare_ = 0.0;
+};
+
+std::string number(double v, int digits) {
+  std::ostringstream s;
+  s.setf(std::ios::fixed);
+  s.precision(digits);
+  s << v;
+  return s.str();
+}
+
+struct WheelTruth {
+  double sinkage_m = 0.0;
+  double torque_nm = 0.0;  // in the direction of driving
+  double drawbar_pull_n = 0.0;
+};
+
+struct SlipSolution {
+  bool ok = false;
+  std::string failure;  // why no slip carries the rover
+  double slip = 0.0;
+  std::array<WheelTruth, kN> wheels{};
+};
+
+class World {
+ public:
+  explicit World(const ScenarioSpec& spec)
+      : spec_(spec), base_(default_parameters(spec.soil)), geometry_(yutu_like_geometry(spec.gravity_mps2)) {
+    base_.gravity_m_s2 = spec.gravity_mps2;
+    // Sinkage grows with slip (Ding et al.): the slip-sinkage the paper's
+    // soil-bin tests show and Purgatory's dig-in needs.
+    base_.effects.slip_sinkage.enabled = true;
+    if (spec.terrain.empty()) throw std::invalid_argument("scenario '" + spec.name + "' has no terrain");
+  }
+
+  double slope_deg(double x) const { return interpolate(x, &TerrainKnot::slope_deg); }
+  double soil_scale(double x) const { return interpolate(x, &TerrainKnot::soil_scale); }
+
+  std::array<double, kN> loads(double pitch_deg) const {
+    const WheelLoads w = wheel_loads(geometry_, Attitude{pitch_deg * kDeg, 0.0}, JointAngles{});
+    if (w.status != LoadStatus::ok) throw std::runtime_error("scenario: wheel loads failed at the path's slope");
+    std::array<double, kN> out{};
+    for (std::size_t i = 0; i < kN; ++i) out[i] = w.load_n[i];
+    return out;
+  }
+
+  double mass_kg() const { return geometry_.mass_kg; }
+
+  // The slip at which the six wheels' drawbar pulls give `required_n`, on the
+  // branch where DP rises with slip, searched near `hint`.
+  SlipSolution solve(double scale, const std::array<double, kN>& w, double required_n, double hint) const {
+    SimParameters p = base_;
+    p.soil.kc *= scale;
+    p.soil.kphi *= scale;
+    p.soil.cohesion_pa *= scale;
+    SlipSolution sol;
+    const auto total = [&](double s, std::array<WheelTruth, kN>& wheels) -> std::optional<double> {
+      double sum = 0.0;
+      for (std::size_t i = 0; i < kN; ++i) {
+        const Evaluation e = evaluate(p, w[i], s);
+        if (!e.ok()) {
+          sol.failure = "wheel " + std::string(kWheelNames[i]) + " sinks to its axle at slip " + number(s, 2) +
+                        ", before the wheels give the pull the rover needs";
+          return std::nullopt;
+        }
+        wheels[i] = WheelTruth{e.state.sinkage_m, e.state.torque_nm, e.state.drawbar_pull_n};
+        sum += e.state.drawbar_pull_n;
+      }
+      return sum;
+    };
+    std::array<WheelTruth, kN> lo_w{};
+    std::array<WheelTruth, kN> hi_w{};
+    double lo = std::max(0.0, hint - 0.04);
+    std::optional<double> f_lo = total(lo, lo_w);
+    while (f_lo && *f_lo >= required_n && lo > 0.0) {
+      lo = std::max(0.0, lo - 0.04);
+      f_lo = total(lo, lo_w);
+    }
+    if (!f_lo) return sol;
+    if (*f_lo >= required_n) {  // free rolling carries it
+      sol.ok = true;
+      sol.slip = lo;
+      sol.wheels = lo_w;
+      return sol;
+    }
+    double hi = lo;
+    while (true) {
+      if (hi >= kEmbedMaxSlip) {
+        sol.failure = "net traction <= 0: no slip up to 95 % gives the pull the slope needs";
+        return sol;
+      }
+      hi = std::min(hi + 0.02, kEmbedMaxSlip);
+      const std::optional<double> f_hi = total(hi, hi_w);
+      if (!f_hi) return sol;
+      if (*f_hi >= required_n) break;
+      lo = hi;
+      lo_w = hi_w;
+    }
+    for (int k = 0; k < 14; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      std::array<WheelTruth, kN> mid_w{};
+      const std::optional<double> f_mid = total(mid, mid_w);
+      if (!f_mid) return sol;
+      if (*f_mid >= required_n) {
+        hi = mid;
+        hi_w = mid_w;
+      } else {
+        lo = mid;
+      }
+    }
+    sol.ok = true;
+    sol.slip = hi;
+    sol.wheels = hi_w;
+    sol.failure.clear();
+    return sol;
+  }
+
+  // The wheels spinning in place at the highest slip, for a stuck rover.
+  std::array<WheelTruth, kN> spinning(double scale, const std::array<double, kN>& w) const {
+    SimParameters p = base_;
+    p.soil.kc *= scale;
+    p.soil.kphi *= scale;
+    p.soil.cohesion_pa *= scale;
+    std::array<WheelTruth, kN> out{};
+    for (std::size_t i = 0; i < kN; ++i) {
+      const Evaluation e = evaluate(p, w[i], kEmbedMaxSlip);
+      out[i] = e.ok() ? WheelTruth{e.state.sinkage_m, e.state.torque_nm, e.state.drawbar_pull_n}
+                      : WheelTruth{geometry_.wheel_radius_m, e.state.torque_nm, 0.0};
+    }
+    return out;
+  }
+
+ private:
+  double interpolate(double x, double TerrainKnot::*field) const {
+    const std::vector<TerrainKnot>& k = spec_.terrain;
+    if (x <= k.front().x_m) return k.front().*field;
+    for (std::size_t i = 1; i < k.size(); ++i) {
+      if (x <= k[i].x_m) {
+        const double f = (x - k[i - 1].x_m) / (k[i].x_m - k[i - 1].x_m);
+        return k[i - 1].*field + f * (k[i].*field - k[i - 1].*field);
+      }
+    }
+    return k.back().*field;
+  }
+
+  const ScenarioSpec& spec_;
+  SimParameters base_;
+  RoverGeometry geometry_;
+};
+
+// The rover's motion state between cycles.
+struct Motion {
+  double t = 0.0;
+  double x = 0.0;
+  double v = 0.0;     // signed, along the path
+  double a = 0.0;     // signed
+  double hint = 0.0;  // last slip
+  double gain = 1.0;  // soil improvement from escape reversals
+};
+
+struct CycleTruth {
+  bool ok = true;
+  std::string failure;
+  double slip = 0.0;
+  double pitch_deg = 0.0;
+  std::array<double, kN> load_n{};
+  std::array<WheelTruth, kN> wheels{};
+};
+
+// One cycle of driving in direction d (+1 / -1) at rim speed u >= 0.
+CycleTruth advance(const World& world, const ScenarioSpec& spec, Motion& m, int d, double u) {
+  CycleTruth c;
+  c.pitch_deg = world.slope_deg(m.x);
+  c.load_n = world.loads(c.pitch_deg);
+  const double dt = spec.cycle_s;
+  double v_new = 0.0;
+  if (u > 1e-6) {
+    const double slope_along = d * c.pitch_deg * kDeg;  // the slope as the driving direction sees it
+    // The wheels carry the slope and the last cycle's m*a. When the soil
+    // cannot give the extra pull a speed ramp needs, the rover accelerates
+    // only as fast as traction allows: quasi-static (docs/scenarios.md).
+    // The acceleration is this cycle's own (v_new - v) / dt, found by a few
+    // fixed-point passes, so that the IMU's reading and the pull agree.
+    const double slope_pull = world.mass_kg() * spec.gravity_mps2 * std::sin(slope_along);
+    const double scale = world.soil_scale(m.x) * m.gain;
+    double a = m.a;
+    SlipSolution s;
+    for (int pass = 0; pass < 4; ++pass) {
+      s = world.solve(scale, c.load_n, slope_pull + world.mass_kg() * d * a, m.hint);
+      if (!s.ok && d * a > 0.0) s = world.solve(scale, c.load_n, slope_pull, m.hint);
+      if (!s.ok) break;
+      const double a_new = (d * u * (1.0 - s.slip) - m.v) / dt;
+      if (std::fabs(a_new - a) < 1e-4) break;
+      a = a_new;
+    }
+    if (!s.ok) {
+      c.ok = false;
+      c.failure = s.failure;
+      return c;
+    }
+    c.slip = s.slip;
+    c.wheels = s.wheels;
+    m.hint = s.slip;
+    v_new = d * u * (1.0 - s.slip);
+  } else {
+    // Standing: the wheels keep their last sinkage, carry no torque.
+    m.hint = 0.0;
+  }
+  m.a = (v_new - m.v) / dt;
+  m.v = v_new;
+  m.x += v_new * dt;
+  return c;
+}
+
+
+}  // namespace
+
+ScenarioSpec embedding_scenario() {
+  ScenarioSpec s;
+  s.name = "embedding";
+  s.description =
+      "firm ground, then softer soil, then a soft ripple whose loose core would embed the wheels "
+      "(after Opportunity at Purgatory), then the escape";
+  s.seed = 446;  // Opportunity's sol at Purgatory
+  s.terrain = {
+      {0.0, 1.0, 0.0},   {4.0, 1.0, 0.0},    {6.0, 0.3, 0.5},    {9.0, 0.3, 1.0},
+      {11.0, 0.1, 1.0},  {13.0, 0.03, 0.5},  {16.0, 0.02, 0.0},  {20.0, 0.012, 0.0},
+  };
+  s.end_x_m = 20.0;
+  return s;
+}
+
+ScenarioSpec nominal_scenario() {
+  ScenarioSpec s;
+  s.name = "nominal";
+  s.description = "firm and moderately soft ground (down to 15 % of the firm soil's moduli) with gentle undulations (up to 5 deg): an ordinary drive";
+  s.seed = 2013;  // Yutu's landing year
+  s.terrain = {
+      {0.0, 1.0, 0.0},  {3.0, 1.0, 2.0},   {6.0, 0.6, 5.0},  {9.0, 0.3, 0.0},
+      {11.0, 0.15, 2.0}, {13.0, 0.15, -3.0}, {15.0, 0.5, 3.0}, {18.0, 1.0, 0.0}, {20.0, 1.0, 0.0},
+  };
+  s.end_x_m = 20.0;
+  return s;
+}
+
+ScenarioSpec scenario_by_name(const std::string& name) {
+  if (name == "embedding") return embedding_scenario();
+  if (name == "nominal") return nominal_scenario();
+  throw std::invalid_argument("unknown scenario '" + name + "'; known: embedding nominal");
+}
+
+Scenario generate_scenario(const ScenarioSpec& spec, const std::string& command_line,
+                           const std::function<void(double)>& progress) {
+  const World world(spec);
+  Noise noise(spec.seed);
+  ReplayConfig flight = spec.flight;
+  flight.gravity_mps2 = spec.gravity_mps2;
+  OnboardLoop onboard(flight);
+  const reference::Motor motor = reference::from_flight(flight.table.motor);
+  const double forward_ms = flight.table.escape.forward_phase_ms / 1000.0;
+  const double reverse_ms = flight.table.escape.reverse_phase_ms / 1000.0;
+
+  Scenario out;
+  TelemetryLog& log = out.log;
+  log.source = spec.name;
+
+  enum class Mode { drive, escape, settle, stuck, done };
+  Mode mode = Mode::drive;
+  Motion m;
+  std::optional<Motion> at_stop;
+  flight::EscapeState last_escape = flight::EscapeState::idle;
+  double phase_start = 0.0;
+  double mode_end = 0.0;
+  std::array<WheelTruth, kN> last_wheels{};
+  int last_direction = 1;
+
+  for (std::size_t k = 0; mode != Mode::done; ++k) {
+    m.t = static_cast<double>(k) * spec.cycle_s;
+    if (m.t > spec.max_time_s) break;
+    if (progress && k % 50 == 0) progress(m.t);
+
+    // The command for this cycle.
+    int d = 1;
+    double u = 0.0;
+    std::string phase;
+    switch (mode) {
+      case Mode::drive:
+        u = spec.speed_mps * std::min(1.0, m.t / spec.ramp_s);
+        phase = "drive";
+        break;
+      case Mode::escape: {
+        const flight::EscapeState es = onboard.escape_state();
+        if (es != last_escape) {
+          if (last_escape == flight::EscapeState::forward || last_escape == flight::EscapeState::reverse) {
+            m.gain *= spec.escape_soil_gain;  // a reversal carries soil under the wheels
+          }
+          last_escape = es;
+          phase_start = m.t;
+        }
+        const bool fwd = es == flight::EscapeState::forward;
+        const double len = fwd ? forward_ms : reverse_ms;
+        const double tin = m.t - phase_start;
+        d = fwd ? 1 : -1;
+        u = spec.speed_mps * std::clamp(std::min(tin / spec.ramp_s, (len - tin - spec.cycle_s) / spec.ramp_s), 0.0, 1.0);
+        phase = fwd ? "escape-fwd" : "escape-rev";
+        break;
+      }
+      case Mode::settle:
+      case Mode::stuck:
+      case Mode::done:
+        phase = mode == Mode::stuck ? "stuck" : "stopped";
+        d = last_direction;
+        break;
+    }
+
+    CycleTruth c;
+    if (mode == Mode::stuck) {
+      c.pitch_deg = world.slope_deg(m.x);
+      c.load_n = world.loads(c.pitch_deg);
+      c.wheels = world.spinning(world.soil_scale(m.x) * m.gain, c.load_n);
+      c.slip = kEmbedMaxSlip;
+      u = spec.speed_mps;
+      m.a = (0.0 - m.v) / spec.cycle_s;
+      m.v = 0.0;
+    } else {
+      c = advance(world, spec, m, d, u);
+      if (!c.ok && mode != Mode::drive) {
+        // No slip carries the rover: its wheels spin in place, digging.
+        c.ok = true;
+        c.wheels = world.spinning(world.soil_scale(m.x) * m.gain, c.load_n);
+        c.slip = kEmbedMaxSlip;
+        m.a = (0.0 - m.v) / spec.cycle_s;
+        m.v = 0.0;
+        phase += "-spinning";
+      }
+      if (!c.ok) {
+        out.truth.embedded = true;
+        out.truth.embed_x_m = m.x;
+        out.truth.embed_time_s = m.t;
+        out.truth.embed_reason = c.failure;
+        mode = Mode::stuck;
+        mode_end = m.t + spec.stuck_tail_s;
+        --k;  // log this cycle as stuck
+        continue;
+      }
+      if (u <= 1e-6) {
+        c.wheels = last_wheels;
+        for (WheelTruth& w : c.wheels) {
+          w.torque_nm = 0.0;
+          w.drawbar_pull_n = 0.0;
+        }
+      }
+    }
+    last_wheels = c.wheels;
+    last_direction = d;
+
+    // The telemetry row: the truth plus sensor noise.
+    TelemetryRow row;
+    row.time_s = m.t;
+    row.valid = true;
+    double deepest = 0.0;
+    for (std::size_t i = 0; i < kN; ++i) {
+      const double torque = d * c.wheels[i].torque_nm;
+      const double clean =
+          u > 1e-6 ? reference::current_a(motor, torque, d > 0 ? flight::DriveDirection::forward
+                                                                 : flight::DriveDirection::reverse)
+                   : 0.0;
+      row.current_a[i] =
+          clean + noise.gauss(std::hypot(spec.noise.current_abs_a, spec.noise.current_rel * std::fabs(clean)));
+      deepest = std::max(deepest, c.wheels[i].sinkage_m);
+    }
+    row.reverse = d < 0;
+    row.pitch_deg = c.pitch_deg + noise.gauss(spec.noise.attitude_deg);
+    row.roll_deg = noise.gauss(spec.noise.attitude_deg);
+    row.rocker_deg = {noise.gauss(spec.noise.joint_deg), noise.gauss(spec.noise.joint_deg)};
+    row.bogie_deg = {noise.gauss(spec.noise.joint_deg), noise.gauss(spec.noise.joint_deg)};
+    row.accel_mps2 = m.a + noise.gauss(spec.noise.accel_mps2);
+    row.speed_mps = m.v + noise.gauss(spec.noise.speed_mps);
+    row.rim_speed_mps = d * u;
+    row.x_m = m.x;
+    row.true_slip = c.slip;
+    row.true_sinkage_mm = deepest * 1000.0;
+    row.phase = phase;
+    // Round through the file format, so the loop sees what the file holds.
+    row = parse_telemetry_row(format_telemetry_row(row));
+    const CycleRecord rec = onboard.step(row, spec.name, *row.x_m);
+    log.rows.push_back(row);
+
+    switch (mode) {
+      case Mode::drive:
+        if (rec.decision == flight::RoverDecision::stop_and_replan) {
+          out.truth.stop_time_s = m.t;
+          out.truth.stop_x_m = m.x;
+          at_stop = m;
+          mode = rec.escape_active ? Mode::escape : Mode::settle;
+          mode_end = m.t + spec.settle_s;
+          last_escape = flight::EscapeState::idle;
+        } else if (m.x >= spec.end_x_m) {
+          mode = Mode::settle;
+          mode_end = m.t + spec.settle_s;
+        }
+        break;
+      case Mode::escape:
+        if (rec.escape_state != flight::EscapeState::forward && rec.escape_state != flight::EscapeState::reverse) {
+          mode = Mode::settle;
+          mode_end = m.t + spec.settle_s;
+        }
+        break;
+      case Mode::settle:
+      case Mode::stuck:
+        if (m.t >= mode_end) mode = Mode::done;
+        break;
+      case Mode::done:
+        break;
+    }
+  }
+
+  // Where would the rover have embedded had it not stopped? The drive up to
+  // the stop is the open-loop drive; continue it without telemetry.
+  if (at_stop) {
+    Motion m2 = *at_stop;
+    for (std::size_t k = 1; m2.x < spec.end_x_m; ++k) {
+      m2.t = *out.truth.stop_time_s + static_cast<double>(k) * spec.cycle_s;
+      if (m2.t > spec.max_time_s) break;
+      const CycleTruth c = advance(world, spec, m2, 1, spec.speed_mps);
+      if (!c.ok) {
+        out.truth.embedded = true;
+        out.truth.embed_x_m = m2.x;
+        out.truth.embed_time_s = m2.t;
+        out.truth.embed_reason = c.failure;
+        break;
+      }
+    }
+  }
+
+  log.comments = {
+      "sinkwatch telemetry scenario '" + spec.name + "': " + spec.description,
+      "made by the reference wheel-soil simulator (Wong-Reece, soil " + spec.soil +
+          ", slip-sinkage on) with the flight code in the loop; docs/scenarios.md",
+      "x_m, true_slip, true_sinkage_mm and phase are simulator truth: the flight code never sees them",
+  };
+  log.metadata["scenario"] = spec.name;
+  log.metadata["command"] = command_line;
+  log.metadata["seed"] = std::to_string(spec.seed);
+  log.metadata["gravity_mps2"] = number(spec.gravity_mps2, 2);
+  log.metadata["cycle_s"] = number(spec.cycle_s, 3);
+  log.metadata["commanded_speed_mps"] = number(spec.speed_mps, 3);
+  log.metadata["rover"] = "yutu-like 140 kg, r = 0.15 m (docs/rover-loads.md)";
+  std::string knots;
+  for (const TerrainKnot& t : spec.terrain) {
+    knots += (knots.empty() ? "" : " ") + number(t.x_m, 1) + "/" + number(t.soil_scale, 3) + "/" + number(t.slope_deg, 1);
+  }
+  log.metadata["terrain_x_scale_slope"] = knots;
+  log.metadata["escape_soil_gain"] = number(spec.escape_soil_gain, 2);
+  if (out.truth.embedded) {
+    log.metadata["embedding_x_m"] = number(out.truth.embed_x_m, 3);
+    log.metadata["embedding_time_s"] = number(out.truth.embed_time_s, 1);
+    log.metadata["embedding_reason"] = out.truth.embed_reason;
+  } else {
+    log.metadata["embedding_x_m"] = "none";
+  }
+  return out;
+}
+
+}  // namespace sinkwatch::ground

@@ -1,0 +1,291 @@
+// Telemetry CSV reader and writer (telemetry_log.hpp, docs/replay.md).
+#include "sinkwatch/ground/telemetry_log.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <istream>
+#include <ostream>
+#include <sstream>
+
+namespace sinkwatch::ground {
+namespace {
+
+// Column identifiers; the writer's order.
+enum Col : int {
+  kTimeS, kTimeMs, kValid,
+  kI0, kI1, kI2, kI3, kI4, kI5,
+  kDirection, kPitch, kRoll, kRockerL, kRockerR, kBogieL, kBogieR,
+  kAccel, kSpeed, kRimSpeed,
+  kX, kTrueSlip, kTrueSinkage, kPhase,
+  kColCount
+};
+
+const std::vector<std::string> kNames = {
+    "time_s",     "time_ms",     "valid",       "i_lf_a",       "i_lm_a",        "i_lr_a",
+    "i_rf_a",     "i_rm_a",      "i_rr_a",      "direction",    "pitch_deg",     "roll_deg",
+    "rocker_l_deg", "rocker_r_deg", "bogie_l_deg", "bogie_r_deg", "accel_mps2",   "speed_mps",
+    "rim_speed_mps", "x_m",       "true_slip",   "true_sinkage_mm", "phase"};
+
+struct Cell {
+  std::string text;
+  std::size_t column;  // 1-based character column
+};
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t\r");
+  return s.substr(b, e - b + 1);
+}
+
+std::vector<Cell> split(const std::string& line) {
+  std::vector<Cell> cells;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    const std::string raw = line.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const std::size_t lead = raw.find_first_not_of(" \t");
+    cells.push_back(Cell{trim(raw), start + 1 + (lead == std::string::npos ? 0 : lead)});
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return cells;
+}
+
+class RowParser {
+ public:
+  RowParser(std::string source, const std::vector<Cell>& header, std::size_t header_line) : source_(std::move(source)) {
+    index_.fill(-1);
+    for (std::size_t i = 0; i < header.size(); ++i) {
+      int id = -1;
+      for (int c = 0; c < kColCount; ++c) {
+        if (kNames[static_cast<std::size_t>(c)] == header[i].text) id = c;
+      }
+      if (id < 0) {
+        throw TelemetryError(source_, header_line, header[i].column,
+                             "unknown column '" + header[i].text + "' (docs/replay.md lists the columns)");
+      }
+      if (index_[static_cast<std::size_t>(id)] >= 0) {
+        throw TelemetryError(source_, header_line, header[i].column, "column '" + header[i].text + "' appears twice");
+      }
+      index_[static_cast<std::size_t>(id)] = static_cast<int>(i);
+    }
+    columns_ = header.size();
+    const auto missing = [&](const std::string& what) {
+      throw TelemetryError(source_, header_line, 1, "missing column " + what);
+    };
+    if (has(kTimeS) == has(kTimeMs)) missing("time_s or time_ms (exactly one of them)");
+    for (int c : {kI0, kI1, kI2, kI3, kI4, kI5, kPitch, kRoll, kRockerL, kRockerR, kBogieL, kBogieR}) {
+      if (!has(c)) missing("'" + kNames[static_cast<std::size_t>(c)] + "'");
+    }
+    if (!has(kAccel) && !has(kSpeed)) missing("accel_mps2 or speed_mps (the flight code needs an acceleration)");
+  }
+
+  TelemetryRow parse(const std::vector<Cell>& cells, std::size_t line) const {
+    if (cells.size() != columns_) {
+      throw TelemetryError(source_, line, 1,
+                           "expected " + std::to_string(columns_) + " cells, found " + std::to_string(cells.size()));
+    }
+    TelemetryRow r;
+    r.line = line;
+    if (has(kTimeS)) {
+      r.time_s = required(cells, kTimeS, line);
+    } else {
+      r.time_s = required(cells, kTimeMs, line) / 1000.0;
+    }
+    if (r.time_s < 0.0 || r.time_s > 4294967.295) {
+      const Cell& c = cells[static_cast<std::size_t>(index_[has(kTimeS) ? kTimeS : kTimeMs])];
+      throw TelemetryError(source_, line, c.column, "time out of range (0 to 4294967.295 s, the flight clock)");
+    }
+    if (has(kValid)) {
+      const Cell& c = cell(cells, kValid);
+      if (c.text == "1") {
+        r.valid = true;
+      } else if (c.text == "0") {
+        r.valid = false;
+      } else {
+        throw TelemetryError(source_, line, c.column, "column 'valid': expected 0 or 1, got '" + c.text + "'");
+      }
+    }
+    for (std::size_t w = 0; w < kTelemetryWheels; ++w) {
+      r.current_a[w] = required(cells, kI0 + static_cast<int>(w), line);
+    }
+    if (has(kDirection)) {
+      const Cell& c = cell(cells, kDirection);
+      if (c.text == "F") {
+        r.reverse = false;
+      } else if (c.text == "R") {
+        r.reverse = true;
+      } else {
+        throw TelemetryError(source_, line, c.column, "column 'direction': expected F or R, got '" + c.text + "'");
+      }
+    }
+    r.pitch_deg = required(cells, kPitch, line);
+    r.roll_deg = required(cells, kRoll, line);
+    r.rocker_deg = {required(cells, kRockerL, line), required(cells, kRockerR, line)};
+    r.bogie_deg = {required(cells, kBogieL, line), required(cells, kBogieR, line)};
+    r.accel_mps2 = optional(cells, kAccel, line);
+    r.speed_mps = optional(cells, kSpeed, line);
+    r.rim_speed_mps = optional(cells, kRimSpeed, line);
+    r.x_m = optional(cells, kX, line);
+    r.true_slip = optional(cells, kTrueSlip, line);
+    r.true_sinkage_mm = optional(cells, kTrueSinkage, line);
+    if (has(kPhase)) r.phase = cell(cells, kPhase).text;
+    return r;
+  }
+
+ private:
+  bool has(int c) const { return index_[static_cast<std::size_t>(c)] >= 0; }
+  const Cell& cell(const std::vector<Cell>& cells, int c) const {
+    return cells[static_cast<std::size_t>(index_[static_cast<std::size_t>(c)])];
+  }
+  double number(const Cell& c, int col, std::size_t line) const {
+    const std::string& name = kNames[static_cast<std::size_t>(col)];
+    if (c.text.empty()) {
+      throw TelemetryError(source_, line, c.column, "column '" + name + "': empty cell where a number is required");
+    }
+    errno = 0;
+    char* end = nullptr;
+    const double v = std::strtod(c.text.c_str(), &end);
+    if (end != c.text.c_str() + c.text.size() || errno == ERANGE || !std::isfinite(v)) {
+      throw TelemetryError(source_, line, c.column,
+                           "column '" + name + "': expected a finite number, got '" + c.text + "'");
+    }
+    return v;
+  }
+  double required(const std::vector<Cell>& cells, int col, std::size_t line) const {
+    return number(cell(cells, col), col, line);
+  }
+  std::optional<double> optional(const std::vector<Cell>& cells, int col, std::size_t line) const {
+    if (!has(col) || cell(cells, col).text.empty()) return std::nullopt;
+    return number(cell(cells, col), col, line);
+  }
+
+  std::string source_;
+  std::array<int, kColCount> index_{};
+  std::size_t columns_ = 0;
+};
+
+std::string fmt(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+std::string opt(const char* format, const std::optional<double>& v) { return v ? fmt(format, *v) : std::string(); }
+
+std::vector<std::string> writer_header() {
+  std::vector<std::string> h;
+  for (int c = 0; c < kColCount; ++c) {
+    if (c != kTimeMs) h.push_back(kNames[static_cast<std::size_t>(c)]);
+  }
+  return h;
+}
+
+}  // namespace
+
+TelemetryError::TelemetryError(const std::string& source, std::size_t line, std::size_t column,
+                               const std::string& message)
+    : std::runtime_error(source + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + message),
+      line_(line),
+      column_(column) {}
+
+std::optional<double> TelemetryLog::number(const std::string& key) const {
+  const auto it = metadata.find(key);
+  if (it == metadata.end()) return std::nullopt;
+  char* end = nullptr;
+  const double v = std::strtod(it->second.c_str(), &end);
+  if (it->second.empty() || end != it->second.c_str() + it->second.size() || !std::isfinite(v)) {
+    throw TelemetryError(source, 0, 0, "metadata '" + key + "': expected a number, got '" + it->second + "'");
+  }
+  return v;
+}
+
+const std::vector<std::string>& telemetry_columns() { return kNames; }
+
+TelemetryLog read_telemetry_csv(std::istream& in, const std::string& source) {
+  TelemetryLog log;
+  log.source = source;
+  std::optional<RowParser> parser;
+  std::string line;
+  std::size_t number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::string t = trim(line);
+    if (t.empty()) continue;
+    if (t[0] == '#') {
+      if (parser) continue;  // comments between rows are allowed and ignored
+      const std::string body = trim(t.substr(1));
+      const auto colon = body.find(':');
+      if (colon != std::string::npos && colon > 0 && body.find(' ') > colon) {
+        log.metadata[body.substr(0, colon)] = trim(body.substr(colon + 1));
+      } else {
+        log.comments.push_back(body);
+      }
+      continue;
+    }
+    if (!parser) {
+      parser.emplace(source, split(line), number);
+      continue;
+    }
+    log.rows.push_back(parser->parse(split(line), number));
+  }
+  if (!parser) throw TelemetryError(source, number, 1, "no header line (the file has only comments or is empty)");
+  if (log.rows.empty()) throw TelemetryError(source, number, 1, "no data rows after the header");
+  return log;
+}
+
+TelemetryLog read_telemetry_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open the telemetry file");
+  return read_telemetry_csv(in, path);
+}
+
+TelemetryLog parse_telemetry_text(const std::string& text, const std::string& source) {
+  std::istringstream in(text);
+  return read_telemetry_csv(in, source);
+}
+
+std::string format_telemetry_row(const TelemetryRow& r) {
+  std::string s = fmt("%.3f", r.time_s);
+  s += r.valid ? ",1" : ",0";
+  for (double i : r.current_a) s += "," + fmt("%.5f", i);
+  s += r.reverse ? ",R" : ",F";
+  for (double a : {r.pitch_deg, r.roll_deg, r.rocker_deg[0], r.rocker_deg[1], r.bogie_deg[0], r.bogie_deg[1]}) {
+    s += "," + fmt("%.4f", a);
+  }
+  s += "," + opt("%.5f", r.accel_mps2);
+  s += "," + opt("%.5f", r.speed_mps);
+  s += "," + opt("%.5f", r.rim_speed_mps);
+  s += "," + opt("%.4f", r.x_m);
+  s += "," + opt("%.4f", r.true_slip);
+  s += "," + opt("%.2f", r.true_sinkage_mm);
+  s += "," + r.phase;
+  return s;
+}
+
+TelemetryRow parse_telemetry_row(const std::string& line) {
+  std::vector<Cell> header;
+  std::size_t col = 1;
+  for (const std::string& h : writer_header()) {
+    header.push_back(Cell{h, col});
+    col += h.size() + 1;
+  }
+  const RowParser parser("<row>", header, 1);
+  return parser.parse(split(line), 2);
+}
+
+void write_telemetry_csv(std::ostream& out, const TelemetryLog& log) {
+  for (const std::string& c : log.comments) out << "# " << c << '\n';
+  for (const auto& [key, value] : log.metadata) out << "# " << key << ": " << value << '\n';
+  const std::vector<std::string> header = writer_header();
+  for (std::size_t i = 0; i < header.size(); ++i) out << (i ? "," : "") << header[i];
+  out << '\n';
+  for (const TelemetryRow& r : log.rows) out << format_telemetry_row(r) << '\n';
+}
+
+}  // namespace sinkwatch::ground

@@ -1,0 +1,173 @@
+// `sinkwatch replay` end to end: the default run, CSV and plot outputs, the
+// plot's fallback without gnuplot, and errors with line numbers.
+#include "sinkwatch/ground/replay_command.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace sg = sinkwatch::ground;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CommandRun {
+  int code;
+  std::string out;
+  std::string err;
+};
+
+CommandRun run(const std::vector<std::string>& args) {
+  std::ostringstream out;
+  std::ostringstream err;
+  const int code = sg::run_replay_command(args, out, err);
+  return CommandRun{code, out.str(), err.str()};
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("sinkwatch_replay_test_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::size_t line_count(const fs::path& p) {
+  std::ifstream in(p);
+  std::size_t n = 0;
+  std::string line;
+  while (std::getline(in, line)) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST(ReplayCommand, DefaultRunStopsBeforeTheEmbeddingAndSaysSo) {
+  const CommandRun r = run({});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("STOP AND RE-PLAN"), std::string::npos);
+  EXPECT_NE(r.out.find("BEFORE the embedding"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("event record"), std::string::npos);
+  EXPECT_NE(r.out.find("escape     FREED"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Summary"), std::string::npos);
+  // Compact: not one line per cycle (the log has > 1500 cycles).
+  EXPECT_LT(std::count(r.out.begin(), r.out.end(), '\n'), 80);
+  EXPECT_TRUE(r.err.empty()) << "no progress bar when stderr is not a terminal: " << r.err;
+}
+
+TEST(ReplayCommand, NominalScenarioNeverStops) {
+  const CommandRun r = run({"--scenario", "nominal"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("stops      none"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("STOP AND RE-PLAN"), std::string::npos);
+}
+
+TEST(ReplayCommand, VerbosePrintsEveryCycle) {
+  const CommandRun r = run({"--scenario", "nominal", "--verbose"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_GT(std::count(r.out.begin(), r.out.end(), '\n'), 2000);
+}
+
+TEST(ReplayCommand, CsvHasOneLinePerCycle) {
+  const fs::path dir = temp_dir("csv");
+  const fs::path csv = dir / "series.csv";
+  const CommandRun r = run({"--csv", csv.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_TRUE(fs::exists(csv));
+  const std::string& text = sg::embedded_scenario_text("embedding");
+  std::size_t data_rows = 0;
+  std::istringstream in(text);
+  std::string line;
+  bool header = false;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    if (!header) {
+      header = true;
+      continue;
+    }
+    ++data_rows;
+  }
+  EXPECT_EQ(line_count(csv), data_rows + 1);
+  std::ifstream f(csv);
+  std::string first;
+  std::getline(f, first);
+  EXPECT_EQ(first.rfind("time_s,x_m,status,decision,slip", 0), 0U) << first;
+  EXPECT_NE(first.find("z_RR_mm"), std::string::npos);
+}
+
+TEST(ReplayCommand, PlotIsDrawnWhenGnuplotIsInstalled) {
+  if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) GTEST_SKIP() << "gnuplot not installed";
+  const fs::path dir = temp_dir("plot");
+  for (const std::string ext : {"svg", "png"}) {
+    const fs::path image = dir / ("replay." + ext);
+    const CommandRun r = run({"--plot", image.string()});
+    ASSERT_EQ(r.code, 0) << r.err;
+    ASSERT_TRUE(fs::exists(image)) << r.out;
+    EXPECT_GT(fs::file_size(image), 1000U);
+    EXPECT_FALSE(fs::exists(image.string() + ".gp")) << "the script is removed after a good plot";
+  }
+  std::ifstream svg(dir / "replay.svg");
+  std::string head((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
+  EXPECT_NE(head.find("<svg"), std::string::npos);
+}
+
+TEST(ReplayCommand, PlotWithoutGnuplotLeavesTheScriptAndANote) {
+  const fs::path dir = temp_dir("noplot");
+  const fs::path image = dir / "replay.png";
+  const char* old_path = std::getenv("PATH");
+  const std::string saved = old_path ? old_path : "";
+  setenv("PATH", dir.string().c_str(), 1);  // no gnuplot there (the shell is found by absolute path)
+  const CommandRun r = run({"--plot", image.string()});
+  setenv("PATH", saved.c_str(), 1);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("gnuplot was not found"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(image));
+  EXPECT_TRUE(fs::exists(image.string() + ".gp"));
+  EXPECT_NE(r.out.find("Summary"), std::string::npos) << "the replay itself still ran";
+}
+
+TEST(ReplayCommand, BadRowIsReportedWithItsLine) {
+  const fs::path dir = temp_dir("bad");
+  const fs::path log = dir / "bad.csv";
+  {
+    std::ofstream f(log);
+    f << "# a log with a bad row\n"
+      << "time_s,i_lf_a,i_lm_a,i_lr_a,i_rf_a,i_rm_a,i_rr_a,pitch_deg,roll_deg,rocker_l_deg,rocker_r_deg,"
+         "bogie_l_deg,bogie_r_deg,speed_mps\n"
+      << "0.0,0.5,0.5,0.5,0.5,0.5,0.5,0,0,0,0,0,0,0.05\n"
+      << "0.2,0.5,0.5,0.5,0.5,0.5,0.5,0,0,0,0,0,0,0.05\n"
+      << "0.4,0.5,0.5,0.5,0.5,0.5,0.5,zero,0,0,0,0,0,0.05\n";
+  }
+  const CommandRun r = run({log.string()});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find(log.string() + ":5:29: column 'pitch_deg'"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << "nothing is replayed from a bad file";
+}
+
+TEST(ReplayCommand, UserLogWithoutTruthColumnsReplays) {
+  const fs::path dir = temp_dir("user");
+  const fs::path log = dir / "user.csv";
+  {
+    std::ofstream f(log);
+    f << "time_ms,i_lf_a,i_lm_a,i_lr_a,i_rf_a,i_rm_a,i_rr_a,pitch_deg,roll_deg,rocker_l_deg,rocker_r_deg,"
+         "bogie_l_deg,bogie_r_deg,speed_mps,rim_speed_mps\n";
+    for (int i = 0; i < 50; ++i) f << i * 200 << ",0.4,0.4,0.4,0.4,0.4,0.4,0,0,0,0,0,0,0.05,0.055\n";
+  }
+  const CommandRun r = run({log.string(), "--gravity", "1.62"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("50 cycles"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("embedding  "), std::string::npos) << "a user log has no simulated embedding";
+  EXPECT_NE(r.out.find("0.49 m driven"), std::string::npos) << "distance integrated from speed_mps: " << r.out;
+}
+
+TEST(ReplayCommand, MissingFileAndBadOptions) {
+  const CommandRun missing = run({"/nonexistent/log.csv"});
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.err.find("cannot open"), std::string::npos);
+  EXPECT_NE(run({"--scenario", "nope"}).code, 0);
+  EXPECT_NE(run({"--every", "-1"}).code, 0);
+}

@@ -1,0 +1,156 @@
+// The telemetry CSV format: round trip, and every kind of bad row reported
+// with its file, line and column.
+#include "sinkwatch/ground/telemetry_log.hpp"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+
+namespace sg = sinkwatch::ground;
+
+namespace {
+
+const std::string kHeader =
+    "time_s,i_lf_a,i_lm_a,i_lr_a,i_rf_a,i_rm_a,i_rr_a,pitch_deg,roll_deg,rocker_l_deg,rocker_r_deg,bogie_l_deg,"
+    "bogie_r_deg,accel_mps2\n";
+const std::string kRow = "0.2,0.5,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01\n";
+
+// The message of the TelemetryError `text` raises (fails the test if none).
+std::string error_of(const std::string& text, std::size_t* line = nullptr, std::size_t* column = nullptr) {
+  try {
+    sg::parse_telemetry_text(text, "log.csv");
+  } catch (const sg::TelemetryError& e) {
+    if (line) *line = e.line();
+    if (column) *column = e.column();
+    return e.what();
+  }
+  ADD_FAILURE() << "no error for:\n" << text;
+  return "";
+}
+
+}  // namespace
+
+TEST(TelemetryLog, MinimalLogParses) {
+  const sg::TelemetryLog log = sg::parse_telemetry_text("# gravity_mps2: 3.71\n# a comment\n" + kHeader + kRow, "x");
+  ASSERT_EQ(log.rows.size(), 1U);
+  EXPECT_EQ(log.rows[0].line, 4U);
+  EXPECT_DOUBLE_EQ(log.rows[0].time_s, 0.2);
+  EXPECT_DOUBLE_EQ(log.rows[0].pitch_deg, 1.0);
+  EXPECT_TRUE(log.rows[0].valid);
+  EXPECT_FALSE(log.rows[0].reverse);
+  EXPECT_FALSE(log.rows[0].speed_mps.has_value());
+  ASSERT_TRUE(log.rows[0].accel_mps2.has_value());
+  EXPECT_DOUBLE_EQ(*log.rows[0].accel_mps2, 0.01);
+  EXPECT_EQ(log.number("gravity_mps2").value(), 3.71);
+  ASSERT_EQ(log.comments.size(), 1U);
+  EXPECT_EQ(log.comments[0], "a comment");
+}
+
+TEST(TelemetryLog, TimeInMillisecondsIsAccepted) {
+  std::string header = kHeader;
+  header.replace(0, 6, "time_ms");
+  const sg::TelemetryLog log = sg::parse_telemetry_text(header + "1500" + kRow.substr(3), "x");
+  EXPECT_DOUBLE_EQ(log.rows[0].time_s, 1.5);
+}
+
+TEST(TelemetryLog, RowRoundTripsThroughTheWriter) {
+  sg::TelemetryRow r;
+  r.time_s = 12.4;
+  r.valid = false;
+  r.current_a = {0.1, -0.2, 0.30001, 0.4, 0.5, 0.6};
+  r.reverse = true;
+  r.pitch_deg = 2.5;
+  r.roll_deg = -1.25;
+  r.rocker_deg = {0.5, -0.5};
+  r.bogie_deg = {1.0, -2.0};
+  r.speed_mps = 0.04;
+  r.rim_speed_mps = -0.05;
+  r.true_sinkage_mm = 12.5;
+  r.phase = "escape-rev";
+  const sg::TelemetryRow back = sg::parse_telemetry_row(sg::format_telemetry_row(r));
+  EXPECT_EQ(back.time_s, r.time_s);
+  EXPECT_EQ(back.valid, r.valid);
+  EXPECT_EQ(back.current_a, r.current_a);
+  EXPECT_EQ(back.reverse, r.reverse);
+  EXPECT_EQ(back.pitch_deg, r.pitch_deg);
+  EXPECT_EQ(back.rocker_deg, r.rocker_deg);
+  EXPECT_EQ(back.bogie_deg, r.bogie_deg);
+  EXPECT_FALSE(back.accel_mps2.has_value());
+  EXPECT_EQ(back.speed_mps, r.speed_mps);
+  EXPECT_EQ(back.rim_speed_mps, r.rim_speed_mps);
+  EXPECT_FALSE(back.x_m.has_value());
+  EXPECT_EQ(back.true_sinkage_mm, r.true_sinkage_mm);
+  EXPECT_EQ(back.phase, r.phase);
+}
+
+TEST(TelemetryLog, WholeLogRoundTrips) {
+  const sg::TelemetryLog log = sg::parse_telemetry_text("# seed: 7\n" + kHeader + kRow + kRow, "x");
+  std::ostringstream out;
+  sg::write_telemetry_csv(out, log);
+  const sg::TelemetryLog back = sg::parse_telemetry_text(out.str(), "y");
+  ASSERT_EQ(back.rows.size(), 2U);
+  EXPECT_EQ(back.metadata.at("seed"), "7");
+  EXPECT_EQ(back.rows[1].current_a, log.rows[1].current_a);
+}
+
+TEST(TelemetryLog, NotANumberNamesLineColumnAndCell) {
+  std::size_t line = 0;
+  std::size_t column = 0;
+  const std::string msg = error_of(kHeader + kRow + "0.4,0.5,abc,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01\n", &line, &column);
+  EXPECT_EQ(line, 3U);
+  EXPECT_EQ(column, 9U);  // where "abc" starts
+  EXPECT_NE(msg.find("log.csv:3:9:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("i_lm_a"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("'abc'"), std::string::npos) << msg;
+}
+
+TEST(TelemetryLog, TrailingGarbageAndNonFiniteAreRejected) {
+  EXPECT_NE(error_of(kHeader + "0.2,0.5x,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01\n").find("log.csv:2:5:"), std::string::npos);
+  EXPECT_NE(error_of(kHeader + "0.2,nan,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01\n").find("finite"), std::string::npos);
+  EXPECT_NE(error_of(kHeader + "0.2,inf,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01\n").find("finite"), std::string::npos);
+  EXPECT_NE(error_of(kHeader + "0.2,1e999,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01\n").find("finite"), std::string::npos);
+}
+
+TEST(TelemetryLog, WrongCellCount) {
+  std::size_t line = 0;
+  const std::string msg = error_of(kHeader + kRow + kRow + "0.6,0.5,0.5\n", &line);
+  EXPECT_EQ(line, 4U);
+  EXPECT_NE(msg.find("expected 14 cells, found 3"), std::string::npos) << msg;
+}
+
+TEST(TelemetryLog, EmptyRequiredCell) {
+  const std::string msg = error_of(kHeader + "0.2,0.5,0.5,0.5,0.5,0.5,0.5,,0,0,0,0,0,0.01\n");
+  EXPECT_NE(msg.find("log.csv:2:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("pitch_deg"), std::string::npos) << msg;
+}
+
+TEST(TelemetryLog, BadFlagsAndDirections) {
+  const std::string header = "time_s,valid,direction" + kHeader.substr(6);
+  EXPECT_NE(error_of(header + "0.2,2,F,0.5,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01\n").find("expected 0 or 1"),
+            std::string::npos);
+  EXPECT_NE(error_of(header + "0.2,1,X,0.5,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01\n").find("expected F or R"),
+            std::string::npos);
+}
+
+TEST(TelemetryLog, NegativeTimeIsOutOfTheFlightClock) {
+  EXPECT_NE(error_of(kHeader + "-0.2" + kRow.substr(3)).find("time out of range"), std::string::npos);
+}
+
+TEST(TelemetryLog, HeaderProblems) {
+  EXPECT_NE(error_of("time_s,foo\n1,2\n").find("unknown column 'foo'"), std::string::npos);
+  EXPECT_NE(error_of("time_s,time_s\n1,2\n").find("appears twice"), std::string::npos);
+  std::string no_pitch = kHeader;
+  no_pitch.replace(no_pitch.find("pitch_deg,"), 10, "");
+  EXPECT_NE(error_of(no_pitch + "1\n").find("missing column 'pitch_deg'"), std::string::npos);
+  std::string no_time = kHeader.substr(7);
+  EXPECT_NE(error_of(no_time + "1\n").find("time_s or time_ms"), std::string::npos);
+  std::string no_motion = kHeader.substr(0, kHeader.find(",accel_mps2")) + "\n";
+  EXPECT_NE(error_of(no_motion + "1\n").find("accel_mps2 or speed_mps"), std::string::npos);
+  EXPECT_NE(error_of("# only a comment\n").find("no header"), std::string::npos);
+  EXPECT_NE(error_of(kHeader).find("no data rows"), std::string::npos);
+}
+
+TEST(TelemetryLog, MissingFileIsAnError) {
+  EXPECT_THROW(sg::read_telemetry_file("/nonexistent/telemetry.csv"), std::runtime_error);
+}
