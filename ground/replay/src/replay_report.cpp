@@ -43,18 +43,14 @@ std::string states(const CycleRecord& c) {
   for (const WheelCycle& w : c.wheels) count[static_cast<int>(w.state)]++;
   if (count[0] == kTelemetryWheels) return "all NOMINAL";
   std::string s;
-  for (int st = 2; st >= 1; --st) {
-    for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
-      if (static_cast<int>(c.wheels[i].state) == st) {
-        s += std::string(s.empty() ? "" : " ") + kWheelNames[i] + (st == 2 ? ":STOP" : ":CAUTION");
-      }
-    }
-  }
+  if (count[2] > 0) s += strf("%zu STOP", count[2]);
+  if (count[1] > 0) s += strf("%s%zu CAUTION", s.empty() ? "" : ", ", count[1]);
+  if (count[0] > 0) s += strf("%s%zu NOMINAL", s.empty() ? "" : ", ", count[0]);
   return s;
 }
 
 std::string status_line(const CycleRecord& c) {
-  std::string line = strf("%8.1f s %7.2f m  %5s  %s   %s   %-28s %s", c.time_s, c.x_m,
+  std::string line = strf("%8.1f s %7.2f m  %5s  %s   %s   %-20s %s", c.time_s, c.x_m,
                           c.slip ? strf("%4.2f", *c.slip).c_str() : "  - ", mm(c.max_sinkage_m()).c_str(),
                           ratio(c.max_current_ratio()).c_str(), states(c).c_str(), to_string(c.decision));
   if (c.status != flight::RoverStepStatus::ok) line += std::string("  [") + to_string(c.status) + "]";
@@ -133,7 +129,7 @@ void print_report(std::ostream& out, const TelemetryLog& log, const ReplayConfig
               static_cast<unsigned>(config.table.table_version), to_d(mp.stop_sinkage_m) * 1000.0,
               static_cast<unsigned>(mp.trip_n), static_cast<unsigned>(mp.window_m),
               static_cast<unsigned>(mp.rover_stop_k));
-  out << "\n      time       x   slip   deepest z  I/Imax  wheels                       decision\n";
+  out << "\n      time       x   slip   deepest z  I/Imax  wheels               decision\n";
 
   double next_line = -1e300;
   const CycleRecord* previous = nullptr;
@@ -146,11 +142,13 @@ void print_report(std::ostream& out, const TelemetryLog& log, const ReplayConfig
       for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
         if (c.wheels[i].state != previous->wheels[i].state) {
           changed = true;
-          changes += strf("%s%s %s -> %s", changes.empty() ? "" : ", ", kWheelNames[i],
-                          to_string(previous->wheels[i].state), to_string(c.wheels[i].state));
+          changes += strf("%s%s -> %s", changes.empty() ? "" : ", ", kWheelNames[i], to_string(c.wheels[i].state));
         }
       }
-      changed = changed || c.decision != previous->decision || c.status != previous->status;
+      // A line when the rover-level picture changes; each wheel's own
+      // transitions are in --verbose and the CSV.
+      changed = c.worst_state() != previous->worst_state() || c.decision != previous->decision ||
+                c.status != previous->status;
     }
     if (options.verbose) {
       out << verbose_line(c) << '\n';
@@ -158,14 +156,21 @@ void print_report(std::ostream& out, const TelemetryLog& log, const ReplayConfig
       out << status_line(c) << (changes.empty() ? "" : "   <- " + changes) << '\n';
       next_line = c.time_s + options.every_s;
     }
-    if (!c.new_events.empty() && (!previous || previous->decision != c.decision ||
-                                  c.decision == flight::RoverDecision::stop_and_replan)) {
-      if (c.decision == flight::RoverDecision::stop_and_replan && (!previous || previous->decision != c.decision)) {
-        out << strf("\n  >>> STOP AND RE-PLAN at %.1f s, x = %.2f m. The wheels at the stop:\n", c.time_s, c.x_m);
-        wheel_table(out, c);
-      }
+    const bool stop_now =
+        c.decision == flight::RoverDecision::stop_and_replan && (!previous || previous->decision != c.decision);
+    if (stop_now) {
+      const std::optional<double> truth = truth_sinkage_mm(log, c);
+      out << strf("\n  >>> STOP AND RE-PLAN at %.1f s, x = %.2f m%s. The wheels at the stop:\n", c.time_s, c.x_m,
+                  truth ? strf(" (simulator: deepest wheel %.1f mm)", *truth).c_str() : "");
+      wheel_table(out, c);
       for (const StopRecord& e : c.new_events) out << "      event record: " << event_text(e) << '\n';
       out << '\n';
+    } else if (!c.new_events.empty()) {
+      // Wheels that trip after the rover has stopped: one short line.
+      std::string names;
+      for (const StopRecord& e : c.new_events) names += std::string(names.empty() ? "" : ", ") + kWheelNames[e.wheel];
+      out << strf("%8.1f s %7.2f m  event records: %s (%s)\n", c.time_s, c.x_m, names.c_str(),
+                  to_string(c.new_events.front().reason));
     }
     if (c.escape_started) {
       out << strf("  >>> escape sequence started (section 7: alternate forward and reverse, %.0f s + %.0f s per "
@@ -225,8 +230,12 @@ void print_report(std::ostream& out, const TelemetryLog& log, const ReplayConfig
   } else if (log.metadata.count("embedding_x_m")) {
     out << "  embedding  none in this scenario (the simulator's rover never embeds on this path)\n";
   }
-  out << strf("  events     %zu event record(s)%s\n", r.events.size(),
-              r.events.empty() ? "" : (": " + event_text(r.events.front())).c_str());
+  if (r.events.empty()) {
+    out << "  events     none\n";
+  } else {
+    out << strf("  events     %zu event record(s), the first: %s at %.1f s, %s\n", r.events.size(),
+                kWheelNames[r.events.front().wheel], r.events.front().time_s, to_string(r.events.front().reason));
+  }
   if (r.first_stop && r.cycles[*r.first_stop].escape_active) {
     const CycleRecord& start = r.cycles[*r.first_stop];
     if (r.escape_end) {
@@ -302,7 +311,7 @@ std::string plot_script(const TelemetryLog& log, const ReplayConfig& config, con
   }
   s << "EOD\n";
   s << "set multiplot layout 3,1 title '" << log.source << ": sinkwatch flight code replay'\n";
-  s << "set grid\nset key outside right\nset lmargin 10\nset rmargin 28\n";
+  s << "set grid\nset key outside right\nset lmargin 14\nset rmargin 28\n";
   if (r.first_stop) {
     s << strf("set arrow 1 from %.3f, graph 0 to %.3f, graph 1 nohead dt 2 lw 2 lc rgb 'red'\n",
               r.cycles[*r.first_stop].time_s, r.cycles[*r.first_stop].time_s);
@@ -324,7 +333,8 @@ std::string plot_script(const TelemetryLog& log, const ReplayConfig& config, con
   s << "\n";
   const double stop_mm = fx::to_double(config.table.monitor.stop_sinkage_m.q()) * 1000.0;
   const double caution_mm = fx::to_double(config.table.monitor.caution_sinkage_m.q()) * 1000.0;
-  s << "set ylabel 'sinkage [mm]'\n";
+  s << "unset label 1\nunset label 2\n";
+  s << "set ylabel 'sinkage [mm]'\nset yrange [-10:*]\n";
   s << "plot ";
   for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
     s << (i ? ", " : "") << "$D u 1:" << 14 + i << " w l lw 1 lc " << i + 1 << " t 'z est " << kWheelNames[i] << "'";
@@ -334,7 +344,7 @@ std::string plot_script(const TelemetryLog& log, const ReplayConfig& config, con
   if (truth) s << ", $D u 1:20 w l lw 2 dt 4 lc rgb 'black' t 'simulator: deepest wheel'";
   s << "\n";
   s << "set format x '%g'\nset xlabel 'time [s]'\nset ylabel 'decision'\nset yrange [-1.5:2.5]\n";
-  s << "set ytics ('reverse' -1, 'nominal / -' 0, 'caution / fwd' 1, 'stop' 2)\n";
+  s << "set ytics ('reverse' -1, 'nominal' 0, 'caution, fwd' 1, 'stop' 2)\n";
   s << "plot $D u 1:21 w steps lw 2 lc rgb 'orange' t 'worst wheel state', "
        "$D u 1:($22*2) w steps lw 2 lc rgb 'red' t 'rover: stop and re-plan', "
        "$D u 1:23 w steps lw 1 lc rgb 'blue' t 'escape command'\n";
