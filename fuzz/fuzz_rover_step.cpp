@@ -138,13 +138,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const sf::RoverStepOutput o = step.step(t, now, table, rover);
 
     // Enumerations hold enumerators.
-    check(u(o.status) <= u(sf::RoverStepStatus::drawbar_failed));
+    check(u(o.status) <= u(sf::RoverStepStatus::radius_mismatch));
     check(u(o.load_status) <= u(sf::WheelLoadStatus::overflow));
     check(u(o.drawbar_status) <= u(sf::DrawbarStatus::overflow));
     check(u(o.decision) <= u(sf::RoverDecision::stop_and_replan));
     check(u(o.monitor.decision) <= u(sf::RoverDecision::stop_and_replan));
     check(o.status != sf::RoverStepStatus::invalid_table);         // the table is valid
     check(o.status != sf::RoverStepStatus::invalid_rover_params);  // and so are the params
+    check(o.status != sf::RoverStepStatus::radius_mismatch);       // both say r = 0.15 m
 
     // What a valid flag promises.
     if (o.status == sf::RoverStepStatus::ok) {
