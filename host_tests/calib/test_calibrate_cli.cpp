@@ -2,6 +2,7 @@
 // paper's Table 1, and the built executable itself (exit codes, messages on
 // stderr, and no file written when the input is bad).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <sys/wait.h>
 
@@ -23,10 +24,26 @@ namespace fs = std::filesystem;
 
 const std::string kTable1 = std::string(SINKWATCH_DATA_DIR) + "/paper/table1_3kg.csv";
 
+// One directory per process (the id keeps concurrent runs of two build trees
+// apart), removed when the process ends.
+struct ScratchRoot {
+  fs::path path =
+      fs::temp_directory_path() / ("sinkwatch_calib_tests_" + std::to_string(::getpid()));
+  ~ScratchRoot() {
+    std::error_code ignored;
+    fs::remove_all(path, ignored);
+  }
+};
+
+ScratchRoot& scratch_root() {
+  static ScratchRoot root;
+  return root;
+}
+
 // A fresh, empty directory for one test.
 fs::path scratch_dir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::temp_directory_path() / "sinkwatch_calib_tests" /
+  const fs::path dir = scratch_root().path /
                        (std::string(info->test_suite_name()) + "." + info->name());
   fs::remove_all(dir);
   fs::create_directories(dir);

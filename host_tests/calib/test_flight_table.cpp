@@ -4,6 +4,7 @@
 // within the fixed-point bound derived below. Also: a fit outside the flight
 // envelope is refused with its reason and nothing is written.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -34,9 +35,25 @@ const std::string kTable1 = std::string(SINKWATCH_DATA_DIR) + "/paper/table1_3kg
 constexpr double kTable1LoadN = 3.0 * 9.81;
 constexpr double kRatioLsb = 1.0 / 16777216.0;  // Q7.24: 2^-24
 
+// One directory per process (the id keeps concurrent runs of two build trees
+// apart), removed when the process ends.
+struct ScratchRoot {
+  fs::path path =
+      fs::temp_directory_path() / ("sinkwatch_calib_tests_" + std::to_string(::getpid()));
+  ~ScratchRoot() {
+    std::error_code ignored;
+    fs::remove_all(path, ignored);
+  }
+};
+
+ScratchRoot& scratch_root() {
+  static ScratchRoot root;
+  return root;
+}
+
 fs::path scratch_dir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = fs::temp_directory_path() / "sinkwatch_calib_tests" /
+  const fs::path dir = scratch_root().path /
                        (std::string(info->test_suite_name()) + "." + info->name());
   fs::remove_all(dir);
   fs::create_directories(dir);
