@@ -103,7 +103,10 @@ constexpr std::uint64_t turns(std::uint64_t m) noexcept {
     for (std::uint32_t i = 0U; i < 4U; ++i) {
       // Weight of limb[j] * k_inv_two_pi[i] in units of 2^-64 turn: 2^s.
       const std::int32_t s = (32 + (32 * (static_cast<std::int32_t>(j) - static_cast<std::int32_t>(i)))) - F;
-      if ((s < 64) && (s > -64)) {
+      // Partial products of weight >= 2^64 are whole turns; those below
+      // 2^-64 are under one unit. A zero limb (always the high one for
+      // 32-bit storage) saves a 64-bit multiply, a library call on the M0.
+      if ((s < 64) && (s > -64) && (limb[j] != 0U)) {
         const std::uint64_t p = limb[j] * static_cast<std::uint64_t>(k_inv_two_pi[i]);
         t += (s >= 0) ? (p << static_cast<std::uint32_t>(s)) : (p >> static_cast<std::uint32_t>(-s));
       }
