@@ -535,6 +535,14 @@ DiagnosisResult diagnose(const DiagnosisModel& model, const std::vector<Diagnosi
     result.verdict = "no_gap";
     verdict << "no significant gap: the base model's held-out RMS is " << before
             << "x the measurement noise (threshold " << settings.gap_threshold << "x); the ranking below is not evidence";
+  } else if (before <= settings.residual_threshold) {
+    result.verdict = "weak_gap";
+    verdict << "weak gap: the base model's held-out RMS is " << before << "x the measurement noise, between "
+            << settings.gap_threshold << "x and " << settings.residual_threshold << "x";
+    if (best != nullptr) {
+      verdict << "; the best candidate, " << best->effect << ", takes it to " << best->heldout_rms_after << "x ("
+              << best->shrink_pct << " % shrink), which on so small a gap is weak evidence for it";
+    }
   } else if (best == nullptr || best->shrink_pct < settings.explain_threshold_pct) {
     result.verdict = "not_explained";
     verdict << "no candidate explains the gap: held-out RMS " << before << "x noise";

@@ -115,7 +115,8 @@ std::vector<GapComponent> EstimatorModel::gap_components(const std::vector<Diagn
                          flight::Ratio(fx::from_double<flight::RatioQ>(coeff[1], st)),
                          flight::Ratio(fx::from_double<flight::RatioQ>(coeff[2], st))};
   const flight::LengthM probe_r(fx::from_double<flight::LengthQ>(rows.front().radius_m, st));
-  const flight::WheelLoadN probe_w(fx::constant<flight::LoadQ>(1.0));
+  constexpr flight::LoadQ kOneNewton = fx::constant<flight::LoadQ>(1.0);
+  const flight::WheelLoadN probe_w(kOneNewton);
   if (!st.ok() || flight::check_estimator_inputs(c, probe_r, probe_w) == flight::EstimateStatus::invalid_coefficient) {
     coeff = {1.0, 1.0, 0.2};
     coeff_note = "Eq. 14's C = (1, 1, 0.2), because the fitted coefficients are outside the flight envelope "
