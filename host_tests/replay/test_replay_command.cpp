@@ -2,6 +2,9 @@
 // plot's fallback without gnuplot, and errors with line numbers.
 #include "sinkwatch/ground/replay_command.hpp"
 
+#include "sinkwatch/fixedpoint/literal.hpp"
+#include "sinkwatch/flight/param_table.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 namespace sg = sinkwatch::ground;
 namespace fs = std::filesystem;
@@ -170,4 +174,45 @@ TEST(ReplayCommand, MissingFileAndBadOptions) {
   EXPECT_NE(missing.err.find("cannot open"), std::string::npos);
   EXPECT_NE(run({"--scenario", "nope"}).code, 0);
   EXPECT_NE(run({"--every", "-1"}).code, 0);
+}
+
+TEST(ReplayCommand, UploadedTableIsUsedAndABadOneRejected) {
+  namespace fl = sinkwatch::flight;
+  const fs::path dir = temp_dir("table");
+  // A lower stop level must stop the rover earlier: a longer lead.
+  fl::ParameterTable t = fl::default_parameter_table();
+  t.table_version = 7;
+  t.monitor.stop_sinkage_m = fl::SinkageM{sinkwatch::fx::constant<fl::LengthQ>(0.040)};
+  t.monitor.allowed_sinkage_m = t.monitor.stop_sinkage_m;
+  ASSERT_EQ(fl::validate(t), fl::RejectReason::ok);
+  std::vector<std::uint8_t> bytes(fl::kMaxTableBytes);
+  const fl::EncodeResult enc = fl::encode(t, bytes.data(), bytes.size());
+  ASSERT_EQ(enc.status, fl::RejectReason::ok);
+  const fs::path table = dir / "table.bin";
+  {
+    std::ofstream f(table, std::ios::binary);
+    f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(enc.size));
+  }
+  const CommandRun base = run({});
+  const CommandRun low = run({"--table", table.string()});
+  ASSERT_EQ(low.code, 0) << low.err;
+  EXPECT_NE(low.out.find("version 7"), std::string::npos);
+  EXPECT_NE(low.out.find("sinkage >= 40.0 mm"), std::string::npos) << low.out;
+  const auto stop_time = [](const std::string& out) {
+    const std::size_t at = out.find("the first at ");
+    return at == std::string::npos ? -1.0 : std::stod(out.substr(at + 13));
+  };
+  ASSERT_GT(stop_time(base.out), 0.0);
+  ASSERT_GT(stop_time(low.out), 0.0);
+  EXPECT_LT(stop_time(low.out), stop_time(base.out));
+
+  // One flipped byte: the CRC no longer matches.
+  bytes[20] = static_cast<std::uint8_t>(bytes[20] ^ 0x01U);
+  {
+    std::ofstream f(table, std::ios::binary);
+    f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(enc.size));
+  }
+  const CommandRun bad = run({"--table", table.string()});
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("rejects this parameter table"), std::string::npos) << bad.err;
 }

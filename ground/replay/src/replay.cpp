@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
 
 namespace sinkwatch::ground {
 namespace {
@@ -75,7 +78,7 @@ OnboardLoop::OnboardLoop(ReplayConfig config) : config_(config) {
   if (!st.ok() || config_.gravity_mps2 <= 0.0) {
     throw std::invalid_argument("gravity " + std::to_string(config_.gravity_mps2) + " m/s^2 is not usable");
   }
-  rover_ = flight::yutu_like_rover_params(g);
+  rover_ = config_.rover ? *config_.rover : flight::yutu_like_rover_params(g);
   if (flight::validate_rover_params(rover_) != flight::RoverParamStatus::ok) {
     throw std::invalid_argument("gravity " + std::to_string(config_.gravity_mps2) +
                                 " m/s^2 is outside the rover model's range (0, 10]");
@@ -180,6 +183,29 @@ CycleRecord OnboardLoop::step(const TelemetryRow& row, const std::string& source
     default: rec.escape_command = EscapeCommand::stop; break;
   }
   return rec;
+}
+
+void load_parameter_table(const std::string& path, ReplayConfig& config) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot open the parameter table");
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  flight::ParameterTable table{};
+  const flight::RejectReason reason =
+      flight::decode(bytes.data(), bytes.size(), table, &flight::rover_section_valid);
+  if (reason != flight::RejectReason::ok) {
+    throw std::runtime_error(path + ": the flight code rejects this parameter table (RejectReason " +
+                             std::to_string(static_cast<unsigned>(reason)) + ", param_table.hpp)");
+  }
+  config.table = table;
+  config.table_source = path;
+  if (table.rover_geometry.present) {
+    flight::RoverParams rover{};
+    if (flight::decode_rover_section(table.rover_geometry, rover) != flight::RoverParamStatus::ok) {
+      throw std::runtime_error(path + ": the table's rover section (6) does not decode");
+    }
+    config.rover = rover;
+    config.gravity_mps2 = fx::to_double(rover.gravity_mps2.q());
+  }
 }
 
 double log_gravity(const TelemetryLog& log) { return log.number("gravity_mps2").value_or(1.62); }

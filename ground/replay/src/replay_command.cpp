@@ -26,6 +26,7 @@ struct ReplayArgs {
   double every_s = 30.0;
   double gravity = 0.0;  // 0: from the log
   bool no_escape = false;
+  std::string table;
 };
 
 // A bar on stderr, only when a person is watching it.
@@ -69,6 +70,12 @@ int run(const ReplayArgs& a, std::ostream& out, std::ostream& err) {
   ReplayConfig config;
   config.gravity_mps2 = a.gravity > 0.0 ? a.gravity : log_gravity(log);
   config.run_escape = !a.no_escape;
+  if (!a.table.empty()) {
+    load_parameter_table(a.table, config);
+    if (a.gravity > 0.0 && config.rover) {
+      err << "sinkwatch replay: --gravity is ignored: the table's rover section sets the gravity\n";
+    }
+  }
   ReplayResult result;
   {
     Progress bar(err, log.rows.size());
@@ -114,6 +121,8 @@ CLI::App* add(CLI::App& app, std::shared_ptr<ReplayArgs> args, std::ostream& out
       ->check(CLI::PositiveNumber);
   sub->add_option("--gravity", args->gravity, "gravity in m/s^2 (default: the log's gravity_mps2, else the Moon's)")
       ->check(CLI::Range(0.01, 10.0));
+  sub->add_option("--table", args->table,
+                  "replay with this uploaded flight parameter table (binary, e.g. from sinkwatch calibrate --table)");
   sub->add_flag("--no-escape", args->no_escape, "do not run the escape sequencer after a stop");
   sub->callback([args, &out, &err, exit_code]() {
     int rc = 2;

@@ -122,11 +122,14 @@ void print_report(std::ostream& out, const TelemetryLog& log, const ReplayConfig
   const double duration = r.cycles.empty() ? 0.0 : r.cycles.back().time_s - r.cycles.front().time_s;
   out << "sinkwatch replay: " << options.title << '\n';
   if (!log.comments.empty()) out << "  " << log.comments.front() << '\n';
-  out << strf("  rover: Yutu-like, 140 kg, g = %.2f m/s^2; %zu cycles over %.1f s\n", config.gravity_mps2,
-              r.cycles.size(), duration);
-  out << strf("  flight code: RoverStep, fixed point, parameter table v%u: stop at an estimated sinkage >= %.1f mm or a "
-              "current >= I_max,\n  in %u of %u samples; %u wheel(s) in STOP stop the rover\n",
-              static_cast<unsigned>(config.table.table_version), to_d(mp.stop_sinkage_m) * 1000.0,
+  out << strf("  rover: %s, %.0f kg, g = %.2f m/s^2; %zu cycles over %.1f s\n",
+              config.rover ? "from the table's section 6" : "Yutu-like", config.rover ? to_d(config.rover->mass_kg) : 140.0,
+              config.gravity_mps2, r.cycles.size(), duration);
+  out << strf("  flight code: RoverStep (fixed point), parameter table: %s, version %u.\n"
+              "  Stop at an estimated sinkage >= %.1f mm or a current >= I_max in %u of %u samples; %u wheel(s) in "
+              "STOP stop the rover.\n",
+              config.table_source.c_str(), static_cast<unsigned>(config.table.table_version),
+              to_d(mp.stop_sinkage_m) * 1000.0,
               static_cast<unsigned>(mp.trip_n), static_cast<unsigned>(mp.window_m),
               static_cast<unsigned>(mp.rover_stop_k));
   out << "\n      time       x   slip   deepest z  I/Imax  wheels               decision\n";

@@ -291,10 +291,24 @@ ScenarioSpec nominal_scenario() {
   return s;
 }
 
+ScenarioSpec steep_ripple_scenario() {
+  ScenarioSpec s = embedding_scenario();
+  s.name = "steep-ripple";
+  s.description =
+      "as 'embedding', but the soft ripple's flank steepens to 6-8 deg: the default table does not stop the rover "
+      "in time (docs/scenarios.md, finding 2)";
+  s.terrain = {
+      {0.0, 1.0, 0.0},  {4.0, 1.0, 0.0},   {6.0, 0.3, 0.5}, {9.0, 0.3, 1.0},
+      {11.0, 0.1, 2.0}, {14.0, 0.03, 6.0}, {20.0, 0.03, 8.0},
+  };
+  return s;
+}
+
 ScenarioSpec scenario_by_name(const std::string& name) {
   if (name == "embedding") return embedding_scenario();
   if (name == "nominal") return nominal_scenario();
-  throw std::invalid_argument("unknown scenario '" + name + "'; known: embedding nominal");
+  if (name == "steep-ripple") return steep_ripple_scenario();
+  throw std::invalid_argument("unknown scenario '" + name + "'; known: embedding nominal steep-ripple");
 }
 
 Scenario generate_scenario(const ScenarioSpec& spec, const std::string& command_line,

@@ -14,7 +14,8 @@ int main(int argc, char** argv) {
   std::string name = "embedding";
   std::string out_path;
   std::uint64_t seed = 0;
-  app.add_option("--scenario", name, "embedding or nominal")->check(CLI::IsMember({"embedding", "nominal"}));
+  app.add_option("--scenario", name, "embedding, nominal or steep-ripple")
+      ->check(CLI::IsMember({"embedding", "nominal", "steep-ripple"}));
   app.add_option("--seed", seed, "noise seed (default: the scenario's own)");
   app.add_option("--out", out_path, "output CSV")->required();
   CLI11_PARSE(app, argc, argv);

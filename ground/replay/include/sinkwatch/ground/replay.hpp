@@ -44,7 +44,16 @@ struct ReplayConfig {
   flight::ParameterTable table = flight::default_parameter_table();
   double gravity_mps2 = 1.62;  // the rover's body: feeds RoverParams (Yutu-like geometry)
   bool run_escape = true;      // start the escape sequencer when the rover stops
+  /// The rover from a table's section 6; empty: the Yutu-like rover at gravity_mps2.
+  std::optional<flight::RoverParams> rover;
+  std::string table_source = "built-in default";  // for the report
 };
+
+/// Reads an uploaded parameter table (the bytes `sinkwatch calibrate --table`
+/// writes) into `config`: flight::decode() with the rover section checked;
+/// the rover geometry too when the table carries section 6. Throws
+/// std::runtime_error naming the file and the flight code's reject reason.
+void load_parameter_table(const std::string& path, ReplayConfig& config);
 
 /// One wheel's flight outputs for one cycle, converted to double for display.
 struct WheelCycle {

@@ -70,7 +70,11 @@ struct ScenarioSpec {
 ScenarioSpec embedding_scenario();
 /// Firm and moderately soft ground with gentle slopes: must not stop.
 ScenarioSpec nominal_scenario();
-/// By name: "embedding" or "nominal"; throws std::invalid_argument otherwise.
+/// The embedding scenario with a steep soft flank: a documented miss of the
+/// default table (not shipped; docs/scenarios.md, finding 2).
+ScenarioSpec steep_ripple_scenario();
+/// By name: "embedding", "nominal" or "steep-ripple"; throws
+/// std::invalid_argument otherwise.
 ScenarioSpec scenario_by_name(const std::string& name);
 
 struct ScenarioTruth {
