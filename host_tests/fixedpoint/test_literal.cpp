@@ -67,6 +67,12 @@ TEST(FxFromDouble, RoundsToNearestTiesAwayFromZero) {
   EXPECT_EQ(fx::from_double<Q15_16>(-0.5 / 65536.0, s).raw(), -1);
   EXPECT_EQ(fx::from_double<Q15_16>(0.49 / 65536.0, s).raw(), 0);
   EXPECT_EQ(fx::from_double<Q15_16>(-0.49 / 65536.0, s).raw(), 0);
+  // The largest double below 0.5: (m + 0.5) would round it up to 1.
+  using QInt32 = fx::Q<std::int32_t, 0>;
+  EXPECT_EQ(fx::from_double<QInt32>(0.49999999999999994, s).raw(), 0);
+  EXPECT_EQ(fx::from_double<QInt32>(-0.49999999999999994, s).raw(), 0);
+  EXPECT_EQ(fx::from_double<QInt32>(0.5, s).raw(), 1);
+  EXPECT_EQ(fx::from_double<QInt32>(-2.5, s).raw(), -3);
   EXPECT_EQ(fx::from_double<Q15_16>(-0.0, s).raw(), 0);
   EXPECT_EQ(fx::from_double<Q15_16>(std::numeric_limits<double>::denorm_min(), s).raw(), 0);
   EXPECT_TRUE(s.ok());

@@ -12,9 +12,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <limits>
 #include <string>
 
 #include "fx_reference.hpp"
+#include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/sqrt.hpp"
 
@@ -197,6 +200,63 @@ std::string check_reciprocal(In a) {
   return fxref::check_rounded(r, s, a.raw() < 0, fxref::pow2(Out::frac_bits + In::frac_bits), fxref::mag(a.raw()));
 }
 
+/// from_double (the run-time twin of constant): the double's exact value
+/// M 2^E (M a 53-bit integer) in raw units is M 2^(E + F); correctly rounded,
+/// ties away, saturated with overflow; NaN gives domain and zero.
+template <typename QT>
+std::string check_from_double(double v) {
+  fx::Status s;
+  const QT r = fx::from_double<QT>(v, s);
+  if (std::isnan(v)) {
+    if (s.bits() != static_cast<std::uint8_t>(fx::Flag::domain) || r.raw() != 0) {
+      return "from_double(NaN): expected domain only and zero";
+    }
+    return "";
+  }
+  if (std::isinf(v)) {
+    return fxref::check_rounded(r, s, v < 0, 0, 1, true);
+  }
+  int e = 0;
+  const double f = std::frexp(std::fabs(v), &e);  // |v| = f 2^e, f in [0.5, 1)
+  const U128 m = static_cast<U128>(std::ldexp(f, 53));
+  const int shift = e - 53 + QT::frac_bits;
+  if (shift < -120) {
+    // |v| 2^F < 2^53 2^-120: rounds to zero, which is not an error.
+    if (!s.ok() || r.raw() != 0) {
+      return "from_double(tiny): expected zero and a clean status";
+    }
+    return "";
+  }
+  const fxref::Rational x = fxref::scaled(std::signbit(v), m, shift);
+  return fxref::check_rounded(r, s, x.negative, x.num, x.den, x.num_too_big);
+}
+
+/// Doubles: every bit pattern (NaN, infinities, subnormals included), exact
+/// ties k/2 LSB and their neighbours one ulp away, and values near the edges.
+template <typename QT>
+double from_double_arg() {
+  const int mode = *rc::gen::inRange(0, 4);
+  if (mode == 0) {
+    const std::uint64_t bits = *fxref::full_range<std::uint64_t>();
+    double v = 0.0;
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+  }
+  const auto k = *fxref::raw<std::int32_t>();
+  double v = std::ldexp(static_cast<double>(k) + ((mode == 1) ? 0.5 : 0.0), -QT::frac_bits);
+  if (mode == 3) {
+    v = std::ldexp(static_cast<double>(*fxref::raw<typename QT::storage_type>()), -QT::frac_bits);
+  }
+  switch (*rc::gen::inRange(0, 3)) {
+    case 0:
+      return std::nextafter(v, -std::numeric_limits<double>::infinity());
+    case 1:
+      return std::nextafter(v, std::numeric_limits<double>::infinity());
+    default:
+      return v;
+  }
+}
+
 // ------------------------------------------------------------ generators next to overflow
 
 /// A value next to the boundary `target` (exact, in raw units of S).
@@ -312,6 +372,9 @@ std::int64_t from_int_arg() {
   }                                                                                             \
   RC_GTEST_PROP(FxCore_##Suffix, ReciprocalWithinHalfLsb, ()) {                                 \
     RC_ASSERT((check_reciprocal<QT, QT>(*fxref::q<QT>())) == std::string());                    \
+  }                                                                                             \
+  RC_GTEST_PROP(FxCore_##Suffix, FromDoubleWithinHalfLsb, ()) {                                \
+    RC_ASSERT(check_from_double<QT>(from_double_arg<QT>()) == std::string());                   \
   }                                                                                             \
   RC_GTEST_PROP(FxCore_##Suffix, StatusIsSticky, ()) {                                          \
     fx::Status s;                                                                               \
