@@ -182,7 +182,8 @@ TEST(ReplayCommand, UploadedTableIsUsedAndABadOneRejected) {
   // A lower stop level must stop the rover earlier: a longer lead.
   fl::ParameterTable t = fl::default_parameter_table();
   t.table_version = 7;
-  t.monitor.stop_sinkage_m = fl::SinkageM{sinkwatch::fx::constant<fl::LengthQ>(0.040)};
+  constexpr fl::SinkageM kLowerStop{sinkwatch::fx::constant<fl::LengthQ>(0.040)};
+  t.monitor.stop_sinkage_m = kLowerStop;
   t.monitor.allowed_sinkage_m = t.monitor.stop_sinkage_m;
   ASSERT_EQ(fl::validate(t), fl::RejectReason::ok);
   std::vector<std::uint8_t> bytes(fl::kMaxTableBytes);
