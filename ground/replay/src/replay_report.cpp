@@ -121,7 +121,20 @@ void print_report(std::ostream& out, const TelemetryLog& log, const ReplayConfig
   const flight::MonitorParams& mp = config.table.monitor;
   const double duration = r.cycles.empty() ? 0.0 : r.cycles.back().time_s - r.cycles.front().time_s;
   out << "sinkwatch replay: " << options.title << '\n';
-  if (!log.comments.empty()) out << "  " << log.comments.front() << '\n';
+  if (!log.comments.empty()) {
+    // The log's first comment, wrapped at about 100 columns.
+    std::istringstream words(log.comments.front());
+    std::string word;
+    std::string line = " ";
+    while (words >> word) {
+      if (line.size() + 1 + word.size() > 100) {
+        out << line << '\n';
+        line = " ";
+      }
+      line += " " + word;
+    }
+    out << line << '\n';
+  }
   out << strf("  rover: %s, %.0f kg, g = %.2f m/s^2; %zu cycles over %.1f s\n",
               config.rover ? "from the table's section 6" : "Yutu-like", config.rover ? to_d(config.rover->mass_kg) : 140.0,
               config.gravity_mps2, r.cycles.size(), duration);
