@@ -64,11 +64,12 @@ TEST(ReplayScenarios, DefaultStopsBeforeTheSimulatedEmbedding) {
   for (std::size_t i = 0; i <= *r.first_stop; ++i) {
     EXPECT_EQ(r.cycles[i].status, fl::RoverStepStatus::ok) << "cycle " << i;
   }
-  // Up to the stop the rover is driving: the truth before the stop has no
-  // wheel past half its radius (the stop is not a late one in disguise).
+  // At the stop the simulated rover is still driving, not already stuck
+  // (its slip has not run away): the stop is not a late one in disguise.
   const sg::TelemetryRow& at_stop = log.rows[stop.row];
-  ASSERT_TRUE(at_stop.true_sinkage_mm.has_value());
-  EXPECT_LT(*at_stop.true_sinkage_mm, 75.0);
+  EXPECT_EQ(at_stop.phase, "drive");
+  ASSERT_TRUE(at_stop.true_slip.has_value());
+  EXPECT_LT(*at_stop.true_slip, 0.5);
 }
 
 TEST(ReplayScenarios, DefaultEscapeFollowsTheSequencerAndFreesTheRover) {
