@@ -280,6 +280,7 @@ std::vector<std::string> write_report(const DiagnosisResult& r, const std::strin
     std::ofstream gp(base / "residuals.gp");
     gp << "# gnuplot script written by sinkwatch diagnose; run: gnuplot residuals.gp\n"
        << "set terminal svg size 1200," << 360 * r.channels.size() << " dynamic font 'sans,11'\n"
+       << "set termoption noenhanced\n"  // names like traction_coeff are not subscripts
        << "set datafile missing 'NaN'\n"
        << "set key outside right top\nset grid\nset xzeroaxis lt -1\n";
     const std::size_t nch = r.channels.size();
