@@ -18,6 +18,7 @@
 #include "sinkwatch/ground/diagnosis_data.hpp"
 #include "sinkwatch/ground/diagnosis_models.hpp"
 #include "sinkwatch/ground/diagnosis_report.hpp"
+#include "sinkwatch/ground/diagnose_command.hpp"
 
 namespace sinkwatch {
 namespace ground {
@@ -265,6 +266,40 @@ TEST(DiagnosisReport, JsonKeysAndReportWithoutGnuplot) {
   EXPECT_TRUE(fs::exists(fs::path(dir) / "summary.md"));
   EXPECT_TRUE(fs::exists(fs::path(dir) / "residuals.gp"));
   EXPECT_FALSE(fs::exists(fs::path(dir) / "residuals_vs_slip.svg"));
+}
+
+
+TEST(DiagnoseCommand, WritesJsonAndRejectsBadInput) {
+  DiagnoseOptions options;
+  options.data_path = std::string(SINKWATCH_DATA_DIR) + "/paper/table1_3kg.csv";
+  options.model = "estimator";
+  options.radius_m = 0.15;
+  options.width_m = 0.15;
+  options.json_path = temp_path("t1.json");
+  std::ostringstream out;
+  run_diagnose(options, out);
+  EXPECT_NE(out.str().find("verdict"), std::string::npos);
+  std::ifstream json(options.json_path);
+  std::stringstream text;
+  text << json.rdbuf();
+  EXPECT_NE(text.str().find("\"ranking\""), std::string::npos);
+
+  // Table 1 has no loads: the simulator model cannot run on it.
+  DiagnoseOptions sim = options;
+  sim.model = "wong-reece";
+  sim.json_path.clear();
+  try {
+    run_diagnose(sim, out);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("load"), std::string::npos) << e.what();
+  }
+  DiagnoseOptions bad = options;
+  bad.model = "neural-net";
+  EXPECT_THROW(run_diagnose(bad, out), std::invalid_argument);
+  DiagnoseOptions no_geometry = options;
+  no_geometry.radius_m.reset();
+  EXPECT_THROW(run_diagnose(no_geometry, out), DataError);
 }
 
 }  // namespace
