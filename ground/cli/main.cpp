@@ -15,8 +15,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "sinkwatch 0.1.0");
   sinkwatch::ground::add_calibrate_command(app);
   sinkwatch::ground::add_diagnose_command(app);
-  sinkwatch::ground::add_replay_subcommand(app);
-  sinkwatch::ground::add_simulate_subcommand(app, sinkwatch::ground::join_command_line(argc, argv));
+  sinkwatch::ground::add_replay_command(app);
+  sinkwatch::ground::add_simulate_command(app, sinkwatch::ground::join_command_line(argc, argv));
   CLI11_PARSE(app, argc, argv);
   return 0;
 }

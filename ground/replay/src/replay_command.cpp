@@ -140,7 +140,7 @@ CLI::App* add(CLI::App& app, std::shared_ptr<ReplayArgs> args, std::ostream& out
 
 }  // namespace
 
-CLI::App* add_replay_subcommand(CLI::App& app) {
+CLI::App* add_replay_command(CLI::App& app) {
   return add(app, std::make_shared<ReplayArgs>(), std::cout, std::cerr, nullptr);
 }
 

@@ -150,7 +150,7 @@ CLI::Validator positive(const std::string& unit) {
 
 }  // namespace
 
-CLI::App* add_simulate_subcommand(CLI::App& app, std::string command_line, std::ostream& out, std::ostream& err) {
+CLI::App* add_simulate_command(CLI::App& app, std::string command_line, std::ostream& out, std::ostream& err) {
   auto opts = std::make_shared<SimulateOptions>();
   CLI::App* sub = app.add_subcommand(
       "simulate", "Reference wheel-soil simulator: soil-bin style CSV over a grid of loads x slips");
@@ -180,8 +180,8 @@ CLI::App* add_simulate_subcommand(CLI::App& app, std::string command_line, std::
   return sub;
 }
 
-CLI::App* add_simulate_subcommand(CLI::App& app, std::string command_line) {
-  return add_simulate_subcommand(app, std::move(command_line), std::cout, std::cerr);
+CLI::App* add_simulate_command(CLI::App& app, std::string command_line) {
+  return add_simulate_command(app, std::move(command_line), std::cout, std::cerr);
 }
 
 std::string join_command_line(int argc, const char* const* argv) {
@@ -209,7 +209,7 @@ int run_simulate(const std::vector<std::string>& args, std::ostream& out, std::o
   app.require_subcommand(1);
   std::vector<const char*> argv = {"sinkwatch", "simulate"};
   for (const std::string& a : args) argv.push_back(a.c_str());
-  add_simulate_subcommand(app, join_command_line(static_cast<int>(argv.size()), argv.data()), out, err);
+  add_simulate_command(app, join_command_line(static_cast<int>(argv.size()), argv.data()), out, err);
   try {
     app.parse(static_cast<int>(argv.size()), argv.data());
   } catch (const CLI::ParseError& e) {

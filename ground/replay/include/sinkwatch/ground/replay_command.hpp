@@ -17,7 +17,7 @@ namespace sinkwatch::ground {
 const std::string& embedded_scenario_text(const std::string& name);
 
 /// Adds `replay` to app. Errors end the program with exit code 2.
-CLI::App* add_replay_subcommand(CLI::App& app);
+CLI::App* add_replay_command(CLI::App& app);
 
 /// Runs `sinkwatch replay ARGS...` (without the program name and "replay")
 /// and returns the exit code; for tests and scripting.

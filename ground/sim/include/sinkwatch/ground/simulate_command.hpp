@@ -16,9 +16,9 @@ namespace sinkwatch::ground {
 // CSV comments (use join_command_line(argc, argv)). Output goes to --out or
 // to `out`; errors are printed to `err` and end the program with exit code 2
 // through CLI::RuntimeError; bad flags raise CLI::ValidationError.
-CLI::App* add_simulate_subcommand(CLI::App& app, std::string command_line, std::ostream& out,
+CLI::App* add_simulate_command(CLI::App& app, std::string command_line, std::ostream& out,
                                   std::ostream& err);
-CLI::App* add_simulate_subcommand(CLI::App& app, std::string command_line);
+CLI::App* add_simulate_command(CLI::App& app, std::string command_line);
 
 // argv joined with spaces; arguments with spaces or quotes are single-quoted.
 std::string join_command_line(int argc, const char* const* argv);
