@@ -137,6 +137,22 @@ TEST(TelemetryLog, NegativeTimeIsOutOfTheFlightClock) {
   EXPECT_NE(error_of(kHeader + "-0.2" + kRow.substr(3)).find("time out of range"), std::string::npos);
 }
 
+TEST(TelemetryLog, TimeGoingBackwardsIsRejectedWhereItTurns) {
+  // Found by fuzz_telemetry_csv (fuzz/findings/telemetry_time_backwards.csv).
+  std::size_t line = 0;
+  std::size_t column = 0;
+  const std::string msg =
+      error_of(kHeader + "5.0" + kRow.substr(3) + "0.1" + kRow.substr(3), &line, &column);
+  EXPECT_EQ(line, 3U);
+  EXPECT_EQ(column, 1U);  // the time cell
+  EXPECT_NE(msg.find("time goes backwards: 0.100 s after 5.000 s at line 2"), std::string::npos) << msg;
+}
+
+TEST(TelemetryLog, RepeatedTimeIsKeptForTheFlightCodeToReport) {
+  const sg::TelemetryLog log = sg::parse_telemetry_text(kHeader + kRow + kRow, "x");
+  EXPECT_EQ(log.rows.size(), 2U);
+}
+
 TEST(TelemetryLog, HeaderProblems) {
   EXPECT_NE(error_of("time_s,foo\n1,2\n").find("unknown column 'foo'"), std::string::npos);
   EXPECT_NE(error_of("time_s,time_s\n1,2\n").find("appears twice"), std::string::npos);

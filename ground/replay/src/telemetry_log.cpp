@@ -137,6 +137,11 @@ class RowParser {
     return r;
   }
 
+  /// Column of the time cell of a row that parse() accepted.
+  std::size_t time_column(const std::vector<Cell>& cells) const {
+    return cell(cells, has(kTimeS) ? kTimeS : kTimeMs).column;
+  }
+
  private:
   bool has(int c) const { return index_[static_cast<std::size_t>(c)] >= 0; }
   const Cell& cell(const std::vector<Cell>& cells, int c) const {
@@ -232,7 +237,18 @@ TelemetryLog read_telemetry_csv(std::istream& in, const std::string& source) {
       parser.emplace(source, split(line), number);
       continue;
     }
-    log.rows.push_back(parser->parse(split(line), number));
+    const std::vector<Cell> cells = split(line);
+    TelemetryRow row = parser->parse(cells, number);
+    // A log whose clock runs backwards is corrupt: refuse it where it turns,
+    // rather than let the flight code see samples "from the future". Equal
+    // stamps are kept: the flight code reports them itself (repeated).
+    if (!log.rows.empty() && row.time_s < log.rows.back().time_s) {
+      throw TelemetryError(source, number, parser->time_column(cells),
+                           "time goes backwards: " + fmt("%.3f", row.time_s) + " s after " +
+                               fmt("%.3f", log.rows.back().time_s) + " s at line " +
+                               std::to_string(log.rows.back().line));
+    }
+    log.rows.push_back(std::move(row));
   }
   if (!parser) throw TelemetryError(source, number, 1, "no header line (the file has only comments or is empty)");
   if (log.rows.empty()) throw TelemetryError(source, number, 1, "no data rows after the header");
