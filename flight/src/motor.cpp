@@ -16,7 +16,7 @@ bool direction_is_valid(DriveDirection d) noexcept {
 
 EstimateStatus check_motor(const MotorParams& motor) noexcept {
   if ((motor.gear_ratio <= GearRatio::zero()) || (motor.efficiency <= Efficiency::zero()) ||
-      (motor.efficiency.q() > EfficiencyQ::from_raw(std::int32_t{1} << 30)) ||
+      (motor.efficiency.q() > EfficiencyQ::from_raw(std::int32_t{0x40000000})) ||  // 1.0 in Q1.30
       (motor.kt_nm_per_a <= TorqueConstantNmPerA::zero()) || (motor.no_load_current_a < CurrentA::zero()) ||
       (motor.current_abs_max_a <= motor.no_load_current_a)) {
     return EstimateStatus::invalid_motor;

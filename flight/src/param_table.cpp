@@ -53,7 +53,7 @@ class Writer {
   }
   void u16(std::uint16_t v) noexcept {
     u8(static_cast<std::uint8_t>(v & 0xFFU));
-    u8(static_cast<std::uint8_t>((v >> 8U) & 0xFFU));
+    u8(static_cast<std::uint8_t>((static_cast<std::uint32_t>(v) >> 8U) & 0xFFU));
   }
   void u32(std::uint32_t v) noexcept {
     for (std::uint32_t i = 0U; i < 4U; ++i) {

@@ -115,7 +115,11 @@ constexpr W scale_magnitude(const W& mag, std::int32_t shift, bool& overflowed) 
   }
   if (shift < 0) {
     const std::uint32_t s = static_cast<std::uint32_t>(-shift);
-    if ((wide::bit_length(mag) + s) > wide::width(mag)) {
+    // Bits lost iff bit_length(mag) + s > width, that is iff mag has a bit at
+    // or above width - s: one shift instead of counting the bits.
+    const bool loses_bits = (s >= wide::width(mag)) ? !wide::is_zero(mag)
+                                                    : !wide::is_zero(wide::shr(mag, wide::width(mag) - s));
+    if (loses_bits) {
       overflowed = !wide::is_zero(mag);
       return wide::is_zero(mag) ? mag : wide::from_u64<W>(0U);
     }

@@ -89,15 +89,24 @@ constexpr U128 shl(const U128& a, std::uint32_t n) noexcept {
 constexpr bool bit(std::uint64_t a, std::uint32_t n) noexcept { return (shr(a, n) & 1U) != 0U; }
 constexpr bool bit(const U128& a, std::uint32_t n) noexcept { return (shr(a, n).lo & 1U) != 0U; }
 
-/// Number of significant bits (0 for a == 0). Loop bounded by the width.
-constexpr std::uint32_t bit_length(std::uint64_t a) noexcept {
+/// Number of significant bits of a 32-bit value (0 for a == 0). Loop bounded
+/// by the width; compilers turn this form into a count-leading-zeros
+/// instruction or libgcc's __clzsi2.
+constexpr std::uint32_t bit_length32(std::uint32_t a) noexcept {
   std::uint32_t n = 0U;
-  std::uint64_t v = a;
-  while ((v != 0U) && (n < 64U)) {
+  std::uint32_t v = a;
+  while ((v != 0U) && (n < 32U)) {
     v >>= 1U;
     ++n;
   }
   return n;
+}
+
+/// Number of significant bits (0 for a == 0), a 32-bit half at a time: a
+/// 64-bit shift by a variable count is a library call on 32-bit cores.
+constexpr std::uint32_t bit_length(std::uint64_t a) noexcept {
+  const auto high = static_cast<std::uint32_t>(a >> 32U);
+  return (high != 0U) ? (32U + bit_length32(high)) : bit_length32(static_cast<std::uint32_t>(a));
 }
 constexpr std::uint32_t bit_length(const U128& a) noexcept {
   return (a.hi != 0U) ? (64U + bit_length(a.hi)) : bit_length(a.lo);
@@ -137,24 +146,49 @@ constexpr DivMod<std::uint64_t> divmod(std::uint64_t num, std::uint64_t den) noe
   return DivMod<std::uint64_t>{num / den, num % den};
 }
 
+/// Bit i of a (i < 128) by 32-bit shifts only: a 64-bit shift by a variable
+/// count is a library call on 32-bit cores.
+constexpr std::uint32_t bit_at(const U128& a, std::uint32_t i) noexcept {
+  const std::uint64_t half = (i >= 64U) ? a.hi : a.lo;
+  const std::uint32_t j = i & 63U;
+  const auto word = static_cast<std::uint32_t>((j >= 32U) ? (half >> 32U) : half);
+  return (word >> (j & 31U)) & 1U;
+}
+
 /// num / den by restoring long division, one bit per step: at most 128 steps.
-/// den != 0 is the caller's duty.
+/// den != 0 is the caller's duty. When den < 2^64 (every Q31.32 divisor) the
+/// remainder, always below den, is kept in 64 bits plus the bit shifted out.
 constexpr DivMod<U128> divmod(const U128& num, const U128& den) noexcept {
   if (num.hi == 0U && den.hi == 0U) {
     return DivMod<U128>{U128{0U, num.lo / den.lo}, U128{0U, num.lo % den.lo}};
   }
-  U128 quotient{0U, 0U};
-  U128 remainder{0U, 0U};
   const std::uint32_t n_bits = bit_length(num);
+  U128 quotient{0U, 0U};
+  if (den.hi == 0U) {
+    std::uint64_t remainder = 0U;
+    for (std::uint32_t step = 0U; step < n_bits; ++step) {
+      const std::uint32_t i = n_bits - 1U - step;
+      // 2 remainder + bit < 2 den <= 2^65: `carry` is its bit 64. With it set
+      // the value exceeds den, and the difference, below den, is exact
+      // modulo 2^64.
+      const bool carry = (remainder >> 63U) != 0U;
+      remainder = (remainder << 1U) | bit_at(num, i);
+      quotient = U128{(quotient.hi << 1U) | (quotient.lo >> 63U), quotient.lo << 1U};
+      if (carry || (remainder >= den.lo)) {
+        remainder -= den.lo;
+        quotient.lo |= 1U;
+      }
+    }
+    return DivMod<U128>{quotient, U128{0U, remainder}};
+  }
+  U128 remainder{0U, 0U};
   for (std::uint32_t step = 0U; step < n_bits; ++step) {
     const std::uint32_t i = n_bits - 1U - step;
-    remainder = shl(remainder, 1U);
-    if (bit(num, i)) {
-      remainder.lo |= 1U;
-    }
+    remainder = U128{(remainder.hi << 1U) | (remainder.lo >> 63U), (remainder.lo << 1U) | bit_at(num, i)};
+    quotient = U128{(quotient.hi << 1U) | (quotient.lo >> 63U), quotient.lo << 1U};
     if (!less(remainder, den)) {
       remainder = sub(remainder, den);
-      quotient = add(quotient, shl(make_u128(1U), i));
+      quotient.lo |= 1U;
     }
   }
   return DivMod<U128>{quotient, remainder};
