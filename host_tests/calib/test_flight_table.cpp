@@ -24,10 +24,13 @@
 #include "sinkwatch/ground/calibration.hpp"
 #include "sinkwatch/ground/flight_table.hpp"
 #include "sinkwatch/ground/soil_bin_csv.hpp"
+#include "scratch_dir.hpp"
 
 namespace sinkwatch {
 namespace ground {
 namespace {
+
+using sinkwatch::test::scratch_dir;
 
 namespace fs = std::filesystem;
 
@@ -35,30 +38,6 @@ const std::string kTable1 = std::string(SINKWATCH_DATA_DIR) + "/paper/table1_3kg
 constexpr double kTable1LoadN = 3.0 * 9.81;
 constexpr double kRatioLsb = 1.0 / 16777216.0;  // Q7.24: 2^-24
 
-// One directory per process (the id keeps concurrent runs of two build trees
-// apart), removed when the process ends.
-struct ScratchRoot {
-  fs::path path =
-      fs::temp_directory_path() / ("sinkwatch_calib_tests_" + std::to_string(::getpid()));
-  ~ScratchRoot() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-};
-
-ScratchRoot& scratch_root() {
-  static ScratchRoot root;
-  return root;
-}
-
-fs::path scratch_dir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = scratch_root().path /
-                       (std::string(info->test_suite_name()) + "." + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 std::vector<std::uint8_t> read_bytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

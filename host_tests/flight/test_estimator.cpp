@@ -14,23 +14,15 @@
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/ground/reference.hpp"
+#include "quantity_support.hpp"
 
 namespace {
 
 using namespace sinkwatch;
 using namespace sinkwatch::flight;
 
-template <typename Qty>
-Qty q(double v) {
-  fx::Status st;
-  const auto x = fx::from_double<typename Qty::q_type>(v, st);
-  EXPECT_TRUE(st.ok()) << v;
-  return Qty(x);
-}
-template <typename Qty>
-double d(Qty v) {
-  return fx::to_double(v.q());
-}
+using sinkwatch::test::d;
+using sinkwatch::test::q;
 
 Coefficients coeffs(double c1, double c2, double c3) { return Coefficients{q<Ratio>(c1), q<Ratio>(c2), q<Ratio>(c3)}; }
 

@@ -9,6 +9,7 @@
 #include "sinkwatch/flight/monitor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/ground/reference.hpp"
+#include "quantity_support.hpp"
 
 namespace {
 
@@ -16,17 +17,8 @@ using namespace sinkwatch;
 using namespace sinkwatch::flight;
 namespace ref = sinkwatch::ground::reference;
 
-template <typename Qty>
-Qty q(double v) {
-  fx::Status st;
-  const auto x = fx::from_double<typename Qty::q_type>(v, st);
-  EXPECT_TRUE(st.ok()) << v;
-  return Qty(x);
-}
-template <typename Qty>
-double d(Qty v) {
-  return fx::to_double(v.q());
-}
+using sinkwatch::test::d;
+using sinkwatch::test::q;
 
 // Default table at W = 98.1 N (10 kg: C = 1, 1, 0.13; DP_max/W = 0.5):
 // I_max = 2.3808 A, caution current 2.1427 A, clear below 2.0237 A;

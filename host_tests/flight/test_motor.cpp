@@ -6,6 +6,7 @@
 #include "sinkwatch/flight/motor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/ground/reference.hpp"
+#include "quantity_support.hpp"
 
 namespace {
 
@@ -13,17 +14,8 @@ using namespace sinkwatch;
 using namespace sinkwatch::flight;
 namespace ref = sinkwatch::ground::reference;
 
-template <typename Qty>
-Qty q(double v) {
-  fx::Status st;
-  const auto x = fx::from_double<typename Qty::q_type>(v, st);
-  EXPECT_TRUE(st.ok()) << v;
-  return Qty(x);
-}
-template <typename Qty>
-double d(Qty v) {
-  return fx::to_double(v.q());
-}
+using sinkwatch::test::d;
+using sinkwatch::test::q;
 
 MotorParams motor() {
   // N = 400, eta = 0.6, Kt = 0.025 N m/A: gain 6 N m/A; I0 = 0.1 A; sensor 10 A.
