@@ -1,0 +1,115 @@
+// test_cov_wide.cpp: the documented contracts of the 128-bit helpers
+// (wide.hpp) at the arguments the Q operations never pass them: shift counts
+// at and past the width, a zero shift, and long divisions whose divisor or
+// remainder needs the top bit. docs/coverage.md says why the Q operations
+// cannot reach these cases; these tests pin the helpers' own contract.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+
+#include "sinkwatch/fixedpoint/wide.hpp"
+
+namespace {
+
+namespace wide = sinkwatch::fx::wide;
+using wide::U128;
+
+constexpr std::uint64_t kAllOnes = 0xFFFFFFFFFFFFFFFFULL;
+
+::testing::AssertionResult same(const U128& a, const U128& b) {
+  if (wide::equal(a, b)) {
+    return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << std::hex << "{0x" << a.hi << ", 0x" << a.lo << "} != {0x" << b.hi << ", 0x"
+                                       << b.lo << "}";
+}
+
+// q * d + r == n and r < d, in 128 bits (q * d computed from its halves).
+::testing::AssertionResult division_identity(const U128& n, const U128& d, const wide::DivMod<U128>& qr) {
+  if (!wide::less(qr.remainder, d)) {
+    return ::testing::AssertionFailure() << "remainder not below the divisor";
+  }
+  // q * d with q < 2^64 or d < 2^64 (true in every case below): three partial products.
+  const U128 lo_lo = wide::mul_full(qr.quotient.lo, d.lo);
+  const U128 q_hi_d_lo = wide::mul_full(qr.quotient.hi, d.lo);
+  const U128 q_lo_d_hi = wide::mul_full(qr.quotient.lo, d.hi);
+  const U128 product{lo_lo.hi + q_hi_d_lo.lo + q_lo_d_hi.lo, lo_lo.lo};
+  return same(wide::add(product, qr.remainder), n);
+}
+
+TEST(FxWide, ShiftsByTheFullWidthOrMoreGiveZero) {
+  EXPECT_EQ(wide::shr(kAllOnes, 64U), 0U);
+  EXPECT_EQ(wide::shr(kAllOnes, 200U), 0U);
+  EXPECT_EQ(wide::shl(kAllOnes, 64U), 0U);
+  EXPECT_EQ(wide::shl(std::uint64_t{1}, 99U), 0U);
+  EXPECT_TRUE(same(wide::shr(U128{kAllOnes, kAllOnes}, 128U), U128{0U, 0U}));
+  EXPECT_TRUE(same(wide::shr(U128{kAllOnes, kAllOnes}, 1000U), U128{0U, 0U}));
+  EXPECT_TRUE(same(wide::shl(U128{kAllOnes, kAllOnes}, 128U), U128{0U, 0U}));
+  EXPECT_TRUE(same(wide::shl(U128{0U, 1U}, 300U), U128{0U, 0U}));
+}
+
+TEST(FxWide, ShiftByZeroIsTheIdentity) {
+  const U128 v{0x0123456789ABCDEFULL, 0xFEDCBA9876543210ULL};
+  EXPECT_TRUE(same(wide::shr(v, 0U), v));
+  EXPECT_TRUE(same(wide::shl(v, 0U), v));
+  EXPECT_EQ(wide::shr(std::uint64_t{0x8000000000000001ULL}, 0U), 0x8000000000000001ULL);
+  EXPECT_EQ(wide::shl(std::uint64_t{0x8000000000000001ULL}, 0U), 0x8000000000000001ULL);
+}
+
+TEST(FxWide, ShiftsAcrossTheHalvesMoveTheRightBits) {
+  EXPECT_TRUE(same(wide::shr(U128{1U, 0U}, 64U), U128{0U, 1U}));
+  EXPECT_TRUE(same(wide::shl(U128{0U, 1U}, 127U), U128{0x8000000000000000ULL, 0U}));
+  EXPECT_TRUE(same(wide::shr(U128{0x8000000000000000ULL, 0U}, 127U), U128{0U, 1U}));
+  EXPECT_TRUE(same(wide::shl(U128{0U, 0x8000000000000000ULL}, 1U), U128{1U, 0U}));
+}
+
+TEST(FxWide, BitLengthCountsEverySignificantBit) {
+  EXPECT_EQ(wide::bit_length32(0U), 0U);
+  EXPECT_EQ(wide::bit_length32(1U), 1U);
+  EXPECT_EQ(wide::bit_length32(0xFFFFFFFFU), 32U);
+  EXPECT_EQ(wide::bit_length(std::uint64_t{0}), 0U);
+  EXPECT_EQ(wide::bit_length(kAllOnes), 64U);
+  EXPECT_EQ(wide::bit_length(U128{1U, 0U}), 65U);
+  EXPECT_EQ(wide::bit_length(U128{kAllOnes, 0U}), 128U);
+}
+
+// Divisor below 2^64 but above 2^63: the doubled remainder overflows 64
+// bits (the `carry` of the single-word loop). 2^127 / (2^64 - 1) is
+// 2^63 + 0 remainder 2^63: the classic case.
+TEST(FxWide, LongDivisionByADivisorAboveTwoToThe63IsExact) {
+  const U128 n{0x8000000000000000ULL, 0U};
+  const U128 d{0U, kAllOnes};
+  const wide::DivMod<U128> qr = wide::divmod(n, d);
+  EXPECT_TRUE(same(qr.quotient, U128{0U, 0x8000000000000000ULL}));
+  EXPECT_TRUE(same(qr.remainder, U128{0U, 0x8000000000000000ULL}));
+  EXPECT_TRUE(division_identity(n, d, qr));
+
+  const U128 n2{0xFFFFFFFFFFFFFFFEULL, 0x0123456789ABCDEFULL};
+  const U128 d2{0U, 0xC000000000000001ULL};
+  const wide::DivMod<U128> qr2 = wide::divmod(n2, d2);
+  EXPECT_TRUE(division_identity(n2, d2, qr2));
+  EXPECT_EQ(qr2.quotient.hi, 1U);  // (2^128 - small) / (3 * 2^62) is about 1.33 * 2^64
+}
+
+// Divisor of 2^64 or more: the two-word remainder loop, with quotient bits set.
+TEST(FxWide, LongDivisionByATwoWordDivisorIsExact) {
+  const U128 n{0x0000000500000000ULL, 0x0000000000000007ULL};
+  const U128 d{0x0000000100000000ULL, 0U};  // 2^96
+  const wide::DivMod<U128> qr = wide::divmod(n, d);
+  EXPECT_TRUE(same(qr.quotient, U128{0U, 5U}));
+  EXPECT_TRUE(same(qr.remainder, U128{0U, 7U}));
+
+  const U128 n2{kAllOnes, kAllOnes};
+  const U128 d2{3U, 0x1234567890ABCDEFULL};
+  const wide::DivMod<U128> qr2 = wide::divmod(n2, d2);
+  EXPECT_TRUE(division_identity(n2, d2, qr2));
+  EXPECT_GT(qr2.quotient.lo, 0U);
+
+  // Divisor larger than the dividend: quotient zero, remainder the dividend.
+  const U128 small{1U, 0U};
+  const wide::DivMod<U128> qr3 = wide::divmod(small, U128{2U, 0U});
+  EXPECT_TRUE(same(qr3.quotient, U128{0U, 0U}));
+  EXPECT_TRUE(same(qr3.remainder, small));
+}
+
+}  // namespace
