@@ -31,6 +31,7 @@
 #include "sinkwatch/flight/drawbar_pull.hpp"
 #include "sinkwatch/flight/monitor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/prepared_params.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/rover_step.hpp"
 
@@ -85,6 +86,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const sf::RoverParams rover = sf::yutu_like_rover_params(gravities[(setup >> 1U) & 3U]);
   check(sf::validate(table) == sf::RejectReason::ok);
   check(sf::validate_rover_params(rover) == sf::RoverParamStatus::ok);
+  // Prepared once, as the C interface does on a table load.
+  sf::PreparedParameters prepared;
+  check(sf::prepare(table, rover, prepared) == sf::PrepareStatus::ok);
   const std::uint8_t wheel_count = table.monitor.wheel_count;
   const std::uint8_t stop_k = (table.monitor.rover_stop_k == 0U) ? 1U : table.monitor.rover_stop_k;
   const sf::Ratio one_ratio = sf::Ratio::from_raw(std::int32_t{1} << 24);
@@ -135,7 +139,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         s = sf::WheelState::nominal;
       }
     }
-    const sf::RoverStepOutput o = step.step(t, now, table, rover);
+    const sf::RoverStepOutput o = step.step(t, now, prepared);
 
     // Enumerations hold enumerators.
     check(u(o.status) <= u(sf::RoverStepStatus::radius_mismatch));

@@ -20,6 +20,7 @@
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/motor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/prepared_params.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
 #include "sinkwatch/sinkwatch.h"
@@ -76,9 +77,11 @@ void exercise_estimator(const fl::ParameterTable& table) {
                         table.monitor.allowed_sinkage_m).torque_nm.raw());
   keep(fl::current_limit(table.correction, table.motor, table.wheel_radius_m, load,
                          table.monitor.allowed_sinkage_m).current_limit_a.raw());
+  keep(fl::current_limit(c, table.motor, table.wheel_radius_m, load, table.monitor.allowed_sinkage_m)
+           .current_limit_a.raw());
 }
 
-void exercise_rover() {
+void exercise_rover(const fl::ParameterTable& table) {
   const fl::RoverParams rover = fl::yutu_like_rover_params(fl::kGravityMoon);
   keep(static_cast<std::int64_t>(fl::validate_rover_params(rover)));
   const fl::RoverAttitude attitude{fl::AngleRad::from_raw(g_raw_in[6]), fl::AngleRad::from_raw(g_raw_in[6])};
@@ -91,6 +94,11 @@ void exercise_rover() {
     in.dp_max_ratio[i] = fl::Ratio::from_raw(g_raw_in[5] / 4);
   }
   keep(fl::drawbar_pulls(rover, loads, in).total_n.raw());
+  static fl::PreparedParameters prepared;
+  keep(static_cast<std::int64_t>(fl::prepare(table, rover, prepared)));
+  const fl::WheelLoadResult prepared_loads = fl::wheel_loads(prepared, attitude, joints);
+  keep(prepared_loads.load_n[1].raw());
+  keep(fl::drawbar_pulls(prepared, prepared_loads, in).total_n.raw());
   fl::ExtensionSection section{};
   fl::encode_rover_section(rover, section);
   fl::RoverParams decoded{};
@@ -145,7 +153,7 @@ int main() {
   exercise_fixedpoint();
   exercise_table_and_escape(table);
   exercise_estimator(table);
-  exercise_rover();
+  exercise_rover(table);
   exercise_c_api(table);
   return 0;
 }

@@ -26,8 +26,12 @@ TorqueLimitResult torque_limit(const Coefficients& c, Ratio dp_max_ratio, Length
 
 CurrentLimitResult current_limit(const CorrectionTable& table, const MotorParams& motor, LengthM radius_m,
                                  WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
+  return current_limit(corrections_at(table, load_n), motor, radius_m, load_n, allowed_sinkage_m);
+}
+
+CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams& motor, LengthM radius_m,
+                                 WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
   CurrentLimitResult result{CurrentA::zero(), TorqueNm::zero(), LoadClamp::none, EstimateStatus::ok};
-  const CorrectionResult corr = corrections_at(table, load_n);
   result.clamp = corr.clamp;
   if (corr.status != EstimateStatus::ok) {
     result.status = corr.status;

@@ -22,12 +22,9 @@ DrawbarResult failed(DrawbarStatus status) noexcept {
 
 bool ratio_in_range(Ratio r) noexcept { return (r.raw() > 0) && (r <= kMaxDpMaxRatio); }
 
-/// The parameters, the acceleration, the slope, the slip and every ratio and
-/// load are in their accepted ranges.
+/// The acceleration, the slope, the slip and every ratio and load are in
+/// their accepted ranges (the parameters are already validated).
 bool inputs_in_range(const RoverParams& params, const WheelLoadResult& loads, const DrawbarInput& input) noexcept {
-  if (validate_rover_params(params) != RoverParamStatus::ok) {
-    return false;
-  }
   const bool accel_ok = (input.accel_mps2 <= kMaxAbsAccel) && (input.accel_mps2.raw() >= -kMaxAbsAccel.raw());
   const bool pitch_ok = (input.pitch_rad <= params.attitude_limit_rad) &&
                         (input.pitch_rad.raw() >= -params.attitude_limit_rad.raw());
@@ -43,13 +40,10 @@ bool inputs_in_range(const RoverParams& params, const WheelLoadResult& loads, co
   return true;
 }
 
-}  // namespace
-
-DrawbarResult drawbar_pulls(const RoverParams& params, const WheelLoadResult& loads,
-                            const DrawbarInput& input) noexcept {
-  if (loads.status != WheelLoadStatus::ok) {
-    return failed(DrawbarStatus::invalid_loads);
-  }
+/// The pulls for usable loads and parameters that passed
+/// validate_rover_params().
+DrawbarResult pulls_of_valid(const RoverParams& params, const WheelLoadResult& loads,
+                             const DrawbarInput& input) noexcept {
   if (!inputs_in_range(params, loads, input)) {
     return failed(DrawbarStatus::invalid_input);
   }
@@ -95,6 +89,30 @@ DrawbarResult drawbar_pulls(const RoverParams& params, const WheelLoadResult& lo
     r.status = (r.capped_mask != 0U) ? DrawbarStatus::capped : DrawbarStatus::ok;
   }
   return r;
+}
+
+}  // namespace
+
+DrawbarResult drawbar_pulls(const RoverParams& params, const WheelLoadResult& loads,
+                            const DrawbarInput& input) noexcept {
+  if (loads.status != WheelLoadStatus::ok) {
+    return failed(DrawbarStatus::invalid_loads);
+  }
+  if (validate_rover_params(params) != RoverParamStatus::ok) {
+    return failed(DrawbarStatus::invalid_input);
+  }
+  return pulls_of_valid(params, loads, input);
+}
+
+DrawbarResult drawbar_pulls(const PreparedParameters& prepared, const WheelLoadResult& loads,
+                            const DrawbarInput& input) noexcept {
+  if (loads.status != WheelLoadStatus::ok) {
+    return failed(DrawbarStatus::invalid_loads);
+  }
+  if (!prepared.ready()) {
+    return failed(DrawbarStatus::invalid_input);
+  }
+  return pulls_of_valid(prepared.rover(), loads, input);
 }
 
 }  // namespace flight

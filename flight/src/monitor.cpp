@@ -120,13 +120,14 @@ WheelOutput WheelMonitor::step(const WheelInput& input, TimeMs now, const Parame
   CurrentA directed = CurrentA::zero();
   if (status == SampleStatus::ok) {
     const TorqueResult torque = torque_from_current(table.motor, input.current_a, input.direction);
-    const CorrectionResult corr = corrections_at(table.correction, input.load_n);
+    const CorrectionResult corr =
+        (input.corrections != nullptr) ? *input.corrections : corrections_at(table.correction, input.load_n);
     const SinkageResult sink = (torque.status == EstimateStatus::ok && corr.status == EstimateStatus::ok)
                                    ? sinkage_from_pull(corr.coefficients, table.wheel_radius_m, input.load_n,
                                                        torque.torque_nm, input.drawbar_pull_n)
                                    : SinkageResult{SinkageM::zero(), EstimateStatus::overflow};
-    const CurrentLimitResult limit = current_limit(table.correction, table.motor, table.wheel_radius_m,
-                                                   input.load_n, mp.allowed_sinkage_m);
+    const CurrentLimitResult limit =
+        current_limit(corr, table.motor, table.wheel_radius_m, input.load_n, mp.allowed_sinkage_m);
     fx::Status dir_status;
     directed = directional(input.current_a, input.direction, dir_status);
     out.clamp = corr.clamp;

@@ -51,8 +51,9 @@ bool motion_in_range(const RoverTelemetry& t) noexcept {
 }
 
 /// Stage 2: the wheel loads into `out`; ok, tip_over or loads_failed.
-RoverStepStatus load_stage(const RoverParams& rover, const RoverTelemetry& t, RoverStepOutput& out) noexcept {
-  const WheelLoadResult loads = wheel_loads(rover, t.attitude, t.joints);
+RoverStepStatus load_stage(const PreparedParameters& prepared, const RoverTelemetry& t,
+                           RoverStepOutput& out) noexcept {
+  const WheelLoadResult loads = wheel_loads(prepared, t.attitude, t.joints);
   out.load_status = loads.status;
   if (loads.status == WheelLoadStatus::tip_over) {
     out.lifting_wheel = loads.lifting_wheel;
@@ -68,9 +69,11 @@ RoverStepStatus load_stage(const RoverParams& rover, const RoverTelemetry& t, Ro
   return RoverStepStatus::ok;
 }
 
-/// Stage 4: DP_max/W at each load, then the drawbar pulls into `out`.
-RoverStepStatus drawbar_stage(const RoverParams& rover, const RoverTelemetry& t, const ParameterTable& table,
-                              RoverStepOutput& out) noexcept {
+/// Stage 4: the corrections at each load into `corr` (kept for the monitor,
+/// which needs the same C(W) for Eq. 15 and I_max), then the drawbar pulls
+/// into `out`.
+RoverStepStatus drawbar_stage(const PreparedParameters& prepared, const RoverTelemetry& t,
+                              CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept {
   DrawbarInput in{};
   in.accel_mps2 = out.accel_mps2;
   in.pitch_rad = t.attitude.pitch_rad;
@@ -79,15 +82,15 @@ RoverStepStatus drawbar_stage(const RoverParams& rover, const RoverTelemetry& t,
   WheelLoadResult loads{};
   loads.status = WheelLoadStatus::ok;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    const CorrectionResult c = corrections_at(table.correction, out.load_n[i]);
-    if (c.status != EstimateStatus::ok) {
+    corr[i] = corrections_at(prepared.table().correction, out.load_n[i]);
+    if (corr[i].status != EstimateStatus::ok) {
       out.drawbar_status = DrawbarStatus::invalid_input;
       return RoverStepStatus::drawbar_failed;
     }
-    in.dp_max_ratio[i] = c.dp_max_ratio;
+    in.dp_max_ratio[i] = corr[i].dp_max_ratio;
     loads.load_n[i] = out.load_n[i];
   }
-  const DrawbarResult dp = drawbar_pulls(rover, loads, in);
+  const DrawbarResult dp = drawbar_pulls(prepared, loads, in);
   out.drawbar_status = dp.status;
   if (!usable(dp.status)) {
     return RoverStepStatus::drawbar_failed;
@@ -155,6 +158,12 @@ void RoverStep::motion(const RoverTelemetry& t, const ParameterTable& table, Rov
 
 RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const ParameterTable& table,
                                 const RoverParams& rover) noexcept {
+  PreparedParameters prepared{};
+  static_cast<void>(prepare(table, rover, prepared));
+  return step(t, now, prepared);
+}
+
+RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared) noexcept {
   RoverStepOutput out{};
   out.status = RoverStepStatus::ok;
   out.load_status = WheelLoadStatus::invalid_params;
@@ -163,18 +172,21 @@ RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const Param
   out.decision = RoverDecision::continue_drive;
 
   // Without a valid table the monitor has no thresholds: stop, fail-safe.
-  if (validate(table) != RejectReason::ok) {
+  if (!prepared.table_valid()) {
     out.status = RoverStepStatus::invalid_table;
     out.decision = RoverDecision::stop_and_replan;
     return out;
   }
 
-  // 1. The telemetry itself, by the monitor's own rules, and the parameters.
+  const ParameterTable& table = prepared.table();
+
+  // 1. The telemetry itself, by the monitor's own rules, and the parameters
+  //    (checked by prepare(), reported only for a fresh sample).
   out.status = classify(t, now, table);
   const bool fresh = (out.status == RoverStepStatus::ok);
-  if (fresh && (validate_rover_params(rover) != RoverParamStatus::ok)) {
+  if (fresh && (prepared.status() == PrepareStatus::invalid_rover_params)) {
     out.status = RoverStepStatus::invalid_rover_params;
-  } else if (fresh && (rover.wheel_radius_m != table.wheel_radius_m)) {
+  } else if (fresh && (prepared.status() == PrepareStatus::radius_mismatch)) {
     out.status = RoverStepStatus::radius_mismatch;
   } else {
     // fresh and consistent, or already refused by classify()
@@ -183,7 +195,7 @@ RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const Param
 
   // 2. Wheel loads.
   if (computable) {
-    out.status = load_stage(rover, t, out);
+    out.status = load_stage(prepared, t, out);
   }
   // 3. Motion. Kept up to date even when the loads failed, so that the speed
   //    difference is ready on the next good cycle.
@@ -200,8 +212,9 @@ RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const Param
     }
   }
   // 4. Drawbar pulls.
+  CorrectionResult corr[kWheelCount]{};
   if (out.status == RoverStepStatus::ok) {
-    out.status = drawbar_stage(rover, t, table, out);
+    out.status = drawbar_stage(prepared, t, corr, out);
   }
 
   // 5. The monitor sees every cycle: numbers when they all exist, else an
@@ -216,6 +229,7 @@ RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const Param
     inputs[i].valid = usable_sample || pass_as_stale;
     inputs[i].load_n = usable_sample ? out.load_n[i] : WheelLoadN::zero();
     inputs[i].drawbar_pull_n = usable_sample ? out.drawbar_pull_n[i] : DrawbarPullN::zero();
+    inputs[i].corrections = usable_sample ? &corr[i] : nullptr;
   }
   out.monitor = monitor_.step(inputs, now, table);
   out.decision = out.monitor.decision;

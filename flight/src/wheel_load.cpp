@@ -167,11 +167,9 @@ bool side_levers(const Links& l, AngleRad rocker_rad, AngleRad bogie_rad, W y_si
   return true;
 }
 
+/// The attitude and joint angles against the (already validated) limits.
 WheelLoadStatus check_inputs(const RoverParams& params, const RoverAttitude& attitude,
                              const JointAnglesRad& joints) noexcept {
-  if (validate_rover_params(params) != RoverParamStatus::ok) {
-    return WheelLoadStatus::invalid_params;
-  }
   if (!within(attitude.pitch_rad, params.attitude_limit_rad) || !within(attitude.roll_rad, params.attitude_limit_rad)) {
     return WheelLoadStatus::attitude_out_of_range;
   }
@@ -183,15 +181,9 @@ WheelLoadStatus check_inputs(const RoverParams& params, const RoverAttitude& att
   return WheelLoadStatus::ok;
 }
 
-}  // namespace
-
-RoverParamStatus validate_rover_params(const RoverParams& p) noexcept {
-  const RoverParamStatus body = validate_body(p);
-  return (body != RoverParamStatus::ok) ? body : validate_suspension(p);
-}
-
-WheelLoadResult wheel_loads(const RoverParams& params, const RoverAttitude& attitude,
-                            const JointAnglesRad& joints) noexcept {
+/// The loads for parameters that passed validate_rover_params().
+WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& attitude,
+                               const JointAnglesRad& joints) noexcept {
   const WheelLoadStatus input_status = check_inputs(params, attitude, joints);
   if (input_status != WheelLoadStatus::ok) {
     return failed(input_status);
@@ -283,6 +275,29 @@ WheelLoadResult wheel_loads(const RoverParams& params, const RoverAttitude& atti
   r.lifting_wheel = kWheelCount;
   r.status = WheelLoadStatus::ok;
   return r;
+}
+
+}  // namespace
+
+RoverParamStatus validate_rover_params(const RoverParams& p) noexcept {
+  const RoverParamStatus body = validate_body(p);
+  return (body != RoverParamStatus::ok) ? body : validate_suspension(p);
+}
+
+WheelLoadResult wheel_loads(const RoverParams& params, const RoverAttitude& attitude,
+                            const JointAnglesRad& joints) noexcept {
+  if (validate_rover_params(params) != RoverParamStatus::ok) {
+    return failed(WheelLoadStatus::invalid_params);
+  }
+  return loads_of_valid(params, attitude, joints);
+}
+
+WheelLoadResult wheel_loads(const PreparedParameters& prepared, const RoverAttitude& attitude,
+                            const JointAnglesRad& joints) noexcept {
+  if (!prepared.ready()) {
+    return failed(WheelLoadStatus::invalid_params);
+  }
+  return loads_of_valid(prepared.rover(), attitude, joints);
 }
 
 }  // namespace flight

@@ -13,8 +13,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <new>
+#include <type_traits>
 
 #include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/prepared_params.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/rover_step.hpp"
 
@@ -25,6 +27,7 @@ using sinkwatch::flight::AngleRad;
 using sinkwatch::flight::CurrentA;
 using sinkwatch::flight::DriveDirection;
 using sinkwatch::flight::ParameterStore;
+using sinkwatch::flight::PreparedParameters;
 using sinkwatch::flight::RejectReason;
 using sinkwatch::flight::RoverParams;
 using sinkwatch::flight::RoverParamStatus;
@@ -40,11 +43,15 @@ struct Context {
   std::uint32_t magic;
   ParameterStore store;
   RoverParams rover;
+  /// store.active() and rover, checked once per load (prepare()): the step
+  /// does no validation per cycle.
+  PreparedParameters prepared;
   RoverStep step;
 };
 
 static_assert(sizeof(Context) <= SW_CONTEXT_BYTES, "SW_CONTEXT_BYTES is too small for the flight state");
 static_assert(alignof(Context) <= alignof(std::uint64_t), "sw_context's alignment is too weak");
+static_assert(std::is_trivially_destructible<Context>::value, "the context is never destroyed, only rebuilt");
 static_assert(SW_WHEELS == sinkwatch::flight::kWheelCount, "wheel count differs between C and C++");
 
 Context* context_of(sw_context* ctx) noexcept {
@@ -127,8 +134,11 @@ sw_status sw_init(sw_context* ctx) {
   if (ctx == nullptr) {
     return SW_NULL_ARGUMENT;
   }
-  Context* const c = ::new (static_cast<void*>(&ctx->opaque)) Context{};
+  // D-03: constructed in the caller's storage, never deleted (trivially
+  // destructible state, reused by the next sw_init).
+  Context* const c = ::new (static_cast<void*>(&ctx->opaque)) Context();  // NOLINT(cppcoreguidelines-owning-memory) D-03
   c->rover = sinkwatch::flight::yutu_like_rover_params(sinkwatch::flight::kGravityMoon);
+  static_cast<void>(sinkwatch::flight::prepare(c->store.active(), c->rover, c->prepared));
   c->magic = kContextMagic;
   return SW_OK;
 }
@@ -147,6 +157,7 @@ uint8_t sw_load_table(sw_context* ctx, const uint8_t* bytes, size_t size) {
   const RejectReason reason = c->store.load(bytes, size, &sinkwatch::flight::rover_section_valid);
   if (reason == RejectReason::ok) {
     static_cast<void>(rover_params_of(c->store.active(), c->rover));
+    static_cast<void>(sinkwatch::flight::prepare(c->store.active(), c->rover, c->prepared));
   }
   return static_cast<std::uint8_t>(reason);
 }
@@ -167,7 +178,7 @@ sw_status sw_step(sw_context* ctx, const sw_telemetry* telemetry, uint32_t now_m
   if (c == nullptr) {
     return SW_NOT_INITIALISED;
   }
-  const RoverStepOutput r = c->step.step(from_c(*telemetry), TimeMs{now_ms}, c->store.active(), c->rover);
+  const RoverStepOutput r = c->step.step(from_c(*telemetry), TimeMs{now_ms}, c->prepared);
   to_c(r, *out);
   return static_cast<sw_status>(r.status);
 }

@@ -50,6 +50,13 @@ struct CurrentLimitResult {
                                                LengthM radius_m, WheelLoadN load_n,
                                                SinkageM allowed_sinkage_m) noexcept;
 
+/// The same from the corrections already evaluated at `load_n`
+/// (corrections_at(table, load_n)): the per-cycle step evaluates them once
+/// per wheel and shares them between DP_max/W, Eq. 15 and this limit.
+[[nodiscard]] CurrentLimitResult current_limit(const CorrectionResult& corrections, const MotorParams& motor,
+                                               LengthM radius_m, WheelLoadN load_n,
+                                               SinkageM allowed_sinkage_m) noexcept;
+
 }  // namespace flight
 }  // namespace sinkwatch
 

@@ -22,6 +22,7 @@
 
 #include <cstdint>
 
+#include "sinkwatch/flight/prepared_params.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/units.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
@@ -65,6 +66,11 @@ struct DrawbarResult {
 }
 
 [[nodiscard]] DrawbarResult drawbar_pulls(const RoverParams& params, const WheelLoadResult& loads,
+                                          const DrawbarInput& input) noexcept;
+
+/// The same for parameters checked once per load (prepared_params.hpp):
+/// invalid_input unless prepared.ready(), and no validation per call.
+[[nodiscard]] DrawbarResult drawbar_pulls(const PreparedParameters& prepared, const WheelLoadResult& loads,
                                           const DrawbarInput& input) noexcept;
 
 }  // namespace flight

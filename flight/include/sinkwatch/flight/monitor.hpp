@@ -63,6 +63,11 @@ struct WheelInput {
   DrawbarPullN drawbar_pull_n;  ///< from the rover's behaviour (issue 4)
   DriveDirection direction;     ///< commanded direction
   bool valid;                   ///< the telemetry source's own validity flag
+  /// corrections_at(table.correction, load_n) when the caller has already
+  /// evaluated it (RoverStep does, for DP_max/W), else null: the monitor then
+  /// reads it instead of evaluating the table again. Must be for this load_n
+  /// and live for the duration of the step() call.
+  const CorrectionResult* corrections{nullptr};
 };
 
 /// One wheel's result for one cycle.

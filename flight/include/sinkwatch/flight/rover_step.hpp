@@ -28,6 +28,7 @@
 #include "sinkwatch/flight/drawbar_pull.hpp"
 #include "sinkwatch/flight/monitor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/prepared_params.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/units.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
@@ -59,8 +60,8 @@ struct RoverTelemetry {
 
 enum class RoverStepStatus : std::uint8_t {
   ok = 0U,
-  invalid_table = 1U,          ///< the parameter table failed validate(): monitor not run
-  invalid_rover_params = 2U,   ///< RoverParams failed validate_rover_params()
+  invalid_table = 1U,          ///< the parameter table failed validate() (prepare()): monitor not run
+  invalid_rover_params = 2U,   ///< RoverParams failed validate_rover_params() (prepare())
   telemetry_invalid = 3U,      ///< the source flagged the sample invalid
   telemetry_stale = 4U,        ///< older than the stale timeout, or from the future
   telemetry_repeated = 5U,     ///< the same time stamp as the previous cycle
@@ -93,10 +94,17 @@ class RoverStep {
  public:
   RoverStep() noexcept;
 
-  /// One control cycle. `now` is the monitor's clock. `rover` is the table's
-  /// section 6 decoded once when the table is loaded (decode_rover_section);
-  /// its wheel radius must equal the table's (the statics and Eq. 15 must
-  /// describe the same wheel).
+  /// One control cycle. `now` is the monitor's clock. `prepared` holds the
+  /// parameter table and the rover parameters (the table's section 6 decoded
+  /// when the table is loaded, decode_rover_section), checked once per load
+  /// by prepare(): the step does no validation of its own.
+  RoverStepOutput step(const RoverTelemetry& telemetry, TimeMs now, const PreparedParameters& prepared) noexcept;
+
+  /// The same for callers that keep no prepared parameters (tests, ground
+  /// tools): prepares `table` and `rover` on every call, so it pays the
+  /// validation each cycle and holds a copy of the table on its stack. The
+  /// rover's wheel radius must equal the table's (the statics and Eq. 15
+  /// must describe the same wheel).
   RoverStepOutput step(const RoverTelemetry& telemetry, TimeMs now, const ParameterTable& table,
                        const RoverParams& rover) noexcept;
 

@@ -28,6 +28,7 @@
 
 #include <cstdint>
 
+#include "sinkwatch/flight/prepared_params.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/units.hpp"
 
@@ -68,6 +69,11 @@ struct WheelLoadResult {
 
 /// The quasi-static wheel loads; bounded, no allocation, every input checked.
 [[nodiscard]] WheelLoadResult wheel_loads(const RoverParams& params, const RoverAttitude& attitude,
+                                          const JointAnglesRad& joints) noexcept;
+
+/// The same for parameters checked once per load (prepared_params.hpp):
+/// invalid_params unless prepared.ready(), and no validation per call.
+[[nodiscard]] WheelLoadResult wheel_loads(const PreparedParameters& prepared, const RoverAttitude& attitude,
                                           const JointAnglesRad& joints) noexcept;
 
 }  // namespace flight

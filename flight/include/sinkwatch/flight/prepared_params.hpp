@@ -1,0 +1,67 @@
+// prepared_params.hpp: the parameters of the per-cycle step (rover_step.hpp),
+// checked once per parameter load instead of once per control cycle.
+//
+// The step needs the parameter table (Eq. 15's wheel radius, the motor model,
+// Table 2's corrections, the monitor's thresholds) and the rover's geometry
+// (the wheel-load statics and the drawbar-pull balance of section 7). Both
+// change only when the ground uploads a new table, so validate(table),
+// validate_rover_params() and the wheel-radius consistency check run here,
+// when the parameters are loaded, and the step only reads the outcome.
+//
+// A PreparedParameters is built only by prepare(); a default-constructed one
+// holds no table and makes the step refuse every cycle (invalid_table, stop),
+// the same fail-safe as an invalid table. It is a copy, not a reference: a
+// later change to the table it came from does not reach the step until
+// prepare() runs again.
+#ifndef SINKWATCH_FLIGHT_PREPARED_PARAMS_HPP
+#define SINKWATCH_FLIGHT_PREPARED_PARAMS_HPP
+
+#include <cstdint>
+
+#include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/rover_geometry.hpp"
+
+namespace sinkwatch {
+namespace flight {
+
+/// The outcome of prepare(), in the order the step reports it.
+enum class PrepareStatus : std::uint8_t {
+  ok = 0U,
+  invalid_table = 1U,         ///< validate(table) failed: nothing is usable
+  invalid_rover_params = 2U,  ///< the table is usable, the rover parameters are not
+  radius_mismatch = 3U,       ///< both valid, but their wheel radii differ
+};
+
+class PreparedParameters {
+ public:
+  /// Holds no table: status() is invalid_table.
+  constexpr PreparedParameters() noexcept = default;
+
+  [[nodiscard]] constexpr PrepareStatus status() const noexcept { return status_; }
+  /// True when the table passed validate() (whatever the rover parameters).
+  [[nodiscard]] constexpr bool table_valid() const noexcept { return status_ != PrepareStatus::invalid_table; }
+  /// True when the table, the rover parameters and their radii all agree.
+  [[nodiscard]] constexpr bool ready() const noexcept { return status_ == PrepareStatus::ok; }
+  /// The validated table; meaningful only when table_valid().
+  [[nodiscard]] constexpr const ParameterTable& table() const noexcept { return table_; }
+  /// The rover parameters; validated only when ready().
+  [[nodiscard]] constexpr const RoverParams& rover() const noexcept { return rover_; }
+
+ private:
+  friend PrepareStatus prepare(const ParameterTable& table, const RoverParams& rover,
+                               PreparedParameters& out) noexcept;
+
+  PrepareStatus status_{PrepareStatus::invalid_table};
+  ParameterTable table_{};
+  RoverParams rover_{};
+};
+
+/// Checks the table and the rover parameters and copies them into `out`
+/// (also when only the rover parameters fail, so that the monitor still has
+/// its thresholds and counts the refused cycles). Returns out.status().
+PrepareStatus prepare(const ParameterTable& table, const RoverParams& rover, PreparedParameters& out) noexcept;
+
+}  // namespace flight
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_FLIGHT_PREPARED_PARAMS_HPP

@@ -1,0 +1,26 @@
+// The once-per-load checks of the step's parameters (prepared_params.hpp).
+#include "sinkwatch/flight/prepared_params.hpp"
+
+namespace sinkwatch {
+namespace flight {
+
+PrepareStatus prepare(const ParameterTable& table, const RoverParams& rover, PreparedParameters& out) noexcept {
+  if (validate(table) != RejectReason::ok) {
+    out.status_ = PrepareStatus::invalid_table;
+    return out.status_;
+  }
+  out.table_ = table;
+  out.rover_ = rover;
+  if (validate_rover_params(rover) != RoverParamStatus::ok) {
+    out.status_ = PrepareStatus::invalid_rover_params;
+  } else if (rover.wheel_radius_m != table.wheel_radius_m) {
+    // The statics and Eq. 15 must describe the same wheel.
+    out.status_ = PrepareStatus::radius_mismatch;
+  } else {
+    out.status_ = PrepareStatus::ok;
+  }
+  return out.status_;
+}
+
+}  // namespace flight
+}  // namespace sinkwatch

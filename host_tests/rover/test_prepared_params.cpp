@@ -1,0 +1,230 @@
+// Parameters prepared once per load (prepared_params.hpp) and the corrections
+// shared between the step's stages (issue 10): the step on prepared
+// parameters must give, cycle by cycle and bit for bit, what the unprepared
+// chain gives when every function validates and evaluates C(W) for itself.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+
+#include "rover_test_support.hpp"
+#include "sinkwatch/flight/correction.hpp"
+#include "sinkwatch/flight/current_limit.hpp"
+#include "sinkwatch/flight/drawbar_pull.hpp"
+#include "sinkwatch/flight/monitor.hpp"
+#include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/prepared_params.hpp"
+#include "sinkwatch/flight/rover_step.hpp"
+#include "sinkwatch/flight/wheel_load.hpp"
+
+namespace sinkwatch {
+namespace {
+
+using flight::PrepareStatus;
+using flight::RoverStepStatus;
+using rover_test::q;
+
+class PreparedTest : public ::testing::Test {
+ protected:
+  flight::ParameterTable table = flight::default_parameter_table();
+  flight::RoverParams rover = flight::yutu_like_rover_params(flight::kGravityMoon);
+};
+
+TEST_F(PreparedTest, PrepareReportsEachRefusalInTheStepsOrder) {
+  flight::PreparedParameters p;
+  EXPECT_EQ(p.status(), PrepareStatus::invalid_table);
+  EXPECT_FALSE(p.table_valid());
+  EXPECT_FALSE(p.ready());
+
+  EXPECT_EQ(flight::prepare(table, rover, p), PrepareStatus::ok);
+  EXPECT_TRUE(p.ready());
+  EXPECT_EQ(p.table().wheel_radius_m, table.wheel_radius_m);
+  EXPECT_EQ(p.rover().mass_kg, rover.mass_kg);
+
+  flight::ParameterTable bad_table = table;
+  bad_table.correction.count = 0U;
+  EXPECT_EQ(flight::prepare(bad_table, rover, p), PrepareStatus::invalid_table);
+  EXPECT_FALSE(p.table_valid());
+
+  flight::RoverParams bad_rover = rover;
+  bad_rover.mass_kg = flight::MassKg::zero();
+  EXPECT_EQ(flight::prepare(table, bad_rover, p), PrepareStatus::invalid_rover_params);
+  EXPECT_TRUE(p.table_valid());
+  EXPECT_FALSE(p.ready());
+
+  flight::RoverParams other_wheel = rover;
+  other_wheel.wheel_radius_m = q<flight::LengthM>(0.16);
+  EXPECT_EQ(flight::prepare(table, other_wheel, p), PrepareStatus::radius_mismatch);
+  EXPECT_TRUE(p.table_valid());
+  EXPECT_FALSE(p.ready());
+}
+
+TEST_F(PreparedTest, UnpreparedParametersStopTheRover) {
+  const flight::PreparedParameters none;
+  flight::RoverStep step;
+  flight::RoverTelemetry t{};
+  t.time = flight::TimeMs{100U};
+  t.valid = true;
+  const flight::RoverStepOutput out = step.step(t, t.time, none);
+  EXPECT_EQ(out.status, RoverStepStatus::invalid_table);
+  EXPECT_EQ(out.decision, flight::RoverDecision::stop_and_replan);
+
+  // The prepared overloads of the stages refuse them too.
+  const flight::WheelLoadResult loads = flight::wheel_loads(none, rover_test::attitude(0.0, 0.0),
+                                                            rover_test::joints(0, 0, 0, 0));
+  EXPECT_EQ(loads.status, flight::WheelLoadStatus::invalid_params);
+  flight::WheelLoadResult good = flight::wheel_loads(rover, rover_test::attitude(0.0, 0.0),
+                                                     rover_test::joints(0, 0, 0, 0));
+  ASSERT_EQ(good.status, flight::WheelLoadStatus::ok);
+  flight::DrawbarInput in{};
+  for (flight::Ratio& r : in.dp_max_ratio) {
+    r = q<flight::Ratio>(0.5);
+  }
+  EXPECT_EQ(flight::drawbar_pulls(none, good, in).status, flight::DrawbarStatus::invalid_input);
+  good.status = flight::WheelLoadStatus::tip_over;
+  EXPECT_EQ(flight::drawbar_pulls(none, good, in).status, flight::DrawbarStatus::invalid_loads);
+}
+
+TEST_F(PreparedTest, PreparedParametersAreACopy) {
+  flight::PreparedParameters p;
+  ASSERT_EQ(flight::prepare(table, rover, p), PrepareStatus::ok);
+  const flight::MonitorParams before = p.table().monitor;
+  table.monitor.stop_sinkage_m = flight::SinkageM::zero();
+  rover.mass_kg = flight::MassKg::zero();
+  EXPECT_EQ(p.table().monitor.stop_sinkage_m, before.stop_sinkage_m);
+  EXPECT_TRUE(p.ready());
+  EXPECT_NE(p.rover().mass_kg, rover.mass_kg);
+}
+
+TEST_F(PreparedTest, CurrentLimitFromSharedCorrectionsEqualsTheTableForm) {
+  // Loads below, inside (on and between breakpoints) and above Table 2.
+  for (std::int32_t raw = 1; raw < (250 << 16); raw += 104729) {
+    const flight::WheelLoadN w = flight::WheelLoadN::from_raw(raw);
+    const flight::CurrentLimitResult a = flight::current_limit(table.correction, table.motor, table.wheel_radius_m,
+                                                               w, table.monitor.allowed_sinkage_m);
+    const flight::CurrentLimitResult b =
+        flight::current_limit(flight::corrections_at(table.correction, w), table.motor, table.wheel_radius_m, w,
+                              table.monitor.allowed_sinkage_m);
+    ASSERT_EQ(a.status, b.status) << raw;
+    ASSERT_EQ(a.clamp, b.clamp) << raw;
+    ASSERT_EQ(a.current_limit_a, b.current_limit_a) << raw;
+    ASSERT_EQ(a.torque_limit_nm, b.torque_limit_nm) << raw;
+  }
+}
+
+/// Cycle k's telemetry: attitudes, joints and currents that move the wheels
+/// through NOMINAL, CAUTION and STOP (wheel 1 and 4 draw rising currents).
+flight::RoverTelemetry cycle(std::uint32_t k) {
+  flight::RoverTelemetry t{};
+  t.time = flight::TimeMs{1000U + (100U * k)};
+  t.valid = true;
+  const double s = static_cast<double>(k % 17U) / 17.0;
+  t.attitude = rover_test::attitude(-0.2 + (0.4 * s), 0.1 - (0.2 * s));
+  t.joints = rover_test::joints(0.1 * s, -0.05 * s, 0.2 * (0.5 - s), 0.1 * s);
+  t.accel_valid = true;
+  t.accel_mps2 = q<flight::AccelMps2>(0.01 * (s - 0.5));
+  for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+    const double rising = ((i == 1U) || (i == 4U)) ? 0.02 * static_cast<double>(k % 60U) : 0.0;
+    t.current_a[i] = q<flight::CurrentA>(0.2 + (0.03 * static_cast<double>(i)) + rising);
+    t.direction[i] = ((k % 11U) == 3U) ? flight::DriveDirection::reverse : flight::DriveDirection::forward;
+  }
+  return t;
+}
+
+void expect_same_wheel(const flight::WheelOutput& a, const flight::WheelOutput& b, std::uint32_t k,
+                       std::uint32_t i) {
+  EXPECT_EQ(a.state, b.state) << k << " " << i;
+  EXPECT_EQ(a.sample_status, b.sample_status) << k << " " << i;
+  EXPECT_EQ(a.stop_reason, b.stop_reason) << k << " " << i;
+  EXPECT_EQ(a.stop_tripped, b.stop_tripped) << k << " " << i;
+  EXPECT_EQ(a.estimate_valid, b.estimate_valid) << k << " " << i;
+  EXPECT_EQ(a.torque_nm, b.torque_nm) << k << " " << i;
+  EXPECT_EQ(a.sinkage_m, b.sinkage_m) << k << " " << i;
+  EXPECT_EQ(a.limit_valid, b.limit_valid) << k << " " << i;
+  EXPECT_EQ(a.current_limit_a, b.current_limit_a) << k << " " << i;
+  EXPECT_EQ(a.clamp, b.clamp) << k << " " << i;
+}
+
+TEST_F(PreparedTest, StepOnPreparedParametersEqualsTheUnpreparedChain) {
+  flight::PreparedParameters p;
+  ASSERT_EQ(flight::prepare(table, rover, p), PrepareStatus::ok);
+  flight::RoverStep step;
+  flight::RoverMonitor reference;  // fed by the chain, evaluating C(W) itself
+  std::uint32_t stops = 0U;
+  std::uint32_t cautions = 0U;
+  for (std::uint32_t k = 0U; k < 240U; ++k) {
+    const flight::RoverTelemetry t = cycle(k);
+    const flight::RoverStepOutput out = step.step(t, t.time, p);
+    ASSERT_EQ(out.status, RoverStepStatus::ok) << k;
+
+    const flight::WheelLoadResult loads = flight::wheel_loads(rover, t.attitude, t.joints);
+    ASSERT_EQ(loads.status, flight::WheelLoadStatus::ok) << k;
+    flight::DrawbarInput in{};
+    in.accel_mps2 = t.accel_mps2;
+    in.pitch_rad = t.attitude.pitch_rad;
+    for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+      in.dp_max_ratio[i] = flight::corrections_at(table.correction, loads.load_n[i]).dp_max_ratio;
+    }
+    const flight::DrawbarResult dp = flight::drawbar_pulls(rover, loads, in);
+    ASSERT_TRUE(flight::usable(dp.status)) << k;
+    flight::WheelInput inputs[flight::kMaxWheels]{};
+    for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+      inputs[i] = flight::WheelInput{t.time, t.current_a[i], loads.load_n[i], dp.dp_n[i], t.direction[i], true};
+      ASSERT_EQ(out.load_n[i], loads.load_n[i]) << k;
+      ASSERT_EQ(out.drawbar_pull_n[i], dp.dp_n[i]) << k;
+    }
+    const flight::RoverOutput ref = reference.step(inputs, t.time, table);
+    EXPECT_EQ(out.decision, ref.decision) << k;
+    for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+      expect_same_wheel(out.monitor.wheels[i], ref.wheels[i], k, i);
+      stops += out.monitor.wheels[i].stop_tripped ? 1U : 0U;
+      cautions += (out.monitor.wheels[i].state == flight::WheelState::caution) ? 1U : 0U;
+    }
+    for (std::uint8_t i = 0U; i < flight::kMaxWheels; ++i) {
+      const flight::WheelMonitor& a = step.monitor().wheel(i);
+      const flight::WheelMonitor& b = reference.wheel(i);
+      ASSERT_EQ(a.has_event(), b.has_event());
+      if (a.has_event()) {
+        EXPECT_EQ(a.last_event().peak_sinkage_m, b.last_event().peak_sinkage_m) << k;
+        EXPECT_EQ(a.last_event().peak_current_a, b.last_event().peak_current_a) << k;
+      }
+    }
+    if ((k % 60U) == 59U) {
+      step.clear_stop();
+      reference.clear_stop();
+    }
+  }
+  // The sequence must have exercised the transitions it claims to compare.
+  EXPECT_GT(stops, 0U);
+  EXPECT_GT(cautions, 0U);
+}
+
+TEST_F(PreparedTest, RefusedRoverParametersAreReportedOnlyForFreshSamples) {
+  flight::RoverParams bad_rover = rover;
+  bad_rover.high_slip = flight::Ratio::zero();
+  flight::PreparedParameters p;
+  ASSERT_EQ(flight::prepare(table, bad_rover, p), PrepareStatus::invalid_rover_params);
+  flight::RoverStep step;
+  const flight::RoverTelemetry t = cycle(0U);
+  EXPECT_EQ(step.step(t, t.time, p).status, RoverStepStatus::invalid_rover_params);
+  // The same time stamp again is a repeated sample before it is a bad rover.
+  EXPECT_EQ(step.step(t, t.time, p).status, RoverStepStatus::telemetry_repeated);
+}
+
+TEST_F(PreparedTest, MonitorWithKnownCorrectionsEqualsTheMonitorEvaluatingThem) {
+  flight::WheelMonitor own(0U);
+  flight::WheelMonitor shared(0U);
+  for (std::uint32_t k = 0U; k < 120U; ++k) {
+    const flight::WheelLoadN w = q<flight::WheelLoadN>(20.0 + (1.7 * static_cast<double>(k)));
+    const flight::CurrentA i = q<flight::CurrentA>(0.2 + (0.015 * static_cast<double>(k % 50U)));
+    flight::WheelInput in{flight::TimeMs{100U * (k + 1U)}, i, w, q<flight::DrawbarPullN>(-1.0),
+                          flight::DriveDirection::forward, true};
+    const flight::WheelOutput a = own.step(in, in.time, table);
+    const flight::CorrectionResult corr = flight::corrections_at(table.correction, w);
+    in.corrections = &corr;
+    const flight::WheelOutput b = shared.step(in, in.time, table);
+    expect_same_wheel(a, b, k, 0U);
+  }
+}
+
+}  // namespace
+}  // namespace sinkwatch
