@@ -63,6 +63,14 @@ TEST(FxWide, ShiftsAcrossTheHalvesMoveTheRightBits) {
   EXPECT_TRUE(same(wide::shl(U128{0U, 0x8000000000000000ULL}, 1U), U128{1U, 0U}));
 }
 
+TEST(FxWide, EqualityComparesBothHalves) {
+  EXPECT_TRUE(wide::equal(U128{1U, 2U}, U128{1U, 2U}));
+  EXPECT_FALSE(wide::equal(U128{1U, 2U}, U128{2U, 2U}));
+  EXPECT_FALSE(wide::equal(U128{1U, 2U}, U128{1U, 3U}));
+  EXPECT_TRUE(wide::less(U128{0U, kAllOnes}, U128{1U, 0U}));
+  EXPECT_FALSE(wide::less(U128{1U, 0U}, U128{1U, 0U}));
+}
+
 TEST(FxWide, BitLengthCountsEverySignificantBit) {
   EXPECT_EQ(wide::bit_length32(0U), 0U);
   EXPECT_EQ(wide::bit_length32(1U), 1U);
