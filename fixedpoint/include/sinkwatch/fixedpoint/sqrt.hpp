@@ -41,6 +41,23 @@ constexpr W isqrt_floor(const W& x) noexcept {
   return root;
 }
 
+/// r^2 of a root r = isqrt_floor(x), exactly: r < 2^(width/2).
+constexpr std::uint64_t square_of_root(std::uint64_t root) noexcept {
+  return wide::mul_full(static_cast<std::uint32_t>(root), static_cast<std::uint32_t>(root));
+}
+constexpr wide::U128 square_of_root(const wide::U128& root) noexcept {
+  return wide::mul_full(wide::low_u64(root), wide::low_u64(root));
+}
+
+/// round(sqrt(x)) of an integer radicand in the wide type W.
+template <typename W>
+constexpr W rounded_root(const W& radicand) noexcept {
+  const W root = isqrt_floor(radicand);
+  // Round: up when x - r^2 > r, i.e. x >= r^2 + r + 1 > (r + 1/2)^2.
+  const W excess = wide::sub(radicand, square_of_root(root));
+  return wide::less(root, excess) ? wide::add(root, wide::from_u64<W>(1U)) : root;
+}
+
 }  // namespace detail
 
 /// sqrt(a) in the format Out, within 0.5 LSB. Needs 2 * Fo >= Fa so that the
@@ -49,26 +66,29 @@ template <typename Out, typename S, std::int32_t F>
 [[nodiscard]] constexpr Out sqrt(Q<S, F> a, Status& status) noexcept {
   static_assert((2 * Out::frac_bits) >= F, "sqrt needs 2*Fout >= Fin");
   using OutS = typename Out::storage_type;
-  // The radicand may need twice the output's width: always use 128 bits.
-  using W = wide::U128;
   if (a.raw() < 0) {
     status.raise(Flag::domain);
     return Out::zero();
   }
+  const std::uint64_t mag = detail::magnitude(a.raw());
+  const std::int32_t up = (2 * Out::frac_bits) - F;  // the radicand is mag * 2^up
+  // When the radicand fits in 64 bits (every 32-bit format into itself, and
+  // small values of the others) the same algorithm runs on uint64_t: the
+  // same integers, so the same root, without the 128-bit loop.
+  if ((up < 64) && (wide::bit_length(mag) <= static_cast<std::uint32_t>(64 - up))) {
+    const std::uint64_t radicand = wide::shl(mag, static_cast<std::uint32_t>(up));
+    return Out::from_raw(detail::from_sign_magnitude<OutS>(false, detail::rounded_root(radicand), status));
+  }
+  // The radicand may need twice the output's width: 128 bits.
+  using W = wide::U128;
   bool overflowed = false;
-  const W radicand = detail::scale_magnitude(wide::from_u64<W>(detail::magnitude(a.raw())),
-                                             F - (2 * Out::frac_bits), overflowed);
+  const W radicand = detail::scale_magnitude(wide::from_u64<W>(mag), -up, overflowed);
   if (overflowed) {
     // radicand >= 2^128: the root is >= 2^64, beyond every format.
     status.raise(Flag::overflow);
     return Out::max();
   }
-  const W root = detail::isqrt_floor(radicand);
-  // Round: up when x - r^2 > r, i.e. x >= r^2 + r + 1 > (r + 1/2)^2.
-  const W r_sq = wide::mul_full(wide::low_u64(root), wide::low_u64(root));
-  const W excess = wide::sub(radicand, r_sq);
-  const W rounded = wide::less(root, excess) ? wide::add(root, wide::from_u64<W>(1U)) : root;
-  return Out::from_raw(detail::from_sign_magnitude<OutS>(false, rounded, status));
+  return Out::from_raw(detail::from_sign_magnitude<OutS>(false, detail::rounded_root(radicand), status));
 }
 
 /// sqrt(a) in a's format.
