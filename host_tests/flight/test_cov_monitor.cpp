@@ -1,0 +1,172 @@
+// test_cov_monitor.cpp: monitor behaviour the main monitor tests do not
+// reach: an unusable run longer than the run counter's range, corrections
+// handed in by the caller (valid and failed), a DP_max that does not fit the
+// load format when the event's Section 7 sinkage is computed, and tables the
+// validator would refuse (rover_stop_k = 0, a window longer than the 16-bit
+// history, a clear threshold that saturates), where the monitor must still
+// fail safe.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdint>
+
+#include "quantity_support.hpp"
+#include "sinkwatch/flight/correction.hpp"
+#include "sinkwatch/flight/monitor.hpp"
+#include "sinkwatch/flight/param_table.hpp"
+
+namespace {
+
+using namespace sinkwatch::flight;
+using sinkwatch::test::d;
+using sinkwatch::test::q;
+
+constexpr double kW = 98.1;  // 10 kg: the default table gives C = 1, 1, 0.13 here
+
+// Wheel torque of the default motor (gear 400, efficiency 0.6, Kt 0.025 N m/A,
+// I0 0.1 A) driving forward at `current_a`.
+double torque_nm(double current_a) { return (current_a - 0.1) * 0.025 * 0.6 * 400.0; }
+
+class MonitorCov : public ::testing::Test {
+ protected:
+  ParameterTable table = default_parameter_table();
+  WheelMonitor wheel{1U};
+  std::uint32_t t_ms = 1000U;
+
+  // A sample at load `load_n` whose drawbar pull puts the Eq. 11 estimate (with
+  // C = 1, 1, 0.13 and r = 0.15 m) at `z`.
+  WheelInput sample(double current_a, double z, double load_n = kW) {
+    const double dp = load_n * ((torque_nm(current_a) / load_n - z) / 0.15 - 0.13);
+    t_ms += 100U;
+    return WheelInput{TimeMs{t_ms}, q<CurrentA>(current_a), q<WheelLoadN>(load_n), q<DrawbarPullN>(dp),
+                      DriveDirection::forward, true};
+  }
+  WheelOutput feed(const WheelInput& in) { return wheel.step(in, TimeMs{t_ms}, table); }
+  WheelOutput invalid() {
+    WheelInput in = sample(1.0, 0.01);
+    in.valid = false;
+    return feed(in);
+  }
+};
+
+TEST_F(MonitorCov, UnusableRunLongerThan255SamplesStaysInStopAndIsCountedInFull) {
+  WheelOutput o{};
+  for (int i = 0; i < 300; ++i) {
+    o = invalid();
+  }
+  EXPECT_EQ(o.state, WheelState::stop);
+  EXPECT_EQ(o.stop_reason, StopReason::telemetry);
+  EXPECT_FALSE(o.stop_tripped);  // tripped once, at the 10th
+  EXPECT_EQ(wheel.counters().by_status[static_cast<int>(SampleStatus::flagged_invalid)], 300U);
+  EXPECT_EQ(wheel.counters().samples, 300U);
+  // After the ground's acknowledgement the run starts again from zero: nine
+  // more unusable samples are not enough to stop.
+  wheel.clear_stop();
+  for (int i = 0; i < 9; ++i) {
+    EXPECT_NE(invalid().state, WheelState::stop);
+  }
+  EXPECT_EQ(invalid().state, WheelState::stop);
+}
+
+TEST_F(MonitorCov, CorrectionsHandedInAreUsedInsteadOfTheTable) {
+  // C3 = 0.20 instead of the table's 0.13 at this load: Eq. 11 gives a
+  // sinkage lower by r * 0.07 = 10.5 mm for the same torque and pull.
+  CorrectionResult corr = corrections_at(table.correction, q<WheelLoadN>(kW));
+  ASSERT_EQ(corr.status, EstimateStatus::ok);
+  const WheelOutput from_table = feed(sample(1.0, 0.02));
+  corr.coefficients.c3 = q<Ratio>(0.20);
+  WheelInput in = sample(1.0, 0.02);
+  in.corrections = &corr;
+  const WheelOutput handed_in = feed(in);
+  ASSERT_TRUE(from_table.estimate_valid);
+  ASSERT_TRUE(handed_in.estimate_valid);
+  EXPECT_NEAR(d(from_table.sinkage_m), 0.02, 1e-5);
+  EXPECT_NEAR(d(handed_in.sinkage_m), 0.02 - 0.15 * 0.07, 1e-5);
+}
+
+TEST_F(MonitorCov, FailedCorrectionsHandedInMakeTheSampleUnusable) {
+  CorrectionResult corr = corrections_at(table.correction, q<WheelLoadN>(kW));
+  corr.status = EstimateStatus::invalid_coefficient;
+  WheelInput in = sample(1.0, 0.01);
+  in.corrections = &corr;
+  const WheelOutput o = feed(in);
+  EXPECT_EQ(o.sample_status, SampleStatus::estimate_failed);
+  EXPECT_FALSE(o.estimate_valid);
+  EXPECT_FALSE(o.limit_valid);
+  EXPECT_EQ(wheel.counters().by_status[static_cast<int>(SampleStatus::estimate_failed)], 1U);
+}
+
+// A valid table whose last breakpoint has DP_max/W = 2 and whose load
+// envelope reaches 30 kN: at 20 kN the event's DP_max is 40 kN, beyond the
+// load format, so the Section 7 sinkage of the event is marked invalid
+// instead of being computed from a saturated number.
+TEST_F(MonitorCov, EventSinkageIsMarkedInvalidWhenDpMaxDoesNotFitTheLoadFormat) {
+  table.correction.rows[4].dp_max_ratio = q<Ratio>(2.0);
+  table.monitor.load_max_n = q<WheelLoadN>(30000.0);
+  ASSERT_EQ(validate(table), RejectReason::ok);
+  const auto run_to_stop = [&](double load_n) {
+    wheel = WheelMonitor{1U};
+    const WheelOutput first = feed(sample(1.0, 0.0, load_n));
+    EXPECT_EQ(first.sample_status, SampleStatus::ok) << load_n;
+    for (int i = 0; i < 10; ++i) {
+      invalid();
+    }
+    EXPECT_EQ(wheel.state(), WheelState::stop);
+    EXPECT_TRUE(wheel.has_event());
+    return wheel.last_event();
+  };
+  const EventRecord fits = run_to_stop(10000.0);  // DP_max 20 kN
+  EXPECT_EQ(fits.reason, StopReason::telemetry);
+  EXPECT_NEAR(d(fits.load_at_peak_n), 10000.0, 1e-3);
+  EXPECT_TRUE(fits.peak_sinkage_valid);
+  const EventRecord too_big = run_to_stop(20000.0);  // DP_max 40 kN
+  EXPECT_NEAR(d(too_big.load_at_peak_n), 20000.0, 1e-3);
+  EXPECT_FALSE(too_big.peak_sinkage_valid);
+  EXPECT_EQ(too_big.peak_sinkage_m, SinkageM::zero());
+}
+
+TEST_F(MonitorCov, WindowLongerThanTheHistoryBehavesAsSixteenSamples) {
+  table.monitor.window_m = 20U;  // validate() refuses this; the monitor must not misbehave
+  ASSERT_EQ(validate(table), RejectReason::window_out_of_range);
+  feed(sample(1.0, 0.035));
+  EXPECT_EQ(feed(sample(1.0, 0.035)).state, WheelState::nominal);
+  EXPECT_EQ(feed(sample(1.0, 0.035)).state, WheelState::caution);  // trip_n = 3
+}
+
+TEST_F(MonitorCov, ClearThresholdThatSaturatesNeverLeavesCaution) {
+  // caution - hysteresis = 100 m - (-100 m) does not fit Q7.24 (validate()
+  // refuses both values); a threshold that cannot be computed never clears.
+  table.monitor.caution_sinkage_m = q<SinkageM>(100.0);
+  table.monitor.stop_sinkage_m = q<SinkageM>(120.0);
+  table.monitor.sinkage_hysteresis_m = q<SinkageM>(-100.0);
+  for (int i = 0; i < 3; ++i) {
+    feed(sample(2.2, 0.01));  // current caution: 2.2 A >= 0.9 * 2.38 A
+  }
+  ASSERT_EQ(wheel.state(), WheelState::caution);
+  for (int i = 0; i < 20; ++i) {
+    EXPECT_EQ(feed(sample(1.0, 0.01)).state, WheelState::caution) << i;
+  }
+}
+
+TEST(RoverMonitorCov, StopCountZeroInAnUnvalidatedTableMeansAnyWheel) {
+  ParameterTable table = default_parameter_table();
+  table.monitor.rover_stop_k = 0U;
+  ASSERT_EQ(validate(table), RejectReason::rover_stop_k_out_of_range);
+  RoverMonitor rover;
+  std::uint32_t t = 1000U;
+  RoverOutput out{};
+  for (int k = 0; k < 10; ++k) {
+    t += 100U;
+    WheelInput inputs[kMaxWheels]{};
+    for (std::size_t i = 0; i < kMaxWheels; ++i) {
+      const double dp = kW * ((torque_nm(1.0) / kW - 0.01) / 0.15 - 0.13);
+      inputs[i] = WheelInput{TimeMs{t}, q<CurrentA>(1.0), q<WheelLoadN>(kW), q<DrawbarPullN>(dp),
+                             DriveDirection::forward, i != 3U};  // wheel 3 blind
+    }
+    out = rover.step(inputs, TimeMs{t}, table);
+  }
+  EXPECT_EQ(out.wheels_in_stop, 1U);
+  EXPECT_EQ(out.decision, RoverDecision::stop_and_replan);
+}
+
+}  // namespace
