@@ -29,7 +29,8 @@ double mean_load(const std::vector<DiagnosisRow>& rows) {
 
 }  // namespace
 
-std::vector<ChannelInfo> EstimatorModel::channels() const { return {{"traction_coeff", "-"}}; }
+// DP/W is dimensionless; its unit is the wheel load, so values read "0.024 DP/W".
+std::vector<ChannelInfo> EstimatorModel::channels() const { return {{"traction_coeff", "DP/W"}}; }
 
 std::vector<double> EstimatorModel::measured(const DiagnosisRow& row) const { return {row.traction_coeff}; }
 

@@ -202,7 +202,7 @@ std::string summary_markdown(const DiagnosisResult& r) {
   }
   os << "\n## Which effect, and how far it shrinks the held-out gap\n\n"
      << "Held-out RMS in noise units, combined over channels; ranked by held-out RMS after, near-ties by training BIC.\n\n"
-     << "| rank | effect | before | after | shrink % | delta BIC | fitted | per channel before -> after (unit) |\n"
+     << "| rank | effect | before | after | shrink % | delta BIC | fitted | per channel: before -> after unit (shrink %) |\n"
      << "|---|---|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < r.ranking.size(); ++k) {
     const RankedEffect& e = r.ranking[k];
@@ -216,8 +216,8 @@ std::string summary_markdown(const DiagnosisResult& r) {
     }
     os << " | ";
     for (std::size_t c = 0; c < r.channels.size(); ++c) {
-      os << r.channels[c].name << " " << e.channel_before[c] << " -> " << e.channel_after[c] << " ("
-         << e.channel_shrink_pct[c] << " %); ";
+      os << r.channels[c].name << " " << e.channel_before[c] << " -> " << e.channel_after[c] << " "
+         << r.channels[c].unit << " (" << e.channel_shrink_pct[c] << " %); ";
     }
     os << "|\n";
   }

@@ -38,7 +38,7 @@ class DiagnosisError : public std::runtime_error {
 
 struct ChannelInfo {
   std::string name;  // e.g. "sinkage_m", "traction_coeff"
-  std::string unit;  // "m", "N m", "N", "-"
+  std::string unit;  // "m", "N m", "N", "DP/W" (a fraction of the wheel load)
 };
 
 /// One fitted parameter with its admissible range.
