@@ -3,6 +3,7 @@
 #include "sinkwatch/flight/param_table.hpp"
 
 #include "sinkwatch/fixedpoint/literal.hpp"
+#include "sinkwatch/flight/byte_view.hpp"
 #include "sinkwatch/flight/crc32.hpp"
 #include "sinkwatch/flight/estimator.hpp"
 
@@ -39,16 +40,18 @@ constexpr std::uint32_t kMaxPhaseMs = 600000U;
 constexpr std::uint8_t kMaxEscapeCycles = 100U;
 
 // ---- little-endian byte writer and reader --------------------------------
+// Both index the caller's buffer only through the bounded views of
+// byte_view.hpp; a write past the capacity sets full(), a read past the end
+// reads 0 and sets exhausted().
 
 class Writer {
  public:
-  Writer(std::uint8_t* out, std::size_t capacity) noexcept : out_(out), capacity_(capacity) {}
+  Writer(std::uint8_t* out, std::size_t capacity) noexcept : out_(out, capacity) {}
   void u8(std::uint8_t v) noexcept {
-    if (pos_ >= capacity_) {
+    if (!out_.set(pos_, v)) {
       full_ = true;
       return;
     }
-    out_[pos_] = v;
     ++pos_;
   }
   void u16(std::uint16_t v) noexcept {
@@ -62,32 +65,25 @@ class Writer {
   }
   // Two's complement bits of v: the conversion to unsigned is defined modulo 2^32.
   void i32(std::int32_t v) noexcept { u32(static_cast<std::uint32_t>(v)); }
-  void patch_u32(std::size_t at, std::uint32_t v) noexcept {
-    for (std::uint32_t i = 0U; i < 4U; ++i) {
-      if ((at + i) < capacity_) {
-        out_[at + i] = static_cast<std::uint8_t>((v >> (8U * i)) & 0xFFU);
-      }
-    }
-  }
   [[nodiscard]] std::size_t pos() const noexcept { return pos_; }
   [[nodiscard]] bool full() const noexcept { return full_; }
 
  private:
-  std::uint8_t* out_;
-  std::size_t capacity_;
+  MutableByteView out_;
   std::size_t pos_{0U};
   bool full_{false};
 };
 
 class Reader {
  public:
-  Reader(const std::uint8_t* in, std::size_t size) noexcept : in_(in), size_(size) {}
+  /// Reads `size` bytes at `in`, from byte `start` on.
+  Reader(const std::uint8_t* in, std::size_t size, std::size_t start = 0U) noexcept : in_(in, size), pos_(start) {}
   std::uint8_t u8() noexcept {
-    if (pos_ >= size_) {
+    if (pos_ >= in_.size()) {
       short_ = true;
       return 0U;
     }
-    const std::uint8_t v = in_[pos_];
+    const std::uint8_t v = in_.at(pos_);
     ++pos_;
     return v;
   }
@@ -115,9 +111,8 @@ class Reader {
   [[nodiscard]] bool exhausted() const noexcept { return short_; }
 
  private:
-  const std::uint8_t* in_;
-  std::size_t size_;
-  std::size_t pos_{0U};
+  ByteView in_;
+  std::size_t pos_;
   bool short_{false};
 };
 
@@ -269,7 +264,8 @@ RejectReason validate_correction(const CorrectionTable& c) noexcept {
   return RejectReason::ok;
 }
 
-RejectReason validate_monitor(const MonitorParams& m, LengthM radius_m) noexcept {
+// The sinkage thresholds, against each other and the wheel radius.
+RejectReason validate_monitor_sinkage(const MonitorParams& m, LengthM radius_m) noexcept {
   const SinkageM radius_as_sinkage = SinkageM::from_raw(radius_m.raw());  // same format, same unit
   if ((m.allowed_sinkage_m <= SinkageM::zero()) || (m.allowed_sinkage_m > radius_as_sinkage)) {
     return RejectReason::allowed_sinkage_out_of_range;
@@ -283,6 +279,11 @@ RejectReason validate_monitor(const MonitorParams& m, LengthM radius_m) noexcept
   if ((m.sinkage_hysteresis_m < SinkageM::zero()) || (m.sinkage_hysteresis_m >= m.caution_sinkage_m)) {
     return RejectReason::sinkage_hysteresis_out_of_range;
   }
+  return RejectReason::ok;
+}
+
+// The current fractions, the load envelope and the staleness timeout.
+RejectReason validate_monitor_current_and_load(const MonitorParams& m) noexcept {
   if ((m.current_caution_fraction <= Ratio::zero()) || (m.current_caution_fraction > kOne)) {
     return RejectReason::current_caution_fraction_out_of_range;
   }
@@ -296,6 +297,11 @@ RejectReason validate_monitor(const MonitorParams& m, LengthM radius_m) noexcept
   if ((m.stale_timeout_ms == 0U) || (m.stale_timeout_ms > kMaxStaleMs)) {
     return RejectReason::stale_timeout_out_of_range;
   }
+  return RejectReason::ok;
+}
+
+// The persistence window, its counts and the wheel counts.
+RejectReason validate_monitor_counts(const MonitorParams& m) noexcept {
   if ((m.window_m == 0U) || (m.window_m > kMaxWindow)) {
     return RejectReason::window_out_of_range;
   }
@@ -315,6 +321,19 @@ RejectReason validate_monitor(const MonitorParams& m, LengthM radius_m) noexcept
     return RejectReason::rover_stop_k_out_of_range;
   }
   return RejectReason::ok;
+}
+
+// In the order of the struct's fields, as validate() promises.
+RejectReason validate_monitor(const MonitorParams& m, LengthM radius_m) noexcept {
+  RejectReason r = validate_monitor_sinkage(m, radius_m);
+  if (r != RejectReason::ok) {
+    return r;
+  }
+  r = validate_monitor_current_and_load(m);
+  if (r != RejectReason::ok) {
+    return r;
+  }
+  return validate_monitor_counts(m);
 }
 
 RejectReason validate_escape(const EscapeParams& e, const MonitorParams& m) noexcept {
@@ -491,6 +510,199 @@ EncodeResult encode(const ParameterTable& t, std::uint8_t* out, std::size_t capa
   return EncodeResult{total, RejectReason::ok};
 }
 
+namespace {
+
+// "SWPT" as the little-endian u32 the reader assembles from kTableMagic.
+constexpr std::uint32_t kTableMagicWord =
+    static_cast<std::uint32_t>(kTableMagic[0]) | (static_cast<std::uint32_t>(kTableMagic[1]) << 8U) |
+    (static_cast<std::uint32_t>(kTableMagic[2]) << 16U) | (static_cast<std::uint32_t>(kTableMagic[3]) << 24U);
+
+constexpr std::uint16_t kMaxSectionId = 6U;
+// Bit id of a section set, ids 1..kCoreSections: the sections every table has.
+constexpr std::uint32_t kCoreSectionBits = (1U << (kCoreSections + 1U)) - 2U;
+
+// The header after the size checks: magic, format version, table version,
+// total length, section count, reserved.
+RejectReason read_table_header(Reader& r, std::size_t size, std::uint16_t& table_version,
+                               std::uint16_t& section_count) noexcept {
+  if (r.u32() != kTableMagicWord) {
+    return RejectReason::bad_magic;
+  }
+  if (r.u16() != kTableFormatVersion) {
+    return RejectReason::unsupported_format_version;
+  }
+  table_version = r.u16();
+  if (r.u32() != size) {
+    return RejectReason::length_mismatch;
+  }
+  section_count = r.u16();
+  if (r.u16() != 0U) {
+    return RejectReason::reserved_not_zero;
+  }
+  return RejectReason::ok;
+}
+
+// ---- section payloads: each checks its length before it reads ------------
+
+RejectReason read_estimator_section(Reader& r, std::uint16_t length, LengthM& radius_m) noexcept {
+  if (length != kEstimatorBytes) {
+    return RejectReason::section_length_mismatch;
+  }
+  radius_m = read_q<LengthM>(r);
+  return RejectReason::ok;
+}
+
+RejectReason read_motor_section(Reader& r, std::uint16_t length, MotorParams& m) noexcept {
+  if (length != kMotorBytes) {
+    return RejectReason::section_length_mismatch;
+  }
+  read_motor(r, m);
+  return RejectReason::ok;
+}
+
+RejectReason read_correction_section(Reader& r, std::uint16_t length, CorrectionTable& c) noexcept {
+  if (length < kCorrectionHeaderBytes) {
+    return RejectReason::section_length_mismatch;
+  }
+  c.count = r.u8();
+  const std::uint8_t reserved8 = r.u8();
+  const std::uint16_t reserved16 = r.u16();
+  // The row count's range and the length it implies come before the
+  // reserved bytes: a wrong count is the more useful reason.
+  if ((c.count == 0U) || (c.count > kMaxCorrectionRows)) {
+    return RejectReason::correction_count_out_of_range;
+  }
+  if (length != correction_bytes(c.count)) {
+    return RejectReason::section_length_mismatch;
+  }
+  for (std::uint8_t i = 0U; i < c.count; ++i) {
+    CorrectionRow& row = c.rows[i];
+    row.load_n = read_q<WheelLoadN>(r);
+    row.c1 = read_q<Ratio>(r);
+    row.c2 = read_q<Ratio>(r);
+    row.c3 = read_q<Ratio>(r);
+    row.dp_max_ratio = read_q<Ratio>(r);
+  }
+  if ((reserved8 != 0U) || (reserved16 != 0U)) {
+    return RejectReason::reserved_not_zero;
+  }
+  return RejectReason::ok;
+}
+
+RejectReason read_monitor_section(Reader& r, std::uint16_t length, MonitorParams& m) noexcept {
+  if (length != kMonitorBytes) {
+    return RejectReason::section_length_mismatch;
+  }
+  read_monitor(r, m);
+  if (r.u16() != 0U) {
+    return RejectReason::reserved_not_zero;
+  }
+  return RejectReason::ok;
+}
+
+RejectReason read_escape_section(Reader& r, std::uint16_t length, EscapeParams& e) noexcept {
+  if (length != kEscapeBytes) {
+    return RejectReason::section_length_mismatch;
+  }
+  // The reserved u16 sits after the two cycle counts: read it in place.
+  e.forward_phase_ms = r.u32();
+  e.reverse_phase_ms = r.u32();
+  e.max_cycles = r.u8();
+  e.patience_cycles = r.u8();
+  const std::uint16_t reserved = r.u16();
+  e.min_decrease_m = read_q<SinkageM>(r);
+  e.freed_sinkage_m = read_q<SinkageM>(r);
+  if (reserved != 0U) {
+    return RejectReason::reserved_not_zero;
+  }
+  return RejectReason::ok;
+}
+
+RejectReason read_extension_section(Reader& r, std::uint16_t length, ExtensionSection& x) noexcept {
+  if (length > kExtensionMaxBytes) {
+    return RejectReason::extension_too_long;
+  }
+  x.present = true;
+  x.length = length;
+  for (std::uint16_t i = 0U; i < length; ++i) {
+    x.bytes[i] = r.u8();
+  }
+  return RejectReason::ok;
+}
+
+RejectReason read_section_payload(Reader& r, SectionId id, std::uint16_t length, ParameterTable& t) noexcept {
+  switch (id) {
+    case SectionId::estimator:
+      return read_estimator_section(r, length, t.wheel_radius_m);
+    case SectionId::motor:
+      return read_motor_section(r, length, t.motor);
+    case SectionId::correction:
+      return read_correction_section(r, length, t.correction);
+    case SectionId::monitor:
+      return read_monitor_section(r, length, t.monitor);
+    case SectionId::escape:
+      return read_escape_section(r, length, t.escape);
+    case SectionId::rover_geometry:
+      return read_extension_section(r, length, t.rover_geometry);
+    default:
+      return RejectReason::unknown_section;
+  }
+}
+
+// One section, header and payload; `r` stands at its header, `crc_at` is
+// where the sections end. `seen` collects bit id of every section read.
+RejectReason read_section(Reader& r, std::size_t crc_at, ParameterTable& t, std::uint32_t& seen) noexcept {
+  if ((crc_at - r.pos()) < kSectionHeaderBytes) {
+    return RejectReason::section_truncated;
+  }
+  const std::uint16_t id = r.u16();
+  const std::uint16_t length = r.u16();
+  if ((crc_at - r.pos()) < length) {
+    return RejectReason::section_truncated;
+  }
+  if ((id == 0U) || (id > kMaxSectionId)) {
+    return RejectReason::unknown_section;
+  }
+  const std::uint32_t bit = 1U << static_cast<std::uint32_t>(id);
+  if ((seen & bit) != 0U) {
+    return RejectReason::duplicate_section;
+  }
+  seen |= bit;
+  const std::size_t start = r.pos();
+  const RejectReason reason = read_section_payload(r, static_cast<SectionId>(id), length, t);
+  if (reason != RejectReason::ok) {
+    return reason;
+  }
+  if ((r.pos() - start) != length) {
+    return RejectReason::section_length_mismatch;  // cannot happen: lengths checked per id
+  }
+  return RejectReason::ok;
+}
+
+// Every section up to the CRC, then the count and the core sections.
+RejectReason read_sections(Reader& r, std::size_t crc_at, std::uint16_t section_count, ParameterTable& t) noexcept {
+  // At most one section per id, ids 1..6, so at most 6 iterations do work;
+  // the loop bound also covers a corrupt count that passed the CRC.
+  std::uint32_t seen = 0U;
+  std::uint16_t parsed = 0U;
+  while ((r.pos() < crc_at) && (parsed <= kMaxSectionId)) {
+    const RejectReason reason = read_section(r, crc_at, t, seen);
+    if (reason != RejectReason::ok) {
+      return reason;
+    }
+    ++parsed;
+  }
+  if ((r.pos() != crc_at) || (parsed != section_count)) {
+    return RejectReason::section_count_mismatch;
+  }
+  if ((seen & kCoreSectionBits) != kCoreSectionBits) {
+    return RejectReason::missing_section;
+  }
+  return RejectReason::ok;
+}
+
+}  // namespace
+
 RejectReason decode(const std::uint8_t* bytes, std::size_t size, ParameterTable& out,
                     ExtensionValidator extension) noexcept {
   if (bytes == nullptr) {
@@ -503,143 +715,24 @@ RejectReason decode(const std::uint8_t* bytes, std::size_t size, ParameterTable&
     return RejectReason::too_long;
   }
   Reader r(bytes, size);
-  for (std::uint8_t b : kTableMagic) {
-    if (r.u8() != b) {
-      return RejectReason::bad_magic;
-    }
-  }
-  if (r.u16() != kTableFormatVersion) {
-    return RejectReason::unsupported_format_version;
-  }
   ParameterTable t{};
-  t.table_version = r.u16();
-  if (r.u32() != size) {
-    return RejectReason::length_mismatch;
-  }
-  const std::uint16_t section_count = r.u16();
-  if (r.u16() != 0U) {
-    return RejectReason::reserved_not_zero;
+  std::uint16_t section_count = 0U;
+  RejectReason reason = read_table_header(r, size, t.table_version, section_count);
+  if (reason != RejectReason::ok) {
+    return reason;
   }
   const std::size_t crc_at = size - kTableCrcBytes;
-  Reader crc_reader(bytes + crc_at, kTableCrcBytes);
+  Reader crc_reader(bytes, size, crc_at);
   if (crc_reader.u32() != crc32(bytes, crc_at)) {
     return RejectReason::crc_mismatch;
   }
-
-  // Sections: at most one per id, ids 1..6, so at most 6 iterations do work;
-  // the loop bound also covers a corrupt count that passed the CRC.
-  bool seen[7] = {false, false, false, false, false, false, false};
-  std::uint16_t parsed = 0U;
-  constexpr std::uint16_t kMaxSections = 6U;
-  while ((r.pos() < crc_at) && (parsed <= kMaxSections)) {
-    if ((crc_at - r.pos()) < kSectionHeaderBytes) {
-      return RejectReason::section_truncated;
-    }
-    const std::uint16_t id = r.u16();
-    const std::uint16_t length = r.u16();
-    if ((crc_at - r.pos()) < length) {
-      return RejectReason::section_truncated;
-    }
-    if ((id == 0U) || (id > kMaxSections)) {
-      return RejectReason::unknown_section;
-    }
-    if (seen[id]) {
-      return RejectReason::duplicate_section;
-    }
-    seen[id] = true;
-    ++parsed;
-    const std::size_t start = r.pos();
-    bool reserved_ok = true;
-    switch (static_cast<SectionId>(id)) {
-      case SectionId::estimator:
-        if (length != kEstimatorBytes) {
-          return RejectReason::section_length_mismatch;
-        }
-        t.wheel_radius_m = read_q<LengthM>(r);
-        break;
-      case SectionId::motor:
-        if (length != kMotorBytes) {
-          return RejectReason::section_length_mismatch;
-        }
-        read_motor(r, t.motor);
-        break;
-      case SectionId::correction: {
-        if (length < kCorrectionHeaderBytes) {
-          return RejectReason::section_length_mismatch;
-        }
-        t.correction.count = r.u8();
-        reserved_ok = (r.u8() == 0U) && (r.u16() == 0U);
-        if ((t.correction.count == 0U) || (t.correction.count > kMaxCorrectionRows)) {
-          return RejectReason::correction_count_out_of_range;
-        }
-        if (length != correction_bytes(t.correction.count)) {
-          return RejectReason::section_length_mismatch;
-        }
-        for (std::uint8_t i = 0U; i < t.correction.count; ++i) {
-          CorrectionRow& row = t.correction.rows[i];
-          row.load_n = read_q<WheelLoadN>(r);
-          row.c1 = read_q<Ratio>(r);
-          row.c2 = read_q<Ratio>(r);
-          row.c3 = read_q<Ratio>(r);
-          row.dp_max_ratio = read_q<Ratio>(r);
-        }
-        break;
-      }
-      case SectionId::monitor:
-        if (length != kMonitorBytes) {
-          return RejectReason::section_length_mismatch;
-        }
-        read_monitor(r, t.monitor);
-        reserved_ok = (r.u16() == 0U);
-        break;
-      case SectionId::escape: {
-        if (length != kEscapeBytes) {
-          return RejectReason::section_length_mismatch;
-        }
-        // The reserved u16 sits after the two cycle counts: read it in place.
-        t.escape.forward_phase_ms = r.u32();
-        t.escape.reverse_phase_ms = r.u32();
-        t.escape.max_cycles = r.u8();
-        t.escape.patience_cycles = r.u8();
-        reserved_ok = (r.u16() == 0U);
-        t.escape.min_decrease_m = read_q<SinkageM>(r);
-        t.escape.freed_sinkage_m = read_q<SinkageM>(r);
-        break;
-      }
-      case SectionId::rover_geometry:
-        if (length > kExtensionMaxBytes) {
-          return RejectReason::extension_too_long;
-        }
-        t.rover_geometry.present = true;
-        t.rover_geometry.length = length;
-        for (std::uint16_t i = 0U; i < length; ++i) {
-          t.rover_geometry.bytes[i] = r.u8();
-        }
-        break;
-      default:
-        return RejectReason::unknown_section;
-    }
-    if (!reserved_ok) {
-      return RejectReason::reserved_not_zero;
-    }
-    if ((r.pos() - start) != length) {
-      return RejectReason::section_length_mismatch;  // cannot happen: lengths checked per id
-    }
+  reason = read_sections(r, crc_at, section_count, t);
+  if (reason != RejectReason::ok) {
+    return reason;
   }
-  if (r.pos() != crc_at) {
-    return RejectReason::section_count_mismatch;
-  }
-  if (parsed != section_count) {
-    return RejectReason::section_count_mismatch;
-  }
-  for (std::uint16_t id = 1U; id <= kCoreSections; ++id) {
-    if (!seen[id]) {
-      return RejectReason::missing_section;
-    }
-  }
-  const RejectReason valid = validate(t);
-  if (valid != RejectReason::ok) {
-    return valid;
+  reason = validate(t);
+  if (reason != RejectReason::ok) {
+    return reason;
   }
   if (t.rover_geometry.present && (extension != nullptr) && !extension(t.rover_geometry)) {
     return RejectReason::extension_rejected;
@@ -665,7 +758,7 @@ RejectReason ParameterStore::load(const std::uint8_t* bytes, std::size_t size, E
   }
   active_ = candidate;
   // decode() checked the CRC at size - 4: the bytes are there.
-  Reader crc_reader(bytes + (size - kTableCrcBytes), kTableCrcBytes);
+  Reader crc_reader(bytes, size, size - kTableCrcBytes);
   active_crc_ = crc_reader.u32();
   last_rejection_ = RejectReason::ok;
   return reason;

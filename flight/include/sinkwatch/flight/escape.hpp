@@ -38,17 +38,18 @@ enum class EscapeState : std::uint8_t {
 
 enum class EscapeCommand : std::uint8_t { stop = 0U, drive_forward = 1U, drive_reverse = 2U };
 
+// Defaults are the fail-safe values: no estimate, and the wheel stopped.
 struct EscapeInput {
-  TimeMs now;
-  bool sinkage_valid;  ///< false: no estimate this cycle (the monitor said why)
-  SinkageM sinkage_m;
+  TimeMs now{};
+  bool sinkage_valid{false};  ///< false: no estimate this cycle (the monitor said why)
+  SinkageM sinkage_m{};
 };
 
 struct EscapeOutput {
-  EscapeState state;
-  EscapeCommand command;
-  std::uint8_t cycles_done;
-  bool finished;  ///< state is freed, aborted or gave_up
+  EscapeState state{EscapeState::idle};
+  EscapeCommand command{EscapeCommand::stop};
+  std::uint8_t cycles_done{0U};
+  bool finished{false};  ///< state is freed, aborted or gave_up
 };
 
 class EscapeSequencer {

@@ -52,50 +52,54 @@ enum class SectionId : std::uint16_t {
   rover_geometry = 6U,  ///< issue 4: opaque here, decoded by its owner
 };
 
+// Every field of the parameter structs defaults to zero: a zero count,
+// window, timeout or phase fails validate(), so a table nobody filled in can
+// never be put in force (fail-safe default, MISRA C++:2023 11.6.1).
+
 /// Thresholds, persistence and fail-safe limits of the monitor (monitor.hpp).
 struct MonitorParams {
-  SinkageM allowed_sinkage_m;        ///< z_max of section 7: sets the current limit
-  SinkageM caution_sinkage_m;        ///< estimate at or above: CAUTION evidence
-  SinkageM stop_sinkage_m;           ///< estimate at or above: STOP evidence
-  SinkageM sinkage_hysteresis_m;     ///< clear only below caution - hysteresis
-  Ratio current_caution_fraction;    ///< CAUTION evidence at I >= f * I_max (f <= 1)
-  Ratio current_hysteresis_fraction; ///< clear only below (f - h) * I_max
-  WheelLoadN load_min_n;             ///< loads outside [min, max] are invalid telemetry
-  WheelLoadN load_max_n;
-  std::uint32_t stale_timeout_ms;    ///< a sample older than this is stale
-  std::uint8_t window_m;             ///< M: samples in the persistence window, 1..16
-  std::uint8_t trip_n;               ///< N: samples in the window needed to trip
-  std::uint8_t clear_n;              ///< clear samples in the window needed to leave CAUTION
-  std::uint8_t invalid_to_stop;      ///< consecutive unusable samples that force STOP
-  std::uint8_t wheel_count;          ///< wheels monitored, 1..kMaxWheels
-  std::uint8_t rover_stop_k;         ///< wheels in STOP that stop the rover (1 = any)
+  SinkageM allowed_sinkage_m{};         ///< z_max of section 7: sets the current limit
+  SinkageM caution_sinkage_m{};         ///< estimate at or above: CAUTION evidence
+  SinkageM stop_sinkage_m{};            ///< estimate at or above: STOP evidence
+  SinkageM sinkage_hysteresis_m{};      ///< clear only below caution - hysteresis
+  Ratio current_caution_fraction{};     ///< CAUTION evidence at I >= f * I_max (f <= 1)
+  Ratio current_hysteresis_fraction{};  ///< clear only below (f - h) * I_max
+  WheelLoadN load_min_n{};              ///< loads outside [min, max] are invalid telemetry
+  WheelLoadN load_max_n{};
+  std::uint32_t stale_timeout_ms{0U};   ///< a sample older than this is stale
+  std::uint8_t window_m{0U};            ///< M: samples in the persistence window, 1..16
+  std::uint8_t trip_n{0U};              ///< N: samples in the window needed to trip
+  std::uint8_t clear_n{0U};             ///< clear samples in the window needed to leave CAUTION
+  std::uint8_t invalid_to_stop{0U};     ///< consecutive unusable samples that force STOP
+  std::uint8_t wheel_count{0U};         ///< wheels monitored, 1..kMaxWheels
+  std::uint8_t rover_stop_k{0U};        ///< wheels in STOP that stop the rover (1 = any)
 };
 
 /// The alternating forward/reverse escape (escape.hpp).
 struct EscapeParams {
-  std::uint32_t forward_phase_ms;
-  std::uint32_t reverse_phase_ms;
-  std::uint8_t max_cycles;       ///< forward+reverse pairs before giving up
-  std::uint8_t patience_cycles;  ///< consecutive cycles without progress before aborting
-  SinkageM min_decrease_m;       ///< progress: the sinkage fell by at least this per cycle
-  SinkageM freed_sinkage_m;      ///< at or below: the wheel is free
+  std::uint32_t forward_phase_ms{0U};
+  std::uint32_t reverse_phase_ms{0U};
+  std::uint8_t max_cycles{0U};         ///< forward+reverse pairs before giving up
+  std::uint8_t patience_cycles{0U};    ///< consecutive cycles without progress before aborting
+  SinkageM min_decrease_m{};           ///< progress: the sinkage fell by at least this per cycle
+  SinkageM freed_sinkage_m{};          ///< at or below: the wheel is free
 };
 
 /// Bytes of a section this module carries but does not interpret.
 struct ExtensionSection {
-  bool present;
-  std::uint16_t length;
-  std::uint8_t bytes[kExtensionMaxBytes];
+  bool present{false};
+  std::uint16_t length{0U};
+  std::uint8_t bytes[kExtensionMaxBytes]{};
 };
 
 struct ParameterTable {
-  std::uint16_t table_version;  ///< the operators' revision number, echoed in telemetry
-  LengthM wheel_radius_m;
-  MotorParams motor;
-  CorrectionTable correction;
-  MonitorParams monitor;
-  EscapeParams escape;
-  ExtensionSection rover_geometry;
+  std::uint16_t table_version{0U};  ///< the operators' revision number, echoed in telemetry
+  LengthM wheel_radius_m{};
+  MotorParams motor{};
+  CorrectionTable correction{};
+  MonitorParams monitor{};
+  EscapeParams escape{};
+  ExtensionSection rover_geometry{};
 };
 
 /// Why a table was refused. One reason per check, so the ground knows which
@@ -185,8 +189,8 @@ using ExtensionValidator = bool (*)(const ExtensionSection& section) noexcept;
                                   ExtensionValidator extension = nullptr) noexcept;
 
 struct EncodeResult {
-  std::size_t size;     ///< bytes written; 0 unless status == ok
-  RejectReason status;  ///< ok, null_buffer or buffer_too_small
+  std::size_t size{0U};                                 ///< bytes written; 0 unless status == ok
+  RejectReason status{RejectReason::buffer_too_small};  ///< ok, null_buffer or buffer_too_small
 };
 
 /// Writes the table's bytes into `out` (capacity bytes). Does not validate:

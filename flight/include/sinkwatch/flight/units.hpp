@@ -94,7 +94,7 @@ using TorqueConstantNmPerA = Quantity<TorqueConstantTag, KtQ>;
 /// Time of a telemetry sample, milliseconds of the on-board clock. Wraps
 /// after 49.7 days; every comparison uses the wrapping difference.
 struct TimeMs {
-  std::uint32_t ms;
+  std::uint32_t ms{0U};
 };
 
 /// Milliseconds from `earlier` to `later`, correct across one wrap.
