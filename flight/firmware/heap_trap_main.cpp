@@ -20,7 +20,9 @@
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/motor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/monitor.hpp"
 #include "sinkwatch/flight/prepared_params.hpp"
+#include "sinkwatch/flight/rover_step.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
 #include "sinkwatch/sinkwatch.h"
@@ -79,6 +81,36 @@ void exercise_estimator(const fl::ParameterTable& table) {
                          table.monitor.allowed_sinkage_m).current_limit_a.raw());
   keep(fl::current_limit(c, table.motor, table.wheel_radius_m, load, table.monitor.allowed_sinkage_m)
            .current_limit_a.raw());
+  // The forms with divisors prepared once per table load.
+  const fl::CorrectionDivisors cd = fl::make_correction_divisors(table.correction);
+  keep(fl::corrections_at(table.correction, cd, load).coefficients.c3.raw());
+  const fl::MotorDivisors md = fl::make_motor_divisors(table.motor);
+  keep(fl::current_from_torque(table.motor, md, t.torque_nm, fl::DriveDirection::forward).current_a.raw());
+  keep(fl::current_limit(c, table.motor, md, table.wheel_radius_m, load, table.monitor.allowed_sinkage_m)
+           .current_limit_a.raw());
+}
+
+// The C++ step and monitor entry points the C interface does not reach (it
+// steps on prepared parameters only). Namespace-scope objects: a function's
+// static would need a guard variable.
+fl::RoverStep g_step;
+fl::RoverMonitor g_monitor;
+fl::WheelMonitor g_wheel(1U);
+
+void exercise_step(const fl::ParameterTable& table, const fl::RoverParams& rover,
+                   const fl::PreparedParameters& prepared) {
+  fl::RoverTelemetry t{};
+  t.time = fl::TimeMs{static_cast<std::uint32_t>(g_raw_in[7])};
+  t.valid = true;
+  keep(g_step.step(t, t.time, table, rover).monitor.wheels[0].sinkage_m.raw());
+  fl::WheelInput inputs[fl::kMaxWheels]{};
+  inputs[0].current_a = fl::CurrentA::from_raw(g_raw_in[4]);
+  inputs[0].load_n = fl::WheelLoadN::from_raw(g_raw_in[5]);
+  inputs[0].valid = true;
+  keep(static_cast<std::int64_t>(g_monitor.step(inputs, t.time, table).decision));
+  keep(static_cast<std::int64_t>(g_monitor.step(inputs, t.time, prepared).decision));
+  keep(g_wheel.step(inputs[0], t.time, table).current_limit_a.raw());
+  keep(g_wheel.step(inputs[0], t.time, prepared).current_limit_a.raw());
 }
 
 void exercise_rover(const fl::ParameterTable& table) {
@@ -99,6 +131,7 @@ void exercise_rover(const fl::ParameterTable& table) {
   const fl::WheelLoadResult prepared_loads = fl::wheel_loads(prepared, attitude, joints);
   keep(prepared_loads.load_n[1].raw());
   keep(fl::drawbar_pulls(prepared, prepared_loads, in).total_n.raw());
+  exercise_step(table, rover, prepared);
   fl::ExtensionSection section{};
   fl::encode_rover_section(rover, section);
   fl::RoverParams decoded{};

@@ -18,9 +18,9 @@ CorrectionResult from_row(const CorrectionRow& row, LoadClamp clamp) noexcept {
   return CorrectionResult{Coefficients{row.c1, row.c2, row.c3}, row.dp_max_ratio, clamp, EstimateStatus::ok};
 }
 
-}  // namespace
-
-CorrectionResult corrections_at(const CorrectionTable& table, WheelLoadN load_n) noexcept {
+/// The widths of the segments, or null for plain division.
+CorrectionResult corrections_with(const CorrectionTable& table, const CorrectionDivisors* divisors,
+                                  WheelLoadN load_n) noexcept {
   const CorrectionResult failed{Coefficients{Ratio::zero(), Ratio::zero(), Ratio::zero()}, Ratio::zero(),
                                 LoadClamp::none, EstimateStatus::invalid_coefficient};
   if ((table.count == 0U) || (table.count > kMaxCorrectionRows)) {
@@ -47,8 +47,10 @@ CorrectionResult corrections_at(const CorrectionTable& table, WheelLoadN load_n)
     const CorrectionRow& hi = table.rows[i + 1U];
     if ((load_n >= lo.load_n) && (load_n < hi.load_n)) {
       fx::Status st;
-      const WideQ fraction = fx::div<WideQ>(fx::sub(load_n.q(), lo.load_n.q(), st),
-                                            fx::sub(hi.load_n.q(), lo.load_n.q(), st), st);
+      const LoadQ offset = fx::sub(load_n.q(), lo.load_n.q(), st);
+      const WideQ fraction = (divisors != nullptr)
+                                 ? div_by_constant<WideQ>(offset, divisors->width[i], st)
+                                 : fx::div<WideQ>(offset, fx::sub(hi.load_n.q(), lo.load_n.q(), st), st);
       const Coefficients c{lerp(lo.c1, hi.c1, fraction, st), lerp(lo.c2, hi.c2, fraction, st),
                            lerp(lo.c3, hi.c3, fraction, st)};
       const Ratio dp = lerp(lo.dp_max_ratio, hi.dp_max_ratio, fraction, st);
@@ -60,6 +62,30 @@ CorrectionResult corrections_at(const CorrectionTable& table, WheelLoadN load_n)
   }
   // Breakpoints not increasing: validate() refuses such a table.
   return failed;
+}
+
+}  // namespace
+
+CorrectionResult corrections_at(const CorrectionTable& table, WheelLoadN load_n) noexcept {
+  return corrections_with(table, nullptr, load_n);
+}
+
+CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDivisors& divisors,
+                                WheelLoadN load_n) noexcept {
+  return corrections_with(table, &divisors, load_n);
+}
+
+CorrectionDivisors make_correction_divisors(const CorrectionTable& table) noexcept {
+  CorrectionDivisors d{};
+  const std::uint8_t count = (table.count > kMaxCorrectionRows) ? kMaxCorrectionRows : table.count;
+  for (std::uint8_t i = 0U; (i + 1U) < count; ++i) {
+    fx::Status st;
+    const LoadQ width = fx::sub(table.rows[i + 1U].load_n.q(), table.rows[i].load_n.q(), st);
+    if (st.ok() && (width.raw() > 0)) {
+      d.width[i] = make_divisor(width);
+    }
+  }
+  return d;
 }
 
 }  // namespace flight

@@ -29,8 +29,11 @@ CurrentLimitResult current_limit(const CorrectionTable& table, const MotorParams
   return current_limit(corrections_at(table, load_n), motor, radius_m, load_n, allowed_sinkage_m);
 }
 
-CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams& motor, LengthM radius_m,
-                                 WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
+namespace {
+
+/// The limit with the motor's divisions through `divisors`, or fx::div when null.
+CurrentLimitResult limit_with(const CorrectionResult& corr, const MotorParams& motor, const MotorDivisors* divisors,
+                              LengthM radius_m, WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
   CurrentLimitResult result{CurrentA::zero(), TorqueNm::zero(), LoadClamp::none, EstimateStatus::ok};
   result.clamp = corr.clamp;
   if (corr.status != EstimateStatus::ok) {
@@ -43,7 +46,9 @@ CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams
     return result;
   }
   // The limit is a magnitude in the direction of motion: forward, I0 adds.
-  const CurrentResult i = current_from_torque(motor, t.torque_nm, DriveDirection::forward);
+  const CurrentResult i = (divisors != nullptr)
+                              ? current_from_torque(motor, *divisors, t.torque_nm, DriveDirection::forward)
+                              : current_from_torque(motor, t.torque_nm, DriveDirection::forward);
   if (i.status != EstimateStatus::ok) {
     result.status = i.status;
     return result;
@@ -51,6 +56,19 @@ CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams
   result.current_limit_a = i.current_a;
   result.torque_limit_nm = t.torque_nm;
   return result;
+}
+
+}  // namespace
+
+CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams& motor, LengthM radius_m,
+                                 WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
+  return limit_with(corr, motor, nullptr, radius_m, load_n, allowed_sinkage_m);
+}
+
+CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams& motor,
+                                 const MotorDivisors& divisors, LengthM radius_m, WheelLoadN load_n,
+                                 SinkageM allowed_sinkage_m) noexcept {
+  return limit_with(corr, motor, &divisors, radius_m, load_n, allowed_sinkage_m);
 }
 
 }  // namespace flight

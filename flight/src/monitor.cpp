@@ -34,26 +34,98 @@ CurrentA fraction_of(Ratio f, CurrentA limit, fx::Status& st) noexcept {
   return CurrentA(fx::mul<CurrentQ>(f.q(), limit.q(), st));
 }
 
+/// Is the sample usable? The checks go from the cheapest and most
+/// fundamental (the source's own flag) to the physical ranges.
+SampleStatus classify_sample(const WheelInput& input, TimeMs now, bool have_last_time, TimeMs last_time,
+                             const ParameterTable& table) noexcept {
+  const MonitorParams& mp = table.monitor;
+  if (!input.valid) {
+    return SampleStatus::flagged_invalid;
+  }
+  // A time stamp after `now` wraps to a huge age: stale as well.
+  if (elapsed_ms(input.time, now) > mp.stale_timeout_ms) {
+    return SampleStatus::stale;
+  }
+  if (have_last_time && (input.time.ms == last_time.ms)) {
+    return SampleStatus::repeated_time;
+  }
+  if ((input.direction != DriveDirection::forward) && (input.direction != DriveDirection::reverse)) {
+    return SampleStatus::direction_invalid;
+  }
+  fx::Status range_status;
+  const CurrentQ magnitude = fx::abs(input.current_a.q(), range_status);
+  if ((!range_status.ok()) || (magnitude > table.motor.current_abs_max_a.q())) {
+    return SampleStatus::current_out_of_range;
+  }
+  if ((input.load_n < mp.load_min_n) || (input.load_n > mp.load_max_n)) {
+    return SampleStatus::load_out_of_range;
+  }
+  return SampleStatus::ok;
+}
+
+/// C(W) through the prepared divisors when there are any.
+CorrectionResult corrections_for(const CorrectionTable& table, const CorrectionDivisors* divisors,
+                                 WheelLoadN load_n) noexcept {
+  return (divisors != nullptr) ? corrections_at(table, *divisors, load_n) : corrections_at(table, load_n);
+}
+
+/// Stage 2: T, z and I_max of a usable sample into `out`; false when one of
+/// them has no number.
+bool estimate(const WheelInput& input, const ParameterTable& table, const CorrectionDivisors* corr_divisors,
+              const MotorDivisors* motor_divisors, WheelOutput& out) noexcept {
+  const TorqueResult torque = torque_from_current(table.motor, input.current_a, input.direction);
+  const CorrectionResult corr = (input.corrections != nullptr)
+                                    ? *input.corrections
+                                    : corrections_for(table.correction, corr_divisors, input.load_n);
+  const SinkageResult sink = ((torque.status == EstimateStatus::ok) && (corr.status == EstimateStatus::ok))
+                                 ? sinkage_from_pull(corr.coefficients, table.wheel_radius_m, input.load_n,
+                                                     torque.torque_nm, input.drawbar_pull_n)
+                                 : SinkageResult{SinkageM::zero(), EstimateStatus::overflow};
+  const SinkageM allowed = table.monitor.allowed_sinkage_m;
+  const CurrentLimitResult limit =
+      (motor_divisors != nullptr)
+          ? current_limit(corr, table.motor, *motor_divisors, table.wheel_radius_m, input.load_n, allowed)
+          : current_limit(corr, table.motor, table.wheel_radius_m, input.load_n, allowed);
+  out.clamp = corr.clamp;
+  if ((torque.status != EstimateStatus::ok) || (sink.status != EstimateStatus::ok) ||
+      (limit.status != EstimateStatus::ok)) {
+    return false;
+  }
+  out.estimate_valid = true;
+  out.torque_nm = torque.torque_nm;
+  out.sinkage_m = sink.sinkage_m;
+  out.limit_valid = true;
+  out.current_limit_a = limit.current_limit_a;
+  return true;
+}
+
+/// One usable sample's evidence for the state machine.
+struct Evidence {
+  bool caution{true};  ///< fail-safe default for an unusable sample
+  bool stop{false};
+  bool clear{false};
+  bool current_stop{false};
+};
+
+Evidence evidence_of(CurrentA directed, const WheelOutput& out, const MonitorParams& mp) noexcept {
+  fx::Status st;
+  const CurrentA caution_current = fraction_of(mp.current_caution_fraction, out.current_limit_a, st);
+  const CurrentA clear_current =
+      fraction_of(Ratio(fx::sub(mp.current_caution_fraction.q(), mp.current_hysteresis_fraction.q(), st)),
+                  out.current_limit_a, st);
+  const SinkageM clear_sinkage(fx::sub(mp.caution_sinkage_m.q(), mp.sinkage_hysteresis_m.q(), st));
+  Evidence e{};
+  e.current_stop = directed >= out.current_limit_a;
+  e.stop = e.current_stop || (out.sinkage_m >= mp.stop_sinkage_m);
+  e.caution = e.stop || (directed >= caution_current) || (out.sinkage_m >= mp.caution_sinkage_m);
+  // A saturated threshold (validated tables cannot produce one) never clears.
+  e.clear = st.ok() && (directed < clear_current) && (out.sinkage_m < clear_sinkage);
+  return e;
+}
+
 }  // namespace
 
-WheelMonitor::WheelMonitor(std::uint8_t wheel_index) noexcept
-    : wheel_(wheel_index),
-      state_(WheelState::nominal),
-      stop_reason_(StopReason::none),
-      caution_history_(0U),
-      stop_history_(0U),
-      clear_history_(0U),
-      consecutive_unusable_(0U),
-      have_last_time_(false),
-      last_time_{0U},
-      have_peak_(false),
-      peak_current_a_(CurrentA::zero()),
-      load_at_peak_n_(WheelLoadN::zero()),
-      have_max_estimate_(false),
-      max_estimate_m_(SinkageM::zero()),
-      has_event_(false),
-      event_{},
-      counters_{} {}
+WheelMonitor::WheelMonitor(std::uint8_t wheel_index) noexcept : wheel_(wheel_index) {}
 
 void WheelMonitor::count(SampleStatus status) noexcept {
   const std::uint8_t index = static_cast<std::uint8_t>(status);
@@ -82,34 +154,85 @@ void WheelMonitor::clear_stop() noexcept {
   have_max_estimate_ = false;
 }
 
-WheelOutput WheelMonitor::step(const WheelInput& input, TimeMs now, const ParameterTable& table) noexcept {
+void WheelMonitor::track_episode(CurrentA directed, WheelLoadN load_n, SinkageM sinkage_m) noexcept {
+  if ((!have_peak_) || (directed > peak_current_a_)) {
+    have_peak_ = true;
+    peak_current_a_ = directed;
+    load_at_peak_n_ = load_n;
+  }
+  if ((!have_max_estimate_) || (sinkage_m > max_estimate_m_)) {
+    have_max_estimate_ = true;
+    max_estimate_m_ = sinkage_m;
+  }
+}
+
+EventRecord WheelMonitor::stop_event(TimeMs now, StopReason reason, const ParameterTable& table,
+                                     const CorrectionDivisors* corr_divisors) const noexcept {
+  EventRecord e{};
+  e.wheel = wheel_;
+  e.time = now;
+  e.reason = reason;
+  e.peak_current_a = have_peak_ ? peak_current_a_ : CurrentA::zero();
+  e.load_at_peak_n = have_peak_ ? load_at_peak_n_ : WheelLoadN::zero();
+  e.peak_sinkage_valid = false;
+  e.peak_sinkage_m = SinkageM::zero();
+  if (have_peak_) {
+    // Section 7: the sinkage the peak current implies at DP = DP_max.
+    const TorqueResult t = torque_from_current(table.motor, peak_current_a_, DriveDirection::forward);
+    const CorrectionResult c = corrections_for(table.correction, corr_divisors, load_at_peak_n_);
+    fx::Status st;
+    const DrawbarPullN dp_max(fx::mul<LoadQ>(c.dp_max_ratio.q(), load_at_peak_n_.q(), st));
+    if ((t.status == EstimateStatus::ok) && (c.status == EstimateStatus::ok) && st.ok()) {
+      const SinkageResult z =
+          sinkage_from_pull(c.coefficients, table.wheel_radius_m, load_at_peak_n_, t.torque_nm, dp_max);
+      if (z.status == EstimateStatus::ok) {
+        e.peak_sinkage_valid = true;
+        e.peak_sinkage_m = z.sinkage_m;
+      }
+    }
+  }
+  e.max_estimate_valid = have_max_estimate_;
+  e.max_estimated_sinkage_m = have_max_estimate_ ? max_estimate_m_ : SinkageM::zero();
+  return e;
+}
+
+void WheelMonitor::transition(bool current_stop, TimeMs now, const ParameterTable& table,
+                              const CorrectionDivisors* corr_divisors, WheelOutput& out) noexcept {
   const MonitorParams& mp = table.monitor;
+  if (state_ == WheelState::stop) {
+    return;  // STOP is latched until clear_stop()
+  }
+  if ((consecutive_unusable_ >= mp.invalid_to_stop) || (count_bits(stop_history_, mp.window_m) >= mp.trip_n)) {
+    const StopReason reason = (consecutive_unusable_ >= mp.invalid_to_stop)
+                                  ? StopReason::telemetry
+                                  : (current_stop ? StopReason::current : StopReason::sinkage);
+    state_ = WheelState::stop;
+    stop_reason_ = reason;
+    out.stop_tripped = true;
+    event_ = stop_event(now, reason, table, corr_divisors);
+    has_event_ = true;
+  } else if ((state_ == WheelState::nominal) && (count_bits(caution_history_, mp.window_m) >= mp.trip_n)) {
+    state_ = WheelState::caution;
+    // Leaving CAUTION needs clear_n clear samples seen from here on.
+    clear_history_ = 0U;
+  } else if ((state_ == WheelState::caution) && (count_bits(clear_history_, mp.window_m) >= mp.clear_n)) {
+    state_ = WheelState::nominal;
+    caution_history_ = 0U;
+    have_peak_ = false;
+    have_max_estimate_ = false;
+  } else {
+    // no transition
+  }
+}
+
+WheelOutput WheelMonitor::step_with(const WheelInput& input, TimeMs now, const ParameterTable& table,
+                                    const CorrectionDivisors* corr_divisors,
+                                    const MotorDivisors* motor_divisors) noexcept {
   WheelOutput out{};
   out.clamp = LoadClamp::none;
 
-  // 1. Is the sample usable? The checks go from the cheapest and most
-  //    fundamental (the source's own flag) to the physical ranges.
-  SampleStatus status = SampleStatus::ok;
-  const bool direction_ok =
-      (input.direction == DriveDirection::forward) || (input.direction == DriveDirection::reverse);
-  fx::Status range_status;
-  const CurrentQ magnitude = fx::abs(input.current_a.q(), range_status);
-  if (!input.valid) {
-    status = SampleStatus::flagged_invalid;
-  } else if (elapsed_ms(input.time, now) > mp.stale_timeout_ms) {
-    // A time stamp after `now` wraps to a huge age: stale as well.
-    status = SampleStatus::stale;
-  } else if (have_last_time_ && (input.time.ms == last_time_.ms)) {
-    status = SampleStatus::repeated_time;
-  } else if (!direction_ok) {
-    status = SampleStatus::direction_invalid;
-  } else if ((!range_status.ok()) || (magnitude > table.motor.current_abs_max_a.q())) {
-    status = SampleStatus::current_out_of_range;
-  } else if ((input.load_n < mp.load_min_n) || (input.load_n > mp.load_max_n)) {
-    status = SampleStatus::load_out_of_range;
-  } else {
-    status = SampleStatus::ok;
-  }
+  // 1. Is the sample usable?
+  SampleStatus status = classify_sample(input, now, have_last_time_, last_time_, table);
   if ((status != SampleStatus::flagged_invalid) && (status != SampleStatus::stale) &&
       (status != SampleStatus::repeated_time)) {
     have_last_time_ = true;
@@ -119,137 +242,66 @@ WheelOutput WheelMonitor::step(const WheelInput& input, TimeMs now, const Parame
   // 2. The estimate and the limit, only from a usable sample.
   CurrentA directed = CurrentA::zero();
   if (status == SampleStatus::ok) {
-    const TorqueResult torque = torque_from_current(table.motor, input.current_a, input.direction);
-    const CorrectionResult corr =
-        (input.corrections != nullptr) ? *input.corrections : corrections_at(table.correction, input.load_n);
-    const SinkageResult sink = (torque.status == EstimateStatus::ok && corr.status == EstimateStatus::ok)
-                                   ? sinkage_from_pull(corr.coefficients, table.wheel_radius_m, input.load_n,
-                                                       torque.torque_nm, input.drawbar_pull_n)
-                                   : SinkageResult{SinkageM::zero(), EstimateStatus::overflow};
-    const CurrentLimitResult limit =
-        current_limit(corr, table.motor, table.wheel_radius_m, input.load_n, mp.allowed_sinkage_m);
     fx::Status dir_status;
     directed = directional(input.current_a, input.direction, dir_status);
-    out.clamp = corr.clamp;
-    if ((torque.status != EstimateStatus::ok) || (sink.status != EstimateStatus::ok) ||
-        (limit.status != EstimateStatus::ok) || !dir_status.ok()) {
+    if (!estimate(input, table, corr_divisors, motor_divisors, out) || !dir_status.ok()) {
+      out.estimate_valid = false;
+      out.limit_valid = false;
+      out.torque_nm = TorqueNm::zero();
+      out.sinkage_m = SinkageM::zero();
+      out.current_limit_a = CurrentA::zero();
       status = SampleStatus::estimate_failed;
-    } else {
-      out.estimate_valid = true;
-      out.torque_nm = torque.torque_nm;
-      out.sinkage_m = sink.sinkage_m;
-      out.limit_valid = true;
-      out.current_limit_a = limit.current_limit_a;
     }
   }
   out.sample_status = status;
   count(status);
 
   // 3. Evidence for the state machine.
-  bool caution = true;  // fail-safe default for an unusable sample
-  bool stop = false;
-  bool clear = false;
-  bool current_stop = false;
+  Evidence e{};
   if (status != SampleStatus::ok) {
     if (consecutive_unusable_ < 0xFFU) {
       ++consecutive_unusable_;
     }
   } else {
     consecutive_unusable_ = 0U;
-    fx::Status st;
-    const CurrentA caution_current = fraction_of(mp.current_caution_fraction, out.current_limit_a, st);
-    const CurrentA clear_current =
-        fraction_of(Ratio(fx::sub(mp.current_caution_fraction.q(), mp.current_hysteresis_fraction.q(), st)),
-                    out.current_limit_a, st);
-    const SinkageM clear_sinkage(fx::sub(mp.caution_sinkage_m.q(), mp.sinkage_hysteresis_m.q(), st));
-    current_stop = directed >= out.current_limit_a;
-    const bool sinkage_stop = out.sinkage_m >= mp.stop_sinkage_m;
-    stop = current_stop || sinkage_stop;
-    caution = stop || (directed >= caution_current) || (out.sinkage_m >= mp.caution_sinkage_m);
-    // A saturated threshold (validated tables cannot produce one) never clears.
-    clear = st.ok() && (directed < clear_current) && (out.sinkage_m < clear_sinkage);
-
-    if ((!have_peak_) || (directed > peak_current_a_)) {
-      have_peak_ = true;
-      peak_current_a_ = directed;
-      load_at_peak_n_ = input.load_n;
-    }
-    if ((!have_max_estimate_) || (out.sinkage_m > max_estimate_m_)) {
-      have_max_estimate_ = true;
-      max_estimate_m_ = out.sinkage_m;
-    }
+    e = evidence_of(directed, out, table.monitor);
+    track_episode(directed, input.load_n, out.sinkage_m);
   }
-  push_history(caution, stop, clear);
+  push_history(e.caution, e.stop, e.clear);
 
   // 4. Transitions (STOP is latched).
-  if (state_ != WheelState::stop) {
-    StopReason reason = StopReason::none;
-    if (consecutive_unusable_ >= mp.invalid_to_stop) {
-      reason = StopReason::telemetry;
-    } else if (count_bits(stop_history_, mp.window_m) >= mp.trip_n) {
-      reason = current_stop ? StopReason::current : StopReason::sinkage;
-    } else {
-      reason = StopReason::none;
-    }
-    if (reason != StopReason::none) {
-      state_ = WheelState::stop;
-      stop_reason_ = reason;
-      out.stop_tripped = true;
-      // Section 7: the sinkage the peak current implies at DP = DP_max.
-      EventRecord e{};
-      e.wheel = wheel_;
-      e.time = now;
-      e.reason = reason;
-      e.peak_current_a = have_peak_ ? peak_current_a_ : CurrentA::zero();
-      e.load_at_peak_n = have_peak_ ? load_at_peak_n_ : WheelLoadN::zero();
-      e.peak_sinkage_valid = false;
-      e.peak_sinkage_m = SinkageM::zero();
-      if (have_peak_) {
-        const TorqueResult t = torque_from_current(table.motor, peak_current_a_, DriveDirection::forward);
-        const CorrectionResult c = corrections_at(table.correction, load_at_peak_n_);
-        fx::Status st;
-        const DrawbarPullN dp_max(fx::mul<LoadQ>(c.dp_max_ratio.q(), load_at_peak_n_.q(), st));
-        if ((t.status == EstimateStatus::ok) && (c.status == EstimateStatus::ok) && st.ok()) {
-          const SinkageResult z =
-              sinkage_from_pull(c.coefficients, table.wheel_radius_m, load_at_peak_n_, t.torque_nm, dp_max);
-          if (z.status == EstimateStatus::ok) {
-            e.peak_sinkage_valid = true;
-            e.peak_sinkage_m = z.sinkage_m;
-          }
-        }
-      }
-      e.max_estimate_valid = have_max_estimate_;
-      e.max_estimated_sinkage_m = have_max_estimate_ ? max_estimate_m_ : SinkageM::zero();
-      event_ = e;
-      has_event_ = true;
-    } else if ((state_ == WheelState::nominal) && (count_bits(caution_history_, mp.window_m) >= mp.trip_n)) {
-      state_ = WheelState::caution;
-      // Leaving CAUTION needs clear_n clear samples seen from here on.
-      clear_history_ = 0U;
-    } else if ((state_ == WheelState::caution) && (count_bits(clear_history_, mp.window_m) >= mp.clear_n)) {
-      state_ = WheelState::nominal;
-      caution_history_ = 0U;
-      have_peak_ = false;
-      have_max_estimate_ = false;
-    } else {
-      // no transition
-    }
-  }
+  transition(e.current_stop, now, table, corr_divisors, out);
   out.state = state_;
   out.stop_reason = stop_reason_;
   return out;
+}
+
+WheelOutput WheelMonitor::step(const WheelInput& input, TimeMs now, const ParameterTable& table) noexcept {
+  return step_with(input, now, table, nullptr, nullptr);
+}
+
+WheelOutput WheelMonitor::step(const WheelInput& input, TimeMs now, const PreparedParameters& prepared) noexcept {
+  if (!prepared.table_valid()) {
+    // No thresholds: the sample is unusable, which the zeroed limits turn
+    // into STOP (fail-safe). RoverStep never gets here.
+    WheelInput blind = input;
+    blind.valid = false;
+    return step_with(blind, now, prepared.table(), nullptr, nullptr);
+  }
+  return step_with(input, now, prepared.table(), &prepared.correction_divisors(), &prepared.motor_divisors());
 }
 
 RoverMonitor::RoverMonitor() noexcept
     : wheels_{WheelMonitor(0U), WheelMonitor(1U), WheelMonitor(2U), WheelMonitor(3U), WheelMonitor(4U),
               WheelMonitor(5U)} {}
 
-RoverOutput RoverMonitor::step(const WheelInput (&inputs)[kMaxWheels], TimeMs now,
-                               const ParameterTable& table) noexcept {
+template <typename Params>
+RoverOutput RoverMonitor::step_all(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const ParameterTable& table,
+                                   const Params& params) noexcept {
   RoverOutput out{};
   const std::uint8_t n = (table.monitor.wheel_count > kMaxWheels) ? kMaxWheels : table.monitor.wheel_count;
   for (std::uint8_t i = 0U; i < n; ++i) {
-    out.wheels[i] = wheels_[i].step(inputs[i], now, table);
+    out.wheels[i] = wheels_[i].step(inputs[i], now, params);
     if (out.wheels[i].state == WheelState::stop) {
       ++out.wheels_in_stop;
     } else if (out.wheels[i].state == WheelState::caution) {
@@ -261,6 +313,21 @@ RoverOutput RoverMonitor::step(const WheelInput (&inputs)[kMaxWheels], TimeMs no
   const std::uint8_t k = (table.monitor.rover_stop_k == 0U) ? 1U : table.monitor.rover_stop_k;
   out.decision = (out.wheels_in_stop >= k) ? RoverDecision::stop_and_replan : RoverDecision::continue_drive;
   return out;
+}
+
+RoverOutput RoverMonitor::step(const WheelInput (&inputs)[kMaxWheels], TimeMs now,
+                               const ParameterTable& table) noexcept {
+  return step_all(inputs, now, table, table);
+}
+
+RoverOutput RoverMonitor::step(const WheelInput (&inputs)[kMaxWheels], TimeMs now,
+                               const PreparedParameters& prepared) noexcept {
+  if (!prepared.table_valid()) {
+    RoverOutput out{};
+    out.decision = RoverDecision::stop_and_replan;  // no thresholds: fail-safe
+    return out;
+  }
+  return step_all(inputs, now, prepared.table(), prepared);
 }
 
 void RoverMonitor::clear_stop() noexcept {

@@ -11,6 +11,8 @@ PrepareStatus prepare(const ParameterTable& table, const RoverParams& rover, Pre
   }
   out.table_ = table;
   out.rover_ = rover;
+  out.correction_divisors_ = make_correction_divisors(table.correction);
+  out.motor_divisors_ = make_motor_divisors(table.motor);
   if (validate_rover_params(rover) != RoverParamStatus::ok) {
     out.status_ = PrepareStatus::invalid_rover_params;
   } else if (rover.wheel_radius_m != table.wheel_radius_m) {

@@ -82,7 +82,7 @@ RoverStepStatus drawbar_stage(const PreparedParameters& prepared, const RoverTel
   WheelLoadResult loads{};
   loads.status = WheelLoadStatus::ok;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    corr[i] = corrections_at(prepared.table().correction, out.load_n[i]);
+    corr[i] = corrections_at(prepared.table().correction, prepared.correction_divisors(), out.load_n[i]);
     if (corr[i].status != EstimateStatus::ok) {
       out.drawbar_status = DrawbarStatus::invalid_input;
       return RoverStepStatus::drawbar_failed;
@@ -231,7 +231,7 @@ RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const Prepa
     inputs[i].drawbar_pull_n = usable_sample ? out.drawbar_pull_n[i] : DrawbarPullN::zero();
     inputs[i].corrections = usable_sample ? &corr[i] : nullptr;
   }
-  out.monitor = monitor_.step(inputs, now, table);
+  out.monitor = monitor_.step(inputs, now, prepared);
   out.decision = out.monitor.decision;
   if (out.status == RoverStepStatus::tip_over) {
     out.decision = RoverDecision::stop_and_replan;

@@ -16,6 +16,7 @@
 
 #include <cstdint>
 
+#include "sinkwatch/flight/constant_divisor.hpp"
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/units.hpp"
 
@@ -55,6 +56,21 @@ struct CorrectionResult {
 /// C1..C3 and DP_max/W at the load `load_n`. A table that passed
 /// validate() never gives a status other than ok or invalid_load.
 [[nodiscard]] CorrectionResult corrections_at(const CorrectionTable& table, WheelLoadN load_n) noexcept;
+
+/// The segment widths W_k+1 - W_k of a table as prepared divisors
+/// (constant_divisor.hpp): the interpolation fraction without a division.
+struct CorrectionDivisors {
+  ConstantDivisor<LoadQ> width[kMaxCorrectionRows];  ///< [k]: rows k..k+1; unused entries divide by fx::div
+};
+
+/// Once per table load. Widths that are not positive (a table validate()
+/// refuses) keep reciprocal 0, so corrections_at below stays correct.
+[[nodiscard]] CorrectionDivisors make_correction_divisors(const CorrectionTable& table) noexcept;
+
+/// corrections_at(table, load_n), bit for bit, with the fraction's division
+/// by the segment width done through `divisors` (made from this table).
+[[nodiscard]] CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDivisors& divisors,
+                                              WheelLoadN load_n) noexcept;
 
 }  // namespace flight
 }  // namespace sinkwatch

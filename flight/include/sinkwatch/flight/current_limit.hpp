@@ -57,6 +57,12 @@ struct CurrentLimitResult {
                                                LengthM radius_m, WheelLoadN load_n,
                                                SinkageM allowed_sinkage_m) noexcept;
 
+/// The same, bit for bit, with the motor's divisions through the divisors
+/// prepared once per load (motor.hpp, make_motor_divisors(motor)).
+[[nodiscard]] CurrentLimitResult current_limit(const CorrectionResult& corrections, const MotorParams& motor,
+                                               const MotorDivisors& divisors, LengthM radius_m,
+                                               WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept;
+
 }  // namespace flight
 }  // namespace sinkwatch
 

@@ -32,7 +32,9 @@
 #include <cstdint>
 
 #include "sinkwatch/flight/correction.hpp"
+#include "sinkwatch/flight/motor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/prepared_params.hpp"
 #include "sinkwatch/flight/units.hpp"
 
 namespace sinkwatch {
@@ -110,6 +112,12 @@ class WheelMonitor {
   /// One cycle. `now` is the monitor's clock, used for staleness.
   WheelOutput step(const WheelInput& input, TimeMs now, const ParameterTable& table) noexcept;
 
+  /// The same, bit for bit, on parameters prepared once per load
+  /// (prepared_params.hpp): the corrections' and the motor model's divisions
+  /// by table constants go through their prepared reciprocals. Parameters
+  /// without a valid table make the sample unusable (fail-safe).
+  WheelOutput step(const WheelInput& input, TimeMs now, const PreparedParameters& prepared) noexcept;
+
   /// Back to NOMINAL with empty histories and peaks (counters are kept).
   void clear_stop() noexcept;
 
@@ -119,26 +127,37 @@ class WheelMonitor {
   [[nodiscard]] const WheelCounters& counters() const noexcept { return counters_; }
 
  private:
+  /// The divisors are null for plain fx::div.
+  WheelOutput step_with(const WheelInput& input, TimeMs now, const ParameterTable& table,
+                        const CorrectionDivisors* corr_divisors, const MotorDivisors* motor_divisors) noexcept;
   void count(SampleStatus status) noexcept;
   void push_history(bool caution, bool stop, bool clear) noexcept;
+  /// The episode's peak current (and its load) and largest estimate.
+  void track_episode(CurrentA directed, WheelLoadN load_n, SinkageM sinkage_m) noexcept;
+  /// Stage 4: NOMINAL -> CAUTION -> STOP and back (STOP latched).
+  void transition(bool current_stop, TimeMs now, const ParameterTable& table,
+                  const CorrectionDivisors* corr_divisors, WheelOutput& out) noexcept;
+  /// The record written on entering STOP.
+  [[nodiscard]] EventRecord stop_event(TimeMs now, StopReason reason, const ParameterTable& table,
+                                       const CorrectionDivisors* corr_divisors) const noexcept;
 
-  std::uint8_t wheel_;
-  WheelState state_;
-  StopReason stop_reason_;
-  std::uint16_t caution_history_;  ///< bit 0 is the newest sample
-  std::uint16_t stop_history_;
-  std::uint16_t clear_history_;
-  std::uint8_t consecutive_unusable_;
-  bool have_last_time_;
-  TimeMs last_time_;
-  bool have_peak_;
-  CurrentA peak_current_a_;
-  WheelLoadN load_at_peak_n_;
-  bool have_max_estimate_;
-  SinkageM max_estimate_m_;
-  bool has_event_;
-  EventRecord event_;
-  WheelCounters counters_;
+  std::uint8_t wheel_{0U};
+  WheelState state_{WheelState::nominal};
+  StopReason stop_reason_{StopReason::none};
+  std::uint16_t caution_history_{0U};  ///< bit 0 is the newest sample
+  std::uint16_t stop_history_{0U};
+  std::uint16_t clear_history_{0U};
+  std::uint8_t consecutive_unusable_{0U};
+  bool have_last_time_{false};
+  TimeMs last_time_{0U};
+  bool have_peak_{false};
+  CurrentA peak_current_a_{};
+  WheelLoadN load_at_peak_n_{};
+  bool have_max_estimate_{false};
+  SinkageM max_estimate_m_{};
+  bool has_event_{false};
+  EventRecord event_{};
+  WheelCounters counters_{};
 };
 
 enum class RoverDecision : std::uint8_t { continue_drive = 0U, stop_and_replan = 1U };
@@ -159,12 +178,21 @@ class RoverMonitor {
   /// STOP.
   RoverOutput step(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const ParameterTable& table) noexcept;
 
+  /// The same on prepared parameters (WheelMonitor::step); without a valid
+  /// table the decision is stop_and_replan and no wheel is stepped.
+  RoverOutput step(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const PreparedParameters& prepared) noexcept;
+
   /// The ground's acknowledgement after a re-plan: every wheel back to NOMINAL.
   void clear_stop() noexcept;
 
   [[nodiscard]] const WheelMonitor& wheel(std::uint8_t index) const noexcept;
 
  private:
+  /// Every monitored wheel on `params` (the table itself or prepared ones).
+  template <typename Params>
+  RoverOutput step_all(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const ParameterTable& table,
+                       const Params& params) noexcept;
+
   WheelMonitor wheels_[kMaxWheels];
 };
 

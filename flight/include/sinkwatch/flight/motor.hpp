@@ -18,6 +18,7 @@
 #ifndef SINKWATCH_FLIGHT_MOTOR_HPP
 #define SINKWATCH_FLIGHT_MOTOR_HPP
 
+#include "sinkwatch/flight/constant_divisor.hpp"
 #include "sinkwatch/flight/units.hpp"
 
 namespace sinkwatch {
@@ -53,6 +54,21 @@ struct CurrentResult {
 /// only when the result leaves Q11.20).
 [[nodiscard]] CurrentResult current_from_torque(const MotorParams& motor, TorqueNm torque_nm,
                                                 DriveDirection direction) noexcept;
+
+/// N, eta and Kt as prepared divisors (constant_divisor.hpp), made once per
+/// parameter load: current_from_torque without a division.
+struct MotorDivisors {
+  ConstantDivisor<GearQ> gear_ratio;
+  ConstantDivisor<EfficiencyQ> efficiency;
+  ConstantDivisor<KtQ> kt;
+};
+
+[[nodiscard]] MotorDivisors make_motor_divisors(const MotorParams& motor) noexcept;
+
+/// current_from_torque(motor, torque_nm, direction), bit for bit, with the
+/// divisions by N, eta and Kt done through `divisors` (made from `motor`).
+[[nodiscard]] CurrentResult current_from_torque(const MotorParams& motor, const MotorDivisors& divisors,
+                                                TorqueNm torque_nm, DriveDirection direction) noexcept;
 
 /// ok when the motor parameters are usable (N, eta, Kt > 0, eta <= 1,
 /// 0 <= I0 < current_abs_max).

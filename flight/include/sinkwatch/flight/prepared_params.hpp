@@ -6,7 +6,9 @@
 // (the wheel-load statics and the drawbar-pull balance of section 7). Both
 // change only when the ground uploads a new table, so validate(table),
 // validate_rover_params() and the wheel-radius consistency check run here,
-// when the parameters are loaded, and the step only reads the outcome.
+// when the parameters are loaded, and the step only reads the outcome. So are
+// the reciprocals of the table constants the step divides by (Table 2's
+// breakpoint spacing, the motor's N, eta and Kt: constant_divisor.hpp).
 //
 // A PreparedParameters is built only by prepare(); a default-constructed one
 // holds no table and makes the step refuse every cycle (invalid_table, stop),
@@ -18,6 +20,8 @@
 
 #include <cstdint>
 
+#include "sinkwatch/flight/correction.hpp"
+#include "sinkwatch/flight/motor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 
@@ -46,6 +50,12 @@ class PreparedParameters {
   [[nodiscard]] constexpr const ParameterTable& table() const noexcept { return table_; }
   /// The rover parameters; validated only when ready().
   [[nodiscard]] constexpr const RoverParams& rover() const noexcept { return rover_; }
+  /// Table 2's segment widths and the motor's N, eta, Kt as reciprocals
+  /// (constant_divisor.hpp), for divisions without a division instruction.
+  [[nodiscard]] constexpr const CorrectionDivisors& correction_divisors() const noexcept {
+    return correction_divisors_;
+  }
+  [[nodiscard]] constexpr const MotorDivisors& motor_divisors() const noexcept { return motor_divisors_; }
 
  private:
   friend PrepareStatus prepare(const ParameterTable& table, const RoverParams& rover,
@@ -54,6 +64,8 @@ class PreparedParameters {
   PrepareStatus status_{PrepareStatus::invalid_table};
   ParameterTable table_{};
   RoverParams rover_{};
+  CorrectionDivisors correction_divisors_{};
+  MotorDivisors motor_divisors_{};
 };
 
 /// Checks the table and the rover parameters and copies them into `out`
