@@ -284,17 +284,26 @@ template <typename Out, typename S, std::int32_t F>
 }
 
 namespace detail {
+// One product per wide type, as a specialised class template (MISRA
+// C++:2023 17.8.1: no explicit specialisation of a function template).
+template <typename W>
+struct WideProduct;
+template <>
+struct WideProduct<std::uint64_t> {
+  static constexpr std::uint64_t of(std::uint64_t a, std::uint64_t b) noexcept {
+    // Only used when both operands come from int32_t storage: each <= 2^31.
+    return wide::mul_full(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
+  }
+};
+template <>
+struct WideProduct<wide::U128> {
+  static constexpr wide::U128 of(std::uint64_t a, std::uint64_t b) noexcept { return wide::mul_full(a, b); }
+};
+
 /// Exact product of two magnitudes in the wide type W.
 template <typename W>
-constexpr W wide_product(std::uint64_t a, std::uint64_t b) noexcept;
-template <>
-constexpr std::uint64_t wide_product<std::uint64_t>(std::uint64_t a, std::uint64_t b) noexcept {
-  // Only used when both operands come from int32_t storage: each <= 2^31.
-  return wide::mul_full(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
-}
-template <>
-constexpr wide::U128 wide_product<wide::U128>(std::uint64_t a, std::uint64_t b) noexcept {
-  return wide::mul_full(a, b);
+constexpr W wide_product(std::uint64_t a, std::uint64_t b) noexcept {
+  return WideProduct<W>::of(a, b);
 }
 }  // namespace detail
 

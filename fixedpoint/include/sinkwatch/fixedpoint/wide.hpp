@@ -199,13 +199,26 @@ constexpr DivMod<U128> divmod(const U128& num, const U128& den) noexcept {
   return DivMod<U128>{quotient, remainder};
 }
 
+namespace detail {
+// One conversion per wide type, as a specialised class template: MISRA
+// C++:2023 17.8.1 forbids explicit specialisations of function templates.
+template <typename W>
+struct FromU64;
+template <>
+struct FromU64<std::uint64_t> {
+  static constexpr std::uint64_t of(std::uint64_t value) noexcept { return value; }
+};
+template <>
+struct FromU64<U128> {
+  static constexpr U128 of(std::uint64_t value) noexcept { return make_u128(value); }
+};
+}  // namespace detail
+
 /// Converts a uint64_t into the wide type W.
 template <typename W>
-constexpr W from_u64(std::uint64_t value) noexcept;
-template <>
-constexpr std::uint64_t from_u64<std::uint64_t>(std::uint64_t value) noexcept { return value; }
-template <>
-constexpr U128 from_u64<U128>(std::uint64_t value) noexcept { return make_u128(value); }
+constexpr W from_u64(std::uint64_t value) noexcept {
+  return detail::FromU64<W>::of(value);
+}
 
 /// Low 64 bits of a wide value (the caller has checked that it fits).
 constexpr std::uint64_t low_u64(std::uint64_t a) noexcept { return a; }
