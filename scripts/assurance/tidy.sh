@@ -33,13 +33,13 @@ tidy=$(command -v clang-tidy-14 || command -v clang-tidy)
 printf '%s\n' $sources | xargs -P 2 -I{} sh -c \
   '"$0" -p "$1" --quiet "{}" > "$2/$(echo "{}" | tr / _).log" 2>/dev/null || true' "$tidy" "$build" "$out"
 # A header finding is reported by every file that includes it: keep it once.
-cat "$out"/*.log | grep -E '^/.*:[0-9]+:[0-9]+: (warning|error): .*\[[a-z0-9.,-]+\]$' |
+cat "$out"/*.log | grep -E '^/.*:[0-9]+:[0-9]+: (warning|error): .*\[[A-Za-z0-9._,-]+\]$' |
   sed "s|^$(pwd)/||" | sort -u > "$out/tidy.txt" || true
 tidy_n=$(wc -l < "$out/tidy.txt")
 echo "---- clang-tidy findings"
 cat "$out/tidy.txt"
 echo "---- clang-tidy findings per check"
-sed -E 's/.*\[([a-z0-9.,-]+)\]$/\1/' "$out/tidy.txt" | tr ',' '\n' | grep -v '^-warnings-as-errors' |
+sed -E 's/.*\[([A-Za-z0-9._,-]+)\]$/\1/' "$out/tidy.txt" | tr ',' '\n' | grep -v '^-warnings-as-errors' |
   sort | uniq -c | sort -rn || true
 
 echo "---- cppcheck"
