@@ -67,7 +67,7 @@ Q15_16 check_mixed(Q1_30 a, Q31_32 b, QInt32 c, Status& s) {
 
 constexpr Q15_16 k_c3 = constant<Q15_16>(0.13);
 constexpr Q31_32 k_big = constant<Q31_32>(-12345.678);
-Q15_16 check_constants() { return (k_big < Q31_32::zero()) ? k_c3 : Q15_16::zero(); }
+Q31_32 check_constants(Status& s) { return add(k_big, rescale<Q31_32>(k_c3, s), s); }
 
 }  // namespace check
 }  // namespace fx

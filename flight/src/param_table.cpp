@@ -42,7 +42,7 @@ constexpr std::uint8_t kMaxEscapeCycles = 100U;
 // ---- little-endian byte writer and reader --------------------------------
 // Both index the caller's buffer only through the bounded views of
 // byte_view.hpp; a write past the capacity sets full(), a read past the end
-// reads 0 and sets exhausted().
+// reads 0 (the decoder checks every length against the bytes left first).
 
 class Writer {
  public:
@@ -80,7 +80,6 @@ class Reader {
   Reader(const std::uint8_t* in, std::size_t size, std::size_t start = 0U) noexcept : in_(in, size), pos_(start) {}
   std::uint8_t u8() noexcept {
     if (pos_ >= in_.size()) {
-      short_ = true;
       return 0U;
     }
     const std::uint8_t v = in_.at(pos_);
@@ -108,12 +107,10 @@ class Reader {
     return static_cast<std::int32_t>(-static_cast<std::int64_t>(~u) - 1);
   }
   [[nodiscard]] std::size_t pos() const noexcept { return pos_; }
-  [[nodiscard]] bool exhausted() const noexcept { return short_; }
 
  private:
   ByteView in_;
   std::size_t pos_;
-  bool short_{false};
 };
 
 template <typename Quantity>
