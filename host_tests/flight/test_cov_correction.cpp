@@ -51,6 +51,43 @@ TEST(CorrectionsAt, SameBreakpointsWithinTheFormatInterpolate) {
   EXPECT_NEAR(d(r.coefficients.c3), 0.2 + (0.1 - 0.2) * fraction, 1e-7);  // Q7.24 LSB: 6e-8
 }
 
+// Prepared divisors (make_correction_divisors) of tables validate() refuses:
+// a segment whose width overflows, one that does not increase, a row count
+// past the array. Those segments keep no reciprocal, and the prepared
+// corrections_at must give exactly the plain answer at every load.
+TEST(CorrectionsAtPrepared, MalformedTablesGiveThePlainAnswerAtEveryLoad) {
+  CorrectionTable overflowing{};
+  overflowing.count = 3U;
+  overflowing.rows[0] = row(-30000.0, 0.2);
+  overflowing.rows[1] = row(30000.0, 0.1);
+  overflowing.rows[2] = row(30500.0, 0.05);
+  CorrectionTable falling{};
+  falling.count = 3U;
+  falling.rows[0] = row(50.0, 0.2);
+  falling.rows[1] = row(40.0, 0.15);
+  falling.rows[2] = row(200.0, 0.1);
+  CorrectionTable too_many = default_parameter_table().correction;
+  too_many.count = kMaxCorrectionRows + 3U;
+  for (const CorrectionTable* t : {&overflowing, &falling, &too_many}) {
+    const CorrectionDivisors divisors = make_correction_divisors(*t);
+    for (const double load : {0.5, 30.0, 45.0, 100.0, 150.0, 30200.0, 31000.0}) {
+      const CorrectionResult plain = corrections_at(*t, q<WheelLoadN>(load));
+      const CorrectionResult prepared = corrections_at(*t, divisors, q<WheelLoadN>(load));
+      EXPECT_EQ(prepared.status, plain.status) << load;
+      EXPECT_EQ(prepared.clamp, plain.clamp) << load;
+      EXPECT_EQ(prepared.coefficients.c3, plain.coefficients.c3) << load;
+      EXPECT_EQ(prepared.dp_max_ratio, plain.dp_max_ratio) << load;
+    }
+  }
+  // The overflowing and the falling segments have no reciprocal; the good ones do.
+  EXPECT_EQ(make_correction_divisors(overflowing).width[0].reciprocal, 0U);
+  EXPECT_NE(make_correction_divisors(overflowing).width[1].reciprocal, 0U);
+  EXPECT_EQ(make_correction_divisors(falling).width[0].reciprocal, 0U);
+  EXPECT_NE(make_correction_divisors(falling).width[1].reciprocal, 0U);
+  // The interpolation in the falling table's good segment is a number.
+  EXPECT_EQ(corrections_at(falling, make_correction_divisors(falling), q<WheelLoadN>(100.0)).status, EstimateStatus::ok);
+}
+
 TEST(EstimatorInputs, C2AboveItsRangeIsAnInvalidCoefficient) {
   const Coefficients c{q<Ratio>(1.0), q<Ratio>(4.5), q<Ratio>(0.1)};
   EXPECT_EQ(check_estimator_inputs(c, q<LengthM>(0.15), q<WheelLoadN>(50.0)), EstimateStatus::invalid_coefficient);
