@@ -77,11 +77,10 @@ CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDi
 
 CorrectionDivisors make_correction_divisors(const CorrectionTable& table) noexcept {
   CorrectionDivisors d{};
-  const std::uint8_t count = (table.count > kMaxCorrectionRows) ? kMaxCorrectionRows : table.count;
-  for (std::uint8_t i = 0U; (i + 1U) < count; ++i) {
+  for (std::uint8_t i = 0U; (i + 1U) < kMaxCorrectionRows; ++i) {
     fx::Status st;
     const LoadQ width = fx::sub(table.rows[i + 1U].load_n.q(), table.rows[i].load_n.q(), st);
-    if (st.ok() && (width.raw() > 0)) {
+    if (((i + 1U) < table.count) && st.ok() && (width.raw() > 0)) {
       d.width[i] = make_divisor(width);
     }
   }

@@ -299,15 +299,18 @@ template <typename Params>
 RoverOutput RoverMonitor::step_all(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const ParameterTable& table,
                                    const Params& params) noexcept {
   RoverOutput out{};
-  const std::uint8_t n = (table.monitor.wheel_count > kMaxWheels) ? kMaxWheels : table.monitor.wheel_count;
-  for (std::uint8_t i = 0U; i < n; ++i) {
-    out.wheels[i] = wheels_[i].step(inputs[i], now, params);
-    if (out.wheels[i].state == WheelState::stop) {
+  // Wheels beyond wheel_count are not monitored: their outputs stay default.
+  for (std::uint8_t i = 0U; i < kMaxWheels; ++i) {
+    const bool monitored = i < table.monitor.wheel_count;
+    if (monitored) {
+      out.wheels[i] = wheels_[i].step(inputs[i], now, params);
+    }
+    if (monitored && (out.wheels[i].state == WheelState::stop)) {
       ++out.wheels_in_stop;
-    } else if (out.wheels[i].state == WheelState::caution) {
+    } else if (monitored && (out.wheels[i].state == WheelState::caution)) {
       ++out.wheels_in_caution;
     } else {
-      // nominal
+      // nominal, or not monitored
     }
   }
   const std::uint8_t k = (table.monitor.rover_stop_k == 0U) ? 1U : table.monitor.rover_stop_k;

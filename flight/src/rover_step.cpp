@@ -104,8 +104,7 @@ RoverStepStatus drawbar_stage(const PreparedParameters& prepared, const RoverTel
 
 }  // namespace
 
-RoverStep::RoverStep() noexcept
-    : have_time_(false), last_time_{0U}, have_speed_(false), last_speed_time_{0U} {}
+RoverStep::RoverStep() noexcept = default;
 
 void RoverStep::clear_stop() noexcept { monitor_.clear_stop(); }
 
@@ -163,62 +162,47 @@ RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const Param
   return step(t, now, prepared);
 }
 
-RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared) noexcept {
-  RoverStepOutput out{};
-  out.status = RoverStepStatus::ok;
-  out.load_status = WheelLoadStatus::invalid_params;
-  out.drawbar_status = DrawbarStatus::invalid_loads;
-  out.lifting_wheel = kWheelCount;
-  out.decision = RoverDecision::continue_drive;
-
-  // Without a valid table the monitor has no thresholds: stop, fail-safe.
-  if (!prepared.table_valid()) {
-    out.status = RoverStepStatus::invalid_table;
-    out.decision = RoverDecision::stop_and_replan;
-    return out;
+RoverStepStatus RoverStep::admit(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared) noexcept {
+  // The telemetry itself, by the monitor's own rules, then the parameters
+  // (checked by prepare(), reported only for a fresh sample).
+  const RoverStepStatus status = classify(t, now, prepared.table());
+  if (status != RoverStepStatus::ok) {
+    return status;
   }
-
-  const ParameterTable& table = prepared.table();
-
-  // 1. The telemetry itself, by the monitor's own rules, and the parameters
-  //    (checked by prepare(), reported only for a fresh sample).
-  out.status = classify(t, now, table);
-  const bool fresh = (out.status == RoverStepStatus::ok);
-  if (fresh && (prepared.status() == PrepareStatus::invalid_rover_params)) {
-    out.status = RoverStepStatus::invalid_rover_params;
-  } else if (fresh && (prepared.status() == PrepareStatus::radius_mismatch)) {
-    out.status = RoverStepStatus::radius_mismatch;
-  } else {
-    // fresh and consistent, or already refused by classify()
+  if (prepared.status() == PrepareStatus::invalid_rover_params) {
+    return RoverStepStatus::invalid_rover_params;
   }
-  const bool computable = (out.status == RoverStepStatus::ok);
+  if (prepared.status() == PrepareStatus::radius_mismatch) {
+    return RoverStepStatus::radius_mismatch;
+  }
+  return RoverStepStatus::ok;
+}
 
+RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParameters& prepared,
+                                   CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept {
   // 2. Wheel loads.
-  if (computable) {
-    out.status = load_stage(prepared, t, out);
-  }
+  RoverStepStatus status = load_stage(prepared, t, out);
   // 3. Motion. Kept up to date even when the loads failed, so that the speed
   //    difference is ready on the next good cycle.
-  if (computable) {
-    if (!motion_in_range(t)) {
-      if (out.status == RoverStepStatus::ok) {
-        out.status = RoverStepStatus::motion_out_of_range;
-      }
-    } else {
-      motion(t, table, out);
-      if ((out.status == RoverStepStatus::ok) && !out.accel_valid) {
-        out.status = RoverStepStatus::no_acceleration;
-      }
-    }
+  if (!motion_in_range(t)) {
+    return (status == RoverStepStatus::ok) ? RoverStepStatus::motion_out_of_range : status;
   }
-  // 4. Drawbar pulls.
-  CorrectionResult corr[kWheelCount]{};
-  if (out.status == RoverStepStatus::ok) {
-    out.status = drawbar_stage(prepared, t, corr, out);
+  motion(t, prepared.table(), out);
+  if (status != RoverStepStatus::ok) {
+    return status;
   }
+  if (!out.accel_valid) {
+    return RoverStepStatus::no_acceleration;
+  }
+  // 4. DP_max/W and the drawbar pulls.
+  status = drawbar_stage(prepared, t, corr, out);
+  return status;
+}
 
-  // 5. The monitor sees every cycle: numbers when they all exist, else an
-  //    invalid sample it counts (and a stale one it classifies itself).
+void RoverStep::monitor_stage(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared,
+                              const CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept {
+  // The monitor sees every cycle: numbers when they all exist, else an
+  // invalid sample it counts (and a stale one it classifies itself).
   const bool usable_sample = (out.status == RoverStepStatus::ok);
   const bool pass_as_stale = (out.status == RoverStepStatus::telemetry_stale);
   WheelInput inputs[kMaxWheels]{};
@@ -236,6 +220,27 @@ RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const Prepa
   if (out.status == RoverStepStatus::tip_over) {
     out.decision = RoverDecision::stop_and_replan;
   }
+}
+
+RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared) noexcept {
+  // The defaults: no loads, no pulls, status ok until a stage refuses.
+  RoverStepOutput out{};
+  out.decision = RoverDecision::continue_drive;
+
+  // Without a valid table the monitor has no thresholds: stop, fail-safe.
+  if (!prepared.table_valid()) {
+    out.status = RoverStepStatus::invalid_table;
+    out.decision = RoverDecision::stop_and_replan;
+    return out;
+  }
+  // 1. Telemetry and parameters; 2..4. loads, motion, drawbar pulls.
+  out.status = admit(t, now, prepared);
+  CorrectionResult corr[kWheelCount]{};
+  if (out.status == RoverStepStatus::ok) {
+    out.status = compute(t, prepared, corr, out);
+  }
+  // 5. The monitor.
+  monitor_stage(t, now, prepared, corr, out);
   return out;
 }
 

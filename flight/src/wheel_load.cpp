@@ -132,9 +132,16 @@ struct Links {
   Point down;  ///< one wheel radius down the body z axis
 };
 
-/// One side's contacts and projected levers; false when a lever collapsed.
-bool side_levers(const Links& l, AngleRad rocker_rad, AngleRad bogie_rad, W y_side, W kx, W ky, SideLevers& out,
-                 fx::Status& st) noexcept {
+/// One side's wheel contacts and the bogie pivot, in the body frame.
+struct SideContacts {
+  Point pivot_b;
+  Point front;
+  Point middle;
+  Point rear;
+};
+
+/// The contacts one radius below the axles along the body z axis (section 2).
+SideContacts side_contacts(const Links& l, AngleRad rocker_rad, AngleRad bogie_rad, fx::Status& st) noexcept {
   const fx::Q3_28 rocker = rocker_rad.q();
   // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
   const fx::Q3_28 bogie_abs = fx::add(rocker, bogie_rad.q(), st);
@@ -142,16 +149,31 @@ bool side_levers(const Links& l, AngleRad rocker_rad, AngleRad bogie_rad, W y_si
   const W sr = wide(fx::sin(rocker, st), st);
   const W cb = wide(fx::cos(bogie_abs, st), st);
   const W sb = wide(fx::sin(bogie_abs, st), st);
-  // Contacts one radius below the axles along the body z axis (section 2).
-  const Point pivot_b = rotate(l.rocker_bogie, cr, sr, st);
-  const Point front = plus(rotate(l.rocker_front, cr, sr, st), l.down, st);
-  const Point middle = plus(plus(pivot_b, rotate(l.bogie_middle, cb, sb, st), st), l.down, st);
-  const Point rear = plus(plus(pivot_b, rotate(l.bogie_rear, cb, sb, st), st), l.down, st);
+  SideContacts c{};
+  c.pivot_b = rotate(l.rocker_bogie, cr, sr, st);
+  c.front = plus(rotate(l.rocker_front, cr, sr, st), l.down, st);
+  c.middle = plus(plus(c.pivot_b, rotate(l.bogie_middle, cb, sb, st), st), l.down, st);
+  c.rear = plus(plus(c.pivot_b, rotate(l.bogie_rear, cb, sb, st), st), l.down, st);
+  return c;
+}
 
-  const W xt_f = project(front.x, front.z, kx, st);
-  const W xt_m = project(middle.x, middle.z, kx, st);
-  const W xt_r = project(rear.x, rear.z, kx, st);
-  const W xt_b = project(pivot_b.x, pivot_b.z, kx, st);
+/// Gravity's direction in the body frame (section 3.2).
+struct GravityFrame {
+  W normal_fraction;  ///< cos(pitch) cos(roll)
+  W kx;               ///< tan(pitch) / cos(roll)
+  W ky;               ///< tan(roll)
+};
+
+/// One side's projected levers; false when a lever collapsed.
+bool side_levers(const Links& l, AngleRad rocker_rad, AngleRad bogie_rad, W y_side, const GravityFrame& g,
+                 SideLevers& out, fx::Status& st) noexcept {
+  const W kx = g.kx;
+  const W ky = g.ky;
+  const SideContacts c = side_contacts(l, rocker_rad, bogie_rad, st);
+  const W xt_f = project(c.front.x, c.front.z, kx, st);
+  const W xt_m = project(c.middle.x, c.middle.z, kx, st);
+  const W xt_r = project(c.rear.x, c.rear.z, kx, st);
+  const W xt_b = project(c.pivot_b.x, c.pivot_b.z, kx, st);
   out.a = xt_f;
   out.b = fx::neg(xt_b, st);
   const W span = fx::sub(xt_m, xt_r, st);
@@ -159,9 +181,9 @@ bool side_levers(const Links& l, AngleRad rocker_rad, AngleRad bogie_rad, W y_si
     return false;
   }
   out.beta = fx::div(fx::sub(xt_b, xt_r, st), span, st);
-  out.yt_front = project(y_side, front.z, ky, st);
-  const W yt_m = project(y_side, middle.z, ky, st);
-  const W yt_r = project(y_side, rear.z, ky, st);
+  out.yt_front = project(y_side, c.front.z, ky, st);
+  const W yt_m = project(y_side, c.middle.z, ky, st);
+  const W yt_r = project(y_side, c.rear.z, ky, st);
   // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
   out.yt_bogie = fx::add(yt_r, fx::mul(out.beta, fx::sub(yt_m, yt_r, st), st), st);
   return true;
@@ -181,44 +203,56 @@ WheelLoadStatus check_inputs(const RoverParams& params, const RoverAttitude& att
   return WheelLoadStatus::ok;
 }
 
-/// The loads for parameters that passed validate_rover_params().
-WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& attitude,
-                               const JointAnglesRad& joints) noexcept {
-  const WheelLoadStatus input_status = check_inputs(params, attitude, joints);
-  if (input_status != WheelLoadStatus::ok) {
-    return failed(input_status);
-  }
 
-  fx::Status st;
-  // Gravity direction in the body frame (section 3.2).
+GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexcept {
   const W sin_pitch = wide(fx::sin(attitude.pitch_rad.q(), st), st);
   const W cos_pitch = wide(fx::cos(attitude.pitch_rad.q(), st), st);
   const W sin_roll = wide(fx::sin(attitude.roll_rad.q(), st), st);
   const W cos_roll = wide(fx::cos(attitude.roll_rad.q(), st), st);
   // cos(pitch) cos(roll) >= cos^2(1.05 rad) > 0.24: the divisions are safe.
-  const W normal_fraction = fx::mul(cos_pitch, cos_roll, st);
-  const W kx = fx::div(sin_pitch, normal_fraction, st);
-  const W ky = fx::div(sin_roll, cos_roll, st);
+  GravityFrame g{};
+  g.normal_fraction = fx::mul(cos_pitch, cos_roll, st);
+  g.kx = fx::div(sin_pitch, g.normal_fraction, st);
+  g.ky = fx::div(sin_roll, cos_roll, st);
+  return g;
+}
 
-  const W weight_n = fx::mul<W>(params.mass_kg.q(), params.gravity_mps2.q(), st);
-  const W com_xt = project(wide(params.com_x_m, st), wide(params.com_z_m, st), kx, st);
-  const W com_yt = project(wide(params.com_y_m, st), wide(params.com_z_m, st), ky, st);
-  // Differential: equal pivot moments, which the pitch balance fixes (3.4).
-  const W pivot_moment = fx::mul(fx::mul(kHalf, weight_n, st), com_xt, st);
+/// The weight and where it acts.
+struct Body {
+  W weight_n;
+  W com_yt;        ///< projected lateral position of the centre of mass
+  W pivot_moment;  ///< each rocker pivot's moment, equal by the differential (3.4)
+};
 
+Body body_of(const RoverParams& params, const GravityFrame& g, fx::Status& st) noexcept {
+  Body b{};
+  b.weight_n = fx::mul<W>(params.mass_kg.q(), params.gravity_mps2.q(), st);
+  const W com_xt = project(wide(params.com_x_m, st), wide(params.com_z_m, st), g.kx, st);
+  b.com_yt = project(wide(params.com_y_m, st), wide(params.com_z_m, st), g.ky, st);
+  b.pivot_moment = fx::mul(fx::mul(kHalf, b.weight_n, st), com_xt, st);
+  return b;
+}
+
+/// Both sides' levers; false when one collapsed.
+bool both_sides(const RoverParams& params, const JointAnglesRad& joints, const GravityFrame& g,
+                SideLevers (&side)[kSideCount], fx::Status& st) noexcept {
   const W half_track = fx::mul(kHalf, wide(params.track_width_m, st), st);
   const Links links{wide(params.rocker_front_axle, st), wide(params.rocker_bogie_pivot, st),
                     wide(params.bogie_middle_axle, st), wide(params.bogie_rear_axle, st),
                     Point{W::zero(), fx::neg(wide(params.wheel_radius_m, st), st)}};
-  SideLevers side[kSideCount]{};
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
     const W y_side = (s == 0U) ? half_track : fx::neg(half_track, st);
-    if (!side_levers(links, joints.rocker_rad[s], joints.bogie_rad[s], y_side, kx, ky, side[s], st)) {
-      return failed(st.ok() ? WheelLoadStatus::degenerate : WheelLoadStatus::overflow);
+    if (!side_levers(links, joints.rocker_rad[s], joints.bogie_rad[s], y_side, g, side[s], st)) {
+      return false;
     }
   }
+  return true;
+}
 
-  // Roll balance (section 3.5).
+/// Roll balance (section 3.5), the rockers and the bogies: each wheel's
+/// support force along gravity. False when the lateral span collapsed.
+bool support_forces(const SideLevers (&side)[kSideCount], const Body& body, W (&support)[kWheelCount],
+                    fx::Status& st) noexcept {
   W big_y[kSideCount]{};
   W big_z[kSideCount]{};
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
@@ -229,29 +263,30 @@ WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& a
   }
   const W lateral_span = fx::sub(big_y[0], big_y[1], st);
   if (lateral_span < kMinLever) {
-    return failed(st.ok() ? WheelLoadStatus::degenerate : WheelLoadStatus::overflow);
+    return false;
   }
   W side_total[kSideCount]{};
-  const W roll_moment = fx::sub(fx::sub(fx::mul(weight_n, com_yt, st),
-                                        fx::mul(pivot_moment, fx::add(big_z[0], big_z[1], st), st), st),
-                                fx::mul(weight_n, big_y[1], st), st);
+  const W roll_moment = fx::sub(fx::sub(fx::mul(body.weight_n, body.com_yt, st),
+                                        fx::mul(body.pivot_moment, fx::add(big_z[0], big_z[1], st), st), st),
+                                fx::mul(body.weight_n, big_y[1], st), st);
   side_total[0] = fx::div(roll_moment, lateral_span, st);
-  side_total[1] = fx::sub(weight_n, side_total[0], st);
+  side_total[1] = fx::sub(body.weight_n, side_total[0], st);
 
-  W support[kWheelCount]{};
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
     const W lever = fx::add(side[s].a, side[s].b, st);
-    const W front = fx::div(fx::add(pivot_moment, fx::mul(side[s].b, side_total[s], st), st), lever, st);
+    const W front = fx::div(fx::add(body.pivot_moment, fx::mul(side[s].b, side_total[s], st), st), lever, st);
     const W bogie = fx::sub(side_total[s], front, st);
     const W middle = fx::mul(side[s].beta, bogie, st);
     support[(3U * s) + 0U] = front;
     support[(3U * s) + 1U] = middle;
     support[(3U * s) + 2U] = fx::sub(bogie, middle, st);
   }
-  if (!st.ok()) {
-    return failed(WheelLoadStatus::overflow);
-  }
+  return true;
+}
 
+/// The normal loads from the support forces: tip_over when one is negative.
+WheelLoadResult normal_loads(const W (&support)[kWheelCount], const Body& body, const GravityFrame& g,
+                             fx::Status& st) noexcept {
   std::uint32_t lowest = 0U;
   for (std::uint32_t i = 1U; i < kWheelCount; ++i) {
     if (support[i] < support[lowest]) {
@@ -263,18 +298,38 @@ WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& a
     r.lifting_wheel = lowest;
     return r;
   }
-
   WheelLoadResult r{};
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    r.load_n[i] = WheelLoadN{fx::rescale<LoadQ>(fx::mul(support[i], normal_fraction, st), st)};
+    r.load_n[i] = WheelLoadN{fx::rescale<LoadQ>(fx::mul(support[i], g.normal_fraction, st), st)};
   }
-  r.weight_normal_n = WheelLoadN{fx::rescale<LoadQ>(fx::mul(weight_n, normal_fraction, st), st)};
+  r.weight_normal_n = WheelLoadN{fx::rescale<LoadQ>(fx::mul(body.weight_n, g.normal_fraction, st), st)};
   if (!st.ok()) {
     return failed(WheelLoadStatus::overflow);
   }
   r.lifting_wheel = kWheelCount;
   r.status = WheelLoadStatus::ok;
   return r;
+}
+
+/// The loads for parameters that passed validate_rover_params().
+WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& attitude,
+                               const JointAnglesRad& joints) noexcept {
+  const WheelLoadStatus input_status = check_inputs(params, attitude, joints);
+  if (input_status != WheelLoadStatus::ok) {
+    return failed(input_status);
+  }
+  fx::Status st;
+  const GravityFrame g = gravity_frame(attitude, st);
+  const Body body = body_of(params, g, st);
+  SideLevers side[kSideCount]{};
+  W support[kWheelCount]{};
+  if (!both_sides(params, joints, g, side, st) || !support_forces(side, body, support, st)) {
+    return failed(st.ok() ? WheelLoadStatus::degenerate : WheelLoadStatus::overflow);
+  }
+  if (!st.ok()) {
+    return failed(WheelLoadStatus::overflow);
+  }
+  return normal_loads(support, body, g, st);
 }
 
 }  // namespace

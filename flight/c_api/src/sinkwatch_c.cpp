@@ -40,7 +40,7 @@ using sinkwatch::flight::TimeMs;
 constexpr std::uint32_t kContextMagic = 0x53574358U;  // "SWCX"
 
 struct Context {
-  std::uint32_t magic;
+  std::uint32_t magic{0U};
   ParameterStore store;
   RoverParams rover;
   /// store.active() and rover, checked once per load (prepare()): the step
@@ -135,8 +135,11 @@ sw_status sw_init(sw_context* ctx) {
     return SW_NULL_ARGUMENT;
   }
   // D-03: constructed in the caller's storage, never deleted (trivially
-  // destructible state, reused by the next sw_init).
-  Context* const c = ::new (static_cast<void*>(&ctx->opaque)) Context();  // NOLINT(cppcoreguidelines-owning-memory) D-03
+  // destructible state, reused by the next sw_init). Context declares no
+  // operator new, so this is the standard placement form (written without
+  // "::", which cppcheck 2.10 misparses).
+  void* const storage = static_cast<void*>(&ctx->opaque);
+  Context* const c = new (storage) Context;  // NOLINT(cppcoreguidelines-owning-memory) D-03
   c->rover = sinkwatch::flight::yutu_like_rover_params(sinkwatch::flight::kGravityMoon);
   static_cast<void>(sinkwatch::flight::prepare(c->store.active(), c->rover, c->prepared));
   c->magic = kContextMagic;

@@ -35,7 +35,7 @@ struct CorrectionRow {
 };
 
 struct CorrectionTable {
-  std::uint8_t count;  ///< rows in use, 1..kMaxCorrectionRows
+  std::uint8_t count{0U};  ///< rows in use, 1..kMaxCorrectionRows
   CorrectionRow rows[kMaxCorrectionRows];
 };
 
@@ -49,8 +49,8 @@ enum class LoadClamp : std::uint8_t {
 struct CorrectionResult {
   Coefficients coefficients;
   Ratio dp_max_ratio;
-  LoadClamp clamp;
-  EstimateStatus status;  ///< invalid_load for W <= 0, invalid_coefficient for a malformed table
+  LoadClamp clamp{LoadClamp::none};
+  EstimateStatus status{EstimateStatus::ok};  ///< invalid_load for W <= 0, invalid_coefficient for a malformed table
 };
 
 /// C1..C3 and DP_max/W at the load `load_n`. A table that passed

@@ -28,14 +28,14 @@ namespace flight {
 
 struct TorqueLimitResult {
   TorqueNm torque_nm;  ///< T_max >= 0 or zero with a status
-  EstimateStatus status;
+  EstimateStatus status{EstimateStatus::ok};
 };
 
 struct CurrentLimitResult {
   CurrentA current_limit_a;  ///< |I_max|, zero unless status == ok
   TorqueNm torque_limit_nm;  ///< T_max behind it
-  LoadClamp clamp;           ///< the load's position in the correction table
-  EstimateStatus status;
+  LoadClamp clamp{LoadClamp::none};  ///< the load's position in the correction table
+  EstimateStatus status{EstimateStatus::ok};
 };
 
 /// T_max from Eq. 11 at DP = DP_max, z = z_max. A negative T_max (the soil

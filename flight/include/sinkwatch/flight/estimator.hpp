@@ -43,12 +43,12 @@ constexpr Ratio kMaxC3{fx::constant<RatioQ>(1.0)};
 
 struct SinkageResult {
   SinkageM sinkage_m;     ///< zero unless status == ok
-  EstimateStatus status;
+  EstimateStatus status{EstimateStatus::ok};
 };
 
 struct DrawbarPullResult {
   DrawbarPullN drawbar_pull_n;  ///< zero unless status == ok
-  EstimateStatus status;
+  EstimateStatus status{EstimateStatus::ok};
 };
 
 /// Eq. 11 solved for the sinkage z. A negative z is returned as computed

@@ -63,8 +63,8 @@ struct WheelInput {
   CurrentA current_a;           ///< signed; positive drives the rover forward
   WheelLoadN load_n;            ///< from the rover's statics (issue 4)
   DrawbarPullN drawbar_pull_n;  ///< from the rover's behaviour (issue 4)
-  DriveDirection direction;     ///< commanded direction
-  bool valid;                   ///< the telemetry source's own validity flag
+  DriveDirection direction{DriveDirection::forward};  ///< commanded direction
+  bool valid{false};            ///< the telemetry source's own validity flag
   /// corrections_at(table.correction, load_n) when the caller has already
   /// evaluated it (RoverStep does, for DP_max/W), else null: the monitor then
   /// reads it instead of evaluating the table again. Must be for this load_n
@@ -74,35 +74,35 @@ struct WheelInput {
 
 /// One wheel's result for one cycle.
 struct WheelOutput {
-  WheelState state;
-  SampleStatus sample_status;
-  StopReason stop_reason;   ///< why the wheel is in STOP (none otherwise)
-  bool stop_tripped;        ///< entered STOP in this cycle; last_event() is new
-  bool estimate_valid;      ///< torque_nm and sinkage_m hold this cycle's numbers
+  WheelState state{WheelState::nominal};
+  SampleStatus sample_status{SampleStatus::ok};
+  StopReason stop_reason{StopReason::none};  ///< why the wheel is in STOP (none otherwise)
+  bool stop_tripped{false};    ///< entered STOP in this cycle; last_event() is new
+  bool estimate_valid{false};  ///< torque_nm and sinkage_m hold this cycle's numbers
   TorqueNm torque_nm;
   SinkageM sinkage_m;
-  bool limit_valid;         ///< current_limit_a holds this cycle's I_max
+  bool limit_valid{false};     ///< current_limit_a holds this cycle's I_max
   CurrentA current_limit_a;
-  LoadClamp clamp;          ///< the load outside Table 2's range: corrections held
+  LoadClamp clamp{LoadClamp::none};  ///< the load outside Table 2's range: corrections held
 };
 
 /// Written when a wheel enters STOP (section 7: for ground reproduction).
 struct EventRecord {
-  std::uint8_t wheel;
-  TimeMs time;
-  StopReason reason;
+  std::uint8_t wheel{0U};
+  TimeMs time{0U};
+  StopReason reason{StopReason::none};
   CurrentA peak_current_a;            ///< largest d*I of the episode
   WheelLoadN load_at_peak_n;          ///< the load at that sample
-  bool peak_sinkage_valid;
+  bool peak_sinkage_valid{false};
   SinkageM peak_sinkage_m;            ///< Eq. 11 at the peak current with DP = DP_max
-  bool max_estimate_valid;
+  bool max_estimate_valid{false};
   SinkageM max_estimated_sinkage_m;   ///< largest per-cycle estimate of the episode
 };
 
 /// Unusable samples per reason (saturating counters).
 struct WheelCounters {
-  std::uint32_t samples;
-  std::uint32_t by_status[kSampleStatusCount];  ///< index: SampleStatus; [0] counts good samples
+  std::uint32_t samples{0U};
+  std::uint32_t by_status[kSampleStatusCount]{};  ///< index: SampleStatus; [0] counts good samples
 };
 
 class WheelMonitor {
@@ -163,9 +163,9 @@ class WheelMonitor {
 enum class RoverDecision : std::uint8_t { continue_drive = 0U, stop_and_replan = 1U };
 
 struct RoverOutput {
-  RoverDecision decision;
-  std::uint8_t wheels_in_stop;
-  std::uint8_t wheels_in_caution;
+  RoverDecision decision{RoverDecision::continue_drive};
+  std::uint8_t wheels_in_stop{0U};
+  std::uint8_t wheels_in_caution{0U};
   WheelOutput wheels[kMaxWheels];  ///< the first monitor.wheel_count are meaningful
 };
 

@@ -35,12 +35,12 @@ struct MotorParams {
 
 struct TorqueResult {
   TorqueNm torque_nm;  ///< zero unless status == ok
-  EstimateStatus status;
+  EstimateStatus status{EstimateStatus::ok};
 };
 
 struct CurrentResult {
   CurrentA current_a;  ///< zero unless status == ok
-  EstimateStatus status;
+  EstimateStatus status{EstimateStatus::ok};
 };
 
 /// The wheel torque for the measured current and the commanded direction.

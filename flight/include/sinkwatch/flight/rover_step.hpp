@@ -25,6 +25,7 @@
 
 #include <cstdint>
 
+#include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/drawbar_pull.hpp"
 #include "sinkwatch/flight/monitor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
@@ -118,13 +119,23 @@ class RoverStep {
   RoverStepStatus classify(const RoverTelemetry& t, TimeMs now, const ParameterTable& table) noexcept;
   /// Stage 3: the acceleration (measured or differenced) and the slip.
   void motion(const RoverTelemetry& t, const ParameterTable& table, RoverStepOutput& out) noexcept;
+  /// Stage 1 and the prepared parameters' own refusal, for a fresh sample.
+  RoverStepStatus admit(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared) noexcept;
+  /// Stages 2 to 4 of an admitted sample: loads, motion, C(W) into `corr`,
+  /// drawbar pulls.
+  RoverStepStatus compute(const RoverTelemetry& t, const PreparedParameters& prepared,
+                          CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept;
+  /// Stage 5: every wheel's monitor, fed this cycle's numbers or an invalid
+  /// sample, and the rover's decision.
+  void monitor_stage(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared,
+                     const CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept;
 
   RoverMonitor monitor_;
-  bool have_time_;
-  TimeMs last_time_;
-  bool have_speed_;
-  SpeedMps last_speed_;
-  TimeMs last_speed_time_;
+  bool have_time_{false};
+  TimeMs last_time_{0U};
+  bool have_speed_{false};
+  SpeedMps last_speed_{};
+  TimeMs last_speed_time_{0U};
 };
 
 }  // namespace flight
