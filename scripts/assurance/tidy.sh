@@ -9,7 +9,10 @@
 #     sources, suppressions with reasons in scripts/assurance/cppcheck-suppressions.txt.
 # Prints every finding once, the count per check, and one line per tool:
 #   static_analysis tool=<clang-tidy|cppcheck> findings=<n>
-# Exit status: 0 with zero findings, 1 otherwise (the gate).
+# A tool that fails without reporting a finding (a crash, a source missing
+# from the compile database, a bad option) counts as a finding too.
+# Exit status: 0 with zero findings, 1 otherwise (the gate); 2 when the build
+# directory or the tools are missing.
 #
 #   scripts/assurance/tidy.sh [build dir with compile_commands.json]
 set -euo pipefail
@@ -27,14 +30,27 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 
 sources=$(ls flight/src/*.cpp flight/c_api/src/*.cpp fixedpoint/src/*.cpp)
-tidy=$(command -v clang-tidy-14 || command -v clang-tidy)
-# One process per file, two at a time; each writes its own log.
-# shellcheck disable=SC2086
+tidy=$(command -v clang-tidy-14 || command -v clang-tidy || true)
+if [ -z "$tidy" ] || ! command -v cppcheck > /dev/null; then
+  echo "tidy: clang-tidy and cppcheck are needed (scripts/setup.sh installs them)"; exit 2
+fi
+finding='^/.*:[0-9]+:[0-9]+: (warning|error): .*\[[A-Za-z0-9._,-]+\]$'
+# One process per file, two at a time; each writes its own log and exit code.
+# shellcheck disable=SC2086,SC2016
 printf '%s\n' $sources | xargs -P 2 -I{} sh -c \
-  '"$0" -p "$1" --quiet "{}" > "$2/$(echo "{}" | tr / _).log" 2>/dev/null || true' "$tidy" "$build" "$out"
+  'log="$2/$(echo "{}" | tr / _)"; "$0" -p "$1" --quiet "{}" > "$log.log" 2> "$log.err"; echo $? > "$log.rc"' \
+  "$tidy" "$build" "$out"
 # A header finding is reported by every file that includes it: keep it once.
-cat "$out"/*.log | grep -E '^/.*:[0-9]+:[0-9]+: (warning|error): .*\[[A-Za-z0-9._,-]+\]$' |
-  sed "s|^$(pwd)/||" | sort -u > "$out/tidy.txt" || true
+cat "$out"/*.log | grep -E "$finding" | sed "s|^$(pwd)/||" | sort -u > "$out/tidy.txt" || true
+# clang-tidy failing without a finding (a crash, a file missing from the
+# compile database) must not pass as "no finding": each such file counts.
+for rc in "$out"/*.rc; do
+  base=${rc%.rc}
+  if [ "$(cat "$rc")" != 0 ] && ! grep -qE "$finding" "$base.log"; then
+    echo "tidy: clang-tidy exited $(cat "$rc") without a finding on $(basename "$base"): [clang-tidy-failed]" >> "$out/tidy.txt"
+    head -n 5 "$base.err"
+  fi
+done
 tidy_n=$(wc -l < "$out/tidy.txt")
 echo "---- clang-tidy findings"
 cat "$out/tidy.txt"
@@ -48,8 +64,14 @@ cppcheck --quiet --std=c++17 --language=c++ --enable=warning,style,performance,p
   --inline-suppr --suppressions-list=scripts/assurance/cppcheck-suppressions.txt \
   -I flight/include -I fixedpoint/include -I flight/c_api/include \
   --template='{file}:{line}:{column}: {severity}: {message} [{id}]' \
-  $sources 2> "$out/cppcheck.txt" || true
+  $sources > "$out/cppcheck.out" 2> "$out/cppcheck.txt" || cpp_rc=$?
 grep -E '^[^ ].*:[0-9]+:[0-9]+: ' "$out/cppcheck.txt" | sort -u > "$out/cppcheck_findings.txt" || true
+# cppcheck exits 0 with findings (no --error-exitcode); non-zero is a failure
+# of the tool itself (bad option, unreadable suppressions, no source).
+if [ "${cpp_rc:-0}" != 0 ]; then
+  echo "tidy: cppcheck exited $cpp_rc: [cppcheck-failed]" >> "$out/cppcheck_findings.txt"
+  tail -n 5 "$out/cppcheck.out" "$out/cppcheck.txt"
+fi
 cat "$out/cppcheck_findings.txt"
 echo "---- cppcheck findings per id"
 sed -E 's/.*\[([A-Za-z0-9_]+)\]$/\1/' "$out/cppcheck_findings.txt" | sort | uniq -c | sort -rn || true
