@@ -96,6 +96,26 @@ TEST(DiagnosisNoise, NeighbourScatterRecoversSigmaUnderACurvedTrend) {
   EXPECT_NEAR(e.sigma, 0.02, 0.005);
 }
 
+// A coarse 6 x 6 grid whose slip trend rises steeply at low slip (as the
+// shear curve does): the slip-wise differences would see the trend, the
+// load-wise ones (forces proportional to load^1.2) hardly do.
+TEST(DiagnosisNoise, LoadWiseScatterOnACoarseSlipGrid) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> gauss(0.0, 0.05);
+  std::vector<DiagnosisRow> rows;
+  std::vector<double> values;
+  for (double load : {20.0, 40.0, 70.0, 110.0, 160.0, 240.0}) {
+    for (double s : {0.05, 0.15, 0.3, 0.45, 0.6, 0.75}) {
+      rows.push_back(row_at(s, load));
+      values.push_back(0.05 * std::pow(load, 1.2) * (1.0 - std::exp(-s / 0.08)) + gauss(rng));
+    }
+  }
+  const NoiseEstimate e = estimate_noise(rows, values);
+  EXPECT_EQ(e.method, "neighbour_scatter_load");
+  EXPECT_EQ(e.dof, 18U);
+  EXPECT_NEAR(e.sigma, 0.05, 0.0125);
+}
+
 TEST(DiagnosisNoise, ReplicatesArePreferred) {
   std::vector<DiagnosisRow> rows;
   std::vector<double> values;
@@ -226,17 +246,21 @@ TEST(DiagnosisTable1, EstimatorRunReproducesTheFullFitAndQuantisationIsNegligibl
   EXPECT_EQ(result.train.size(), 12U);
   EXPECT_EQ(result.heldout.size(), 4U);
   EXPECT_TRUE(result.base.converged);
-  // The base fit is an ordinary least-squares fit of Eq. 11: its residuals
-  // are orthogonal to the columns of A (the normal equations hold).
+  // The base fit is a weighted least-squares fit of Eq. 11 (each row by its
+  // noise, hypot(floor, relative DP/W)): its weighted residuals are
+  // orthogonal to the columns of A (the normal equations hold).
+  const ChannelNoiseEstimate& noise = result.noise.front();
   double dot[3] = {0.0, 0.0, 0.0};
   for (std::size_t i : result.train) {
-    const double r = result.base.residuals[i][0];
+    const double sigma =
+        std::max(std::hypot(noise.floor, noise.relative * data.rows[i].traction_coeff), 0.05 * noise.sigma);
+    const double r = result.base.residuals[i][0] / (sigma * sigma);
     dot[0] += r * data.rows[i].drive_coeff;
     dot[1] += r * data.rows[i].sinkage_ratio;
     dot[2] += r;
   }
   for (double d : dot) {
-    EXPECT_NEAR(d, 0.0, 1e-8);
+    EXPECT_NEAR(d, 0.0, 1e-3);  // residual / sigma^2 is O(100) per row here
   }
   ASSERT_FALSE(result.where.components.empty());
   const GapComponent& q = result.where.components.front();

@@ -74,19 +74,62 @@ class RowResidual {
   std::vector<ParameterSpec> specs_;
 };
 
-double scaled_combined(const std::vector<double>& rms, const std::vector<double>& sigma) {
+// The noise of every row and channel, [row][channel]: hypot(floor,
+// relative |measured|), never below 5 % of the channel's RMS noise (a fitted
+// floor of zero would otherwise give rows near zero an unbounded weight).
+using RowNoise = std::vector<std::vector<double>>;
+
+RowNoise row_noise(const DiagnosisModel& model, const std::vector<DiagnosisRow>& rows,
+                   const std::vector<ChannelNoiseEstimate>& noise) {
+  RowNoise out;
+  out.reserve(rows.size());
+  for (const DiagnosisRow& row : rows) {
+    const std::vector<double> measured = model.measured(row);
+    std::vector<double> s(noise.size());
+    for (std::size_t c = 0; c < noise.size(); ++c) {
+      const double modelled = std::hypot(noise[c].floor, noise[c].relative * measured[c]);
+      s[c] = std::max(modelled, 0.05 * noise[c].sigma);
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
+// RMS over `idx` of residual / row noise, per channel (inf if the model
+// failed on one of the rows), and its combination over channels.
+std::vector<double> scaled_rms(const std::vector<std::vector<double>>& residuals, const std::vector<std::size_t>& idx,
+                               const RowNoise& noise) {
+  const std::size_t channels = noise.front().size();
+  std::vector<double> out(channels, 0.0);
+  bool failed = false;
+  for (std::size_t i : idx) {
+    if (std::isnan(residuals[i][0])) {
+      failed = true;
+      continue;
+    }
+    for (std::size_t c = 0; c < channels; ++c) {
+      const double r = residuals[i][c] / noise[i][c];
+      out[c] += r * r;
+    }
+  }
+  for (double& v : out) {
+    v = failed || idx.empty() ? kInf : std::sqrt(v / static_cast<double>(idx.size()));
+  }
+  return out;
+}
+
+double combined(const std::vector<double>& scaled) {
   double sum = 0.0;
-  for (std::size_t c = 0; c < rms.size(); ++c) {
-    const double r = rms[c] / sigma[c];
+  for (double r : scaled) {
     sum += r * r;
   }
-  return std::sqrt(sum / static_cast<double>(rms.size()));
+  return std::sqrt(sum / static_cast<double>(scaled.size()));
 }
 
 // Fills residuals, RMS and information criteria of a fit from its parameters.
 void evaluate_into(FitResult& fit, const DiagnosisModel& model, const Candidate* candidate,
-                   const std::vector<DiagnosisRow>& rows, const DataSplit& split, const std::vector<double>& sigma) {
-  const std::size_t channels = sigma.size();
+                   const std::vector<DiagnosisRow>& rows, const DataSplit& split, const RowNoise& noise) {
+  const std::size_t channels = noise.front().size();
   fit.residuals.assign(rows.size(), std::vector<double>(channels, kNaN));
   std::vector<double> predicted;
   for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -117,12 +160,12 @@ void evaluate_into(FitResult& fit, const DiagnosisModel& model, const Candidate*
   rms_over(split.train, fit.train_rms, train_failures);
   rms_over(split.heldout, fit.heldout_rms, fit.heldout_failures);
   fit.train_rows = split.train.size();
-  fit.train_rms_scaled = scaled_combined(fit.train_rms, sigma);
-  fit.heldout_rms_scaled = scaled_combined(fit.heldout_rms, sigma);
+  fit.train_rms_scaled = combined(scaled_rms(fit.residuals, split.train, noise));
+  fit.heldout_rms_scaled = combined(scaled_rms(fit.residuals, split.heldout, noise));
   fit.train_chi2 = 0.0;
   for (std::size_t i : split.train) {
     for (std::size_t c = 0; c < channels; ++c) {
-      const double r = fit.residuals[i][c] / sigma[c];
+      const double r = fit.residuals[i][c] / noise[i][c];
       fit.train_chi2 += r * r;
     }
   }
@@ -183,8 +226,42 @@ FitResult evaluate_model(const DiagnosisModel& model, const Candidate* candidate
   fit.values = params;
   fit.converged = true;
   fit.solver_message = "not fitted (given parameters)";
-  evaluate_into(fit, model, candidate, rows, split, sigmas(noise));
+  evaluate_into(fit, model, candidate, rows, split, row_noise(model, rows, noise));
   return fit;
+}
+
+PooledHeldout pooled_heldout(const DiagnosisModel& model, const std::vector<DiagnosisRow>& rows,
+                             const std::vector<FitResult>& fits, const std::vector<DataSplit>& folds,
+                             const std::vector<ChannelNoiseEstimate>& noise) {
+  const RowNoise row_sigma = row_noise(model, rows, noise);
+  const std::size_t channels = noise.size();
+  std::vector<double> sum(channels, 0.0);
+  std::vector<double> sum_scaled(channels, 0.0);
+  std::size_t count = 0;
+  bool failed = false;
+  for (std::size_t f = 0; f < folds.size(); ++f) {
+    for (std::size_t i : folds[f].heldout) {
+      ++count;
+      if (std::isnan(fits[f].residuals[i][0])) {
+        failed = true;
+        continue;
+      }
+      for (std::size_t c = 0; c < channels; ++c) {
+        const double r = fits[f].residuals[i][c];
+        sum[c] += r * r;
+        sum_scaled[c] += (r / row_sigma[i][c]) * (r / row_sigma[i][c]);
+      }
+    }
+  }
+  PooledHeldout pooled;
+  std::vector<double> scaled;
+  for (std::size_t c = 0; c < channels; ++c) {
+    const bool bad = failed || count == 0;
+    pooled.rms.push_back(bad ? kInf : std::sqrt(sum[c] / static_cast<double>(count)));
+    scaled.push_back(bad ? kInf : std::sqrt(sum_scaled[c] / static_cast<double>(count)));
+  }
+  pooled.scaled = combined(scaled);
+  return pooled;
 }
 
 FitResult fit_model(const DiagnosisModel& model, const Candidate* candidate, const std::vector<DiagnosisRow>& rows,
@@ -192,7 +269,7 @@ FitResult fit_model(const DiagnosisModel& model, const Candidate* candidate, con
                     const std::vector<double>& initial_base, const DiagnosisSettings& settings) {
   const std::vector<DiagnosisRow> train = select(rows, split.train);
   const std::vector<ParameterSpec> specs = all_parameters(model, candidate, train);
-  const std::vector<double> sigma = sigmas(noise);
+  const RowNoise row_sigma = row_noise(model, rows, noise);
   FitResult fit;
   fit.label = candidate != nullptr ? candidate->name : "base";
   std::vector<double> x(specs.size());
@@ -230,11 +307,11 @@ FitResult fit_model(const DiagnosisModel& model, const Candidate* candidate, con
   }
 
   ceres::Problem problem;
-  for (const DiagnosisRow& row : train) {
+  for (std::size_t i : split.train) {
     auto* cost = new ceres::DynamicNumericDiffCostFunction<RowResidual, ceres::FORWARD>(
-        new RowResidual(model, candidate, row, model.measured(row), sigma, specs));
+        new RowResidual(model, candidate, rows[i], model.measured(rows[i]), row_sigma[i], specs));
     cost->AddParameterBlock(static_cast<int>(specs.size()));
-    cost->SetNumResiduals(static_cast<int>(sigma.size()));
+    cost->SetNumResiduals(static_cast<int>(row_sigma[i].size()));
     problem.AddResidualBlock(cost, nullptr, x.data());
   }
   for (std::size_t i = 0; i < specs.size(); ++i) {
@@ -259,7 +336,7 @@ FitResult fit_model(const DiagnosisModel& model, const Candidate* candidate, con
     throw DiagnosisError("the " + fit.label + " fit failed: " + summary.message);
   }
   fit.values = x;
-  evaluate_into(fit, model, candidate, rows, split, sigma);
+  evaluate_into(fit, model, candidate, rows, split, row_sigma);
   return fit;
 }
 
@@ -277,11 +354,13 @@ std::vector<ChannelNoiseEstimate> estimate_channel_noise(const DiagnosisModel& m
       scale += values.back() * values.back();
     }
     const NoiseEstimate e = estimate_noise(rows, values);
-    ChannelNoiseEstimate out{channels[c].name, e.sigma, e.method, e.dof};
+    ChannelNoiseEstimate out{channels[c].name, e.sigma, e.method, e.dof, e.floor, e.relative};
     if (e.method == "none" || !(e.sigma > 0.0)) {
       // Placeholder scale for a preliminary fit: 1 % of the channel's RMS.
       out.sigma = std::max(0.01 * std::sqrt(scale / static_cast<double>(rows.size())), 1e-12);
       out.method = "fit_residual";
+      out.floor = out.sigma;
+      out.relative = 0.0;
       need_fit = true;
     }
     noise.push_back(out);
@@ -294,6 +373,7 @@ std::vector<ChannelNoiseEstimate> estimate_channel_noise(const DiagnosisModel& m
       if (noise[c].method == "fit_residual") {
         // Residual standard deviation with the degrees of freedom the fit used.
         noise[c].sigma = std::max(pre.train_rms[c] * std::sqrt(n / std::max(n - k, 1.0)), 1e-12);
+        noise[c].floor = noise[c].sigma;
         noise[c].dof = static_cast<std::size_t>(std::max(n - k, 1.0));
       }
     }
@@ -308,6 +388,9 @@ WhereBreakdown where_of(const DiagnosisModel& model, const std::vector<Diagnosis
   WhereBreakdown where;
   const std::vector<ChannelInfo> channels = model.channels();
   const std::vector<double> sigma = sigmas(noise);
+  const RowNoise row_sigma = row_noise(model, rows, noise);
+  const std::vector<double> train_scaled = scaled_rms(base.residuals, split.train, row_sigma);
+  const std::vector<double> heldout_scaled = scaled_rms(base.residuals, split.heldout, row_sigma);
   for (std::size_t c = 0; c < channels.size(); ++c) {
     ChannelGap gap;
     gap.channel = channels[c].name;
@@ -325,8 +408,8 @@ WhereBreakdown where_of(const DiagnosisModel& model, const std::vector<Diagnosis
       }
     }
     gap.heldout_bias = used > 0 ? bias / static_cast<double>(used) : kNaN;
-    gap.train_over_noise = gap.train_rms / sigma[c];
-    gap.heldout_over_noise = gap.heldout_rms / sigma[c];
+    gap.train_over_noise = train_scaled[c];
+    gap.heldout_over_noise = heldout_scaled[c];
     where.channels.push_back(gap);
   }
 
@@ -343,6 +426,7 @@ WhereBreakdown where_of(const DiagnosisModel& model, const std::vector<Diagnosis
       bin.label = format_range(low, high);
       bin.rms.assign(channels.size(), 0.0);
       bin.mean.assign(channels.size(), 0.0);
+      bin.rms_over_noise.assign(channels.size(), 0.0);
       for (std::size_t i = 0; i < rows.size(); ++i) {
         const double tol = 1e-9 * std::max(std::abs(low), std::abs(high));
         if (key[i] < low - tol || key[i] > high + tol || std::isnan(base.residuals[i][0])) {
@@ -353,13 +437,15 @@ WhereBreakdown where_of(const DiagnosisModel& model, const std::vector<Diagnosis
         for (std::size_t c = 0; c < channels.size(); ++c) {
           bin.rms[c] += base.residuals[i][c] * base.residuals[i][c];
           bin.mean[c] += base.residuals[i][c];
+          const double scaled = base.residuals[i][c] / row_sigma[i][c];
+          bin.rms_over_noise[c] += scaled * scaled;
         }
       }
       for (std::size_t c = 0; c < channels.size(); ++c) {
         const double n = static_cast<double>(std::max<std::size_t>(bin.rows, 1));
         bin.rms[c] = std::sqrt(bin.rms[c] / n);
         bin.mean[c] /= n;
-        bin.rms_over_noise.push_back(bin.rms[c] / sigma[c]);
+        bin.rms_over_noise[c] = std::sqrt(bin.rms_over_noise[c] / n);
       }
       where.bins.push_back(bin);
     }
@@ -406,6 +492,25 @@ WhereBreakdown where_of(const DiagnosisModel& model, const std::vector<Diagnosis
   return where;
 }
 
+// Fits on folds 1.. of the cross-validation, each started from the fit on
+// fold 0 (a warm start: the optimum moves little when one load of several is
+// swapped, and a cold start with several starts per fold would cost the
+// diagnosis several times over). Throws DiagnosisError naming the fold.
+std::vector<FitResult> fold_fits(const DiagnosisModel& model, const Candidate* candidate,
+                                 const std::vector<DiagnosisRow>& rows, const std::vector<DataSplit>& folds,
+                                 const std::vector<ChannelNoiseEstimate>& noise, const FitResult& first,
+                                 const DiagnosisSettings& settings) {
+  std::vector<FitResult> fits{first};
+  for (std::size_t f = 1; f < folds.size(); ++f) {
+    try {
+      fits.push_back(fit_model(model, candidate, rows, folds[f], noise, first.values, settings));
+    } catch (const DiagnosisError& e) {
+      throw DiagnosisError("cross-validation fold (" + folds[f].rule + "): " + e.what());
+    }
+  }
+  return fits;
+}
+
 }  // namespace
 
 DiagnosisResult diagnose(const DiagnosisModel& model, const std::vector<DiagnosisRow>& rows, const std::string& source,
@@ -415,7 +520,8 @@ DiagnosisResult diagnose(const DiagnosisModel& model, const std::vector<Diagnosi
   result.source = source;
   result.channels = model.channels();
   result.rows = rows;
-  const DataSplit split = split_rows(rows);
+  result.folds = settings.cross_validate ? cross_validation_folds(rows, settings.every_load_fold) : std::vector<DataSplit>{split_rows(rows)};
+  const DataSplit split = result.folds.front();
   result.split_rule = split.rule;
   result.train = split.train;
   result.heldout = split.heldout;
@@ -432,10 +538,33 @@ DiagnosisResult diagnose(const DiagnosisModel& model, const std::vector<Diagnosi
     result.notes.push_back("base fit did not converge: " + result.base.solver_message);
   }
   result.where = where_of(model, rows, split, result.noise, result.base);
+  std::vector<FitResult> base_folds{result.base};
+  try {
+    base_folds = fold_fits(model, nullptr, rows, result.folds, result.noise, result.base, settings);
+  } catch (const DiagnosisError& e) {
+    result.notes.push_back(std::string("no cross-validation, the ranking uses the first split only: ") + e.what());
+    result.folds.resize(1);
+  }
+  {
+    std::ostringstream rule;
+    if (result.folds.size() > 1) {
+      rule << "held-out RMS pooled over " << result.folds.size() << " cross-validation folds (";
+      rule << (distinct_loads(rows).size() < 3 ? "every 4th slip-sorted row, 4 offsets"
+               : settings.every_load_fold     ? "each load held out once"
+                                              : "the highest load held out, then the lowest");
+      rule << "), every fit redone on each fold";
+    } else {
+      rule << "held-out RMS of the split above (one fold)";
+    }
+    result.cv_rule = rule.str();
+  }
+  const PooledHeldout base_cv = pooled_heldout(model, rows, base_folds, result.folds, result.noise);
+  result.cv_heldout_rms = base_cv.rms;
+  result.cv_heldout_rms_scaled = base_cv.scaled;
 
   const std::vector<DiagnosisRow> train = select(rows, split.train);
   const std::vector<double> sigma = sigmas(result.noise);
-  const double before = result.base.heldout_rms_scaled;
+  const double before = result.cv_heldout_rms_scaled;
   for (const Candidate& candidate : model.candidates(train)) {
     RankedEffect effect;
     effect.effect = candidate.name;
@@ -444,7 +573,7 @@ DiagnosisResult diagnose(const DiagnosisModel& model, const std::vector<Diagnosi
     effect.note = candidate.note;
     effect.nominal_size = candidate.nominal_size;
     effect.heldout_rms_before = before;
-    effect.channel_before = result.base.heldout_rms;
+    effect.channel_before = result.cv_heldout_rms;
     if (candidate.identifiable) {
       // Several starts for the candidate's own terms (multiples of its
       // initial value), each from the fitted base; the lowest training
@@ -478,9 +607,19 @@ DiagnosisResult diagnose(const DiagnosisModel& model, const std::vector<Diagnosi
         effect.note = failure;
       }
     }
+    PooledHeldout after;
     if (effect.identifiable) {
-      effect.heldout_rms_after = effect.fit.heldout_rms_scaled;
-      effect.channel_after = effect.fit.heldout_rms;
+      try {
+        after = pooled_heldout(model, rows, fold_fits(model, &candidate, rows, result.folds, result.noise, effect.fit, settings),
+                               result.folds, result.noise);
+      } catch (const DiagnosisError& e) {
+        effect.identifiable = false;
+        effect.note = e.what();
+      }
+    }
+    if (effect.identifiable) {
+      effect.heldout_rms_after = after.scaled;
+      effect.channel_after = after.rms;
       const std::size_t base_count = result.base.values.size();
       for (std::size_t i = base_count; i < effect.fit.values.size(); ++i) {
         effect.fitted[effect.fit.names[i]] = effect.fit.values[i];

@@ -86,6 +86,85 @@ std::map<std::size_t, double> read_width_column(const std::string& path) {
 
 bool same_value(double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b)); }
 
+// Third divided differences of every 4 consecutive points (xs ascending):
+// d = sum w_j y_j with w_j = 1 / prod_{m != j} (x_j - x_m) is zero for any
+// quadratic trend, and E[d^2] = sigma^2 sum w_j^2 for independent noise, so
+// each d^2 / sum w_j^2 estimates sigma^2 (plus the cubic part of the trend).
+// Each difference is kept as (v, m): v = d^2 / sum w_j^2 and m = the same
+// weighted mean of y^2, for the noise model sigma^2(y) = floor^2 + rel^2 y^2,
+// under which E[v] = floor^2 + rel^2 m.
+struct Difference {
+  double v = 0.0;
+  double m = 0.0;
+};
+
+void add_third_differences(const std::vector<double>& xs, const std::vector<double>& ys,
+                           std::vector<Difference>& out) {
+  for (std::size_t j = 0; j + 3 < xs.size(); ++j) {
+    double d = 0.0;
+    double w2 = 0.0;
+    double y2 = 0.0;
+    for (std::size_t a = j; a < j + 4; ++a) {
+      double prod = 1.0;
+      for (std::size_t m = j; m < j + 4; ++m) {
+        if (m != a) {
+          prod *= xs[a] - xs[m];
+        }
+      }
+      const double w = 1.0 / prod;
+      d += w * ys[a];
+      w2 += w * w;
+      y2 += w * w * ys[a] * ys[a];
+    }
+    out.push_back({d * d / w2, y2 / w2});
+  }
+}
+
+// Fits E[v] = A + B m (A = floor^2, B = rel^2, both >= 0) by iteratively
+// reweighted least squares: each v is its expectation times a chi-square
+// with one degree of freedom, so its variance is 2 E[v]^2.
+void fit_noise_model(const std::vector<Difference>& diffs, double& floor, double& relative) {
+  double mean_v = 0.0;
+  for (const Difference& d : diffs) {
+    mean_v += d.v;
+  }
+  mean_v /= static_cast<double>(diffs.size());
+  double a = mean_v;
+  double b = 0.0;
+  bool first = true;
+  for (int iteration = 0; iteration < 30; ++iteration) {
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0, t0 = 0.0, t1 = 0.0;
+    for (const Difference& d : diffs) {
+      const double e = first ? mean_v : std::max(a + b * d.m, 1e-6 * mean_v);
+      const double w = 1.0 / (e * e);
+      s0 += w;
+      s1 += w * d.m;
+      s2 += w * d.m * d.m;
+      t0 += w * d.v;
+      t1 += w * d.v * d.m;
+    }
+    first = false;
+    const double det = s0 * s2 - s1 * s1;
+    double na = det > 0.0 ? (t0 * s2 - t1 * s1) / det : t0 / s0;
+    double nb = det > 0.0 ? (s0 * t1 - s1 * t0) / det : 0.0;
+    if (nb < 0.0) {
+      nb = 0.0;
+      na = t0 / s0;
+    } else if (na < 0.0) {
+      na = 0.0;
+      nb = s2 > 0.0 ? t1 / s2 : 0.0;
+    }
+    const bool settled = std::abs(na - a) <= 1e-9 * std::max(a, 1e-300) && std::abs(nb - b) <= 1e-9 * std::max(b, 1e-300);
+    a = na;
+    b = nb;
+    if (settled) {
+      break;
+    }
+  }
+  floor = std::sqrt(a);
+  relative = std::sqrt(b);
+}
+
 }  // namespace
 
 DiagnosisRow make_row(double slip, double load_n, double sinkage_m, double torque_nm, double drawbar_pull_n,
@@ -223,6 +302,46 @@ DataSplit split_rows(const std::vector<DiagnosisRow>& rows) {
   return split;
 }
 
+std::vector<DataSplit> cross_validation_folds(const std::vector<DiagnosisRow>& rows, bool every_load) {
+  std::vector<DataSplit> folds{split_rows(rows)};
+  const std::vector<double> loads = distinct_loads(rows);
+  if (loads.size() == 2) {
+    return folds;
+  }
+  if (loads.size() >= 3) {
+    const std::size_t last = every_load ? loads.size() - 1 : 1;
+    for (std::size_t l = 0; l < last; ++l) {
+      DataSplit fold;
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        (same_value(rows[i].load_n, loads[l]) ? fold.heldout : fold.train).push_back(i);
+      }
+      std::ostringstream rule;
+      rule << "load " << loads[l] << " N held out";
+      fold.rule = rule.str();
+      if (fold.train.size() >= 4) {
+        folds.push_back(fold);
+      }
+    }
+    return folds;
+  }
+  std::vector<std::size_t> order(rows.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return rows[a].slip < rows[b].slip; });
+  const std::size_t n = order.size();
+  for (std::size_t j = 1; j < 4; ++j) {
+    DataSplit fold;
+    for (std::size_t k = 0; k < n; ++k) {
+      ((n - 1 - k) % 4 == j ? fold.heldout : fold.train).push_back(order[k]);
+    }
+    std::sort(fold.train.begin(), fold.train.end());
+    std::sort(fold.heldout.begin(), fold.heldout.end());
+    fold.rule = "every 4th slip-sorted row from the " + std::to_string(j + 1) + "-th highest slip held out";
+    folds.push_back(fold);
+  }
+  return folds;
+}
+
 NoiseEstimate estimate_noise(const std::vector<DiagnosisRow>& rows, const std::vector<double>& values) {
   // Group by load; within a load, group replicates by slip.
   std::map<std::size_t, std::vector<std::size_t>> by_load;
@@ -234,8 +353,7 @@ NoiseEstimate estimate_noise(const std::vector<DiagnosisRow>& rows, const std::v
 
   double replicate_ss = 0.0;
   std::size_t replicate_dof = 0;
-  double diff_sum = 0.0;
-  std::size_t diff_count = 0;
+  std::vector<Difference> slip_diffs;
   for (auto& [load_index, members] : by_load) {
     (void)load_index;
     std::stable_sort(members.begin(), members.end(),
@@ -262,35 +380,72 @@ NoiseEstimate estimate_noise(const std::vector<DiagnosisRow>& rows, const std::v
       ys.push_back(values[members[start]]);  // one representative per slip
       start = end;
     }
-    for (std::size_t j = 0; j + 3 < xs.size(); ++j) {
-      double d = 0.0;
-      double w2 = 0.0;
-      for (std::size_t a = j; a < j + 4; ++a) {
-        double prod = 1.0;
-        for (std::size_t m = j; m < j + 4; ++m) {
-          if (m != a) {
-            prod *= xs[a] - xs[m];
-          }
-        }
-        const double w = 1.0 / prod;
-        d += w * ys[a];
-        w2 += w * w;
-      }
-      diff_sum += d * d / w2;
-      ++diff_count;
-    }
+    add_third_differences(xs, ys, slip_diffs);
   }
+
+  // The same along load at each slip: rows with the same slip, one
+  // representative per load, sorted by load.
+  std::vector<Difference> load_diffs;
+  std::vector<std::size_t> by_slip(rows.size());
+  std::iota(by_slip.begin(), by_slip.end(), std::size_t{0});
+  std::stable_sort(by_slip.begin(), by_slip.end(), [&](std::size_t a, std::size_t b) {
+    return same_value(rows[a].slip, rows[b].slip) ? rows[a].load_n < rows[b].load_n : rows[a].slip < rows[b].slip;
+  });
+  for (std::size_t start = 0; start < by_slip.size();) {
+    std::size_t end = start + 1;
+    while (end < by_slip.size() && same_value(rows[by_slip[end]].slip, rows[by_slip[start]].slip)) {
+      ++end;
+    }
+    std::vector<double> xs;
+    std::vector<double> ys;
+    for (std::size_t k = start; k < end; ++k) {
+      const DiagnosisRow& row = rows[by_slip[k]];
+      if (xs.empty() || !same_value(xs.back(), row.load_n)) {
+        xs.push_back(row.load_n);
+        ys.push_back(values[by_slip[k]]);
+      }
+    }
+    add_third_differences(xs, ys, load_diffs);
+    start = end;
+  }
+
   NoiseEstimate estimate;
+  const std::vector<Difference>* diffs = nullptr;
   if (replicate_dof >= 3) {
     estimate.sigma = std::sqrt(replicate_ss / static_cast<double>(replicate_dof));
+    estimate.floor = estimate.sigma;
     estimate.method = "replicates";
     estimate.dof = replicate_dof;
-  } else if (diff_count >= 3) {
-    estimate.sigma = std::sqrt(diff_sum / static_cast<double>(diff_count));
+  } else if (load_diffs.size() >= 3 && load_diffs.size() >= slip_diffs.size()) {
+    // Along load when the grid is at least as dense in load as in slip: the
+    // forces grow with load as near power laws, whereas the shear curve's
+    // steep rise at low slip leaks into wide slip windows
+    // (findings-diagnosis.md measures both on noise-free simulator data).
+    diffs = &load_diffs;
+    estimate.method = "neighbour_scatter_load";
+  } else if (slip_diffs.size() >= 3) {
+    diffs = &slip_diffs;
     estimate.method = "neighbour_scatter";
-    estimate.dof = diff_count;
   } else {
     estimate.method = "none";
+  }
+  if (diffs != nullptr) {
+    double sum = 0.0;
+    for (const Difference& d : *diffs) {
+      sum += d.v;
+    }
+    estimate.dof = diffs->size();
+    estimate.sigma = std::sqrt(sum / static_cast<double>(diffs->size()));
+    estimate.floor = estimate.sigma;
+    // The floor + relative model needs differences enough for two numbers.
+    if (diffs->size() >= 6) {
+      fit_noise_model(*diffs, estimate.floor, estimate.relative);
+      double mean_square = 0.0;
+      for (double y : values) {
+        mean_square += estimate.floor * estimate.floor + estimate.relative * estimate.relative * y * y;
+      }
+      estimate.sigma = std::sqrt(mean_square / static_cast<double>(values.size()));
+    }
   }
   return estimate;
 }

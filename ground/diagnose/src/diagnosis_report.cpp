@@ -89,11 +89,15 @@ std::string to_json(const DiagnosisResult& r) {
   os << "{\n  \"model\": " << quote(r.model) << ",\n  \"source\": " << quote(r.source) << ",\n"
      << "  \"rows\": " << r.rows.size() << ",\n  \"train_rows\": " << r.train.size()
      << ",\n  \"heldout_rows\": " << r.heldout.size() << ",\n  \"split_rule\": " << quote(r.split_rule) << ",\n"
+     << "  \"cv_folds\": " << r.folds.size() << ",\n  \"cv_rule\": " << quote(r.cv_rule) << ",\n"
+     << "  \"cv_heldout_rms\": " << per_channel(r.channels, r.cv_heldout_rms) << ",\n"
+     << "  \"cv_heldout_rms_noise_units\": " << num(r.cv_heldout_rms_scaled) << ",\n"
      << "  \"verdict\": " << quote(r.verdict) << ",\n  \"verdict_text\": " << quote(r.verdict_text) << ",\n";
   os << "  \"noise\": [";
   for (std::size_t c = 0; c < r.noise.size(); ++c) {
     os << (c > 0 ? ", " : "") << "{\"channel\": " << quote(r.noise[c].channel) << ", \"sigma\": " << num(r.noise[c].sigma)
-       << ", \"method\": " << quote(r.noise[c].method) << ", \"dof\": " << r.noise[c].dof << "}";
+       << ", \"method\": " << quote(r.noise[c].method) << ", \"dof\": " << r.noise[c].dof
+       << ", \"floor\": " << num(r.noise[c].floor) << ", \"relative\": " << num(r.noise[c].relative) << "}";
   }
   os << "],\n  \"base_fit\": " << fit_json(r, r.base, "  ") << ",\n";
   os << "  \"where\": {\n    \"largest\": " << quote(r.where.largest) << ",\n    \"channels\": [";
@@ -159,10 +163,13 @@ std::string summary_markdown(const DiagnosisResult& r) {
      << "- data: " << r.source << " (" << r.rows.size() << " rows)\n"
      << "- model: " << r.model << "\n"
      << "- split: " << r.split_rule << "\n"
+     << "- ranking scored on: " << r.cv_rule << "\n"
      << "- verdict: **" << r.verdict << "**: " << r.verdict_text << "\n\n";
-  os << "## Noise per channel\n\n| channel | sigma | method | dof |\n|---|---|---|---|\n";
+  os << "## Noise per channel\n\nA row's noise is hypot(floor, relative x |value|); sigma is its RMS over the rows.\n\n"
+     << "| channel | sigma | floor | relative | method | dof |\n|---|---|---|---|---|---|\n";
   for (const ChannelNoiseEstimate& n : r.noise) {
-    os << "| " << n.channel << " | " << n.sigma << " | " << n.method << " | " << n.dof << " |\n";
+    os << "| " << n.channel << " | " << n.sigma << " | " << n.floor << " | " << n.relative << " | " << n.method << " | "
+       << n.dof << " |\n";
   }
   os << "\n## Base fit\n\n";
   for (std::size_t i = 0; i < r.base.names.size(); ++i) {
@@ -201,7 +208,8 @@ std::string summary_markdown(const DiagnosisResult& r) {
     }
   }
   os << "\n## Which effect, and how far it shrinks the held-out gap\n\n"
-     << "Held-out RMS in noise units, combined over channels; ranked by held-out RMS after, near-ties by training BIC.\n\n"
+     << "Held-out RMS in noise units, combined over channels, " << r.cv_rule
+     << "; ranked by held-out RMS after, near-ties by training BIC. Fitted sizes are those of the first split.\n\n"
      << "| rank | effect | before | after | shrink % | delta BIC | fitted | per channel: before -> after unit (shrink %) |\n"
      << "|---|---|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < r.ranking.size(); ++k) {

@@ -99,12 +99,16 @@ class DiagnosisModel {
   }
 };
 
-/// Per-channel noise used to scale residuals.
+/// Per-channel noise used to scale residuals: a row's noise is
+/// hypot(floor, relative |measured value|) (estimate_noise); `sigma` is its
+/// RMS over the rows, the one number reports show.
 struct ChannelNoiseEstimate {
   std::string channel;
   double sigma = 0.0;
-  std::string method;  // "replicates", "neighbour_scatter", "fit_residual"
+  std::string method;  // "replicates", "neighbour_scatter_load", "neighbour_scatter", "fit_residual"
   std::size_t dof = 0;
+  double floor = 0.0;
+  double relative = 0.0;
 };
 
 /// Result of one fit (base or base + candidate).
@@ -121,7 +125,7 @@ struct FitResult {
   double bic = 0.0;                    // n ln(chi2/n) + k ln n
   std::vector<double> train_rms;       // per channel, channel unit
   std::vector<double> heldout_rms;     // per channel, channel unit (inf if the model failed there)
-  double train_rms_scaled = 0.0;       // sqrt(mean over channels of (rms/sigma)^2)
+  double train_rms_scaled = 0.0;       // sqrt(mean over rows and channels of (residual / row noise)^2)
   double heldout_rms_scaled = 0.0;
   std::size_t heldout_failures = 0;    // held-out rows where the model had no answer
   std::vector<std::vector<double>> residuals;  // [row][channel], measured - predicted; NaN if failed
@@ -159,6 +163,9 @@ struct WhereBreakdown {
   std::string largest;  // one sentence: where the gap is largest
 };
 
+/// heldout_rms_* and channel_* are pooled over the cross-validation folds
+/// (each fold refitted); `fit` is the fit on the first fold, whose values are
+/// the reported sizes.
 struct RankedEffect {
   std::string effect;
   std::string description;
@@ -183,6 +190,13 @@ struct DiagnosisSettings {
   double gap_threshold = 1.5;           // base held-out below 1.5x noise: no significant gap
   double residual_threshold = 2.0;      // best still above 2x noise: only partly explained
   int max_iterations = 100;
+  // Score the ranking by cross-validation over the folds of
+  // cross_validation_folds (every load held out once); false: the first
+  // split only (faster, noisier).
+  bool cross_validate = true;
+  // With three or more loads: hold out every load in turn, not only the two
+  // extreme ones (cross_validation_folds).
+  bool every_load_fold = false;
   // Starts of each candidate fit: its terms at these multiples of their
   // initial value (the Wong–Reece candidates start at half their documented
   // default size, so 1 and 4 mean half and twice that size).
@@ -196,6 +210,14 @@ struct DiagnosisResult {
   std::string split_rule;
   std::vector<std::size_t> train;
   std::vector<std::size_t> heldout;
+  // Cross-validation folds of the ranking; folds[0] is the split above
+  // (train, heldout), on which WHERE, base and each effect's `fit` are shown.
+  std::vector<DataSplit> folds;
+  std::string cv_rule;
+  // The base model's held-out RMS pooled over all folds (per channel, channel
+  // unit; and noise-scaled, combined): the "before" of the ranking.
+  std::vector<double> cv_heldout_rms;
+  double cv_heldout_rms_scaled = 0.0;
   std::vector<DiagnosisRow> rows;
   std::vector<ChannelNoiseEstimate> noise;
   FitResult base;
@@ -223,6 +245,17 @@ struct DiagnosisResult {
 [[nodiscard]] FitResult evaluate_model(const DiagnosisModel& model, const Candidate* candidate,
                                        const std::vector<double>& params, const std::vector<DiagnosisRow>& rows,
                                        const DataSplit& split, const std::vector<ChannelNoiseEstimate>& noise);
+
+/// Held-out residuals of per-fold fits pooled over the folds: RMS per channel
+/// (channel unit; inf when the model failed on a held-out row) and the
+/// noise-scaled combination. fits[f] must be a fit on folds[f].
+struct PooledHeldout {
+  std::vector<double> rms;
+  double scaled = 0.0;
+};
+[[nodiscard]] PooledHeldout pooled_heldout(const DiagnosisModel& model, const std::vector<DiagnosisRow>& rows,
+                                           const std::vector<FitResult>& fits, const std::vector<DataSplit>& folds,
+                                           const std::vector<ChannelNoiseEstimate>& noise);
 
 /// The whole diagnosis.
 [[nodiscard]] DiagnosisResult diagnose(const DiagnosisModel& model, const std::vector<DiagnosisRow>& rows,

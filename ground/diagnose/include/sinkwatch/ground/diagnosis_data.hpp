@@ -77,6 +77,19 @@ struct DataSplit {
 /// Needs at least 8 rows. Throws std::invalid_argument otherwise.
 [[nodiscard]] DataSplit split_rows(const std::vector<DiagnosisRow>& rows);
 
+/// The cross-validation folds the ranking is scored on (docs/diagnosis.md,
+/// "Split"); the first fold is split_rows(rows), so the WHERE breakdown and
+/// the shown fits use the same split as before.
+///  - three or more loads: the highest load held out, then the lowest; with
+///    `every_load`, then every other load too (leave one load out); a fold
+///    with fewer than 4 training rows is skipped;
+///  - two loads: the split_rows split only (holding out the lower load would
+///    leave a single training load, on which load terms are not identifiable);
+///  - one load: four folds, fold j holding out every 4th row of the
+///    slip-sorted rows counting down from the (j+1)-th highest slip.
+[[nodiscard]] std::vector<DataSplit> cross_validation_folds(const std::vector<DiagnosisRow>& rows,
+                                                           bool every_load = false);
+
 /// Distinct loads, ascending (loads within 1e-9 relative are one load).
 [[nodiscard]] std::vector<double> distinct_loads(const std::vector<DiagnosisRow>& rows);
 
@@ -90,8 +103,14 @@ struct DataSplit {
 ///    E[d^2] = sigma^2 sum w_j^2 plus only the cubic part of the trend;
 ///    sigma^2 = mean of d^2 / sum w_j^2. Needs at least 3 such differences.
 /// `method` is "replicates", "neighbour_scatter" or "none" (not enough rows).
+/// With at least 6 differences, sigma(y) = hypot(floor, relative |y|) is
+/// fitted to them (sensors with a floor and a relative error: load cells,
+/// torque transducers); `sigma` is then that model's RMS over the rows.
+/// Replicates give floor = sigma, relative = 0.
 struct NoiseEstimate {
   double sigma = 0.0;
+  double floor = 0.0;
+  double relative = 0.0;
   std::string method;
   std::size_t dof = 0;
 };
