@@ -5,6 +5,7 @@
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
 #include "sinkwatch/fixedpoint/trig.hpp"
+#include "sinkwatch/flight/constant_divisor.hpp"
 
 namespace sinkwatch {
 namespace flight {
@@ -40,6 +41,18 @@ bool inputs_in_range(const RoverParams& params, const WheelLoadResult& loads, co
   return true;
 }
 
+/// W_i / sum W in Q31.32, bit for bit fx::div(W_i, sum W) of the loads
+/// widened to Q31.32: both are whole multiples of 2^-16, so the quotient is
+/// round(L_i 2^32 / S) of the raw Q15.16 integers L_i < 2^31 and S < 2^34,
+/// whose 64-bit operands divide through one reciprocal of S per call
+/// (constant_divisor.hpp) instead of six 128-bit long divisions. The
+/// remainder scales with the quotient's operands, so the rounding is the same.
+W load_fraction(WheelLoadN load, std::uint64_t load_sum, std::uint64_t load_sum_reciprocal) noexcept {
+  const std::uint64_t n = static_cast<std::uint64_t>(load.raw()) << 32U;  // load >= 0 (inputs_in_range)
+  // W_i <= sum W: the fraction is at most 1 (2^32 raw), well inside Q31.32.
+  return W::from_raw(static_cast<std::int64_t>(rounded_quotient(n, load_sum, load_sum_reciprocal)));
+}
+
 /// The pulls for usable loads and parameters that passed
 /// validate_rover_params().
 DrawbarResult pulls_of_valid(const RoverParams& params, const WheelLoadResult& loads,
@@ -48,13 +61,15 @@ DrawbarResult pulls_of_valid(const RoverParams& params, const WheelLoadResult& l
     return failed(DrawbarStatus::invalid_input);
   }
   fx::Status st;
-  W load_sum = W::zero();
+  // sum W in raw Q15.16 units: six values in [0, 2^31) sum below 2^34.
+  std::uint64_t load_sum = 0U;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    load_sum = fx::add(load_sum, fx::rescale<W>(loads.load_n[i].q(), st), st);
+    load_sum += static_cast<std::uint64_t>(loads.load_n[i].raw());
   }
-  if (load_sum.raw() <= 0) {
+  if (load_sum == 0U) {
     return failed(DrawbarStatus::invalid_loads);
   }
+  const std::uint64_t load_sum_reciprocal = reciprocal_of(load_sum);
 
   // m (a + g sin(pitch)): the along-path force the tractions must supply.
   const W sin_pitch = fx::rescale<W>(fx::sin(input.pitch_rad.q(), st), st);
@@ -72,7 +87,7 @@ DrawbarResult pulls_of_valid(const RoverParams& params, const WheelLoadResult& l
     if (!saturated) {
       // total * (W_i / sum W): the fraction is in [0, 1], so the product
       // never exceeds |total|.
-      const W share = fx::mul(total, fx::div(load, load_sum, st), st);
+      const W share = fx::mul(total, load_fraction(loads.load_n[i], load_sum, load_sum_reciprocal), st);
       dp = fx::clamp(share, fx::neg(cap, st), cap, st);
       if (dp != share) {
         r.capped_mask = static_cast<std::uint8_t>(r.capped_mask | (1U << i));

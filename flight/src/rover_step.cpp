@@ -37,7 +37,9 @@ bool differenced_accel(SpeedMps speed, SpeedMps previous, std::uint32_t dt_ms, A
 /// its wheels; below -1 it skids faster than twice the rim speed).
 bool slip_ratio(SpeedMps speed, SpeedMps rim, Ratio& out) noexcept {
   fx::Status st;
-  const W ratio = fx::div(fx::rescale<W>(speed.q(), st), fx::rescale<W>(rim.q(), st), st);
+  // Directly from Q7.24: the same quotient as of the operands widened to
+  // Q31.32 (the common 2^-24 cancels), on 64-bit operands.
+  const W ratio = fx::div<W>(speed.q(), rim.q(), st);
   const W slip = fx::clamp(fx::sub(kOne, ratio, st), kMinusOne, kOne, st);
   out = Ratio{fx::rescale<RatioQ>(slip, st)};
   return st.ok();

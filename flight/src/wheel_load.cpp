@@ -207,13 +207,16 @@ WheelLoadStatus check_inputs(const RoverParams& params, const RoverAttitude& att
 GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexcept {
   const W sin_pitch = wide(fx::sin(attitude.pitch_rad.q(), st), st);
   const W cos_pitch = wide(fx::cos(attitude.pitch_rad.q(), st), st);
-  const W sin_roll = wide(fx::sin(attitude.roll_rad.q(), st), st);
-  const W cos_roll = wide(fx::cos(attitude.roll_rad.q(), st), st);
+  const fx::Q1_30 sin_roll = fx::sin(attitude.roll_rad.q(), st);
+  const fx::Q1_30 cos_roll_q = fx::cos(attitude.roll_rad.q(), st);
+  const W cos_roll = wide(cos_roll_q, st);
   // cos(pitch) cos(roll) >= cos^2(1.05 rad) > 0.24: the divisions are safe.
   GravityFrame g{};
   g.normal_fraction = fx::mul(cos_pitch, cos_roll, st);
   g.kx = fx::div(sin_pitch, g.normal_fraction, st);
-  g.ky = fx::div(sin_roll, cos_roll, st);
+  // Directly from Q1.30: the same quotient as of the operands widened to
+  // Q31.32 (the common 2^-30 cancels), on 64-bit operands.
+  g.ky = fx::div<W>(sin_roll, cos_roll_q, st);
   return g;
 }
 

@@ -6,6 +6,7 @@
 // plain forms.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <random>
@@ -99,6 +100,26 @@ TEST(ConstantDivisor, ExactQuotientsAroundEveryRoundingBoundary) {
     }
   }
   EXPECT_EQ(bad, 0U);
+}
+
+TEST(ConstantDivisor, RoundedQuotientOfSixtyFourBitOperandsIsExact) {
+  // Any 64-bit divisor (the drawbar split divides by a sum of six loads, up
+  // to 2^34): round half up of n / d, against the built-in 64-bit division.
+  std::mt19937_64 rng(13U);
+  std::uint64_t bad = 0U;
+  for (int i = 0; i < 1000000; ++i) {
+    const std::uint32_t dlen = static_cast<std::uint32_t>(rng() % 64U) + 1U;
+    const std::uint64_t d = std::max<std::uint64_t>(rng() >> (64U - dlen), 1U);
+    const std::uint64_t n = ((i % 3) == 0) ? (d * (rng() % 1000U)) + (d / 2U) : rng();
+    const std::uint64_t q = n / d;
+    const std::uint64_t r = n % d;
+    const std::uint64_t expected = (r >= (d - r)) ? (q + 1U) : q;
+    bad += (flight::rounded_quotient(n, d, flight::reciprocal_of(d)) == expected) ? 0U : 1U;
+  }
+  EXPECT_EQ(bad, 0U);
+  EXPECT_EQ(flight::reciprocal_of(0U), 0U);
+  EXPECT_EQ(flight::rounded_quotient(~std::uint64_t{0U}, 1U, flight::reciprocal_of(1U)), ~std::uint64_t{0U});
+  EXPECT_EQ(flight::rounded_quotient(7U, 2U, flight::reciprocal_of(2U)), 4U);  // 3.5 rounds up
 }
 
 TEST(ConstantDivisor, ZeroDivisorFallsBackToFxDiv) {

@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <random>
 
 #include "rover_test_support.hpp"
+#include "sinkwatch/fixedpoint/trig.hpp"
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/current_limit.hpp"
 #include "sinkwatch/flight/drawbar_pull.hpp"
@@ -208,6 +210,58 @@ TEST_F(PreparedTest, RefusedRoverParametersAreReportedOnlyForFreshSamples) {
   EXPECT_EQ(step.step(t, t.time, p).status, RoverStepStatus::invalid_rover_params);
   // The same time stamp again is a repeated sample before it is a bad rover.
   EXPECT_EQ(step.step(t, t.time, p).status, RoverStepStatus::telemetry_repeated);
+}
+
+/// The drawbar split as it was written before issue 10: every share through
+/// fx::div of the loads widened to Q31.32 (drawbar_pull.hpp's formula).
+flight::DrawbarPullN share_by_fx_div(const flight::RoverParams& p, const flight::WheelLoadResult& loads,
+                                     const flight::DrawbarInput& in, std::uint32_t i, fx::Status& st) {
+  using W = flight::WideQ;
+  W sum = W::zero();
+  for (const flight::WheelLoadN& w : loads.load_n) {
+    sum = fx::add(sum, fx::rescale<W>(w.q(), st), st);
+  }
+  const W sin_pitch = fx::rescale<W>(fx::sin(in.pitch_rad.q(), st), st);
+  const W g_along = fx::mul<W>(p.gravity_mps2.q(), sin_pitch, st);
+  const W total = fx::mul<W>(p.mass_kg.q(), fx::add(fx::rescale<W>(in.accel_mps2.q(), st), g_along, st), st);
+  const W load = fx::rescale<W>(loads.load_n[i].q(), st);
+  const W cap = fx::mul<W>(in.dp_max_ratio[i].q(), load, st);
+  const W share = fx::mul(total, fx::div(load, sum, st), st);
+  return flight::DrawbarPullN{fx::rescale<flight::LoadQ>(fx::clamp(share, fx::neg(cap, st), cap, st), st)};
+}
+
+TEST_F(PreparedTest, DrawbarSharesEqualTheQ3132DivisionOfTheLoads) {
+  // drawbar_pulls splits by W_i / sum W through a reciprocal of the raw sum:
+  // every pull must be the bits of the fx::div form, zero, tiny and large
+  // loads included.
+  std::mt19937_64 rng(21U);
+  std::uint32_t compared = 0U;
+  for (int k = 0; k < 20000; ++k) {
+    flight::WheelLoadResult loads{};
+    loads.status = flight::WheelLoadStatus::ok;
+    for (flight::WheelLoadN& w : loads.load_n) {
+      const std::uint64_t r = rng();
+      w = flight::WheelLoadN::from_raw(((r & 7U) == 0U) ? 0 : static_cast<std::int32_t>(r >> (33U + (r & 15U))));
+    }
+    flight::DrawbarInput in{};
+    in.accel_mps2 = q<flight::AccelMps2>((0.5 * static_cast<double>(k % 7)) - 1.5);
+    in.pitch_rad = q<flight::AngleRad>((0.01 * static_cast<double>(k % 50)) - 0.25);
+    for (flight::Ratio& r : in.dp_max_ratio) {
+      r = q<flight::Ratio>(0.05 + (0.3 * static_cast<double>(rng() % 6U)));
+    }
+    const flight::DrawbarResult dp = flight::drawbar_pulls(rover, loads, in);
+    if (!flight::usable(dp.status)) {
+      continue;  // every load zero
+    }
+    for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+      fx::Status st;
+      const flight::DrawbarPullN expected = share_by_fx_div(rover, loads, in, i, st);
+      ASSERT_TRUE(st.ok()) << k;
+      ASSERT_EQ(dp.dp_n[i], expected) << k << " " << i;
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 100000U);
 }
 
 TEST_F(PreparedTest, MonitorWithKnownCorrectionsEqualsTheMonitorEvaluatingThem) {

@@ -63,6 +63,20 @@ constexpr fx::wide::DivMod<std::uint64_t> divide_by_reciprocal(std::uint64_t n, 
 
 }  // namespace detail
 
+/// m = floor((2^64 - 1) / d) for repeated division of 64-bit magnitudes by
+/// d > 0 (d = 0 gives 0, which rounded_quotient must not be given).
+[[nodiscard]] constexpr std::uint64_t reciprocal_of(std::uint64_t d) noexcept {
+  return (d == 0U) ? 0U : (~std::uint64_t{0U} / d);
+}
+
+/// n / d rounded half up, fx::div's rounding of a magnitude, with m =
+/// reciprocal_of(d), d > 0; exact for every n (the quotient is at most n).
+[[nodiscard]] constexpr std::uint64_t rounded_quotient(std::uint64_t n, std::uint64_t d, std::uint64_t m) noexcept {
+  const fx::wide::DivMod<std::uint64_t> qr = detail::divide_by_reciprocal(n, d, m);
+  // Round half away from zero: up when remainder >= divisor - remainder.
+  return (qr.remainder >= (d - qr.remainder)) ? (qr.quotient + 1U) : qr.quotient;
+}
+
 /// a / b in the format Out, bit-for-bit fx::div<Out>(a, b.value).
 template <typename Out, typename SA, std::int32_t FA, typename QB>
 [[nodiscard]] constexpr Out div_by_constant(fx::Q<SA, FA> a, const ConstantDivisor<QB>& b,
@@ -75,10 +89,8 @@ template <typename Out, typename SA, std::int32_t FA, typename QB>
   }
   const bool negative = fx::detail::is_negative(a.raw()) != fx::detail::is_negative(b.value.raw());
   const std::uint64_t den = fx::detail::magnitude(b.value.raw());
-  const fx::wide::DivMod<std::uint64_t> qr =
-      detail::divide_by_reciprocal(fx::wide::shl(mag_a, static_cast<std::uint32_t>(k)), den, b.reciprocal);
-  // Round half away from zero: up when remainder >= divisor - remainder.
-  const std::uint64_t mag = (qr.remainder >= (den - qr.remainder)) ? (qr.quotient + 1U) : qr.quotient;
+  const std::uint64_t mag =
+      rounded_quotient(fx::wide::shl(mag_a, static_cast<std::uint32_t>(k)), den, b.reciprocal);
   using OutS = typename Out::storage_type;
   return Out::from_raw(fx::detail::from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
 }
