@@ -125,6 +125,58 @@ TEST_F(MonitorCov, EventSinkageIsMarkedInvalidWhenDpMaxDoesNotFitTheLoadFormat) 
   EXPECT_EQ(too_big.peak_sinkage_m, SinkageM::zero());
 }
 
+// A valid table with the largest gear ratio and torque constant: 5 A gives
+// 4.9 A * 4 N m/A * 0.6 * 10000 = 117,600 N m, beyond the torque format
+// (Q15.16, 32,768 N m). The sample has no estimate; 0.2 A (2,400 N m) has.
+TEST_F(MonitorCov, TorqueBeyondItsFormatMakesTheSampleUnusable) {
+  table.motor.gear_ratio = q<GearRatio>(10000.0);
+  table.motor.kt_nm_per_a = q<TorqueConstantNmPerA>(4.0);
+  ASSERT_EQ(validate(table), RejectReason::ok);
+  const auto at = [&](double current_a) {
+    t_ms += 100U;
+    return WheelInput{TimeMs{t_ms}, q<CurrentA>(current_a), q<WheelLoadN>(kW), DrawbarPullN::zero(),
+                      DriveDirection::forward, true};
+  };
+  const WheelOutput big = feed(at(5.0));
+  EXPECT_EQ(big.sample_status, SampleStatus::estimate_failed);
+  EXPECT_FALSE(big.estimate_valid);
+  const WheelOutput small = feed(at(0.2));
+  EXPECT_EQ(small.sample_status, SampleStatus::ok);
+  ASSERT_TRUE(small.estimate_valid);
+  // From the quantised inputs: (I - I0) Kt eta N, within the 0.5 LSB of each rounding.
+  const double expected = (d(q<CurrentA>(0.2)) - d(table.motor.no_load_current_a)) * d(table.motor.kt_nm_per_a) *
+                          d(table.motor.efficiency) * d(table.motor.gear_ratio);
+  EXPECT_NEAR(d(small.torque_nm), expected, 1e-3);
+}
+
+// A wheel carrying 1 N (the bottom of the default load envelope) at 10 A with
+// a gear ratio of 1000: the samples' own estimates fit (their drawbar pull
+// balances the torque), and the current trips STOP. The event's Section 7
+// sinkage, with DP = DP_max = 0.5 N instead, is T/W - r (C3 + 0.5) = 148 m:
+// beyond Q7.24 (128 m), so the event says it has no number.
+TEST_F(MonitorCov, EventSinkageBeyondItsFormatIsMarkedInvalid) {
+  table.motor.gear_ratio = q<GearRatio>(1000.0);
+  ASSERT_EQ(validate(table), RejectReason::ok);
+  const double torque = (10.0 - 0.1) * 0.025 * 0.6 * 1000.0;  // 148.5 N m
+  const double load = 1.0;
+  const double dp = load * ((torque / load - 0.01) / 0.15 - 0.20);  // C3 = 0.20 below the first breakpoint
+  WheelOutput o{};
+  for (int i = 0; i < 3; ++i) {
+    t_ms += 100U;
+    o = feed(WheelInput{TimeMs{t_ms}, q<CurrentA>(10.0), q<WheelLoadN>(load), q<DrawbarPullN>(dp),
+                        DriveDirection::forward, true});
+    ASSERT_TRUE(o.estimate_valid) << i;
+    EXPECT_NEAR(d(o.sinkage_m), 0.01, 1e-4);
+  }
+  ASSERT_EQ(o.state, WheelState::stop);
+  ASSERT_TRUE(wheel.has_event());
+  const EventRecord& e = wheel.last_event();
+  EXPECT_EQ(e.reason, StopReason::current);
+  EXPECT_NEAR(d(e.peak_current_a), 10.0, 1e-5);
+  EXPECT_FALSE(e.peak_sinkage_valid);
+  EXPECT_EQ(e.peak_sinkage_m, SinkageM::zero());
+}
+
 TEST_F(MonitorCov, WindowLongerThanTheHistoryBehavesAsSixteenSamples) {
   table.monitor.window_m = 20U;  // validate() refuses this; the monitor must not misbehave
   ASSERT_EQ(validate(table), RejectReason::window_out_of_range);
