@@ -123,6 +123,13 @@ Evidence evidence_of(CurrentA directed, const WheelOutput& out, const MonitorPar
   return e;
 }
 
+/// No thresholds (parameters without a valid table): stop, fail-safe.
+RoverOutput blind_output() noexcept {
+  RoverOutput out{};
+  out.decision = RoverDecision::stop_and_replan;
+  return out;
+}
+
 }  // namespace
 
 WheelMonitor::WheelMonitor(std::uint8_t wheel_index) noexcept : wheel_(wheel_index) {}
@@ -325,12 +332,9 @@ RoverOutput RoverMonitor::step(const WheelInput (&inputs)[kMaxWheels], TimeMs no
 
 RoverOutput RoverMonitor::step(const WheelInput (&inputs)[kMaxWheels], TimeMs now,
                                const PreparedParameters& prepared) noexcept {
-  if (!prepared.table_valid()) {
-    RoverOutput out{};
-    out.decision = RoverDecision::stop_and_replan;  // no thresholds: fail-safe
-    return out;
-  }
-  return step_all(inputs, now, prepared.table(), prepared);
+  // Both returns are prvalues, built in the caller's storage (no copy of the
+  // six wheels' outputs on this frame).
+  return prepared.table_valid() ? step_all(inputs, now, prepared.table(), prepared) : blind_output();
 }
 
 void RoverMonitor::clear_stop() noexcept {
