@@ -6,12 +6,37 @@ namespace flight {
 
 namespace {
 
-/// a + f * (b - a) with f in [0, 1]: one rounding into Q7.24 at the end.
-Ratio lerp(Ratio a, Ratio b, WideQ fraction, fx::Status& st) noexcept {
+/// a + f * (b - a) with f in [0, 1] in Q31.32: the step rounded to Q31.32,
+/// the sum rounded once into Q7.24.
+Ratio lerp_wide(Ratio a, Ratio b, WideQ fraction, fx::Status& st) noexcept {
   const WideQ span = fx::sub(fx::rescale<WideQ>(b.q(), st), fx::rescale<WideQ>(a.q(), st), st);
   const WideQ step = fx::mul<WideQ>(fraction, span, st);
   const WideQ value = fx::add(fx::rescale<WideQ>(a.q(), st), step, st);
   return Ratio(fx::rescale<RatioQ>(value, st));
+}
+
+/// |m| / 2^s rounded half away from zero (fx's rounding of a magnitude).
+std::uint64_t round_shift(std::uint64_t m, std::uint32_t s) noexcept {
+  return (m >> s) + ((m >> (s - 1U)) & 1U);
+}
+
+/// lerp_wide, bit for bit, on 64-bit integers when f < 1 (the segment case:
+/// W below the segment's upper breakpoint). In Q31.32 the span is d 2^8 with
+/// d = b - a in raw Q7.24 (|d| < 2^32) and the step round(f d 2^8 / 2^32) =
+/// round(f d / 2^24); f < 2^32 raw keeps f |d| below 2^64. The value
+/// a 2^8 + step then rounds into Q7.24 as fx::rescale does. Four 128-bit
+/// products and rescales per call become one 64-bit product and shifts.
+Ratio lerp(Ratio a, Ratio b, WideQ fraction, fx::Status& st) noexcept {
+  constexpr auto kOneRaw = static_cast<std::int64_t>(std::uint64_t{1} << 32U);  // 1.0 in Q31.32
+  if ((fraction.raw() < 0) || (fraction.raw() >= kOneRaw)) {
+    return lerp_wide(a, b, fraction, st);
+  }
+  const std::int64_t d = static_cast<std::int64_t>(b.raw()) - static_cast<std::int64_t>(a.raw());
+  const std::uint64_t product = static_cast<std::uint64_t>(fraction.raw()) * fx::detail::magnitude(d);
+  const auto step_mag = static_cast<std::int64_t>(round_shift(product, 24U));  // below 2^40
+  const std::int64_t value = (static_cast<std::int64_t>(a.raw()) * 256) + ((d < 0) ? -step_mag : step_mag);
+  const std::uint64_t out_mag = round_shift(fx::detail::magnitude(value), 8U);
+  return Ratio(RatioQ::from_raw(fx::detail::from_sign_magnitude<std::int32_t>(value < 0, out_mag, st)));
 }
 
 CorrectionResult from_row(const CorrectionRow& row, LoadClamp clamp) noexcept {
