@@ -533,6 +533,7 @@ DiagnosisResult diagnose(const DiagnosisModel& model, const std::vector<Diagnosi
                              "neighbours): gaps are then measured against the base fit itself");
     }
   }
+  result.row_noise = row_noise(model, rows, result.noise);
   result.base = fit_model(model, nullptr, rows, split, result.noise, {}, settings);
   if (!result.base.converged) {
     result.notes.push_back("base fit did not converge: " + result.base.solver_message);

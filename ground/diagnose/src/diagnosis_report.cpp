@@ -263,20 +263,23 @@ std::vector<std::string> write_report(const DiagnosisResult& r, const std::strin
     for (const ChannelInfo& c : r.channels) {
       dat << " top_" << c.name;
     }
-    dat << "  (residual = measured - model, in units of the channel's noise)\n";
+    dat << "  (residual = measured - model, in units of the row's noise in that channel)\n";
     std::vector<bool> held(r.rows.size(), false);
     for (std::size_t i : r.heldout) {
       held[i] = true;
     }
     dat << std::setprecision(8);
+    auto noise_of = [&](std::size_t i, std::size_t c) {
+      return i < r.row_noise.size() ? r.row_noise[i][c] : r.noise[c].sigma;
+    };
     for (std::size_t i = 0; i < r.rows.size(); ++i) {
       dat << r.rows[i].slip << ' ' << r.rows[i].load_n << ' ' << r.rows[i].sinkage_ratio << ' ' << (held[i] ? 1 : 0);
       for (std::size_t c = 0; c < r.channels.size(); ++c) {
-        const double v = r.base.residuals[i][c] / r.noise[c].sigma;
+        const double v = r.base.residuals[i][c] / noise_of(i, c);
         dat << ' ' << (std::isfinite(v) ? num(v) : std::string("NaN"));
       }
       for (std::size_t c = 0; c < r.channels.size(); ++c) {
-        const double v = top != nullptr ? top->fit.residuals[i][c] / r.noise[c].sigma : std::nan("");
+        const double v = top != nullptr ? top->fit.residuals[i][c] / noise_of(i, c) : std::nan("");
         dat << ' ' << (std::isfinite(v) ? num(v) : std::string("NaN"));
       }
       dat << '\n';

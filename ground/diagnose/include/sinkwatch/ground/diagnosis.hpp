@@ -220,6 +220,7 @@ struct DiagnosisResult {
   double cv_heldout_rms_scaled = 0.0;
   std::vector<DiagnosisRow> rows;
   std::vector<ChannelNoiseEstimate> noise;
+  std::vector<std::vector<double>> row_noise;  // [row][channel]: the noise each residual is divided by
   FitResult base;
   WhereBreakdown where;
   std::vector<RankedEffect> ranking;  // best first; non-identifiable ones last
