@@ -129,6 +129,13 @@ void fit_noise_model(const std::vector<Difference>& diffs, double& floor, double
     mean_v += d.v;
   }
   mean_v /= static_cast<double>(diffs.size());
+  if (!(mean_v > 0.0)) {
+    // Data without scatter (exact, or a trend the differences cancel):
+    // nothing to fit, and the weights below would divide by zero.
+    floor = 0.0;
+    relative = 0.0;
+    return;
+  }
   double a = mean_v;
   double b = 0.0;
   bool first = true;
