@@ -343,7 +343,7 @@ void RoverMonitor::clear_stop() noexcept {
   }
 }
 
-const WheelMonitor& RoverMonitor::wheel(std::uint8_t index) const noexcept {
+const WheelMonitor& RoverMonitor::wheel(std::uint8_t index) const& noexcept {
   return wheels_[(index < kMaxWheels) ? index : (kMaxWheels - 1U)];
 }
 

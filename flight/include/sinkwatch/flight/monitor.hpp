@@ -123,8 +123,10 @@ class WheelMonitor {
 
   [[nodiscard]] WheelState state() const noexcept { return state_; }
   [[nodiscard]] bool has_event() const noexcept { return has_event_; }
-  [[nodiscard]] const EventRecord& last_event() const noexcept { return event_; }
-  [[nodiscard]] const WheelCounters& counters() const noexcept { return counters_; }
+  [[nodiscard]] const EventRecord& last_event() const& noexcept { return event_; }
+  const EventRecord& last_event() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
+  [[nodiscard]] const WheelCounters& counters() const& noexcept { return counters_; }
+  const WheelCounters& counters() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
 
  private:
   /// The divisors are null for plain fx::div.
@@ -185,7 +187,8 @@ class RoverMonitor {
   /// The ground's acknowledgement after a re-plan: every wheel back to NOMINAL.
   void clear_stop() noexcept;
 
-  [[nodiscard]] const WheelMonitor& wheel(std::uint8_t index) const noexcept;
+  [[nodiscard]] const WheelMonitor& wheel(std::uint8_t index) const& noexcept;
+  const WheelMonitor& wheel(std::uint8_t index) const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
 
  private:
   /// Every monitored wheel on `params` (the table itself or prepared ones).

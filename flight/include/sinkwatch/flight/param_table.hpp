@@ -208,7 +208,9 @@ class ParameterStore {
   /// old one stays and the reason is returned and remembered.
   RejectReason load(const std::uint8_t* bytes, std::size_t size, ExtensionValidator extension = nullptr) noexcept;
 
-  [[nodiscard]] const ParameterTable& active() const noexcept { return active_; }
+
+  [[nodiscard]] const ParameterTable& active() const& noexcept { return active_; }
+  const ParameterTable& active() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
   /// CRC of the bytes the active table came from (0 for the built-in default).
   [[nodiscard]] std::uint32_t active_crc() const noexcept { return active_crc_; }
   [[nodiscard]] std::uint32_t rejected_count() const noexcept { return rejected_count_; }

@@ -47,15 +47,19 @@ class PreparedParameters {
   /// True when the table, the rover parameters and their radii all agree.
   [[nodiscard]] constexpr bool ready() const noexcept { return status_ == PrepareStatus::ok; }
   /// The validated table; meaningful only when table_valid().
-  [[nodiscard]] constexpr const ParameterTable& table() const noexcept { return table_; }
+  [[nodiscard]] constexpr const ParameterTable& table() const& noexcept { return table_; }
+  const ParameterTable& table() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
   /// The rover parameters; validated only when ready().
-  [[nodiscard]] constexpr const RoverParams& rover() const noexcept { return rover_; }
+  [[nodiscard]] constexpr const RoverParams& rover() const& noexcept { return rover_; }
+  const RoverParams& rover() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
   /// Table 2's segment widths and the motor's N, eta, Kt as reciprocals
   /// (constant_divisor.hpp), for divisions without a division instruction.
-  [[nodiscard]] constexpr const CorrectionDivisors& correction_divisors() const noexcept {
+  [[nodiscard]] constexpr const CorrectionDivisors& correction_divisors() const& noexcept {
     return correction_divisors_;
   }
-  [[nodiscard]] constexpr const MotorDivisors& motor_divisors() const noexcept { return motor_divisors_; }
+  const CorrectionDivisors& correction_divisors() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
+  [[nodiscard]] constexpr const MotorDivisors& motor_divisors() const& noexcept { return motor_divisors_; }
+  const MotorDivisors& motor_divisors() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
 
  private:
   friend PrepareStatus prepare(const ParameterTable& table, const RoverParams& rover,

@@ -112,7 +112,9 @@ class RoverStep {
   /// The ground's acknowledgement after a re-plan (RoverMonitor::clear_stop).
   void clear_stop() noexcept;
 
-  [[nodiscard]] const RoverMonitor& monitor() const noexcept { return monitor_; }
+
+  [[nodiscard]] const RoverMonitor& monitor() const& noexcept { return monitor_; }
+  const RoverMonitor& monitor() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
 
  private:
   /// Stage 1: flagged, stale, repeated, or ok (then remembered as the last).
