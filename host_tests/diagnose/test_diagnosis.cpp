@@ -74,6 +74,63 @@ TEST(DiagnosisSplit, OneLoadHoldsOutEveryFourthSlipFromTheTop) {
   EXPECT_NEAR(held[3], 0.66, 1e-12);  // the highest slip is held out
 }
 
+TEST(DiagnosisSplit, CrossValidationFolds) {
+  std::vector<DiagnosisRow> rows;
+  for (double load : {60.0, 30.0, 120.0, 90.0}) {  // unsorted on purpose
+    for (double s : {0.1, 0.2, 0.3}) {
+      rows.push_back(row_at(s, load));
+    }
+  }
+  auto held_load = [&](const DataSplit& fold) {
+    std::vector<double> loads;
+    for (std::size_t i : fold.heldout) {
+      loads.push_back(rows[i].load_n);
+    }
+    std::sort(loads.begin(), loads.end());
+    loads.erase(std::unique(loads.begin(), loads.end()), loads.end());
+    return loads;
+  };
+  // The two extreme loads, the highest first (the split_rows split).
+  const std::vector<DataSplit> extremes = cross_validation_folds(rows);
+  ASSERT_EQ(extremes.size(), 2U);
+  EXPECT_EQ(held_load(extremes[0]), std::vector<double>{120.0});
+  EXPECT_EQ(held_load(extremes[1]), std::vector<double>{30.0});
+  EXPECT_EQ(extremes[1].train.size(), 9U);
+  // Every load once.
+  const std::vector<DataSplit> every = cross_validation_folds(rows, true);
+  ASSERT_EQ(every.size(), 4U);
+  std::vector<double> all;
+  for (const DataSplit& fold : every) {
+    ASSERT_EQ(held_load(fold).size(), 1U);
+    all.push_back(held_load(fold).front());
+  }
+  std::sort(all.begin(), all.end());
+  EXPECT_EQ(all, (std::vector<double>{30.0, 60.0, 90.0, 120.0}));
+
+  // Two loads: the one split. One load: four folds, every row held out once.
+  std::vector<DiagnosisRow> two;
+  for (double load : {30.0, 60.0}) {
+    for (double s : {0.1, 0.2, 0.3, 0.4}) {
+      two.push_back(row_at(s, load));
+    }
+  }
+  EXPECT_EQ(cross_validation_folds(two).size(), 1U);
+  std::vector<DiagnosisRow> one;
+  for (int k = 0; k < 14; ++k) {
+    one.push_back(row_at(0.05 * k, 29.43));
+  }
+  const std::vector<DataSplit> slip_folds = cross_validation_folds(one);
+  ASSERT_EQ(slip_folds.size(), 4U);
+  std::vector<int> times_held(one.size(), 0);
+  for (const DataSplit& fold : slip_folds) {
+    EXPECT_EQ(fold.train.size() + fold.heldout.size(), one.size());
+    for (std::size_t i : fold.heldout) {
+      ++times_held[i];
+    }
+  }
+  EXPECT_EQ(std::count(times_held.begin(), times_held.end(), 1), 14);
+}
+
 TEST(DiagnosisSplit, TooFewRowsIsAnError) {
   std::vector<DiagnosisRow> rows(7, row_at(0.1, 30.0));
   EXPECT_THROW((void)split_rows(rows), std::invalid_argument);

@@ -140,7 +140,12 @@ void fit_noise_model(const std::vector<Difference>& diffs, double& floor, double
   double b = 0.0;
   bool first = true;
   for (int iteration = 0; iteration < 30; ++iteration) {
-    double s0 = 0.0, s1 = 0.0, s2 = 0.0, t0 = 0.0, t1 = 0.0;
+    // Weighted normal equations of v = a + b m.
+    double s0 = 0.0;
+    double s1 = 0.0;
+    double s2 = 0.0;
+    double t0 = 0.0;
+    double t1 = 0.0;
     for (const Difference& d : diffs) {
       const double e = first ? mean_v : std::max(a + b * d.m, 1e-6 * mean_v);
       const double w = 1.0 / (e * e);

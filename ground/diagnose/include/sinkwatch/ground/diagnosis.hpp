@@ -4,14 +4,16 @@
 // it answers three questions on rows the fit has not seen:
 //
 //   WHERE      the base model is fitted to the training rows by nonlinear
-//              least squares (Ceres, residuals divided by each channel's noise
-//              so that channels are comparable); its residuals are broken down
-//              per channel and per regime (slip, load and sinkage bins), each
-//              against the channel's measurement noise;
-//   WHICH      for each candidate, base + candidate is refitted to the same
-//              training rows and its held-out RMS measured; candidates are
-//              ranked by held-out RMS, near-ties broken by the training BIC
-//              (which charges each extra parameter ln n);
+//              least squares (Ceres, each residual divided by its row's
+//              measurement noise, a floor plus a relative part estimated
+//              from the data, so that channels and rows are comparable); its
+//              residuals are broken down per channel and per regime (slip,
+//              load and sinkage bins), each against the noise;
+//   WHICH      for each candidate, base + candidate is refitted to the
+//              training rows of each cross-validation fold and its held-out
+//              RMS pooled over the folds; candidates are ranked by that,
+//              near-ties broken by the training BIC (which charges each extra
+//              parameter ln n);
 //   HOW FAR    held-out RMS per channel before and after, in the channel's
 //              unit and as a percentage, with the candidate's fitted size.
 //
@@ -191,8 +193,8 @@ struct DiagnosisSettings {
   double residual_threshold = 2.0;      // best still above 2x noise: only partly explained
   int max_iterations = 100;
   // Score the ranking by cross-validation over the folds of
-  // cross_validation_folds (every load held out once); false: the first
-  // split only (faster, noisier).
+  // cross_validation_folds (several loads: the highest and the lowest held
+  // out in turn); false: the first split only (faster, noisier).
   bool cross_validate = true;
   // With three or more loads: hold out every load in turn, not only the two
   // extreme ones (cross_validation_folds).
