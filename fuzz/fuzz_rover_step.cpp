@@ -190,7 +190,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       const sf::WheelOutput& w = o.monitor.wheels[i];
       check(u(w.state) <= u(sf::WheelState::stop));
       check(u(w.sample_status) < sf::kSampleStatusCount);
-      check(u(w.stop_reason) <= u(sf::StopReason::telemetry));
+      check(u(w.stop_reason) <= u(sf::StopReason::slip));
       check(u(w.clamp) <= u(sf::LoadClamp::above_last));
       const bool sample_ok = w.sample_status == sf::SampleStatus::ok;
       check(w.estimate_valid == sample_ok);

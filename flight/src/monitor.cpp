@@ -105,6 +105,7 @@ struct Evidence {
   bool stop{false};
   bool clear{false};
   bool current_stop{false};
+  bool slip_stop{false};  ///< stop evidence from high slip alone
 };
 
 Evidence evidence_of(CurrentA directed, const WheelOutput& out, const MonitorParams& mp) noexcept {
@@ -203,7 +204,7 @@ EventRecord WheelMonitor::stop_event(TimeMs now, StopReason reason, const Parame
   return e;
 }
 
-void WheelMonitor::transition(bool current_stop, TimeMs now, const ParameterTable& table,
+void WheelMonitor::transition(StopReason sample_reason, TimeMs now, const ParameterTable& table,
                               const CorrectionDivisors* corr_divisors, WheelOutput& out) noexcept {
   const MonitorParams& mp = table.monitor;
   if (state_ == WheelState::stop) {
@@ -212,7 +213,7 @@ void WheelMonitor::transition(bool current_stop, TimeMs now, const ParameterTabl
   if ((consecutive_unusable_ >= mp.invalid_to_stop) || (count_bits(stop_history_, mp.window_m) >= mp.trip_n)) {
     const StopReason reason = (consecutive_unusable_ >= mp.invalid_to_stop)
                                   ? StopReason::telemetry
-                                  : (current_stop ? StopReason::current : StopReason::sinkage);
+                                  : sample_reason;
     state_ = WheelState::stop;
     stop_reason_ = reason;
     out.stop_tripped = true;
@@ -272,12 +273,22 @@ WheelOutput WheelMonitor::step_with(const WheelInput& input, TimeMs now, const P
   } else {
     consecutive_unusable_ = 0U;
     e = evidence_of(directed, out, table.monitor);
+    if (input.drawbar_assumed) {
+      // DP = DP_max assumed at high slip: the estimate is a lower bound and
+      // the wheel makes no headway (WheelInput::drawbar_assumed).
+      e.slip_stop = !e.stop;
+      e.stop = true;
+      e.caution = true;
+      e.clear = false;
+    }
     track_episode(directed, input.load_n, out.sinkage_m);
   }
   push_history(e.caution, e.stop, e.clear);
 
   // 4. Transitions (STOP is latched).
-  transition(e.current_stop, now, table, corr_divisors, out);
+  const StopReason sample_reason =
+      e.current_stop ? StopReason::current : (e.slip_stop ? StopReason::slip : StopReason::sinkage);
+  transition(sample_reason, now, table, corr_divisors, out);
   out.state = state_;
   out.stop_reason = stop_reason_;
   return out;

@@ -216,6 +216,7 @@ void RoverStep::monitor_stage(const RoverTelemetry& t, TimeMs now, const Prepare
     inputs[i].load_n = usable_sample ? out.load_n[i] : WheelLoadN::zero();
     inputs[i].drawbar_pull_n = usable_sample ? out.drawbar_pull_n[i] : DrawbarPullN::zero();
     inputs[i].corrections = usable_sample ? &corr[i] : nullptr;
+    inputs[i].drawbar_assumed = usable_sample && (out.drawbar_status == DrawbarStatus::saturated);
   }
   out.monitor = monitor_.step(inputs, now, prepared);
   out.decision = out.monitor.decision;

@@ -341,3 +341,56 @@ TEST(RoverMonitor, AnyWheelStopsTheRoverWhenKIsOne) {
 }
 
 }  // namespace
+
+// At or above the high-slip level the step hands the monitor DP = DP_max
+// assumed, not measured (WheelInput::drawbar_assumed): Eq. 11 then gives the
+// smallest sinkage the current allows, often below zero. Such samples must
+// never clear a wheel, and a run of them is a wheel making no headway: STOP,
+// named as slip (docs/scenarios.md finding 3: without this, a stuck rover's
+// wheels went back to NOMINAL).
+TEST_F(MonitorTest, AssumedDrawbarAtHighSlipIsSlipStopEvidence) {
+  const auto slipping = [this] {
+    WheelInput in = sample(1.0, -0.02);  // an estimate below zero, as at DP_max
+    in.drawbar_assumed = true;
+    return feed(in);
+  };
+  EXPECT_EQ(slipping().state, WheelState::nominal);
+  EXPECT_EQ(slipping().state, WheelState::nominal);
+  const WheelOutput o = slipping();
+  EXPECT_EQ(o.state, WheelState::stop);
+  EXPECT_TRUE(o.stop_tripped);
+  EXPECT_EQ(o.stop_reason, StopReason::slip);
+  EXPECT_TRUE(o.estimate_valid) << "the number is still reported";
+  EXPECT_LT(d(o.sinkage_m), 0.0);
+  ASSERT_TRUE(wheel.has_event());
+  EXPECT_EQ(wheel.last_event().reason, StopReason::slip);
+}
+
+TEST_F(MonitorTest, AssumedDrawbarNeverClearsACautionWheel) {
+  for (int i = 0; i < 3; ++i) sink_caution();
+  ASSERT_EQ(wheel.state(), WheelState::caution);
+  // The same numbers that clear the wheel when measured ...
+  WheelInput in = sample(1.0, 0.01);
+  in.drawbar_assumed = true;
+  const WheelOutput o = feed(in);
+  // ... are stop evidence when assumed: one sample is not enough to stop.
+  EXPECT_EQ(o.state, WheelState::caution);
+  for (int i = 0; i < 2; ++i) {
+    WheelInput more = sample(1.0, 0.01);
+    more.drawbar_assumed = true;
+    feed(more);
+  }
+  EXPECT_EQ(wheel.state(), WheelState::stop);
+  EXPECT_EQ(wheel.last_event().reason, StopReason::slip);
+}
+
+TEST_F(MonitorTest, CurrentOrSinkageStopKeepsItsReasonAtHighSlip) {
+  // Stop evidence of its own wins the name: the current is at its limit.
+  for (int i = 0; i < 3; ++i) {
+    WheelInput in = sample(2.5, 0.01);
+    in.drawbar_assumed = true;
+    feed(in);
+  }
+  EXPECT_EQ(wheel.state(), WheelState::stop);
+  EXPECT_EQ(wheel.last_event().reason, StopReason::current);
+}

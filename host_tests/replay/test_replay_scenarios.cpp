@@ -97,6 +97,30 @@ TEST(ReplayScenarios, NominalTraverseNeverStops) {
   for (const sg::CycleRecord& c : r.cycles) EXPECT_EQ(c.status, fl::RoverStepStatus::ok);
 }
 
+// docs/scenarios.md findings 2 and 3: on the steep soft flank the default
+// table gives no lead (finding 2, still open), but once the wheels spin at
+// or above the high-slip level the drawbar pull is only assumed (DP_max), so
+// the rover must stop on slip and no wheel may go back to NOMINAL while it
+// is stuck. Before the slip stop evidence the six wheels cleared to NOMINAL
+// 1 s after the embedding and the rover drove on.
+TEST(ReplayScenarios, SteepRippleStuckRoverStopsOnSlipAndStaysStopped) {
+  const sg::Scenario s = sg::generate_scenario(sg::steep_ripple_scenario(), "test");
+  ASSERT_TRUE(s.truth.embedded);
+  const sg::ReplayResult r = replay(s.log);
+  ASSERT_TRUE(r.first_stop.has_value()) << "the stuck rover was never stopped";
+  const sg::CycleRecord& stop = r.cycles[*r.first_stop];
+  // Late, not early: finding 2 stands (no lead on this flank).
+  EXPECT_GE(stop.time_s, s.truth.embed_time_s - 1.0);
+  EXPECT_LE(stop.time_s, s.truth.embed_time_s + 2.0) << "embedding at " << s.truth.embed_time_s << " s";
+  ASSERT_FALSE(r.events.empty());
+  EXPECT_EQ(r.events.front().reason, fl::StopReason::slip);
+  for (const sg::CycleRecord& c : r.cycles) {
+    if (c.time_s >= s.truth.embed_time_s) {
+      EXPECT_NE(c.worst_state(), fl::WheelState::nominal) << "a wheel back to NOMINAL while stuck at " << c.time_s;
+    }
+  }
+}
+
 TEST(ReplayScenarios, OnboardLoopRejectsValuesBeyondTheFlightFormats) {
   sg::OnboardLoop loop;
   sg::TelemetryRow row;

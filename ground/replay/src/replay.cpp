@@ -283,6 +283,7 @@ const char* to_string(flight::StopReason r) {
     case flight::StopReason::current: return "current at its limit";
     case flight::StopReason::sinkage: return "sinkage at the stop level";
     case flight::StopReason::telemetry: return "unusable telemetry";
+    case flight::StopReason::slip: return "slip at or above the high-slip level";
   }
   return "?";
 }

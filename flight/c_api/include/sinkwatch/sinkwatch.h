@@ -77,7 +77,7 @@ typedef struct sw_telemetry {
 typedef struct sw_wheel_result {
   uint8_t state;                /* SW_WHEEL_* */
   uint8_t sample_status;        /* SampleStatus of flight/monitor.hpp */
-  uint8_t stop_reason;          /* StopReason: 0 none, 1 current, 2 sinkage, 3 telemetry */
+  uint8_t stop_reason;          /* StopReason: 0 none, 1 current, 2 sinkage, 3 telemetry, 4 slip */
   uint8_t stop_tripped;         /* entered STOP this cycle: read sw_last_event */
   uint8_t estimate_valid;       /* torque and sinkage hold this cycle's numbers */
   uint8_t limit_valid;          /* current limit holds this cycle's number */

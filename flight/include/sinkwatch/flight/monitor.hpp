@@ -55,7 +55,9 @@ enum class SampleStatus : std::uint8_t {
 };
 constexpr std::uint8_t kSampleStatusCount = 8U;
 
-enum class StopReason : std::uint8_t { none = 0U, current = 1U, sinkage = 2U, telemetry = 3U };
+/// Why a wheel entered STOP. `slip`: its samples came at or above the rover's
+/// high-slip level, where the drawbar pull is assumed (DP_max), not measured.
+enum class StopReason : std::uint8_t { none = 0U, current = 1U, sinkage = 2U, telemetry = 3U, slip = 4U };
 
 /// One wheel's telemetry for one cycle.
 struct WheelInput {
@@ -65,6 +67,13 @@ struct WheelInput {
   DrawbarPullN drawbar_pull_n;  ///< from the rover's behaviour (issue 4)
   DriveDirection direction{DriveDirection::forward};  ///< commanded direction
   bool valid{false};            ///< the telemetry source's own validity flag
+  /// drawbar_pull_n is DP_max assumed at or above the high-slip level
+  /// (DrawbarStatus::saturated), not a measurement. With DP at its maximum,
+  /// Eq. 11 gives the smallest sinkage the current allows, so the number
+  /// cannot clear the wheel; and a wheel slipping that much makes no headway:
+  /// the sample is STOP evidence (StopReason::slip), as a MER-style slip check
+  /// would have it (docs/flight.md, docs/scenarios.md finding 3).
+  bool drawbar_assumed{false};
   /// corrections_at(table.correction, load_n) when the caller has already
   /// evaluated it (RoverStep does, for DP_max/W), else null: the monitor then
   /// reads it instead of evaluating the table again. Must be for this load_n
@@ -137,7 +146,9 @@ class WheelMonitor {
   /// The episode's peak current (and its load) and largest estimate.
   void track_episode(CurrentA directed, WheelLoadN load_n, SinkageM sinkage_m) noexcept;
   /// Stage 4: NOMINAL -> CAUTION -> STOP and back (STOP latched).
-  void transition(bool current_stop, TimeMs now, const ParameterTable& table,
+  /// `sample_reason`: what the last usable sample was stop evidence of
+  /// (current, slip, else sinkage); it names a STOP the window trips.
+  void transition(StopReason sample_reason, TimeMs now, const ParameterTable& table,
                   const CorrectionDivisors* corr_divisors, WheelOutput& out) noexcept;
   /// The record written on entering STOP.
   [[nodiscard]] EventRecord stop_event(TimeMs now, StopReason reason, const ParameterTable& table,
