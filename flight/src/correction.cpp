@@ -66,27 +66,31 @@ CorrectionResult corrections_with(const CorrectionTable& table, const Correction
   if (load_n == table.rows[last].load_n) {
     return from_row(table.rows[last], LoadClamp::none);
   }
-  // Here count >= 2 and rows[0].load <= W < rows[last].load: one segment holds W.
-  for (std::uint8_t i = 0U; i < last; ++i) {
-    const CorrectionRow& lo = table.rows[i];
-    const CorrectionRow& hi = table.rows[i + 1U];
-    if ((load_n >= lo.load_n) && (load_n < hi.load_n)) {
-      fx::Status st;
-      const LoadQ offset = fx::sub(load_n.q(), lo.load_n.q(), st);
-      const WideQ fraction = (divisors != nullptr)
-                                 ? div_by_constant<WideQ>(offset, divisors->width[i], st)
-                                 : fx::div<WideQ>(offset, fx::sub(hi.load_n.q(), lo.load_n.q(), st), st);
-      const Coefficients c{lerp(lo.c1, hi.c1, fraction, st), lerp(lo.c2, hi.c2, fraction, st),
-                           lerp(lo.c3, hi.c3, fraction, st)};
-      const Ratio dp = lerp(lo.dp_max_ratio, hi.dp_max_ratio, fraction, st);
-      if (!st.ok()) {
-        return failed;
-      }
-      return CorrectionResult{c, dp, LoadClamp::none, EstimateStatus::ok};
+  // Here count >= 2 and rows[0].load <= W < rows[last].load. The segment is
+  // the first k with W < W_k+1: then W_k <= W too (k = 0, or k - 1 was not
+  // taken), for any breakpoints, increasing or not; and k = last - 1 when no
+  // earlier one is, since W < W_last. So there is no "no segment" outcome.
+  std::uint8_t seg = static_cast<std::uint8_t>(last - 1U);
+  for (std::uint8_t i = 0U; i < seg; ++i) {
+    if (load_n < table.rows[i + 1U].load_n) {
+      seg = i;
+      break;
     }
   }
-  // Breakpoints not increasing: validate() refuses such a table.
-  return failed;
+  const CorrectionRow& lo = table.rows[seg];
+  const CorrectionRow& hi = table.rows[seg + 1U];
+  fx::Status st;
+  const LoadQ offset = fx::sub(load_n.q(), lo.load_n.q(), st);
+  const WideQ fraction = (divisors != nullptr)
+                             ? div_by_constant<WideQ>(offset, divisors->width[seg], st)
+                             : fx::div<WideQ>(offset, fx::sub(hi.load_n.q(), lo.load_n.q(), st), st);
+  const Coefficients c{lerp(lo.c1, hi.c1, fraction, st), lerp(lo.c2, hi.c2, fraction, st),
+                       lerp(lo.c3, hi.c3, fraction, st)};
+  const Ratio dp = lerp(lo.dp_max_ratio, hi.dp_max_ratio, fraction, st);
+  if (!st.ok()) {
+    return failed;
+  }
+  return CorrectionResult{c, dp, LoadClamp::none, EstimateStatus::ok};
 }
 
 }  // namespace
