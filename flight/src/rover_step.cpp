@@ -95,7 +95,8 @@ RoverStepStatus drawbar_stage(const PreparedParameters& prepared, const RoverTel
   const DrawbarResult dp = drawbar_pulls(prepared, loads, in);
   out.drawbar_status = dp.status;
   if (!usable(dp.status)) {
-    return RoverStepStatus::drawbar_failed;
+    // Defensive, unreachable on prepared parameters (docs/coverage.md).
+    return RoverStepStatus::drawbar_failed;  // GCOVR_EXCL_LINE
   }
   out.drawbar_valid = true;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
