@@ -13,68 +13,20 @@
 #include "quantity_support.hpp"
 #include "sinkwatch/flight/crc32.hpp"
 #include "sinkwatch/flight/param_table.hpp"
+#include "table_bytes.hpp"
 
 namespace {
 
 using namespace sinkwatch;
 using namespace sinkwatch::flight;
 using sinkwatch::test::q;
-using Bytes = std::vector<std::uint8_t>;
-
-Bytes encode_table(const ParameterTable& t) {
-  Bytes b(kMaxTableBytes);
-  const EncodeResult e = encode(t, b.data(), b.size());
-  EXPECT_EQ(e.status, RejectReason::ok);
-  b.resize(e.size);
-  return b;
-}
-
-void put_u16(Bytes& b, std::size_t at, std::uint16_t v) {
-  b[at] = static_cast<std::uint8_t>(v & 0xFFU);
-  b[at + 1] = static_cast<std::uint8_t>(v >> 8U);
-}
-void put_u32(Bytes& b, std::size_t at, std::uint32_t v) {
-  for (std::size_t i = 0; i < 4U; ++i) {
-    b[at + i] = static_cast<std::uint8_t>(v >> (8U * i));
-  }
-}
-
-struct Section {
-  std::uint16_t id;
-  Bytes payload;
-};
-
-// The sections of an encoded table, in order (header and CRC stripped).
-std::vector<Section> sections_of(const Bytes& b) {
-  std::vector<Section> out;
-  std::size_t pos = kTableHeaderBytes;
-  while (pos + 4U <= b.size() - kTableCrcBytes) {
-    const auto id = static_cast<std::uint16_t>(b[pos] | (b[pos + 1] << 8));
-    const auto len = static_cast<std::uint16_t>(b[pos + 2] | (b[pos + 3] << 8));
-    const auto first = b.begin() + static_cast<std::ptrdiff_t>(pos + 4U);
-    out.push_back({id, Bytes(first, first + len)});
-    pos += 4U + len;
-  }
-  return out;
-}
-
-// A table around `sections` with a correct header, total length and CRC, so
-// that the only thing wrong is what the test changed in a section.
-Bytes frame(const std::vector<Section>& sections) {
-  Bytes b = {0x53, 0x57, 0x50, 0x54, 1, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-  for (const Section& s : sections) {
-    b.push_back(static_cast<std::uint8_t>(s.id & 0xFFU));
-    b.push_back(static_cast<std::uint8_t>(s.id >> 8U));
-    b.push_back(static_cast<std::uint8_t>(s.payload.size() & 0xFFU));
-    b.push_back(static_cast<std::uint8_t>(s.payload.size() >> 8U));
-    b.insert(b.end(), s.payload.begin(), s.payload.end());
-  }
-  b.resize(b.size() + kTableCrcBytes);
-  put_u32(b, 8, static_cast<std::uint32_t>(b.size()));
-  put_u16(b, 12, static_cast<std::uint16_t>(sections.size()));
-  put_u32(b, b.size() - kTableCrcBytes, crc32(b.data(), b.size() - kTableCrcBytes));
-  return b;
-}
+using sinkwatch::test::Bytes;
+using sinkwatch::test::encode_table;
+using sinkwatch::test::frame;
+using sinkwatch::test::put_u16;
+using sinkwatch::test::put_u32;
+using sinkwatch::test::Section;
+using sinkwatch::test::sections_of;
 
 RejectReason decode_bytes(const Bytes& b, ExtensionValidator v = nullptr) {
   ParameterTable out{};

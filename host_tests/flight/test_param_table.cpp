@@ -11,68 +11,25 @@
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/flight/crc32.hpp"
 #include "sinkwatch/flight/param_table.hpp"
+#include "table_bytes.hpp"
 
 namespace {
 
 using namespace sinkwatch;
 using namespace sinkwatch::flight;
-using Bytes = std::vector<std::uint8_t>;
+using sinkwatch::test::Bytes;
+using sinkwatch::test::encode_table;
+using sinkwatch::test::fix_crc;
+using sinkwatch::test::frame;
+using sinkwatch::test::put_u16;
+using sinkwatch::test::put_u32;
+using sinkwatch::test::Section;
+using sinkwatch::test::sections_of;
 
 template <typename Qty>
 Qty q(double v) {
   fx::Status st;
   return Qty(fx::from_double<typename Qty::q_type>(v, st));
-}
-
-Bytes encode_table(const ParameterTable& t) {
-  Bytes b(kMaxTableBytes);
-  const EncodeResult e = encode(t, b.data(), b.size());
-  EXPECT_EQ(e.status, RejectReason::ok);
-  b.resize(e.size);
-  return b;
-}
-
-void put_u16(Bytes& b, std::size_t at, std::uint16_t v) {
-  b[at] = static_cast<std::uint8_t>(v & 0xFF);
-  b[at + 1] = static_cast<std::uint8_t>(v >> 8);
-}
-void put_u32(Bytes& b, std::size_t at, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) b[at + i] = static_cast<std::uint8_t>(v >> (8 * i));
-}
-void fix_crc(Bytes& b) { put_u32(b, b.size() - 4, crc32(b.data(), b.size() - 4)); }
-
-struct Section {
-  std::uint16_t id;
-  Bytes payload;
-};
-
-std::vector<Section> sections_of(const Bytes& b) {
-  std::vector<Section> out;
-  std::size_t pos = kTableHeaderBytes;
-  while (pos + 4 <= b.size() - 4) {
-    const std::uint16_t id = static_cast<std::uint16_t>(b[pos] | (b[pos + 1] << 8));
-    const std::uint16_t len = static_cast<std::uint16_t>(b[pos + 2] | (b[pos + 3] << 8));
-    out.push_back({id, Bytes(b.begin() + static_cast<long>(pos + 4), b.begin() + static_cast<long>(pos + 4 + len))});
-    pos += 4U + len;
-  }
-  return out;
-}
-
-/// A framed table with a correct CRC around arbitrary sections.
-Bytes frame(const std::vector<Section>& sections, int count_override = -1) {
-  Bytes b = {0x53, 0x57, 0x50, 0x54, 1, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-  for (const Section& s : sections) {
-    b.push_back(static_cast<std::uint8_t>(s.id & 0xFF));
-    b.push_back(static_cast<std::uint8_t>(s.id >> 8));
-    b.push_back(static_cast<std::uint8_t>(s.payload.size() & 0xFF));
-    b.push_back(static_cast<std::uint8_t>(s.payload.size() >> 8));
-    b.insert(b.end(), s.payload.begin(), s.payload.end());
-  }
-  b.resize(b.size() + 4);
-  put_u32(b, 8, static_cast<std::uint32_t>(b.size()));
-  put_u16(b, 12, static_cast<std::uint16_t>(count_override >= 0 ? count_override : static_cast<int>(sections.size())));
-  fix_crc(b);
-  return b;
 }
 
 RejectReason decode_bytes(const Bytes& b, ExtensionValidator v = nullptr) {

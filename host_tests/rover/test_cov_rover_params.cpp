@@ -11,6 +11,7 @@
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
+#include "../flight/quantity_support.hpp"
 
 namespace {
 
@@ -18,13 +19,7 @@ using namespace sinkwatch;
 using flight::RoverParams;
 using S = flight::RoverParamStatus;
 
-template <typename Qty>
-Qty q(double v) {
-  fx::Status st;
-  const auto x = fx::from_double<typename Qty::q_type>(v, st);
-  EXPECT_TRUE(st.ok()) << v;
-  return Qty(x);
-}
+using sinkwatch::test::q;
 
 RoverParams moon() { return flight::yutu_like_rover_params(flight::kGravityMoon); }
 

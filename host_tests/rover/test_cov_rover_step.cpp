@@ -15,19 +15,14 @@
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/rover_step.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
+#include "../flight/quantity_support.hpp"
 
 namespace {
 
 using namespace sinkwatch;
 using namespace sinkwatch::flight;
 
-template <typename Qty>
-Qty q(double v) {
-  fx::Status st;
-  const auto x = fx::from_double<typename Qty::q_type>(v, st);
-  EXPECT_TRUE(st.ok()) << v;
-  return Qty(x);
-}
+using sinkwatch::test::q;
 
 RoverTelemetry level(std::uint32_t time_ms) {
   RoverTelemetry t{};
