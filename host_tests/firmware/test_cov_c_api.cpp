@@ -13,23 +13,17 @@
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/sinkwatch.h"
+#include "../flight/table_bytes.hpp"
 
 namespace {
 
 namespace flight = sinkwatch::flight;
-using Bytes = std::vector<std::uint8_t>;
+using sinkwatch::test::Bytes;
+using sinkwatch::test::encode_table;
 
 // fx::constant is for constant expressions only (literal.hpp).
 constexpr flight::MassKg kLightRoverKg{sinkwatch::fx::constant<flight::MassQ>(100.0)};
 constexpr flight::MassKg kTooHeavyRoverKg{sinkwatch::fx::constant<flight::MassQ>(2000.0)};  // beyond 1000 kg
-
-Bytes encode_table(const flight::ParameterTable& t) {
-  Bytes b(flight::kMaxTableBytes);
-  const flight::EncodeResult e = flight::encode(t, b.data(), b.size());
-  EXPECT_EQ(e.status, flight::RejectReason::ok);
-  b.resize(e.size);
-  return b;
-}
 
 std::uint32_t table_crc(const Bytes& b) { return flight::crc32(b.data(), b.size() - flight::kTableCrcBytes); }
 
