@@ -4,9 +4,12 @@
 // independent formulas, fixed coefficients, per-load fits, and refusals.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <random>
 #include <sstream>
@@ -447,6 +450,322 @@ TEST(Calibration, DimensionalAndDimensionlessFormsGiveTheSameFit) {
   for (std::size_t k = 0; k < 3; ++k) {
     EXPECT_NEAR(fa.c[k], fb.c[k], 1e-12);
     EXPECT_NEAR(fa.std_err[k], fb.std_err[k], 1e-12);
+  }
+}
+
+// ---- Leave-one-out (issue 17) ----------------------------------------------
+// The production code computes the leave-one-out residual in closed form,
+// e_i / (1 - h_ii). The oracle here is the brute-force definition it
+// replaced: refit without the row, by SVD, and predict the row; a refit whose
+// columns lose rank (same test as the fit's) has no prediction, NaN.
+
+// Brute-force LOO residual of row `row` (an index into data), or NaN.
+double refit_loo_residual(const std::vector<Observation>& data, const FixedCoefficients& fixed,
+                          std::size_t row) {
+  std::vector<std::size_t> free;
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (!fixed.value[k]) {
+      free.push_back(k);
+    }
+  }
+  const auto n = static_cast<Eigen::Index>(data.size()) - 1;
+  const auto m = static_cast<Eigen::Index>(free.size());
+  auto design = [](const Observation& o) {
+    return std::array<double, 3>{o.drive_coeff, -o.sinkage_ratio, -1.0};
+  };
+  auto rhs = [&](const Observation& o) {
+    double b = o.traction_coeff;
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (fixed.value[k]) {
+        b -= *fixed.value[k] * design(o)[k];
+      }
+    }
+    return b;
+  };
+  const Observation& left_out = data[row];
+  if (m == 0) {
+    return rhs(left_out);
+  }
+  Eigen::MatrixXd a(n, m);
+  Eigen::VectorXd b(n);
+  Eigen::Index dst = 0;
+  for (std::size_t src = 0; src < data.size(); ++src) {
+    if (src != row) {
+      for (Eigen::Index j = 0; j < m; ++j) {
+        a(dst, j) = design(data[src])[free[static_cast<std::size_t>(j)]];
+      }
+      b(dst) = rhs(data[src]);
+      ++dst;
+    }
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd& s = svd.singularValues();
+  const double tolerance =
+      static_cast<double>(std::max(n, m)) * std::numeric_limits<double>::epsilon() * s(0);
+  if (n < m || !(s(0) > 0.0 && s(m - 1) > tolerance)) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  const Eigen::VectorXd c = svd.solve(b);
+  double predicted = 0.0;
+  for (Eigen::Index j = 0; j < m; ++j) {
+    predicted += design(left_out)[free[static_cast<std::size_t>(j)]] * c(j);
+  }
+  return rhs(left_out) - predicted;
+}
+
+// The fit's LOO residuals (matched to rows by line), LOO RMS and count of
+// rows not cross-validated against the oracle, to 1e-9 relative.
+void expect_loo_matches_refit(const CalibrationFit& fit, const std::vector<Observation>& data,
+                              const FixedCoefficients& fixed, const std::string& what) {
+  SCOPED_TRACE(what);
+  ASSERT_EQ(fit.residuals.size(), data.size());
+  std::map<std::size_t, double> closed_form;
+  for (const Residual& r : fit.residuals) {
+    closed_form[r.line] = r.loo_residual;
+  }
+  ASSERT_EQ(closed_form.size(), data.size()) << "lines must be unique";
+  double sum = 0.0;
+  std::size_t undefined = 0;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const double oracle = refit_loo_residual(data, fixed, i);
+    const double value = closed_form.at(data[i].line);
+    if (std::isnan(oracle)) {
+      EXPECT_TRUE(std::isnan(value)) << "line " << data[i].line << ": " << value;
+      ++undefined;
+    } else {
+      EXPECT_NEAR(value, oracle, 1e-9 * std::abs(oracle) + 1e-15) << "line " << data[i].line;
+      sum += oracle * oracle;
+    }
+  }
+  EXPECT_EQ(fit.loo_undefined, undefined);
+  if (undefined == 0) {
+    const double rms = std::sqrt(sum / static_cast<double>(data.size()));
+    EXPECT_NEAR(fit.loo_rms, rms, 1e-9 * rms);
+  } else {
+    EXPECT_TRUE(std::isnan(fit.loo_rms));
+  }
+}
+
+// Data with a trait of its own: runs bunched at low slip, a run far out in
+// T/(rW) (leverage close to but below 1), columns close to collinear.
+std::vector<Observation> bunched(std::size_t n, std::uint64_t seed) {
+  std::vector<Observation> data = synthetic({0.9, 1.3, 0.15}, n, 0.01, seed);
+  for (Observation& o : data) {
+    o.slip = 0.05 + 0.6 * std::pow((o.slip - 0.05) / 0.6, 3.0);
+  }
+  return data;
+}
+
+std::vector<Observation> with_far_run(std::size_t n, double drive) {
+  std::vector<Observation> data = synthetic({0.9, 1.3, 0.15}, n, 0.01, 5);
+  Observation far = data[n / 2];
+  far.line = n + 2;
+  far.drive_coeff = drive;
+  far.traction_coeff = 0.9 * drive - 1.3 * far.sinkage_ratio - 0.15 + 0.02;
+  data.push_back(far);
+  return data;
+}
+
+std::vector<Observation> nearly_collinear(std::size_t n) {
+  std::vector<Observation> data = synthetic({0.9, 1.3, 0.15}, n, 0.01, 9);
+  for (std::size_t i = 0; i < n; ++i) {
+    data[i].sinkage_ratio = 0.05 + 0.2 * data[i].drive_coeff + 1e-4 * std::sin(5.0 * i);
+  }
+  return data;
+}
+
+TEST(LeaveOneOut, ClosedFormEqualsARefitWithoutEachRow) {
+  const FixedCoefficients none;
+  const std::vector<std::pair<std::string, std::vector<Observation>>> sets = {
+      {"synthetic 40", synthetic({0.9, 1.3, 0.15}, 40, 0.01, 3)},
+      {"synthetic 7", synthetic({1.1, 0.8, 0.1}, 7, 0.03, 4)},
+      {"Table 1", table1()},
+      {"bunched at low slip", bunched(60, 6)},
+      {"one run far out in T/(rW)", with_far_run(30, 40.0)},
+      {"nearly collinear columns", nearly_collinear(25)},
+  };
+  for (const auto& [name, data] : sets) {
+    const CalibrationFit fit = fit_sinkage_function(data, none);
+    expect_loo_matches_refit(fit, data, none, name + ", all free");
+    EXPECT_GE(fit.loo_rms, fit.rms);
+  }
+  EXPECT_GT(fit_sinkage_function(nearly_collinear(25)).condition_number, 1e4);
+}
+
+TEST(LeaveOneOut, ClosedFormEqualsARefitWithFixedCoefficients) {
+  const std::vector<std::pair<std::string, FixedCoefficients>> fixes = {
+      {"--fix c1=1,c2=1", fix(1.0, 1.0, std::nullopt)},
+      {"--fix c3=0.15", fix(std::nullopt, std::nullopt, 0.15)},
+      {"--fix c2=1.3", fix(std::nullopt, 1.3, std::nullopt)},
+      {"--fix c1=0.9,c3=0.15", fix(0.9, std::nullopt, 0.15)},
+      {"--fix c2=1,c3=0.2", fix(std::nullopt, 1.0, 0.2)},
+      {"all fixed", fix(1.0, 1.0, 0.2)},
+  };
+  const std::vector<std::pair<std::string, std::vector<Observation>>> sets = {
+      {"synthetic 30", synthetic({0.9, 1.3, 0.15}, 30, 0.02, 12)},
+      {"Table 1", table1()},
+      {"one run far out in T/(rW)", with_far_run(20, 25.0)},
+  };
+  for (const auto& [fix_name, fixed] : fixes) {
+    for (const auto& [name, data] : sets) {
+      expect_loo_matches_refit(fit_sinkage_function(data, fixed), data, fixed,
+                               name + ", " + fix_name);
+    }
+  }
+}
+
+// Three loads with their own corrections and noise, rows interleaved, groups
+// of different sizes.
+SoilBinDataset noisy_loads() {
+  SoilBinDataset dataset;
+  dataset.source = "loads";
+  dataset.has_load = true;
+  const std::vector<std::pair<double, Coefficients>> loads = {
+      {98.1, {0.95, 1.1, 0.13}}, {29.43, {1.0, 1.0, 0.20}}, {49.05, {0.9, 1.2, 0.17}}};
+  for (std::size_t g = 0; g < loads.size(); ++g) {
+    const std::vector<Observation> runs =
+        synthetic(loads[g].second, 8 + 5 * g, 0.015, 30 + static_cast<std::uint64_t>(g));
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      SoilBinRow row;
+      row.line = 2 + 3 * i + g;
+      row.slip = runs[i].slip;
+      row.drive_coeff = runs[i].drive_coeff;
+      row.sinkage_ratio = runs[i].sinkage_ratio;
+      row.traction_coeff = runs[i].traction_coeff;
+      row.load_n = loads[g].first;
+      dataset.rows.push_back(row);
+    }
+  }
+  return dataset;
+}
+
+std::vector<Observation> rows_at_load(const SoilBinDataset& dataset, double load) {
+  std::vector<Observation> group;
+  for (const SoilBinRow& row : dataset.rows) {
+    if (*row.load_n == load) {
+      group.push_back({row.line, row.slip, row.drive_coeff, row.sinkage_ratio, row.traction_coeff});
+    }
+  }
+  return group;
+}
+
+TEST(LeaveOneOut, PerLoadClosedFormEqualsARefitWithinEachLoad) {
+  const SoilBinDataset dataset = noisy_loads();
+  for (const FixedCoefficients& fixed :
+       {FixedCoefficients{}, fix(1.0, 1.0, std::nullopt), fix(std::nullopt, std::nullopt, 0.15)}) {
+    const std::vector<LoadFit> table = fit_per_load(dataset, fixed);
+    ASSERT_EQ(table.size(), 3U);
+    for (const LoadFit& entry : table) {
+      expect_loo_matches_refit(entry.fit, rows_at_load(dataset, entry.load_n), fixed,
+                               "load " + std::to_string(entry.load_n) + " N, " +
+                                   std::to_string(entry.fit.free_count) + " free");
+    }
+  }
+}
+
+// At a size the refit-per-row code could not reach in a test (each refit is
+// an SVD of all rows), sampled rows against the oracle.
+TEST(LeaveOneOut, ClosedFormOfAHundredThousandRowsEqualsARefitOnSampledRows) {
+  const std::vector<Observation> data = synthetic({0.9, 1.3, 0.15}, 100000, 0.01, 77);
+  const FixedCoefficients none;
+  const CalibrationFit fit = fit_sinkage_function(data, none);
+  std::map<std::size_t, double> closed_form;
+  for (const Residual& r : fit.residuals) {
+    closed_form[r.line] = r.loo_residual;
+  }
+  for (std::size_t i : {0UL, 1UL, 31337UL, 50000UL, 99999UL}) {
+    const double oracle = refit_loo_residual(data, none, i);
+    EXPECT_NEAR(closed_form.at(data[i].line), oracle, 1e-9 * std::abs(oracle)) << "row " << i;
+  }
+  EXPECT_EQ(fit.loo_undefined, 0U);
+  EXPECT_TRUE(std::isfinite(fit.loo_rms));
+}
+
+// A run that is the only one off a line in the (T/(rW), z/r) plane: the three
+// columns are independent only through it, so its leverage is 1 and a fit
+// without it is singular. Its LOO residual is NaN, it is counted, the LOO RMS
+// is NaN (as the refit code had it), and every other row is still
+// cross-validated. The values are binary fractions: the line is exact.
+std::vector<Observation> one_run_off_the_line() {
+  std::vector<Observation> data;
+  for (int i = 0; i < 6; ++i) {
+    const double drive = 0.25 + 0.125 * i;
+    data.push_back({static_cast<std::size_t>(i + 2), 0.1 * (i + 1), drive, 0.125 + 0.5 * drive,
+                    0.9 * drive - 1.3 * (0.125 + 0.5 * drive) - 0.15 + 0.01 * ((i % 3) - 1)});
+  }
+  data.push_back({20, 0.35, 0.5, 0.5, 0.9 * 0.5 - 1.3 * 0.5 - 0.15 + 0.02});
+  return data;
+}
+
+TEST(LeaveOneOut, ARowOfLeverageOneIsNotCrossValidated) {
+  const std::vector<Observation> data = one_run_off_the_line();
+  const FixedCoefficients none;
+  const CalibrationFit fit = fit_sinkage_function(data, none);
+  expect_loo_matches_refit(fit, data, none, "all free");
+  EXPECT_EQ(fit.loo_undefined, 1U);
+  EXPECT_TRUE(std::isnan(fit.loo_rms));
+  EXPECT_TRUE(std::isfinite(fit.rms));
+  for (const Residual& r : fit.residuals) {
+    EXPECT_EQ(std::isnan(r.loo_residual), r.line == 20) << "line " << r.line;
+    EXPECT_FALSE(std::isinf(r.loo_residual)) << "line " << r.line;
+    if (r.line == 20) {
+      EXPECT_NEAR(r.residual, 0.0, 1e-12);  // the fit passes through it
+    }
+  }
+  // Fixing C1 removes the dependence on that run: everything is defined.
+  const FixedCoefficients c1 = fix(0.9, std::nullopt, std::nullopt);
+  const CalibrationFit fixed_fit = fit_sinkage_function(data, c1);
+  expect_loo_matches_refit(fixed_fit, data, c1, "--fix c1=0.9");
+  EXPECT_EQ(fixed_fit.loo_undefined, 0U);
+  EXPECT_TRUE(std::isfinite(fixed_fit.loo_rms));
+}
+
+TEST(LeaveOneOut, LeverageOneWithFewerFreeColumns) {
+  // Two free columns (C3 fixed): T/(rW) and z/r in proportion except one run.
+  std::vector<Observation> two;
+  for (int i = 0; i < 5; ++i) {
+    const double drive = 0.25 * (i + 1);
+    two.push_back({static_cast<std::size_t>(i + 2), 0.1 * i, drive, 0.5 * drive,
+                   0.3 * drive + 0.01 * ((i % 3) - 1)});
+  }
+  two.push_back({30, 0.6, 0.5, 0.75, 0.1});
+  const FixedCoefficients c3 = fix(std::nullopt, std::nullopt, 0.0);
+  const CalibrationFit fit2 = fit_sinkage_function(two, c3);
+  expect_loo_matches_refit(fit2, two, c3, "2 free");
+  EXPECT_EQ(fit2.loo_undefined, 1U);
+
+  // One free column (C1): the only run with a nonzero T/(rW).
+  std::vector<Observation> one;
+  for (int i = 0; i < 4; ++i) {
+    one.push_back({static_cast<std::size_t>(i + 2), 0.1 * i, 0.0, 0.1, -0.3 + 0.01 * i});
+  }
+  one.push_back({40, 0.5, 0.75, 0.1, 0.4});
+  const FixedCoefficients c2c3 = fix(std::nullopt, 1.0, 0.2);
+  const CalibrationFit fit1 = fit_sinkage_function(one, c2c3);
+  expect_loo_matches_refit(fit1, one, c2c3, "1 free");
+  EXPECT_EQ(fit1.loo_undefined, 1U);
+  EXPECT_TRUE(std::isnan(fit1.loo_rms));
+}
+
+TEST(LeaveOneOut, PerLoadLeverageOneStaysInItsLoad) {
+  SoilBinDataset dataset = noisy_loads();
+  for (const Observation& o : one_run_off_the_line()) {
+    SoilBinRow row;
+    row.line = 1000 + o.line;
+    row.slip = o.slip;
+    row.drive_coeff = o.drive_coeff;
+    row.sinkage_ratio = o.sinkage_ratio;
+    row.traction_coeff = o.traction_coeff;
+    row.load_n = 147.15;
+    dataset.rows.push_back(row);
+  }
+  const std::vector<LoadFit> table = fit_per_load(dataset);
+  ASSERT_EQ(table.size(), 4U);
+  for (const LoadFit& entry : table) {
+    expect_loo_matches_refit(entry.fit, rows_at_load(dataset, entry.load_n), {},
+                             "load " + std::to_string(entry.load_n));
+    EXPECT_EQ(entry.fit.loo_undefined, entry.load_n == 147.15 ? 1U : 0U);
+    EXPECT_EQ(std::isnan(entry.fit.loo_rms), entry.load_n == 147.15);
   }
 }
 

@@ -73,7 +73,9 @@ struct Residual {
   double measured = 0.0;      // DP/W
   double fitted = 0.0;        // Eq. 11 with the fitted C
   double residual = 0.0;      // measured - fitted
-  double loo_residual = 0.0;  // measured - prediction of a fit without this row
+  // measured - prediction of a fit without this row, e_i / (1 - h_ii); NaN
+  // for a row of leverage h_ii = 1 (not cross-validated: see loo_undefined).
+  double loo_residual = 0.0;
 };
 
 struct CalibrationFit {
@@ -95,7 +97,14 @@ struct CalibrationFit {
   double condition_number_scaled = 0.0;
   double rms = 0.0;                        // sqrt(SSR / rows)
   double residual_std = 0.0;               // sqrt(SSR / dof), the sigma behind std_err
-  double loo_rms = 0.0;                    // leave-one-out RMS; NaN if a refit is singular
+  // Leave-one-out RMS over all rows, from the closed form e_i / (1 - h_ii)
+  // with the leverages h_ii of the SVD (linear in rows, no refits). A row of
+  // leverage 1 (1 - h_ii <= 16 max(rows, free_count) eps) is the only one
+  // fixing some combination of the free coefficients: without it the fit is
+  // singular, so it has no leave-one-out prediction. Such rows are counted in
+  // loo_undefined, their loo_residual is NaN, and loo_rms is then NaN too.
+  double loo_rms = 0.0;
+  std::size_t loo_undefined = 0;           // rows not cross-validated (leverage 1)
   // The paper's route, (A'A)^-1 A'B, on the same problem.
   Coefficients normal_equations_c{};
   double normal_equations_max_diff = 0.0;  // max |C_normal - C_svd| over free coefficients
