@@ -33,6 +33,9 @@ if [ -f scripts/firmware.sh ]; then
   SINKWATCH_CTEST_LOG="$logdir/arm.log" bash scripts/firmware.sh
 fi
 
+step "consumer builds: add_subdirectory and find_package, g++ and clang++, Release and MinSizeRel, -Wall -Wextra, no warning"
+bash scripts/consumer_build.sh
+
 # Assurance (docs/assurance.md, docs/performance.md). Fuzzing is a gate: each
 # harness runs for a bounded time from a fixed seed, and a crash, sanitizer
 # finding or failed range assertion fails CI. The performance report prints
