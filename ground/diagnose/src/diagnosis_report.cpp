@@ -1,6 +1,9 @@
 // diagnosis_report.cpp: JSON, Markdown summary and gnuplot plots.
 #include "sinkwatch/ground/diagnosis_report.hpp"
 
+#include "sinkwatch/ground/plot_style.hpp"
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -235,6 +238,68 @@ std::string summary_markdown(const DiagnosisResult& r) {
   return os.str();
 }
 
+ResidualRange residual_plot_range(const DiagnosisResult& r) {
+  const RankedEffect* top = top_effect(r);
+  double largest = 0.0;
+  for (std::size_t i = 0; i < r.rows.size(); ++i) {
+    for (std::size_t c = 0; c < r.channels.size(); ++c) {
+      // As in residuals.dat: the residual over the row's noise in that channel.
+      const double noise = i < r.row_noise.size() ? r.row_noise[i][c] : r.noise[c].sigma;
+      for (const FitResult* fit : {&r.base, top != nullptr ? &top->fit : nullptr}) {
+        if (fit == nullptr || i >= fit->residuals.size() || c >= fit->residuals[i].size()) {
+          continue;
+        }
+        const double v = fit->residuals[i][c] / noise;
+        if (std::isfinite(v)) {
+          largest = std::max(largest, std::fabs(v));
+        }
+      }
+    }
+  }
+  // Symmetric about zero with a margin, so that the zero line is in the middle
+  // of every panel; at least +-1 noise unit.
+  const double half = std::max(1.0, largest * 1.05);
+  return {-half, half};
+}
+
+std::string residuals_plot_script(const DiagnosisResult& r) {
+  const RankedEffect* top = top_effect(r);
+  const std::string top_name = top != nullptr ? top->effect : std::string("none");
+  const ResidualRange range = residual_plot_range(r);
+  std::ostringstream gp;
+  gp << "# gnuplot script written by sinkwatch diagnose; run: gnuplot residuals.gp\n"
+     << "set terminal svg size 1200," << 360 * r.channels.size() << " dynamic font 'sans,11'\n"
+     << "set termoption noenhanced\n"  // names like traction_coeff are not subscripts
+     << gnuplot_linetypes() << "set datafile missing 'NaN'\n"
+     << "set key outside right top\nset grid\nset xzeroaxis lt -1\n"
+     // One y-range for every panel, so that base and base + effect, and the
+     // channels (all in noise units), can be compared by eye.
+     << "set yrange [" << num(range.low) << ":" << num(range.high) << "]\n";
+  const std::size_t nch = r.channels.size();
+  const int train_lt = sample_linetype(PlotSample::training);
+  const int held_lt = sample_linetype(PlotSample::held_out);
+  for (const std::string& axis : {std::string("slip"), std::string("load")}) {
+    const int xcol = axis == "slip" ? 1 : 2;
+    gp << "set output 'residuals_vs_" << axis << ".svg'\n"
+       << "set multiplot layout " << nch << ",2 title 'residual / noise against " << axis
+       << " (open: training, filled: held out)'\n";
+    for (std::size_t c = 0; c < nch; ++c) {
+      for (int which = 0; which < 2; ++which) {
+        const std::size_t col = 5 + c + (which == 1 ? nch : 0);
+        gp << "set title '"
+           << quote_gnuplot_string(r.channels[c].name + ": " + (which == 0 ? std::string("base") : "base + " + top_name))
+           << "'\nset xlabel '" << (axis == "slip" ? "slip" : "load (N)") << "'\nset ylabel 'residual / noise'\n"
+           << "plot 'residuals.dat' using " << xcol << ":($4==0 ? $" << col << " : 1/0) with points lt " << train_lt
+           << " title 'train', "
+           << "'' using " << xcol << ":($4==1 ? $" << col << " : 1/0) with points lt " << held_lt
+           << " title 'held out'\n";
+      }
+    }
+    gp << "unset multiplot\n";
+  }
+  return gp.str();
+}
+
 std::string find_gnuplot() {
   const char* env = std::getenv("SINKWATCH_GNUPLOT");
   const std::string program = env != nullptr ? std::string(env) : std::string("gnuplot");
@@ -289,28 +354,7 @@ std::vector<std::string> write_report(const DiagnosisResult& r, const std::strin
   const std::string top_name = top != nullptr ? top->effect : std::string("none");
   {
     std::ofstream gp(base / "residuals.gp");
-    gp << "# gnuplot script written by sinkwatch diagnose; run: gnuplot residuals.gp\n"
-       << "set terminal svg size 1200," << 360 * r.channels.size() << " dynamic font 'sans,11'\n"
-       << "set termoption noenhanced\n"  // names like traction_coeff are not subscripts
-       << "set datafile missing 'NaN'\n"
-       << "set key outside right top\nset grid\nset xzeroaxis lt -1\n";
-    const std::size_t nch = r.channels.size();
-    for (const std::string& axis : {std::string("slip"), std::string("load")}) {
-      const int xcol = axis == "slip" ? 1 : 2;
-      gp << "set output 'residuals_vs_" << axis << ".svg'\n"
-         << "set multiplot layout " << nch << ",2 title 'residual / noise against " << axis
-         << " (open: training, filled: held out)'\n";
-      for (std::size_t c = 0; c < nch; ++c) {
-        for (int which = 0; which < 2; ++which) {
-          const std::size_t col = 5 + c + (which == 1 ? nch : 0);
-          gp << "set title '" << r.channels[c].name << ": " << (which == 0 ? std::string("base") : "base + " + top_name)
-             << "'\nset xlabel '" << (axis == "slip" ? "slip" : "load (N)") << "'\nset ylabel 'residual / noise'\n"
-             << "plot 'residuals.dat' using " << xcol << ":($4==0 ? $" << col << " : 1/0) with points pt 6 title 'train', "
-             << "'' using " << xcol << ":($4==1 ? $" << col << " : 1/0) with points pt 7 title 'held out'\n";
-        }
-      }
-      gp << "unset multiplot\n";
-    }
+    gp << residuals_plot_script(r);
   }
   {
     std::ofstream md(base / "summary.md");

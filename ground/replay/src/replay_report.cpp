@@ -2,6 +2,7 @@
 #include "sinkwatch/ground/replay_report.hpp"
 
 #include "sinkwatch/fixedpoint/host_convert.hpp"
+#include "sinkwatch/ground/plot_style.hpp"
 
 #include <cmath>
 #include <cstdarg>
@@ -303,11 +304,16 @@ void write_series_csv(std::ostream& out, const TelemetryLog& log, const ReplayRe
 std::string plot_script(const TelemetryLog& log, const ReplayConfig& config, const ReplayResult& r,
                         const std::string& image_path) {
   const bool svg = image_path.size() >= 4 && image_path.compare(image_path.size() - 4, 4, ".svg") == 0;
+  // Every line is drawn with `lt N` of the palette (plot_style.hpp) and
+  // nothing else, so a legend key looks like the line it names.
+  const auto lt = [](int linetype) { return " lt " + std::to_string(linetype); };
+  const auto level = [&lt](PlotLevel l) { return lt(level_linetype(l)); };
   std::ostringstream s;
-  s << "# gnuplot script written by sinkwatch replay for " << log.source << "\n";
-  s << (svg ? "set terminal svg size 1100,900 dynamic font 'sans,11'\n"
-            : "set terminal pngcairo size 1100,900 font 'sans,10'\n");
-  s << "set output '" << image_path << "'\n";
+  s << "# gnuplot script written by sinkwatch replay for " << quote_gnuplot_string(log.source) << "\n";
+  s << (svg ? "set terminal svg size 1100,900 dynamic enhanced font 'sans,11'\n"
+            : "set terminal pngcairo size 1100,900 enhanced font 'sans,10'\n");
+  s << "set output '" << quote_gnuplot_string(image_path) << "'\n";
+  s << gnuplot_linetypes();
   s << "$D << EOD\n";
   bool truth = false;
   for (const CycleRecord& c : r.cycles) {
@@ -326,25 +332,34 @@ std::string plot_script(const TelemetryLog& log, const ReplayConfig& config, con
     s << esc << '\n';
   }
   s << "EOD\n";
-  s << "set multiplot layout 3,1 title '" << log.source << ": sinkwatch flight code replay'\n";
+  // The log's name is user text: escaped, so that x_y.csv is not drawn as x
+  // with a subscript y.
+  s << "set multiplot layout 3,1 title '" << escape_gnuplot_text(log.source) << ": sinkwatch flight code replay'\n";
   s << "set grid\nset key outside right\nset lmargin 14\nset rmargin 28\n";
   if (r.first_stop) {
-    s << strf("set arrow 1 from %.3f, graph 0 to %.3f, graph 1 nohead dt 2 lw 2 lc rgb 'red'\n",
-              r.cycles[*r.first_stop].time_s, r.cycles[*r.first_stop].time_s);
-    s << strf("set label 1 'stop' at %.3f, graph 0.95 right offset -0.5,0 tc rgb 'red'\n", r.cycles[*r.first_stop].time_s);
+    s << strf("set arrow 1 from %.3f, graph 0 to %.3f, graph 1 nohead", r.cycles[*r.first_stop].time_s,
+              r.cycles[*r.first_stop].time_s)
+      << level(PlotLevel::stop) << '\n';
+    s << strf("set label 1 'stop' at %.3f, graph 0.95 right offset -0.5,0 tc", r.cycles[*r.first_stop].time_s)
+      << level(PlotLevel::stop) << '\n';
   }
   const std::optional<EmbeddingTruth> emb = log_embedding(log);
   if (emb) {
-    s << strf("set arrow 2 from %.3f, graph 0 to %.3f, graph 1 nohead dt 3 lw 2 lc rgb 'black'\n", emb->time_s, emb->time_s);
-    s << strf("set label 2 'simulated embedding' at %.3f, graph 0.85 left offset 0.5,0\n", emb->time_s);
+    s << strf("set arrow 2 from %.3f, graph 0 to %.3f, graph 1 nohead", emb->time_s, emb->time_s)
+      << level(PlotLevel::embedding) << '\n';
+    s << strf("set label 2 'simulated embedding' at %.3f, graph 0.85 left offset 0.5,0 tc", emb->time_s)
+      << level(PlotLevel::embedding) << '\n';
   }
   s << "set ylabel 'current [A]'\nset format x ''\n";
   s << "plot ";
   for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
-    s << (i ? ", " : "") << "$D u 1:" << 2 + i << " w l lw 1 lc " << i + 1 << " t '|I| " << kWheelNames[i] << "'";
+    s << (i ? ", " : "") << "$D u 1:" << 2 + i << " w l" << lt(wheel_linetype(i)) << " t '|I| " << kWheelNames[i]
+      << "'";
   }
+  // I_max of all six wheels in one style, titled once.
   for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
-    s << ", $D u 1:" << 8 + i << " w l dt 2 lc " << i + 1 << (i == 0 ? " t 'I_{max} (dashed)'" : " notitle");
+    s << ", $D u 1:" << 8 + i << " w l" << level(PlotLevel::current_limit)
+      << (i == 0 ? " t 'I_{max} (each wheel)'" : " notitle");
   }
   s << "\n";
   const double stop_mm = fx::to_double(config.table.monitor.stop_sinkage_m.q()) * 1000.0;
@@ -353,17 +368,18 @@ std::string plot_script(const TelemetryLog& log, const ReplayConfig& config, con
   s << "set ylabel 'sinkage [mm]'\nset yrange [-10:*]\n";
   s << "plot ";
   for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
-    s << (i ? ", " : "") << "$D u 1:" << 14 + i << " w l lw 1 lc " << i + 1 << " t 'z est " << kWheelNames[i] << "'";
+    s << (i ? ", " : "") << "$D u 1:" << 14 + i << " w l" << lt(wheel_linetype(i)) << " t 'z est " << kWheelNames[i]
+      << "'";
   }
-  s << strf(", %.3f w l lw 2 lc rgb 'red' t 'stop level', %.3f w l lw 1 lc rgb 'orange' t 'caution level'", stop_mm,
-            caution_mm);
-  if (truth) s << ", $D u 1:20 w l lw 2 dt 4 lc rgb 'black' t 'simulator: deepest wheel'";
+  s << strf(", %.3f w l", stop_mm) << level(PlotLevel::stop) << " t 'stop level'";
+  s << strf(", %.3f w l", caution_mm) << level(PlotLevel::caution) << " t 'caution level'";
+  if (truth) s << ", $D u 1:20 w l" << level(PlotLevel::truth) << " t 'simulator: deepest wheel'";
   s << "\n";
   s << "set format x '%g'\nset xlabel 'time [s]'\nset ylabel 'decision'\nset yrange [-1.5:2.5]\n";
   s << "set ytics ('reverse' -1, 'nominal' 0, 'caution, fwd' 1, 'stop' 2)\n";
-  s << "plot $D u 1:21 w steps lw 2 lc rgb 'orange' t 'worst wheel state', "
-       "$D u 1:($22*2) w steps lw 2 lc rgb 'red' t 'rover: stop and re-plan', "
-       "$D u 1:23 w steps lw 1 lc rgb 'blue' t 'escape command'\n";
+  s << "plot $D u 1:21 w steps" << level(PlotLevel::state) << " t 'worst wheel state', "
+    << "$D u 1:($22*2) w steps" << level(PlotLevel::stop) << " t 'rover: stop and re-plan', "
+    << "$D u 1:23 w steps" << level(PlotLevel::escape) << " t 'escape command'\n";
   s << "unset multiplot\n";
   return s.str();
 }

@@ -20,6 +20,20 @@ namespace ground {
 /// Human-readable summary (Markdown).
 [[nodiscard]] std::string summary_markdown(const DiagnosisResult& result);
 
+/// The y-range every residual panel shares: symmetric about zero, covering
+/// every finite noise-scaled residual of the base fit and of the top effect
+/// (the values of residuals.dat), at least +-1.
+struct ResidualRange {
+  double low;
+  double high;
+};
+[[nodiscard]] ResidualRange residual_plot_range(const DiagnosisResult& result);
+
+/// The text of residuals.gp: residual / noise against slip and against load,
+/// base fit and base + top effect side by side per channel, every panel on
+/// residual_plot_range(); drawn from residuals.dat in the same folder.
+[[nodiscard]] std::string residuals_plot_script(const DiagnosisResult& result);
+
 /// Writes summary.md, residuals.dat, residuals.gp and, when gnuplot runs,
 /// the SVG plots into `dir` (created if missing). Returns notes on what was
 /// and was not produced. `gnuplot` is the program to run ("" disables plots).
