@@ -150,20 +150,22 @@ TEST(CalibrateCli, RejectsAMalformedRowNamingFileLineAndColumnAndWritesNothing) 
 
 TEST(CalibrateCli, RejectsBadOptions) {
   const fs::path dir = scratch_dir();
+  // Bad option values are usage errors (2), unreadable data an I/O error (1):
+  // docs/conventions.md.
   CliRun run = run_cli("calibrate '" + kTable1 + "' --fix c7=1", dir);
-  EXPECT_EQ(run.exit_code, 1);
-  EXPECT_NE(run.err.find("unknown coefficient 'c7'"), std::string::npos) << run.err;
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("sinkwatch calibrate: --fix: unknown coefficient 'c7'"), std::string::npos) << run.err;
 
   run = run_cli("calibrate '" + kTable1 + "' --load 0", dir);
-  EXPECT_EQ(run.exit_code, 1);
-  EXPECT_NE(run.err.find("wheel load must be"), std::string::npos) << run.err;
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("--load: '0' is not a finite number > 0"), std::string::npos) << run.err;
 
   run = run_cli("calibrate '" + (dir / "missing.csv").string() + "'", dir);
   EXPECT_EQ(run.exit_code, 1);
   EXPECT_NE(run.err.find("cannot open"), std::string::npos) << run.err;
 
-  run = run_cli("calibrate", dir);  // no data file: CLI11's own error
-  EXPECT_NE(run.exit_code, 0);
+  run = run_cli("calibrate", dir);  // no data file: CLI11's own error, a usage error
+  EXPECT_EQ(run.exit_code, 2);
 }
 
 }  // namespace

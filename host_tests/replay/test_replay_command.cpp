@@ -147,7 +147,7 @@ TEST(ReplayCommand, BadRowIsReportedWithItsLine) {
       << "0.4,0.5,0.5,0.5,0.5,0.5,0.5,zero,0,0,0,0,0,0.05\n";
   }
   const CommandRun r = run({log.string()});
-  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.code, 1) << "a data error (docs/conventions.md)";
   EXPECT_NE(r.err.find(log.string() + ":5:29: column 'pitch_deg'"), std::string::npos) << r.err;
   EXPECT_TRUE(r.out.empty()) << "nothing is replayed from a bad file";
 }
@@ -170,10 +170,10 @@ TEST(ReplayCommand, UserLogWithoutTruthColumnsReplays) {
 
 TEST(ReplayCommand, MissingFileAndBadOptions) {
   const CommandRun missing = run({"/nonexistent/log.csv"});
-  EXPECT_EQ(missing.code, 2);
+  EXPECT_EQ(missing.code, 1) << "an I/O error (docs/conventions.md)";
   EXPECT_NE(missing.err.find("cannot open"), std::string::npos);
-  EXPECT_NE(run({"--scenario", "nope"}).code, 0);
-  EXPECT_NE(run({"--every", "-1"}).code, 0);
+  EXPECT_EQ(run({"--scenario", "nope"}).code, 2) << "a usage error";
+  EXPECT_EQ(run({"--every", "-1"}).code, 2);
 }
 
 TEST(ReplayCommand, UploadedTableIsUsedAndABadOneRejected) {
@@ -214,6 +214,6 @@ TEST(ReplayCommand, UploadedTableIsUsedAndABadOneRejected) {
     f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(enc.size));
   }
   const CommandRun bad = run({"--table", table.string()});
-  EXPECT_EQ(bad.code, 2);
+  EXPECT_EQ(bad.code, 1) << "a data error (docs/conventions.md)";
   EXPECT_NE(bad.err.find("rejects this parameter table"), std::string::npos) << bad.err;
 }

@@ -16,6 +16,7 @@
 
 #include "sinkwatch/ground/calibration.hpp"
 #include "sinkwatch/ground/calibration_report.hpp"
+#include "sinkwatch/ground/cli_conventions.hpp"
 #include "sinkwatch/ground/flight_table.hpp"
 #include "sinkwatch/ground/soil_bin_csv.hpp"
 
@@ -59,6 +60,10 @@ void run_calibrate(const CalibrateOptions& options, std::ostream& out) {
   read_options.wheel_radius_m = options.wheel_radius_m;
   read_options.load_n = options.load_n;
   const SoilBinDataset dataset = read_soil_bin_csv(options.data_path, read_options);
+  if (options.detail != nullptr) {
+    *options.detail << "sinkwatch calibrate: " << dataset.rows.size() << " rows from " << dataset.source
+                    << (dataset.has_load ? ", every row with its load" : ", no loads") << '\n';
+  }
 
   CalibrationReport report;
   report.source = dataset.source;
@@ -115,34 +120,45 @@ void add_calibrate_command(CLI::App& app) {
   auto options = std::make_shared<CalibrateOptions>();
   auto radius = std::make_shared<double>(0.0);
   auto load = std::make_shared<double>(0.0);
+  auto verbosity = std::make_shared<Verbosity>();
   CLI::App* sub = app.add_subcommand(
       "calibrate",
       "Fit C1, C2, C3 of DP/W = C1*T/(rW) - C2*z/r - C3 (Eq. 11) to soil-bin data by least squares");
-  sub->add_option("data", options->data_path,
-                  "soil-bin CSV: slip, load_N, torque_Nm, sinkage_m, drawbar_pull_N "
-                  "(+ wheel_radius_m or --radius), or slip, sinkage_ratio, drive_coeff, "
-                  "traction_coeff (+ optional load_N)")
-      ->required();
+  non_empty_value(sub->add_option("data", options->data_path,
+                                  "soil-bin CSV ('-': standard input): slip, load_N, torque_Nm, "
+                                  "sinkage_m, drawbar_pull_N (+ wheel_radius_m or --radius), or slip, "
+                                  "sinkage_ratio, drive_coeff, traction_coeff (+ optional load_N)")
+                      ->required());
   CLI::Option* radius_option =
       sub->add_option("--radius", *radius, "wheel radius in metres, for dimensional data "
-                                           "without a wheel_radius_m column");
-  CLI::Option* load_option = sub->add_option(
-      "--load", *load, "wheel load in newtons of every row, for data without a load_N column");
+                                           "without a wheel_radius_m column")
+          ->check(positive_finite_number());
+  CLI::Option* load_option =
+      sub->add_option("--load", *load,
+                      "wheel load in newtons of every row, for data without a load_N column")
+          ->check(positive_finite_number());
   sub->add_flag("--per-load", options->per_load,
                 "also fit each load separately and print the C(W) table (needs load_N)");
-  sub->add_option("--fix", options->fix,
-                  "hold coefficients fixed, e.g. c1=1,c2=1 (the paper's Table 2 form)");
-  sub->add_option("--json", options->json_path, "write every result as JSON to this file");
-  sub->add_option("--table", options->table_path,
-                  "write the binary flight parameter table (with its CRC) holding the fitted "
-                  "C(W) rows; needs the load (load_N or --load)");
-  sub->add_option("--base-table", options->base_table_path,
-                  "take the other sections of --table from this table file (default: the "
-                  "flight module's default table)");
+  non_empty_list(sub->add_option("--fix", options->fix,
+                                 "hold coefficients fixed, e.g. c1=1,c2=1 (the paper's Table 2 form)"));
+  non_empty_value(sub->add_option("--json", options->json_path, "write every result as JSON to this file"));
+  CLI::Option* table_option = non_empty_value(
+      sub->add_option("--table", options->table_path,
+                      "write the binary flight parameter table (with its CRC) holding the fitted "
+                      "C(W) rows; needs the load (load_N or --load)"));
+  non_empty_value(sub->add_option("--base-table", options->base_table_path,
+                                  "take the other sections of --table from this table file (default: the "
+                                  "flight module's default table)"))
+      ->needs(table_option);
   auto version = std::make_shared<std::uint16_t>(0U);
   CLI::Option* version_option =
-      sub->add_option("--table-version", *version, "table version written into --table");
-  sub->callback([options, radius, radius_option, load, load_option, version, version_option]() {
+      sub->add_option("--table-version", *version,
+                      "table version written into --table (default: the base table's)")
+          ->transform(non_negative_integer())
+          ->needs(table_option);
+  add_verbosity_flags(*sub, *verbosity);
+  sub->callback([options, radius, radius_option, load, load_option, version, version_option,
+                 verbosity]() {
     if (version_option->count() > 0) {
       options->table_version = *version;
     }
@@ -153,12 +169,13 @@ void add_calibrate_command(CLI::App& app) {
       options->load_n = *load;
     }
     try {
-      run_calibrate(*options, std::cout);
+      (void)parse_fixed_coefficients(options->fix);
     } catch (const std::exception& e) {
-      std::cout.flush();
-      std::cerr << "sinkwatch calibrate: error: " << e.what() << '\n';
-      throw CLI::RuntimeError(1);
+      throw_usage_error(e.what());  // names --fix
     }
+    options->detail = verbosity->verbose ? &std::cerr : nullptr;
+    run_reporting_errors("calibrate", std::cout, std::cerr,
+                         [&options]() { run_calibrate(*options, std::cout); });
   });
 }
 

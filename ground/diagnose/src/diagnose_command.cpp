@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "sinkwatch/ground/cli_conventions.hpp"
 #include "sinkwatch/ground/diagnosis.hpp"
 #include "sinkwatch/ground/diagnosis_models.hpp"
 #include "sinkwatch/ground/diagnosis_report.hpp"
@@ -26,6 +27,10 @@ void run_diagnose(const DiagnoseOptions& options, std::ostream& out) {
   read_options.width_m = options.width_m;
   read_options.load_n = options.load_n;
   const DiagnosisData data = read_diagnosis_data(options.data_path, read_options);
+  if (options.detail != nullptr) {
+    *options.detail << "sinkwatch diagnose: " << data.rows.size() << " rows from " << data.source << ", model "
+                    << options.model << '\n';
+  }
 
   std::unique_ptr<DiagnosisModel> model;
   if (options.model == "estimator") {
@@ -74,27 +79,42 @@ void add_diagnose_command(CLI::App& app) {
   auto radius = std::make_shared<double>(0.0);
   auto width = std::make_shared<double>(0.0);
   auto load = std::make_shared<double>(0.0);
+  auto verbosity = std::make_shared<Verbosity>();
   CLI::App* sub = app.add_subcommand(
       "diagnose",
       "Diagnose the sim-to-real gap: where a model misses soil-bin data, which unmodelled effect causes it, "
       "and how far the held-out gap shrinks once that effect is added");
-  sub->add_option("--real", options->data_path,
-                  "soil-bin CSV (the calibrate command's formats; wheel_width_m column or --width too)")
-      ->required();
+  non_empty_value(sub->add_option("--real", options->data_path,
+                                  "soil-bin CSV, '-' for standard input (the calibrate command's formats; "
+                                  "wheel_width_m column or --width too)")
+                      ->required());
   sub->add_option("--model", options->model, "base model: wong-reece (simulator) or estimator (Eq. 11)")
-      ->check(CLI::IsMember({"wong-reece", "estimator"}));
-  CLI::Option* radius_option = sub->add_option("--radius", *radius, "wheel radius in metres (else wheel_radius_m column)");
-  CLI::Option* width_option = sub->add_option("--width", *width, "wheel width in metres (else wheel_width_m column)");
+      ->check(CLI::IsMember({"wong-reece", "estimator"}))
+      ->capture_default_str();
+  CLI::Option* radius_option = sub->add_option("--radius", *radius, "wheel radius in metres (else wheel_radius_m column)")
+                                   ->check(positive_finite_number());
+  CLI::Option* width_option = sub->add_option("--width", *width, "wheel width in metres (else wheel_width_m column)")
+                                  ->check(positive_finite_number());
   CLI::Option* load_option =
-      sub->add_option("--load", *load, "wheel load in newtons of every row, for files without load_N");
-  sub->add_option("--soil", options->soil, "soil preset the wong-reece fit starts from (default hit-lss1)");
-  sub->add_option("--gravity", options->gravity_m_s2, "gravity in m/s^2 for the wong-reece model (default 9.81)");
-  sub->add_option("--fit", options->base_fit,
-                  "wong-reece: simulator parameters of the base fit, comma-separated (default "
-                  "soil.kphi,soil.n,soil.c_pa,soil.phi_deg,soil.K_m)");
-  sub->add_option("--json", options->json_path, "write where / ranking / base_fit as JSON to this file");
-  sub->add_option("--report", options->report_dir, "write summary.md and residual plots (gnuplot SVG) to this folder");
-  sub->callback([options, radius, radius_option, width, width_option, load, load_option]() {
+      sub->add_option("--load", *load, "wheel load in newtons of every row, for files without load_N")
+          ->check(positive_finite_number());
+  // The options of the wong-reece model only; --model estimator refuses them.
+  CLI::Option* soil_option = sub->add_option("--soil", options->soil, "wong-reece: soil preset the fit starts from")
+                                 ->check(CLI::IsMember(soil_preset_names()))
+                                 ->capture_default_str();
+  CLI::Option* gravity_option = sub->add_option("--gravity", options->gravity_m_s2, "wong-reece: gravity in m/s^2")
+                                    ->check(positive_finite_number())
+                                    ->capture_default_str();
+  CLI::Option* fit_option = non_empty_list(
+      sub->add_option("--fit", options->base_fit,
+                      "wong-reece: simulator parameters of the base fit, comma-separated (default "
+                      "soil.kphi,soil.n,soil.c_pa,soil.phi_deg,soil.K_m)"));
+  non_empty_value(sub->add_option("--json", options->json_path, "write where / ranking / base_fit as JSON to this file"));
+  non_empty_value(
+      sub->add_option("--report", options->report_dir, "write summary.md and residual plots (gnuplot SVG) to this folder"));
+  add_verbosity_flags(*sub, *verbosity);
+  sub->callback([options, radius, radius_option, width, width_option, load, load_option, soil_option,
+                 gravity_option, fit_option, verbosity]() {
     if (radius_option->count() > 0) {
       options->radius_m = *radius;
     }
@@ -104,13 +124,28 @@ void add_diagnose_command(CLI::App& app) {
     if (load_option->count() > 0) {
       options->load_n = *load;
     }
-    try {
-      run_diagnose(*options, std::cout);
-    } catch (const std::exception& e) {
-      std::cout.flush();
-      std::cerr << "sinkwatch diagnose: error: " << e.what() << '\n';
-      throw CLI::RuntimeError(1);
+    if (options->model == "estimator") {
+      for (const CLI::Option* option : {soil_option, gravity_option, fit_option}) {
+        if (option->count() > 0) {
+          throw_usage_error(option->get_name() +
+                            " applies only to --model wong-reece; --model estimator has no such setting");
+        }
+      }
+    } else if (!options->base_fit.empty()) {
+      const SimParameters start = default_parameters(options->soil);
+      std::stringstream list(options->base_fit);
+      std::string name;
+      while (std::getline(list, name, ',')) {
+        try {
+          (void)get_parameter(start, name);
+        } catch (const std::exception& e) {
+          throw_usage_error(std::string("--fit: ") + e.what());
+        }
+      }
     }
+    options->detail = verbosity->verbose ? &std::cerr : nullptr;
+    run_reporting_errors("diagnose", std::cout, std::cerr,
+                         [&options]() { run_diagnose(*options, std::cout); });
   });
 }
 

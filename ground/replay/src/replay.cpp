@@ -2,6 +2,7 @@
 #include "sinkwatch/ground/replay.hpp"
 
 #include "sinkwatch/fixedpoint/host_convert.hpp"
+#include "sinkwatch/ground/flight_table.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -193,8 +194,8 @@ void load_parameter_table(const std::string& path, ReplayConfig& config) {
   const flight::RejectReason reason =
       flight::decode(bytes.data(), bytes.size(), table, &flight::rover_section_valid);
   if (reason != flight::RejectReason::ok) {
-    throw std::runtime_error(path + ": the flight code rejects this parameter table (RejectReason " +
-                             std::to_string(static_cast<unsigned>(reason)) + ", param_table.hpp)");
+    throw std::runtime_error(path + ": the flight code rejects this parameter table: " +
+                             reject_reason_name(reason));
   }
   config.table = table;
   config.table_source = path;

@@ -1,6 +1,8 @@
 // `sinkwatch replay` (replay_command.hpp, docs/replay.md).
 #include "sinkwatch/ground/replay_command.hpp"
 
+#include "sinkwatch/ground/cli_conventions.hpp"
+
 #include "sinkwatch/ground/replay.hpp"
 #include "sinkwatch/ground/replay_report.hpp"
 #include "sinkwatch/ground/telemetry_log.hpp"
@@ -22,7 +24,7 @@ struct ReplayArgs {
   std::string scenario = "embedding";
   std::string csv;
   std::string plot;
-  bool verbose = false;
+  Verbosity verbosity;  // -q: no progress bar or notes; -v: every cycle
   double every_s = 30.0;
   double gravity = 0.0;  // 0: from the log
   bool no_escape = false;
@@ -32,8 +34,8 @@ struct ReplayArgs {
 // A bar on stderr, only when a person is watching it.
 class Progress {
  public:
-  Progress(std::ostream& err, std::size_t rows)
-      : err_(err), on_(&err == &std::cerr && isatty(fileno(stderr)) != 0 && rows >= 1000) {}
+  Progress(std::ostream& err, std::size_t rows, bool allowed)
+      : err_(err), on_(allowed && &err == &std::cerr && isatty(fileno(stderr)) != 0 && rows >= 1000) {}
   void operator()(double fraction) {
     if (!on_) return;
     const int width = 40;
@@ -57,9 +59,9 @@ int run(const ReplayArgs& a, std::ostream& out, std::ostream& err) {
   if (a.telemetry.empty()) {
     const std::string& text = embedded_scenario_text(a.scenario);
     if (text.empty()) {
-      err << "sinkwatch replay: this build has no embedded scenario '" << a.scenario
+      err << error_prefix("replay") << "this build has no embedded scenario '" << a.scenario
           << "' (data/telemetry/" << a.scenario << ".csv was missing at configure time)\n";
-      return 2;
+      return exit_status(ExitCode::data_error);
     }
     log = parse_telemetry_text(text, "<embedded " + a.scenario + ".csv>");
     title = "embedded scenario '" + a.scenario + "' (data/telemetry/" + a.scenario + ".csv, compiled in)";
@@ -72,25 +74,25 @@ int run(const ReplayArgs& a, std::ostream& out, std::ostream& err) {
   config.run_escape = !a.no_escape;
   if (!a.table.empty()) {
     load_parameter_table(a.table, config);
-    if (a.gravity > 0.0 && config.rover) {
-      err << "sinkwatch replay: --gravity is ignored: the table's rover section sets the gravity\n";
+    if (a.gravity > 0.0 && config.rover && a.verbosity.inform()) {
+      err << error_prefix("replay") << "note: --gravity is ignored: the table's rover section sets the gravity\n";
     }
   }
   ReplayResult result;
   {
-    Progress bar(err, log.rows.size());
+    Progress bar(err, log.rows.size(), a.verbosity.inform());
     result = run_replay(log, config, [&bar](double f) { bar(f); });
   }
   ReportOptions options;
-  options.verbose = a.verbose;
+  options.verbose = a.verbosity.verbose;
   options.every_s = a.every_s;
   options.title = title;
   print_report(out, log, config, result, options);
   if (!a.csv.empty()) {
     std::ofstream f(a.csv);
     if (!f) {
-      err << "sinkwatch replay: cannot write " << a.csv << '\n';
-      return 2;
+      err << error_prefix("replay") << "cannot write " << a.csv << '\n';
+      return exit_status(ExitCode::data_error);
     }
     write_series_csv(f, log, result);
     out << "  csv        " << result.cycles.size() << " cycles written to " << a.csv << '\n';
@@ -106,34 +108,35 @@ int run(const ReplayArgs& a, std::ostream& out, std::ostream& err) {
   return 0;
 }
 
-CLI::App* add(CLI::App& app, std::shared_ptr<ReplayArgs> args, std::ostream& out, std::ostream& err, int* exit_code) {
+CLI::App* add(CLI::App& app, std::shared_ptr<ReplayArgs> args, std::ostream& out, std::ostream& err) {
   CLI::App* sub = app.add_subcommand(
       "replay",
       "Replay rover telemetry through the exact fixed-point flight code: wheel loads, sinkage, current limits, "
       "the stop decision and the escape. Without a file: the embedded default scenario.");
-  sub->add_option("telemetry", args->telemetry, "telemetry CSV (columns: docs/replay.md)");
-  sub->add_option("--scenario", args->scenario, "embedded scenario to replay when no file is given")
-      ->check(CLI::IsMember({"embedding", "nominal"}));
-  sub->add_option("--csv", args->csv, "write the full time series (every cycle, every wheel) to this CSV");
-  sub->add_option("--plot", args->plot, "draw currents vs limits, sinkage and decisions to this .png or .svg (gnuplot)");
-  sub->add_flag("-v,--verbose", args->verbose, "print every cycle");
+  CLI::Option* telemetry = non_empty_value(
+      sub->add_option("telemetry", args->telemetry, "telemetry CSV, '-' for standard input (columns: docs/replay.md)"));
+  CLI::Option* scenario = sub->add_option("--scenario", args->scenario, "embedded scenario to replay when no file is given")
+                              ->check(CLI::IsMember({"embedding", "nominal"}))
+                              ->capture_default_str();
+  telemetry->excludes(scenario);
+  non_empty_value(sub->add_option("--csv", args->csv, "write the full time series (every cycle, every wheel) to this CSV"));
+  non_empty_value(
+      sub->add_option("--plot", args->plot, "draw currents vs limits, sinkage and decisions to this .png or .svg (gnuplot)"));
   sub->add_option("--every", args->every_s, "seconds between status lines (besides every change)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_finite_number())
+      ->capture_default_str();
   sub->add_option("--gravity", args->gravity, "gravity in m/s^2 (default: the log's gravity_mps2, else the Moon's)")
+      ->check(finite_number())
       ->check(CLI::Range(0.01, 10.0));
-  sub->add_option("--table", args->table,
-                  "replay with this uploaded flight parameter table (binary, e.g. from sinkwatch calibrate --table)");
+  non_empty_value(sub->add_option(
+      "--table", args->table,
+      "replay with this uploaded flight parameter table (binary, e.g. from sinkwatch calibrate --table)"));
   sub->add_flag("--no-escape", args->no_escape, "do not run the escape sequencer after a stop");
-  sub->callback([args, &out, &err, exit_code]() {
-    int rc = 2;
-    try {
-      rc = run(*args, out, err);
-    } catch (const std::exception& e) {
-      err << "sinkwatch replay: " << e.what() << '\n';
-      rc = 2;
-    }
-    if (exit_code) *exit_code = rc;
-    if (rc != 0) throw CLI::RuntimeError(rc);
+  add_verbosity_flags(*sub, args->verbosity);  // -v: print every cycle
+  sub->callback([args, &out, &err]() {
+    int rc = exit_status(ExitCode::data_error);
+    run_reporting_errors("replay", out, err, [&]() { rc = run(*args, out, err); });
+    if (rc != exit_status(ExitCode::ok)) throw CLI::RuntimeError(rc);
   });
   return sub;
 }
@@ -141,24 +144,15 @@ CLI::App* add(CLI::App& app, std::shared_ptr<ReplayArgs> args, std::ostream& out
 }  // namespace
 
 CLI::App* add_replay_command(CLI::App& app) {
-  return add(app, std::make_shared<ReplayArgs>(), std::cout, std::cerr, nullptr);
+  return add(app, std::make_shared<ReplayArgs>(), std::cout, std::cerr);
 }
 
 int run_replay_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
-  CLI::App app{"sinkwatch"};
-  int code = 0;
-  add(app, std::make_shared<ReplayArgs>(), out, err, &code);
+  CLI::App app{"sinkwatch", "sinkwatch"};
+  add(app, std::make_shared<ReplayArgs>(), out, err);
   std::vector<std::string> argv{"replay"};
   argv.insert(argv.end(), args.begin(), args.end());
-  std::vector<std::string> reversed(argv.rbegin(), argv.rend());
-  try {
-    app.parse(reversed);
-  } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e, out, err);
-    if (dynamic_cast<const CLI::RuntimeError*>(&e) != nullptr) return e.get_exit_code();
-    return app.exit(e, out, err);
-  }
-  return code;
+  return run_command_line(app, argv, out, err);
 }
 
 }  // namespace sinkwatch::ground

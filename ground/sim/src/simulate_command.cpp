@@ -2,6 +2,7 @@
 // and a noise model, then writes the dataset as CSV.
 #include "sinkwatch/ground/simulate_command.hpp"
 
+#include "sinkwatch/ground/cli_conventions.hpp"
 #include "sinkwatch/ground/sim_dataset.hpp"
 #include "sinkwatch/ground/soil_presets.hpp"
 
@@ -32,6 +33,7 @@ struct SimulateOptions {
   std::uint64_t seed = 1;
   std::string out_path;
   bool list = false;
+  Verbosity verbosity;
 };
 
 void print_catalogue(std::ostream& out) {
@@ -104,8 +106,12 @@ void run(const SimulateOptions& o, const std::string& command_line, std::ostream
   try {
     rows = generate_dataset(params, loads, slips, noise, o.seed);
   } catch (const SimError& e) {
-    err << "sinkwatch simulate: " << e.what() << '\n';
-    throw CLI::RuntimeError(2);
+    err << error_prefix("simulate") << e.what() << '\n';
+    throw CLI::RuntimeError(exit_status(ExitCode::data_error));
+  }
+  if (o.verbosity.verbose) {
+    err << error_prefix("simulate") << rows.size() << " rows: " << loads.size() << " loads x " << slips.size()
+        << " slips, seed " << o.seed << '\n';
   }
   std::ostringstream grav;
   grav << params.gravity_m_s2;
@@ -125,12 +131,12 @@ void run(const SimulateOptions& o, const std::string& command_line, std::ostream
   std::ofstream file(o.out_path, std::ios::binary);
   if (!file) {
     err << "sinkwatch simulate: cannot open '" << o.out_path << "' for writing\n";
-    throw CLI::RuntimeError(2);
+    throw CLI::RuntimeError(exit_status(ExitCode::data_error));
   }
   write_soil_bin_csv(file, rows, comments);
   if (!file.flush()) {
     err << "sinkwatch simulate: error writing '" << o.out_path << "'\n";
-    throw CLI::RuntimeError(2);
+    throw CLI::RuntimeError(exit_status(ExitCode::data_error));
   }
 }
 
@@ -155,28 +161,35 @@ CLI::App* add_simulate_command(CLI::App& app, std::string command_line, std::ost
   CLI::App* sub = app.add_subcommand(
       "simulate", "Reference wheel-soil simulator: soil-bin style CSV over a grid of loads x slips");
   sub->add_option("--soil", opts->soil, "Soil preset (see --list)")->capture_default_str();
-  sub->add_option("--set", opts->sets, "Override a model parameter, NAME=VALUE (repeatable; see --list)");
+  non_empty_value(
+      sub->add_option("--set", opts->sets, "Override a model parameter, NAME=VALUE (repeatable; see --list)"));
   auto* body = sub->add_option("--body", opts->body, "earth, moon or mars (sets gravity)")->capture_default_str();
   auto* gravity = sub->add_option("--gravity", opts->gravity, "Gravity in m/s^2 (instead of --body)")
                       ->check(positive("m/s^2"));
   body->excludes(gravity);
   sub->add_option("--radius", opts->radius, "Wheel radius, m")->check(positive("m"))->capture_default_str();
   sub->add_option("--width", opts->width, "Wheel width, m")->check(positive("m"))->capture_default_str();
-  auto* loads = sub->add_option("--loads", opts->loads, "Wheel loads in N: list a,b,c or range start:step:stop");
-  auto* masses = sub->add_option("--masses", opts->masses,
-                                 "Masses in kg on the body (W = m g), list or range [default 3,7,10,15,20]");
+  auto* loads = non_empty_list(
+      sub->add_option("--loads", opts->loads, "Wheel loads in N: list a,b,c or range start:step:stop"));
+  auto* masses = non_empty_list(sub->add_option(
+      "--masses", opts->masses, "Masses in kg on the body (W = m g), list or range [default 3,7,10,15,20]"));
   loads->excludes(masses);
-  sub->add_option("--slips", opts->slips, "Slip ratios in [0, 1]: list or start:step:stop")->capture_default_str();
-  sub->add_option("--effect", opts->effects, "Switch an effect on: NAME[:param=value,...] (repeatable)");
-  sub->add_option("--noise", opts->noise,
-                  "Measurement noise: CHANNEL=VALUE[%],... with channels sinkage (m), torque (N m), "
-                  "drawbar_pull (N); '%' makes it relative (repeatable)");
-  sub->add_option("--seed", opts->seed, "Noise seed")->capture_default_str();
-  sub->add_option("--out", opts->out_path, "Output CSV file [default: stdout]");
+  non_empty_list(
+      sub->add_option("--slips", opts->slips, "Slip ratios in [0, 1]: list or start:step:stop")->capture_default_str());
+  non_empty_value(
+      sub->add_option("--effect", opts->effects, "Switch an effect on: NAME[:param=value,...] (repeatable)"));
+  non_empty_value(sub->add_option("--noise", opts->noise,
+                                  "Measurement noise: CHANNEL=VALUE[%],... with channels sinkage (m), torque (N m), "
+                                  "drawbar_pull (N); '%' makes it relative (repeatable)"));
+  sub->add_option("--seed", opts->seed, "Noise seed")->transform(non_negative_integer())->capture_default_str();
+  non_empty_value(sub->add_option("--out", opts->out_path, "Output CSV file, '-' for stdout [default: stdout]"));
   sub->add_flag("--list", opts->list, "List soils, bodies, effects and parameters, then exit");
+  add_verbosity_flags(*sub, opts->verbosity);
   std::ostream* out_ptr = &out;
   std::ostream* err_ptr = &err;
-  sub->callback([opts, command_line, out_ptr, err_ptr]() { run(*opts, command_line, *out_ptr, *err_ptr); });
+  sub->callback([opts, command_line, out_ptr, err_ptr]() {
+    run_reporting_errors("simulate", *out_ptr, *err_ptr, [&]() { run(*opts, command_line, *out_ptr, *err_ptr); });
+  });
   return sub;
 }
 
@@ -205,17 +218,14 @@ std::string join_command_line(int argc, const char* const* argv) {
 }
 
 int run_simulate(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
-  CLI::App app{"sinkwatch"};
+  CLI::App app{"sinkwatch", "sinkwatch"};
   app.require_subcommand(1);
   std::vector<const char*> argv = {"sinkwatch", "simulate"};
   for (const std::string& a : args) argv.push_back(a.c_str());
   add_simulate_command(app, join_command_line(static_cast<int>(argv.size()), argv.data()), out, err);
-  try {
-    app.parse(static_cast<int>(argv.size()), argv.data());
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e, out, err);
-  }
-  return 0;
+  std::vector<std::string> words{"simulate"};
+  words.insert(words.end(), args.begin(), args.end());
+  return run_command_line(app, words, out, err);
 }
 
 }  // namespace sinkwatch::ground

@@ -28,6 +28,7 @@ struct CalibrateOptions {
   std::string table_path;                // --table FILE: binary flight parameter table
   std::string base_table_path;           // --base-table FILE, empty: the flight default
   std::optional<std::uint16_t> table_version;  // --table-version
+  std::ostream* detail = nullptr;              // -v/--verbose: extra detail (stderr), else none
 };
 
 /// Runs a calibration: prints the report on `out` and writes the requested
@@ -36,8 +37,9 @@ struct CalibrateOptions {
 /// error (thrown as an exception) leaves nothing behind.
 void run_calibrate(const CalibrateOptions& options, std::ostream& out);
 
-/// Registers the `calibrate` subcommand. Errors are printed on stderr and end
-/// the program with exit code 1.
+/// Registers the `calibrate` subcommand. Errors are printed on stderr with the
+/// "sinkwatch calibrate: " prefix and end the program with exit code 1 (data or
+/// I/O) or 2 (usage), as every subcommand (cli_conventions.hpp).
 void add_calibrate_command(CLI::App& app);
 
 }  // namespace ground

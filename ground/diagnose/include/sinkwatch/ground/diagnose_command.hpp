@@ -27,12 +27,15 @@ struct DiagnoseOptions {
   std::string base_fit;                  // --fit: simulator parameters of the base fit (comma list)
   std::string json_path;                 // --json
   std::string report_dir;                // --report
+  std::ostream* detail = nullptr;        // -v/--verbose: extra detail (stderr), else none
 };
 
 /// Runs the diagnosis; throws on bad input (the CLI prints the message).
 void run_diagnose(const DiagnoseOptions& options, std::ostream& out);
 
-/// Registers the `diagnose` subcommand.
+/// Registers the `diagnose` subcommand. Errors are printed on stderr with the
+/// "sinkwatch diagnose: " prefix and end the program with exit code 1 (data or
+/// I/O) or 2 (usage), as every subcommand (cli_conventions.hpp).
 void add_diagnose_command(CLI::App& app);
 
 }  // namespace ground

@@ -16,7 +16,9 @@ namespace sinkwatch::ground {
 /// empty when the build had no data/telemetry/<name>.csv.
 const std::string& embedded_scenario_text(const std::string& name);
 
-/// Adds `replay` to app. Errors end the program with exit code 2.
+/// Adds `replay` to app. Errors are printed with the "sinkwatch replay: "
+/// prefix and end the program with exit code 1 (data or I/O) or 2 (usage), as
+/// every subcommand (cli_conventions.hpp).
 CLI::App* add_replay_command(CLI::App& app);
 
 /// Runs `sinkwatch replay ARGS...` (without the program name and "replay")

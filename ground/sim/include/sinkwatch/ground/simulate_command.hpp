@@ -14,8 +14,9 @@ namespace sinkwatch::ground {
 
 // Adds the `simulate` subcommand to app. `command_line` is recorded in the
 // CSV comments (use join_command_line(argc, argv)). Output goes to --out or
-// to `out`; errors are printed to `err` and end the program with exit code 2
-// through CLI::RuntimeError; bad flags raise CLI::ValidationError.
+// to `out`; errors are printed to `err` with the "sinkwatch simulate: " prefix
+// and end the program with exit code 1 through CLI::RuntimeError; bad flags
+// raise CLI::ValidationError, exit code 2 (cli_conventions.hpp).
 CLI::App* add_simulate_command(CLI::App& app, std::string command_line, std::ostream& out,
                                   std::ostream& err);
 CLI::App* add_simulate_command(CLI::App& app, std::string command_line);
