@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <cstdlib>
@@ -11,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "sinkwatch/ground/calibrate_command.hpp"
 #include "sinkwatch/ground/calibration.hpp"
@@ -166,6 +168,65 @@ TEST(CalibrateCli, RejectsBadOptions) {
 
   run = run_cli("calibrate", dir);  // no data file: CLI11's own error, a usage error
   EXPECT_EQ(run.exit_code, 2);
+}
+
+// Outputs of `sinkwatch diagnose` (docs/output-files.md): a path that cannot
+// be written is refused before the run (no summary printed), and a failing
+// gnuplot leaves no half-written report.
+TEST(DiagnoseCli, JsonIntoAMissingDirectoryFailsBeforeTheRun) {
+  const fs::path dir = scratch_dir();
+  const CliRun run = run_cli("diagnose --real '" + kTable1 + "' --load 29.43 --radius 0.15 --width 0.15 " +
+                                 "--model estimator --json /nonexistent/x.json",
+                             dir);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("/nonexistent/x.json: cannot write here"), std::string::npos) << run.err;
+  EXPECT_EQ(run.out, "") << "the diagnosis must not have run";
+}
+
+TEST(DiagnoseCli, ReportIntoAMissingParentOrOverAFifoFailsBeforeTheRun) {
+  const fs::path dir = scratch_dir();
+  const std::string data = "diagnose --real '" + kTable1 + "' --load 29.43 --radius 0.15 --width 0.15 --model estimator";
+  CliRun run = run_cli(data + " --report /nonexistent/report", dir);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("/nonexistent/report: cannot write here"), std::string::npos) << run.err;
+  EXPECT_EQ(run.out, "");
+  fs::create_directories(dir / "report");
+  ASSERT_EQ(::mkfifo((dir / "report" / "summary.md").c_str(), 0600), 0);
+  run = run_cli(data + " --report '" + (dir / "report").string() + "'", dir);
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("summary.md: refusing to replace a FIFO"), std::string::npos) << run.err;
+  EXPECT_EQ(run.out, "");
+  EXPECT_TRUE(fs::is_fifo(dir / "report" / "summary.md"));
+}
+
+TEST(DiagnoseCli, FailingGnuplotLeavesNoHalfWrittenReport) {
+  const fs::path dir = scratch_dir();
+  // Answers find_gnuplot()'s probe (-e exit), fails on a script.
+  const fs::path fake = dir / "fake-gnuplot";
+  {
+    std::ofstream script(fake);
+    script << "#!/bin/sh\n[ \"$1\" = -e ] && exit 0\necho 'fake gnuplot: no terminal' >&2\nexit 1\n";
+  }
+  fs::permissions(fake, fs::perms::owner_all);
+  fs::create_directories(dir / "report");
+  {
+    std::ofstream old(dir / "report" / "summary.md");
+    old << "old summary\n";
+  }
+  ::setenv("SINKWATCH_GNUPLOT", fake.c_str(), 1);
+  const CliRun run = run_cli("diagnose --real '" + kTable1 + "' --load 29.43 --radius 0.15 --width 0.15 " +
+                                 "--model estimator --report '" + (dir / "report").string() + "'",
+                             dir);
+  ::unsetenv("SINKWATCH_GNUPLOT");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.err.find("gnuplot"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("fake gnuplot: no terminal"), std::string::npos) << run.err;
+  EXPECT_EQ(slurp(dir / "report" / "summary.md"), "old summary\n");
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir / "report")) {
+    names.push_back(entry.path().filename().string());
+  }
+  EXPECT_EQ(names, std::vector<std::string>{"summary.md"}) << "no temporary or partial file left";
 }
 
 }  // namespace

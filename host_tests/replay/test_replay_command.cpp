@@ -217,3 +217,64 @@ TEST(ReplayCommand, UploadedTableIsUsedAndABadOneRejected) {
   EXPECT_EQ(bad.code, 1) << "a data error (docs/conventions.md)";
   EXPECT_NE(bad.err.find("rejects this parameter table"), std::string::npos) << bad.err;
 }
+
+// Outputs (docs/output-files.md): a write error is an error, and a path that
+// cannot be written is refused before the replay runs.
+TEST(ReplayCommand, CsvToAFullDeviceIsAnError) {
+  const CommandRun r = run({"--csv", "/dev/full"});
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("/dev/full: refusing to replace a character device"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << "refused before the replay: " << r.out;
+}
+
+TEST(ReplayCommand, PlotIntoAMissingDirectoryIsRefusedBeforeTheReplay) {
+  const CommandRun r = run({"--plot", "/nonexistent/x.png"});
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("/nonexistent/x.png: cannot write here"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << "refused before the replay: " << r.out;
+}
+
+TEST(ReplayCommand, FailingGnuplotIsAnErrorAndLeavesNothing) {
+  const fs::path dir = temp_dir("badgnuplot");
+  const fs::path bin = dir / "bin";
+  fs::create_directories(bin);
+  {
+    std::ofstream fake(bin / "gnuplot");
+    fake << "#!/bin/sh\necho 'gnuplot: cannot draw' >&2\nexit 1\n";
+  }
+  fs::permissions(bin / "gnuplot", fs::perms::owner_all);
+  fs::create_directories(dir / "out");
+  const fs::path image = dir / "out" / "replay.png";
+  {
+    std::ofstream old(image);
+    old << "old";
+  }
+  const char* old_path = std::getenv("PATH");
+  const std::string saved = old_path ? old_path : "";
+  setenv("PATH", (bin.string() + ":" + saved).c_str(), 1);
+  const CommandRun r = run({"--plot", image.string(), "--csv", (dir / "out" / "series.csv").string()});
+  setenv("PATH", saved.c_str(), 1);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find(image.string() + ": gnuplot failed"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("gnuplot: cannot draw"), std::string::npos) << r.err;
+  std::ifstream in(image);
+  std::string content;
+  std::getline(in, content);
+  EXPECT_EQ(content, "old") << "the old image is untouched";
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir / "out")) names.push_back(e.path().filename().string());
+  EXPECT_EQ(names, std::vector<std::string>{"replay.png"}) << "no temporary, script, log or CSV left behind";
+}
+
+TEST(ReplayCommand, CsvThroughASymlinkKeepsTheLink) {
+  const fs::path dir = temp_dir("csvlink");
+  {
+    std::ofstream real(dir / "real.csv");
+    real << "old\n";
+  }
+  fs::create_symlink("real.csv", dir / "link.csv");
+  const CommandRun r = run({"--scenario", "nominal", "--csv", (dir / "link.csv").string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::is_symlink(dir / "link.csv"));
+  EXPECT_GT(line_count(dir / "real.csv"), 10U);
+}

@@ -118,3 +118,32 @@ TEST(SimulateCommand, JoinCommandLineQuotesAndStripsThePath) {
   const char* argv[] = {"/usr/local/bin/sinkwatch", "simulate", "--effect", "a b", "it's"};
   EXPECT_EQ(sg::join_command_line(5, argv), "sinkwatch simulate --effect 'a b' 'it'\\''s'");
 }
+
+// Outputs (docs/output-files.md): a write error on standard output or --out
+// is an error (exit 1), and --out is checked before the simulation.
+TEST(SimulateCommand, AFullStandardOutputIsAnError) {
+  std::ofstream full("/dev/full");  // what `sinkwatch simulate > /dev/full` writes to
+  ASSERT_TRUE(full.is_open());
+  std::ostringstream err;
+  const int code = sg::run_simulate(kSmall, full, err);
+  EXPECT_EQ(code, 1);
+  EXPECT_NE(err.str().find("sinkwatch simulate: standard output: write failed"), std::string::npos) << err.str();
+}
+
+TEST(SimulateCommand, OutToAFullDeviceOrAMissingDirectoryIsAnError) {
+  CliRun r = run({"--out", "/dev/full"});
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("/dev/full: refusing to replace a character device"), std::string::npos) << r.err;
+  r = run({"--out", "/nonexistent/x.csv"});
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("/nonexistent/x.csv: cannot write here"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty());
+}
+
+TEST(SimulateCommand, OutDashIsStandardOutput) {
+  std::vector<std::string> args = kSmall;
+  args.insert(args.end(), {"--out", "-"});
+  const CliRun r = run(args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("slip,load_N,sinkage_m"), std::string::npos);
+}

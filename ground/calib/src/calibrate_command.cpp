@@ -18,6 +18,7 @@
 #include "sinkwatch/ground/calibration_report.hpp"
 #include "sinkwatch/ground/cli_conventions.hpp"
 #include "sinkwatch/ground/flight_table.hpp"
+#include "sinkwatch/ground/output_file.hpp"
 #include "sinkwatch/ground/soil_bin_csv.hpp"
 
 namespace sinkwatch {
@@ -30,31 +31,28 @@ struct PendingFile {
   std::string contents;
 };
 
-// Writes every file to "<path>.tmp" first and renames only when all are
-// written, so a failure leaves no half-written output.
-void write_all(const std::vector<PendingFile>& files) {
+// Writes every file through a temporary in its directory (output_file.hpp):
+// all are written, fsynced and closed before the first is renamed into place,
+// and the report on `out` is checked before that too, so a failure leaves
+// every target as it was. "-" writes to `out`.
+void write_all(const std::vector<PendingFile>& files, std::ostream& out) {
+  OutputFileSet set;
   for (const PendingFile& file : files) {
-    const std::string temporary = file.path + ".tmp";
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out.write(file.contents.data(), static_cast<std::streamsize>(file.contents.size()));
-    out.close();
-    if (!out) {
-      for (const PendingFile& other : files) {
-        std::remove((other.path + ".tmp").c_str());
-      }
-      throw std::runtime_error(file.path + ": cannot write the file");
-    }
+    set.add(file.path, &out).write(file.contents);
   }
-  for (const PendingFile& file : files) {
-    if (std::rename((file.path + ".tmp").c_str(), file.path.c_str()) != 0) {
-      throw std::runtime_error(file.path + ": cannot rename the temporary file into place");
-    }
-  }
+  finish_standard_output(out);
+  set.commit();
 }
 
 }  // namespace
 
 void run_calibrate(const CalibrateOptions& options, std::ostream& out) {
+  // Every output path is checked before any work (docs/output-files.md).
+  for (const std::string* path : {&options.table_path, &options.json_path}) {
+    if (!path->empty()) {
+      (void)check_output_path(*path);
+    }
+  }
   const FixedCoefficients fixed = parse_fixed_coefficients(options.fix);
   SoilBinReadOptions read_options;
   read_options.wheel_radius_m = options.wheel_radius_m;
@@ -113,7 +111,7 @@ void run_calibrate(const CalibrateOptions& options, std::ostream& out) {
     files.push_back({options.json_path, to_json(report)});
   }
   print_report(out, report);
-  write_all(files);
+  write_all(files, out);
 }
 
 void add_calibrate_command(CLI::App& app) {

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -13,6 +14,7 @@
 #include "sinkwatch/ground/diagnosis.hpp"
 #include "sinkwatch/ground/diagnosis_models.hpp"
 #include "sinkwatch/ground/diagnosis_report.hpp"
+#include "sinkwatch/ground/output_file.hpp"
 #include "sinkwatch/ground/soil_presets.hpp"
 
 namespace sinkwatch {
@@ -21,6 +23,13 @@ namespace ground {
 void run_diagnose(const DiagnoseOptions& options, std::ostream& out) {
   if (options.model != "wong-reece" && options.model != "estimator") {
     throw std::invalid_argument("--model must be wong-reece or estimator, not '" + options.model + "'");
+  }
+  // Every output is checked before the run (docs/output-files.md).
+  if (!options.json_path.empty()) {
+    (void)check_output_path(options.json_path);
+  }
+  if (!options.report_dir.empty()) {
+    check_report_directory(options.report_dir);
   }
   DiagnosisReadOptions read_options;
   read_options.radius_m = options.radius_m;
@@ -56,21 +65,25 @@ void run_diagnose(const DiagnoseOptions& options, std::ostream& out) {
   }
   const DiagnosisResult result = diagnose(*model, data.rows, data.source);
 
-  // Compute everything before writing anything.
-  const std::string json = options.json_path.empty() ? std::string() : to_json(result);
-  out << summary_markdown(result);
+  // Compute everything before writing anything. The JSON goes through a
+  // temporary that is renamed only once the summary and the report are out
+  // (output_file.hpp); "-" writes it to `out`.
+  std::optional<OutputFile> json;
   if (!options.json_path.empty()) {
-    std::ofstream f(options.json_path);
-    f << json;
-    f.close();
-    if (!f) {
-      throw std::runtime_error(options.json_path + ": cannot write the file");
-    }
+    json.emplace(options.json_path, &out);
+    json->write(to_json(result));
+    json->close();
   }
+  out << summary_markdown(result);
+  finish_standard_output(out);
   if (!options.report_dir.empty()) {
     for (const std::string& note : write_report(result, options.report_dir, find_gnuplot())) {
       out << "\nreport: " << note << '\n';
     }
+  }
+  finish_standard_output(out);
+  if (json) {
+    json->commit();
   }
 }
 

@@ -1,7 +1,10 @@
 // diagnosis_report.cpp: JSON, Markdown summary and gnuplot plots.
 #include "sinkwatch/ground/diagnosis_report.hpp"
 
+#include "sinkwatch/ground/output_file.hpp"
 #include "sinkwatch/ground/plot_style.hpp"
+
+#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +13,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <iterator>
 #include <sstream>
+#include <stdexcept>
 
 namespace sinkwatch {
 namespace ground {
@@ -310,17 +315,68 @@ std::string find_gnuplot() {
   return std::system(probe.c_str()) == 0 ? program : std::string();
 }
 
+namespace {
+
+// The files a report directory holds (docs/diagnosis.md).
+const char* const kReportFiles[] = {"residuals.dat", "residuals.gp", "summary.md", "residuals_vs_slip.svg",
+                                    "residuals_vs_load.svg"};
+
+// `text` as one single-quoted shell word.
+std::string shell_quote(const std::string& text) {
+  std::string q = "'";
+  for (char c : text) {
+    q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  }
+  return q + "'";
+}
+
+// Replaces every `from` in `text` by `to`; throws when there is none (the
+// script no longer has the form the plot run relies on).
+std::string replace_all(std::string text, const std::string& from, const std::string& to) {
+  std::size_t count = 0;
+  for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) {
+    text.replace(at, from.size(), to);
+    ++count;
+  }
+  if (count == 0) {
+    throw std::logic_error("residuals.gp has no \"" + from + "\" to redirect to a temporary file");
+  }
+  return text;
+}
+
+std::string base_name(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+}  // namespace
+
+void check_report_directory(const std::string& dir) {
+  check_output_directory(dir);
+  if (std::filesystem::is_directory(dir)) {
+    for (const char* name : kReportFiles) {
+      (void)check_output_path((std::filesystem::path(dir) / name).string());
+    }
+  }
+}
+
 std::vector<std::string> write_report(const DiagnosisResult& r, const std::string& dir, const std::string& gnuplot) {
   namespace fs = std::filesystem;
   std::vector<std::string> notes;
-  fs::create_directories(dir);
+  // Every file is written through a temporary (output_file.hpp) and renamed
+  // only when all of them, the plots included, are complete: an error leaves
+  // no half-written report.
+  check_report_directory(dir);
+  create_output_directory(dir);
   const fs::path base(dir);
   const RankedEffect* top = top_effect(r);
+  OutputFileSet files;
 
   // residuals.dat: one line per row; residuals in noise units so that the
   // channels share one axis.
+  OutputFile& dat_file = files.add((base / "residuals.dat").string());
   {
-    std::ofstream dat(base / "residuals.dat");
+    std::ostream& dat = dat_file.stream();
     dat << "# slip load_N sinkage_ratio heldout";
     for (const ChannelInfo& c : r.channels) {
       dat << " base_" << c.name;
@@ -352,12 +408,10 @@ std::vector<std::string> write_report(const DiagnosisResult& r, const std::strin
   }
   // residuals.gp: residual vs slip and vs load, base and top effect.
   const std::string top_name = top != nullptr ? top->effect : std::string("none");
+  const std::string script = residuals_plot_script(r);
+  files.add((base / "residuals.gp").string()).write(script);
   {
-    std::ofstream gp(base / "residuals.gp");
-    gp << residuals_plot_script(r);
-  }
-  {
-    std::ofstream md(base / "summary.md");
+    std::ostringstream md;
     md << summary_markdown(r);
     if (gnuplot.empty()) {
       md << "\nNote: gnuplot was not found, so no plots were drawn; residuals.dat and residuals.gp are here "
@@ -365,18 +419,47 @@ std::vector<std::string> write_report(const DiagnosisResult& r, const std::strin
     } else {
       md << "\nPlots: residuals_vs_slip.svg, residuals_vs_load.svg (base and base + " << top_name << ").\n";
     }
+    files.add((base / "summary.md").string()).write(md.str());
   }
   if (gnuplot.empty()) {
+    files.commit();
     notes.push_back("gnuplot not found: wrote residuals.dat, residuals.gp and summary.md but no plots");
     return notes;
   }
-  const std::string command = "cd \"" + fs::absolute(base).string() + "\" && \"" + gnuplot + "\" residuals.gp 2>gnuplot.log";
-  if (std::system(command.c_str()) != 0) {
-    notes.push_back("gnuplot failed (see " + (base / "gnuplot.log").string() + "); data and script are in " + dir);
-  } else {
-    notes.push_back("plots written: " + (base / "residuals_vs_slip.svg").string() + ", " +
-                    (base / "residuals_vs_load.svg").string());
+  // gnuplot draws into temporaries beside the targets, from the temporary
+  // residuals.dat, through a copy of residuals.gp naming them; its exit status
+  // and both plots are checked before anything is renamed into place.
+  dat_file.close();
+  OutputFile& slip_svg = files.add((base / "residuals_vs_slip.svg").string());
+  OutputFile& load_svg = files.add((base / "residuals_vs_load.svg").string());
+  slip_svg.close();
+  load_svg.close();
+  std::string run_script = replace_all(script, "'residuals.dat'", "'" + base_name(dat_file.temporary_path()) + "'");
+  run_script = replace_all(run_script, "'residuals_vs_slip.svg'", "'" + base_name(slip_svg.temporary_path()) + "'");
+  run_script = replace_all(run_script, "'residuals_vs_load.svg'", "'" + base_name(load_svg.temporary_path()) + "'");
+  // Neither is ever committed: both temporaries are removed at the end.
+  OutputFile run_file((base / "residuals.gp").string());
+  run_file.write(run_script);
+  run_file.close();
+  OutputFile log_file((base / "gnuplot.log").string());
+  log_file.close();
+  const std::string command = "cd " + shell_quote(fs::absolute(base).string()) + " && " + shell_quote(gnuplot) + " " +
+                              shell_quote(base_name(run_file.temporary_path())) + " 2>" +
+                              shell_quote(base_name(log_file.temporary_path()));
+  const int status = std::system(command.c_str());
+  if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    std::ifstream log(log_file.temporary_path());
+    std::string messages((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+    if (messages.size() > 2000) {
+      messages = messages.substr(0, 2000) + " ...";
+    }
+    throw std::runtime_error(dir + ": gnuplot (" + gnuplot + ") failed drawing the report's plots" +
+                             (messages.empty() ? std::string() : ":\n" + messages) +
+                             "\nno report file was written");
   }
+  files.commit();  // checks that gnuplot wrote both plots
+  notes.push_back("plots written: " + (base / "residuals_vs_slip.svg").string() + ", " +
+                  (base / "residuals_vs_load.svg").string());
   return notes;
 }
 

@@ -3,6 +3,7 @@
 
 #include "sinkwatch/ground/cli_conventions.hpp"
 
+#include "sinkwatch/ground/output_file.hpp"
 #include "sinkwatch/ground/replay.hpp"
 #include "sinkwatch/ground/replay_report.hpp"
 #include "sinkwatch/ground/telemetry_log.hpp"
@@ -15,6 +16,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace sinkwatch::ground {
 namespace {
@@ -54,6 +56,9 @@ class Progress {
 };
 
 int run(const ReplayArgs& a, std::ostream& out, std::ostream& err) {
+  // Every output is checked before the replay (docs/output-files.md).
+  if (!a.csv.empty()) (void)check_output_path(a.csv);
+  if (!a.plot.empty()) check_plot_path(a.plot);
   TelemetryLog log;
   std::string title;
   if (a.telemetry.empty()) {
@@ -88,23 +93,31 @@ int run(const ReplayArgs& a, std::ostream& out, std::ostream& err) {
   options.every_s = a.every_s;
   options.title = title;
   print_report(out, log, config, result, options);
+  // The CSV goes through a temporary (output_file.hpp), renamed once the
+  // plot is drawn too, so an error leaves neither half-written; "-" writes
+  // it to `out`.
+  std::optional<OutputFile> csv;
   if (!a.csv.empty()) {
-    std::ofstream f(a.csv);
-    if (!f) {
-      err << error_prefix("replay") << "cannot write " << a.csv << '\n';
-      return exit_status(ExitCode::data_error);
-    }
-    write_series_csv(f, log, result);
+    csv.emplace(a.csv, &out);
+    write_series_csv(csv->stream(), log, result);
+    csv->close();
+  }
+  std::string plot_note;
+  if (!a.plot.empty()) {
+    plot_note = draw_plot(log, config, result, a.plot);
+  }
+  if (csv) {
+    csv->commit();
     out << "  csv        " << result.cycles.size() << " cycles written to " << a.csv << '\n';
   }
   if (!a.plot.empty()) {
-    const std::string note = draw_plot(log, config, result, a.plot);
-    if (note.empty()) {
+    if (plot_note.empty()) {
       out << "  plot       " << a.plot << '\n';
     } else {
-      out << "  plot       note: " << note << '\n';
+      out << "  plot       note: " << plot_note << '\n';
     }
   }
+  finish_standard_output(out);
   return 0;
 }
 

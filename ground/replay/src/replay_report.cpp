@@ -2,15 +2,20 @@
 #include "sinkwatch/ground/replay_report.hpp"
 
 #include "sinkwatch/fixedpoint/host_convert.hpp"
+#include "sinkwatch/ground/output_file.hpp"
 #include "sinkwatch/ground/plot_style.hpp"
+
+#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <ostream>
 #include <sstream>
+#include <stdexcept>
 
 namespace sinkwatch::ground {
 namespace {
@@ -384,25 +389,59 @@ std::string plot_script(const TelemetryLog& log, const ReplayConfig& config, con
   return s.str();
 }
 
+namespace {
+
+// `text` as one single-quoted shell word.
+std::string shell_quote(const std::string& text) {
+  std::string q = "'";
+  for (char c : text) {
+    q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  }
+  return q + "'";
+}
+
+}  // namespace
+
+void check_plot_path(const std::string& image_path) {
+  if (is_standard_output(image_path)) {
+    throw OutputError("-: the plot is drawn into a file; standard output cannot take it");
+  }
+  (void)check_output_path(image_path);
+  (void)check_output_path(image_path + ".gp");
+}
+
 std::string draw_plot(const TelemetryLog& log, const ReplayConfig& config, const ReplayResult& result,
                       const std::string& image_path) {
+  check_plot_path(image_path);
   const std::string script_path = image_path + ".gp";
-  {
-    std::ofstream f(script_path);
-    if (!f) return "cannot write the plot script " + script_path;
-    f << plot_script(log, config, result, image_path);
-  }
-  const std::string quoted = "'" + script_path + "'";
   if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
+    write_output_file(script_path, plot_script(log, config, result, image_path));
     return "gnuplot was not found, so the plot was not drawn (Debian: apt-get install gnuplot-nox); the script is " +
-           script_path + " (run: gnuplot " + quoted + ")";
+           script_path + " (run: gnuplot " + shell_quote(script_path) + ")";
   }
-  const int rc = std::system(("gnuplot " + quoted + " 2>" + quoted + ".log").c_str());
-  if (rc != 0) {
-    return "gnuplot failed on " + script_path + " (its messages are in " + script_path + ".log)";
+  // gnuplot draws into a temporary beside the image (same extension, so the
+  // same terminal), from a temporary script naming it; the image is renamed
+  // into place only when gnuplot exited 0 and the image is not empty
+  // (output_file.hpp). The script and the log are temporaries too, removed
+  // at the end either way.
+  OutputFile image(image_path);
+  image.close();
+  OutputFile script(script_path);
+  script.write(plot_script(log, config, result, image.temporary_path()));
+  script.close();
+  OutputFile messages(script_path + ".log");
+  messages.close();
+  const int status = std::system(("gnuplot " + shell_quote(script.temporary_path()) + " 2>" +
+                                  shell_quote(messages.temporary_path()))
+                                     .c_str());
+  if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    std::ifstream in(messages.temporary_path());
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (text.size() > 2000) text = text.substr(0, 2000) + " ...";
+    throw std::runtime_error(image_path + ": gnuplot failed drawing the plot" +
+                             (text.empty() ? std::string() : ":\n" + text));
   }
-  std::remove(script_path.c_str());
-  std::remove((script_path + ".log").c_str());
+  image.commit();  // throws when gnuplot wrote nothing
   return "";
 }
 

@@ -3,6 +3,7 @@
 #include "sinkwatch/ground/simulate_command.hpp"
 
 #include "sinkwatch/ground/cli_conventions.hpp"
+#include "sinkwatch/ground/output_file.hpp"
 #include "sinkwatch/ground/sim_dataset.hpp"
 #include "sinkwatch/ground/soil_presets.hpp"
 
@@ -61,8 +62,11 @@ void print_catalogue(std::ostream& out) {
 void run(const SimulateOptions& o, const std::string& command_line, std::ostream& out, std::ostream& err) {
   if (o.list) {
     print_catalogue(out);
+    finish_standard_output(out);
     return;
   }
+  // The output is checked before the work (docs/output-files.md).
+  if (!o.out_path.empty()) (void)check_output_path(o.out_path);
   SimParameters params;
   std::vector<double> loads;
   std::vector<double> slips;
@@ -124,20 +128,12 @@ void run(const SimulateOptions& o, const std::string& command_line, std::ostream
       "noise: " + describe_noise(noise),
       "seed: " + std::to_string(o.seed),
   };
-  if (o.out_path.empty()) {
-    write_soil_bin_csv(out, rows, comments);
-    return;
-  }
-  std::ofstream file(o.out_path, std::ios::binary);
-  if (!file) {
-    err << "sinkwatch simulate: cannot open '" << o.out_path << "' for writing\n";
-    throw CLI::RuntimeError(exit_status(ExitCode::data_error));
-  }
-  write_soil_bin_csv(file, rows, comments);
-  if (!file.flush()) {
-    err << "sinkwatch simulate: error writing '" << o.out_path << "'\n";
-    throw CLI::RuntimeError(exit_status(ExitCode::data_error));
-  }
+  // --out through a temporary renamed into place, or standard output ("-" or
+  // no --out), every write checked (output_file.hpp); an error throws
+  // OutputError naming the path.
+  OutputFile file(o.out_path.empty() ? std::string("-") : o.out_path, &out);
+  write_soil_bin_csv(file.stream(), rows, comments);
+  file.commit();
 }
 
 // CLI::PositiveNumber prints its whole double range on a typo; say what is wanted.

@@ -34,9 +34,19 @@ struct ResidualRange {
 /// residual_plot_range(); drawn from residuals.dat in the same folder.
 [[nodiscard]] std::string residuals_plot_script(const DiagnosisResult& result);
 
+/// Checks, before any work, that the report can be written to `dir`
+/// (docs/output-files.md): `dir` is a writable directory, or its parent is,
+/// and none of the report's files there is anything but a regular file.
+/// Throws OutputError naming the path.
+void check_report_directory(const std::string& dir);
+
 /// Writes summary.md, residuals.dat, residuals.gp and, when gnuplot runs,
-/// the SVG plots into `dir` (created if missing). Returns notes on what was
-/// and was not produced. `gnuplot` is the program to run ("" disables plots).
+/// the SVG plots into `dir` (created if missing; its parent must exist).
+/// Every file goes through a temporary and is renamed into place only when
+/// all are complete (gnuplot's exit status and both plots checked), so an
+/// error (an exception naming the path) leaves no half-written report.
+/// Returns notes on what was and was not produced. `gnuplot` is the program
+/// to run ("" disables plots: the data, script and summary are still written).
 std::vector<std::string> write_report(const DiagnosisResult& result, const std::string& dir,
                                       const std::string& gnuplot);
 

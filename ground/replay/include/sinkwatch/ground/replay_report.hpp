@@ -44,9 +44,18 @@ void write_series_csv(std::ostream& out, const TelemetryLog& log, const ReplayRe
 std::string plot_script(const TelemetryLog& log, const ReplayConfig& config, const ReplayResult& result,
                         const std::string& image_path);
 
-/// Runs gnuplot on plot_script(). Returns an empty string on success, else a
-/// note for the user (gnuplot missing or failing); the script is then kept
-/// next to the image as IMAGE.gp so it can be drawn later.
+/// Checks, before any work, that the plot can be written to `image_path`
+/// and its script to IMAGE.gp (docs/output-files.md); "-" is refused.
+/// Throws OutputError naming the path.
+void check_plot_path(const std::string& image_path);
+
+/// Runs gnuplot on plot_script() into a temporary beside the image, and
+/// renames it into place when gnuplot exited 0 and the image is not empty.
+/// Returns an empty string on success, or, when gnuplot is not installed, a
+/// note for the user: the script is then written next to the image as
+/// IMAGE.gp so it can be drawn later. Throws (naming the path, with gnuplot's
+/// messages) when the path cannot be written or gnuplot fails; nothing is
+/// left behind then.
 std::string draw_plot(const TelemetryLog& log, const ReplayConfig& config, const ReplayResult& result,
                       const std::string& image_path);
 
