@@ -221,6 +221,7 @@ TEST(CliConventions, ConflictingOrMeaninglessOptionsAreUsageErrors) {
       {{"simulate", "--masses", ","}, {"--masses"}},
       {{"simulate", "--gravity", "nan"}, {"--gravity"}},
       {{"simulate", "--out", ""}, {"--out"}},
+      {{"simulate", "--list", "--seed", "3"}, {"--list", "--seed"}},
   };
   for (const Case& c : cases) {
     const CliRun r = cli(c.args);

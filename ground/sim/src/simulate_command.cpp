@@ -183,7 +183,15 @@ CLI::App* add_simulate_command(CLI::App& app, std::string command_line, std::ost
   add_verbosity_flags(*sub, opts->verbosity);
   std::ostream* out_ptr = &out;
   std::ostream* err_ptr = &err;
-  sub->callback([opts, command_line, out_ptr, err_ptr]() {
+  sub->callback([sub, opts, command_line, out_ptr, err_ptr]() {
+    if (opts->list) {  // the catalogue takes no settings: refuse them rather than ignore them
+      for (const CLI::Option* option : sub->get_options()) {
+        const std::string& name = option->get_name();
+        if (option->count() > 0 && name != "--list" && name != "--quiet" && name != "--verbose") {
+          throw_usage_error("--list excludes " + name);
+        }
+      }
+    }
     run_reporting_errors("simulate", *out_ptr, *err_ptr, [&]() { run(*opts, command_line, *out_ptr, *err_ptr); });
   });
   return sub;
