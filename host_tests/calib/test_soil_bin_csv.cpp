@@ -1,10 +1,14 @@
-// Tests of the soil-bin CSV reader: both input forms, comments and unknown
-// columns, and every malformed input rejected with a message that names the
-// file, the line and the column.
+// Tests of the soil-bin CSV reader: both input forms, comments, note columns,
+// the input rules of docs/input-files.md (BOM, standard input, directories,
+// binary files, physical ranges, unknown columns), and every malformed input
+// rejected with a message that names the file, the line and the column.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <iostream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "sinkwatch/ground/soil_bin_csv.hpp"
 
@@ -78,11 +82,11 @@ TEST(SoilBinCsv, TakesTheLoadFromTheCallerForDimensionlessData) {
   EXPECT_DOUBLE_EQ(*d.rows[0].load_n, 29.43);
 }
 
-TEST(SoilBinCsv, SkipsCommentsBlankLinesAndCarriageReturnsAndIgnoresUnknownColumns) {
+TEST(SoilBinCsv, SkipsCommentsBlankLinesAndCarriageReturnsAndIgnoresNoteColumns) {
   const SoilBinDataset d = parse(
       "# a comment before the header\r\n"
       "\r\n"
-      "run, slip ,notes,sinkage_ratio,drive_coeff,traction_coeff\r\n"
+      "note_run, slip ,notes,sinkage_ratio,drive_coeff,traction_coeff\r\n"
       "  # an indented comment\r\n"
       "7,+0.1,soft patch,0.08,0.35,-0.05\r\n"
       "\r\n"
@@ -139,7 +143,7 @@ TEST(SoilBinCsvRejects, AMissingDimensionalColumn) {
 }
 
 TEST(SoilBinCsvRejects, AHeaderOfNeitherForm) {
-  const DataError e = rejection("a,b,c\n1,2,3\n");
+  const DataError e = rejection("slip,load_N,wheel_radius_m\n0.1,2,0.3\n");
   EXPECT_NE(std::string(e.what()).find("neither"), std::string::npos) << e.what();
 }
 
@@ -280,6 +284,197 @@ TEST(SoilBinCsvRejects, AFileThatDoesNotExist) {
   } catch (const DataError& e) {
     EXPECT_EQ(std::string(e.what()), "/nonexistent/soil.csv: cannot open the file for reading");
   }
+}
+
+// --- the input rules of docs/input-files.md ---
+
+// Redirects std::cin to `text` for the lifetime of the object.
+class StdinFrom {
+ public:
+  explicit StdinFrom(const std::string& text) : in_(text), old_(std::cin.rdbuf(in_.rdbuf())) {}
+  ~StdinFrom() {
+    std::cin.rdbuf(old_);
+    std::cin.clear();
+  }
+  StdinFrom(const StdinFrom&) = delete;
+  StdinFrom& operator=(const StdinFrom&) = delete;
+
+ private:
+  std::istringstream in_;
+  std::streambuf* old_;
+};
+
+// True when every byte of `text` is printable ASCII (what a message may send
+// to a terminal).
+bool printable_ascii(const std::string& text) {
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20U || byte >= 0x7FU) {
+      return false;
+    }
+  }
+  return true;
+}
+
+TEST(SoilBinCsvInput, SkipsAUtf8ByteOrderMark) {
+  const SoilBinDataset d = parse("\xEF\xBB\xBF" + kDimensionless);
+  ASSERT_EQ(d.rows.size(), 2U);
+  EXPECT_DOUBLE_EQ(d.rows[0].slip, 0.1);
+}
+
+TEST(SoilBinCsvInput, SkipsAByteOrderMarkBeforeAComment) {
+  const SoilBinDataset d = parse("\xEF\xBB\xBF# exported by Excel\r\n" + kDimensionless);
+  EXPECT_EQ(d.rows.size(), 2U);
+}
+
+TEST(SoilBinCsvInput, DashReadsStandardInput) {
+  const StdinFrom redirect(kDimensionless);
+  const SoilBinDataset d = read_soil_bin_csv("-");
+  EXPECT_EQ(d.source, "<stdin>");
+  ASSERT_EQ(d.rows.size(), 2U);
+  EXPECT_DOUBLE_EQ(d.rows[1].drive_coeff, 0.55);
+}
+
+TEST(SoilBinCsvInput, ErrorsFromStandardInputNameIt) {
+  const StdinFrom redirect(kDimensionless + "0.3,0.1,abc,0.3\n");
+  try {
+    (void)read_soil_bin_csv("-");
+    FAIL() << "accepted a bad row";
+  } catch (const DataError& e) {
+    EXPECT_EQ(std::string(e.what()), "<stdin>:4:3: column 'drive_coeff': 'abc' is not a number");
+  }
+}
+
+TEST(SoilBinCsvInput, ReadsTheWidthColumnAndTheCallersWidth) {
+  const SoilBinDataset d = parse(
+      "slip,load_N,torque_Nm,sinkage_m,drawbar_pull_N,wheel_radius_m,wheel_width_m\n"
+      "0.3,29.43,3.0,0.012,10.0,0.15,0.165\n");
+  EXPECT_DOUBLE_EQ(*d.rows[0].wheel_width_m, 0.165);
+  SoilBinReadOptions options;
+  options.wheel_width_m = 0.2;
+  EXPECT_DOUBLE_EQ(*parse(kDimensionless, options).rows[0].wheel_width_m, 0.2);
+}
+
+TEST(SoilBinCsvRejects, ADirectoryAsSuch) {
+  const std::string dir = std::filesystem::temp_directory_path().string();
+  try {
+    (void)read_soil_bin_csv(dir);
+    FAIL() << "read a directory";
+  } catch (const DataError& e) {
+    EXPECT_EQ(std::string(e.what()), dir + ": is a directory, not a file");
+  }
+}
+
+TEST(SoilBinCsvRejects, ABinaryFileAtItsFirstNonTextByte) {
+  const DataError e = rejection(kDimensionless + std::string("0.3,0.1\0\x01\x02,0.6,0.3\n", 19));
+  EXPECT_EQ(e.line(), 4U);
+  EXPECT_EQ(e.column(), 8U);  // the byte's column in the line
+  EXPECT_EQ(std::string(e.what()), "test.csv:4:8: binary file, not CSV text (byte 0x00)");
+}
+
+TEST(SoilBinCsvRejects, ABinaryFileEvenInAComment) {
+  const DataError e = rejection("# \x1b[2J clear the screen\n" + kDimensionless);
+  EXPECT_EQ(e.line(), 1U);
+  EXPECT_NE(std::string(e.what()).find("binary file, not CSV text (byte 0x1b)"), std::string::npos)
+      << e.what();
+}
+
+TEST(SoilBinCsvRejects, WithQuotedInputEscapedAndCut) {
+  const std::string cell = "\xC3\xA9t\xE9" + std::string(200, 'x');
+  const DataError e = rejection(kDimensionless + "0.3,0.1," + cell + ",0.3\n");
+  const std::string what = e.what();
+  EXPECT_TRUE(printable_ascii(what)) << what;
+  EXPECT_NE(what.find("'\\xc3\\xa9t\\xe9xxxx"), std::string::npos) << what;
+  EXPECT_NE(what.find("x...' is not a number"), std::string::npos) << what;
+  EXPECT_LT(what.size(), 120U) << what;
+}
+
+TEST(SoilBinCsvRejects, AnUnknownColumnNamingItAndTheKnownOnes) {
+  const DataError e = rejection(
+      "slip,sinkage_ratio,drive_coeff,traction_coeff,wheel_radus_m\n0.1,0.08,0.35,0.1,0.15\n");
+  EXPECT_EQ(e.line(), 1U);
+  EXPECT_EQ(e.column(), 5U);
+  EXPECT_EQ(e.column_name(), "wheel_radus_m");
+  const std::string what = e.what();
+  EXPECT_NE(what.find("test.csv:1:5: column 'wheel_radus_m': unknown column"), std::string::npos)
+      << what;
+  EXPECT_NE(what.find("wheel_radius_m"), std::string::npos) << what;
+  EXPECT_NE(what.find("'note'"), std::string::npos) << what;
+}
+
+TEST(SoilBinCsvRejects, AnUnknownColumnNameWithoutEchoingItsBytes) {
+  const DataError e = rejection("slip,sinkage_ratio,drive_coeff,traction_coeff,\xFF\xFE\n1,2,3,4,5\n");
+  EXPECT_TRUE(printable_ascii(e.what())) << e.what();
+  EXPECT_NE(std::string(e.what()).find("column '\\xff\\xfe'"), std::string::npos) << e.what();
+}
+
+TEST(SoilBinCsvRejects, ANumberOutsideItsColumnsPhysicalRange) {
+  const DataError e = rejection(kDimensionless + "1e300,0.1,0.6,0.3\n");
+  EXPECT_EQ(e.line(), 4U);
+  EXPECT_EQ(e.column(), 1U);
+  EXPECT_EQ(std::string(e.what()),
+            "test.csv:4:1: column 'slip': 1e+300 is outside the physical range [-1, 1]");
+}
+
+TEST(SoilBinCsvRejects, NonsenseInEveryKindOfColumn) {
+  const std::string header =
+      "slip,load_N,torque_Nm,sinkage_m,drawbar_pull_N,wheel_radius_m,wheel_width_m\n";
+  struct Case {
+    std::string row;
+    std::size_t column;
+    std::string detail;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"0.3,1e9,3,0.01,10,0.15,0.16", 2, "1000000000 is outside the physical range (0, 100000] N"},
+           {"0.3,30,-1e300,0.01,10,0.15,0.16", 3, "-1e+300 is outside the physical range"},
+           {"0.3,30,3,12,10,0.15,0.16", 4, "12 is outside the physical range [-1, 10] m"},
+           {"0.3,30,3,0.01,2e5,0.15,0.16", 5, "200000 is outside the physical range"},
+           {"0.3,30,3,0.01,10,150,0.16", 6, "150 is outside the physical range (0, 5] m"},
+           {"0.3,30,3,0.01,10,0.15,-0.16", 7, "'-0.16' must be greater than zero"},
+           {"1.5,30,3,0.01,10,0.15,0.16", 1, "1.5 is outside the physical range [-1, 1]"},
+       }) {
+    const DataError e = rejection(header + c.row + "\n");
+    EXPECT_EQ(e.line(), 2U) << c.row;
+    EXPECT_EQ(e.column(), c.column) << c.row;
+    EXPECT_NE(std::string(e.what()).find(c.detail), std::string::npos) << e.what();
+  }
+  const DataError ratio = rejection("slip,sinkage_ratio,drive_coeff,traction_coeff\n0.1,30,0.3,0.1\n");
+  EXPECT_EQ(ratio.column_name(), "sinkage_ratio");
+  EXPECT_NE(std::string(ratio.what()).find("30 is outside the physical range [-1, 2]"),
+            std::string::npos)
+      << ratio.what();
+}
+
+TEST(SoilBinCsvRejects, DimensionalRowsWhoseRatiosAreNonsense) {
+  // Sinkage in millimetres in the metre column: each number is in range, z/r is not.
+  const DataError e = rejection(
+      "slip,load_N,torque_Nm,sinkage_m,drawbar_pull_N,wheel_radius_m\n0.3,30,3,9,10,0.15\n");
+  EXPECT_EQ(e.line(), 2U);
+  EXPECT_NE(std::string(e.what()).find("z/r = 60 is outside the physical range [-1, 2]"),
+            std::string::npos)
+      << e.what();
+}
+
+TEST(SoilBinCsvRejects, AWidthGivenTwice) {
+  SoilBinReadOptions options;
+  options.wheel_width_m = 0.16;
+  const DataError e = rejection(
+      "slip,load_N,torque_Nm,sinkage_m,drawbar_pull_N,wheel_radius_m,wheel_width_m\n"
+      "0.3,30,3,0.01,10,0.15,0.16\n",
+      options);
+  EXPECT_EQ(e.line(), 1U);
+  EXPECT_EQ(e.column(), 7U);
+  EXPECT_NE(std::string(e.what()).find("given twice"), std::string::npos) << e.what();
+}
+
+TEST(SoilBinCsvRejects, ARadiusLoadOrWidthFromTheCallerOutOfRange) {
+  SoilBinReadOptions radius;
+  radius.wheel_radius_m = 1e300;
+  EXPECT_NE(std::string(rejection(kDimensionless, radius).what()).find("1e+300"), std::string::npos);
+  SoilBinReadOptions width;
+  width.wheel_width_m = 0.0;
+  EXPECT_NE(std::string(rejection(kDimensionless, width).what()).find("wheel width"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <unistd.h>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <random>
 #include <sstream>
 #include <string>
@@ -225,6 +226,57 @@ TEST(DiagnosisData, WidthColumnIsReadAndABadValueNamesLineAndColumn) {
   } catch (const DataError& e) {
     EXPECT_EQ(e.line(), 2U);
     EXPECT_EQ(e.column(), 7U);
+  }
+}
+
+// The diagnosis reads its file in one pass through the soil-bin reader (it
+// used to scan the file a second time for the width), so "-" works.
+TEST(DiagnosisData, DashReadsStandardInputWidthColumnIncluded) {
+  std::istringstream text(
+      "slip,load_N,torque_Nm,sinkage_m,drawbar_pull_N,wheel_radius_m,wheel_width_m\n"
+      "0.1,30,1.0,0.01,5,0.15,0.12\n0.2,30,1.2,0.011,6,0.15,0.12\n");
+  std::streambuf* const old = std::cin.rdbuf(text.rdbuf());
+  try {
+    const DiagnosisData data = read_diagnosis_data("-", {});
+    std::cin.rdbuf(old);
+    EXPECT_EQ(data.source, "<stdin>");
+    ASSERT_EQ(data.rows.size(), 2U);
+    EXPECT_DOUBLE_EQ(data.rows[1].width_m, 0.12);
+  } catch (const std::exception& e) {
+    std::cin.rdbuf(old);
+    FAIL() << e.what();
+  }
+  std::cin.clear();
+}
+
+TEST(DiagnosisData, WidthGivenTwiceNamesTheHeaderLineAndColumn) {
+  const std::string path = write_file("width_twice.csv",
+                                      "# comment\nslip,load_N,torque_Nm,sinkage_m,drawbar_pull_N,wheel_radius_m,wheel_width_m\n"
+                                      "0.1,30,1.0,0.01,5,0.15,0.12\n");
+  DiagnosisReadOptions width;
+  width.width_m = 0.12;
+  try {
+    (void)read_diagnosis_data(path, width);
+    FAIL() << "no error";
+  } catch (const DataError& e) {
+    EXPECT_EQ(e.line(), 2U);
+    EXPECT_EQ(e.column(), 7U);
+    EXPECT_NE(std::string(e.what()).find("given twice"), std::string::npos) << e.what();
+  }
+}
+
+TEST(DiagnosisData, WidthOutOfItsPhysicalRangeIsRefused) {
+  const std::string path = write_file("width_mm.csv",
+                                      "slip,load_N,torque_Nm,sinkage_m,drawbar_pull_N,wheel_radius_m,wheel_width_m\n"
+                                      "0.1,30,1.0,0.01,5,0.15,120\n");
+  try {
+    (void)read_diagnosis_data(path, {});
+    FAIL() << "no error";
+  } catch (const DataError& e) {
+    EXPECT_EQ(e.line(), 2U);
+    EXPECT_EQ(e.column(), 7U);
+    EXPECT_NE(std::string(e.what()).find("120 is outside the physical range (0, 5] m"), std::string::npos)
+        << e.what();
   }
 }
 

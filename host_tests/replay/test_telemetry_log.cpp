@@ -4,8 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <iostream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace sg = sinkwatch::ground;
 
@@ -155,6 +158,7 @@ TEST(TelemetryLog, RepeatedTimeIsKeptForTheFlightCodeToReport) {
 
 TEST(TelemetryLog, HeaderProblems) {
   EXPECT_NE(error_of("time_s,foo\n1,2\n").find("unknown column 'foo'"), std::string::npos);
+  EXPECT_NE(error_of("time_s,foo\n1,2\n").find("the known columns are time_s, time_ms, valid"), std::string::npos);
   EXPECT_NE(error_of("time_s,time_s\n1,2\n").find("appears twice"), std::string::npos);
   std::string no_pitch = kHeader;
   no_pitch.replace(no_pitch.find("pitch_deg,"), 10, "");
@@ -169,4 +173,170 @@ TEST(TelemetryLog, HeaderProblems) {
 
 TEST(TelemetryLog, MissingFileIsAnError) {
   EXPECT_THROW(sg::read_telemetry_file("/nonexistent/telemetry.csv"), std::runtime_error);
+}
+
+// --- the input rules of docs/input-files.md ---
+
+namespace {
+
+// Redirects std::cin to `text` for the lifetime of the object.
+class StdinFrom {
+ public:
+  explicit StdinFrom(const std::string& text) : in_(text), old_(std::cin.rdbuf(in_.rdbuf())) {}
+  ~StdinFrom() {
+    std::cin.rdbuf(old_);
+    std::cin.clear();
+  }
+  StdinFrom(const StdinFrom&) = delete;
+  StdinFrom& operator=(const StdinFrom&) = delete;
+
+ private:
+  std::istringstream in_;
+  std::streambuf* old_;
+};
+
+bool printable_ascii(const std::string& text) {
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20U || byte >= 0x7FU) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+TEST(TelemetryLogInput, SkipsAUtf8ByteOrderMark) {
+  const sg::TelemetryLog log = sg::parse_telemetry_text("\xEF\xBB\xBF" + kHeader + kRow, "x");
+  ASSERT_EQ(log.rows.size(), 1U);
+  EXPECT_DOUBLE_EQ(log.rows[0].time_s, 0.2);
+  const sg::TelemetryLog with_metadata =
+      sg::parse_telemetry_text("\xEF\xBB\xBF# gravity_mps2: 3.71\n" + kHeader + kRow, "x");
+  EXPECT_EQ(with_metadata.number("gravity_mps2").value(), 3.71);
+}
+
+TEST(TelemetryLogInput, DashReadsStandardInput) {
+  const StdinFrom redirect(kHeader + kRow + kRow);
+  const sg::TelemetryLog log = sg::read_telemetry_file("-");
+  EXPECT_EQ(log.source, "<stdin>");
+  EXPECT_EQ(log.rows.size(), 2U);
+}
+
+TEST(TelemetryLogInput, NoteColumnsAreIgnored) {
+  std::string header = kHeader;
+  header.insert(header.size() - 1, ",notes");
+  std::string row = kRow;
+  row.insert(row.size() - 1, ",wheel LF \xC2\xB0 looked stuck");
+  const sg::TelemetryLog log = sg::parse_telemetry_text(header + row, "x");
+  ASSERT_EQ(log.rows.size(), 1U);
+  EXPECT_DOUBLE_EQ(*log.rows[0].accel_mps2, 0.01);
+}
+
+TEST(TelemetryLogInput, ADirectoryIsRefusedAsSuch) {
+  const std::string dir = std::filesystem::temp_directory_path().string();
+  try {
+    (void)sg::read_telemetry_file(dir);
+    FAIL() << "read a directory";
+  } catch (const sg::TelemetryError& e) {
+    EXPECT_EQ(std::string(e.what()), dir + ": is a directory, not a file");
+  }
+}
+
+TEST(TelemetryLogInput, ABinaryFileIsRefusedAtItsFirstNonTextByte) {
+  std::size_t line = 0;
+  std::size_t column = 0;
+  const std::string msg = error_of(kHeader + kRow + std::string("\x7f" "ELF\0\0\1", 7) + "\n", &line, &column);
+  EXPECT_EQ(line, 3U);
+  EXPECT_EQ(column, 1U);
+  EXPECT_EQ(msg, "log.csv:3:1: binary file, not CSV text (byte 0x7f)");
+}
+
+TEST(TelemetryLogInput, QuotedInputIsEscapedAndCut) {
+  const std::string msg = error_of("time_s,\xE2\x80\x8B" + std::string(300, 'y') + "\n1,2\n");
+  EXPECT_TRUE(printable_ascii(msg)) << msg;
+  EXPECT_NE(msg.find("unknown column '\\xe2\\x80\\x8byyy"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("y...'"), std::string::npos) << msg;
+  const std::string cell = error_of(kHeader + "0.2,0.5,\xFF" + "abc,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01\n");
+  EXPECT_TRUE(printable_ascii(cell)) << cell;
+  EXPECT_NE(cell.find("got '\\xffabc'"), std::string::npos) << cell;
+}
+
+TEST(TelemetryLogInput, BothTimeColumnsConflict) {
+  std::size_t line = 0;
+  std::size_t column = 0;
+  const std::string header = "time_s,time_ms," + kHeader.substr(7);
+  const std::string msg = error_of(header + "0.2,200," + kRow.substr(4), &line, &column);
+  EXPECT_EQ(line, 1U);
+  EXPECT_EQ(column, 8U);  // where time_ms starts
+  EXPECT_NE(msg.find("conflicting columns time_s and time_ms"), std::string::npos) << msg;
+}
+
+TEST(TelemetryLogInput, ABadGravityLineIsReportedAtItsLineAndColumn) {
+  std::size_t line = 0;
+  std::size_t column = 0;
+  const std::string msg = error_of("# made by hand\n# gravity_mps2: lunar\n" + kHeader + kRow, &line, &column);
+  EXPECT_EQ(line, 2U);
+  EXPECT_EQ(column, 17U);  // where "lunar" starts
+  EXPECT_EQ(msg, "log.csv:2:17: metadata 'gravity_mps2': expected a finite number, got 'lunar'");
+}
+
+TEST(TelemetryLogInput, GravityOutsideItsPhysicalRangeIsRefused) {
+  for (const std::string& g : {"1e300", "0", "-9.81", "31", "nan", "inf"}) {
+    std::size_t line = 0;
+    const std::string msg = error_of("# gravity_mps2: " + g + "\n" + kHeader + kRow, &line);
+    EXPECT_EQ(line, 1U) << g;
+    EXPECT_NE(msg.find("log.csv:1:17: metadata 'gravity_mps2': "), std::string::npos) << msg;
+  }
+  EXPECT_NE(error_of("# gravity_mps2: 1e300\n" + kHeader + kRow).find("1e+300 is outside the physical range (0, 30] m/s^2"),
+            std::string::npos);
+  EXPECT_EQ(sg::parse_telemetry_text("# gravity_mps2: 30\n" + kHeader + kRow, "x").number("gravity_mps2").value(), 30.0);
+}
+
+TEST(TelemetryLogInput, NumbersOutsideTheirPhysicalRangeAreRefusedWithLineAndColumn) {
+  struct Case {
+    std::string row;
+    std::size_t column;
+    std::string detail;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"0.2,1e300,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01", 5,
+            "column 'i_lf_a': 1e+300 is outside the physical range [-1000, 1000] A"},
+           {"0.2,0.5,0.5,0.5,0.5,0.5,0.5,95,0,0,0,0,0,0.01", 29,
+            "column 'pitch_deg': 95 is outside the physical range [-90, 90] deg"},
+           {"0.2,0.5,0.5,0.5,0.5,0.5,0.5,1,-91,0,0,0,0,0.01", 31, "column 'roll_deg': -91 is outside"},
+           {"0.2,0.5,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,90.5,0.01", 39, "column 'bogie_r_deg': 90.5 is outside"},
+           {"0.2,0.5,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,0,-2e3", 41,
+            "column 'accel_mps2': -2000 is outside the physical range [-100, 100] m/s^2"},
+           {"5e9,0.5,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01", 1,
+            "column 'time_s': time out of range: 5000000000 is outside the physical range [0, 4294967.295] s"},
+       }) {
+    std::size_t line = 0;
+    std::size_t column = 0;
+    const std::string msg = error_of(kHeader + c.row + "\n", &line, &column);
+    EXPECT_EQ(line, 2U) << c.row;
+    EXPECT_EQ(column, c.column) << msg;
+    EXPECT_NE(msg.find(c.detail), std::string::npos) << msg;
+  }
+  const std::string truth_header = kHeader.substr(0, kHeader.size() - 1) + ",true_slip,true_sinkage_mm,x_m\n";
+  EXPECT_NE(error_of(truth_header + "0.2,0.5,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01,1.5,10,0\n")
+                .find("column 'true_slip': 1.5 is outside the physical range [-1, 1]"),
+            std::string::npos);
+  EXPECT_NE(error_of(truth_header + "0.2,0.5,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01,0.1,1e5,0\n")
+                .find("column 'true_sinkage_mm': 100000 is outside"),
+            std::string::npos);
+  EXPECT_NE(error_of(truth_header + "0.2,0.5,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01,0.1,10,1e300\n")
+                .find("column 'x_m': 1e+300 is outside"),
+            std::string::npos);
+  std::string ms = kHeader;
+  ms.replace(0, 6, "time_ms");
+  EXPECT_NE(error_of(ms + "1e300" + kRow.substr(3)).find("time out of range"), std::string::npos);
+}
+
+TEST(TelemetryLogInput, EmbeddingMetadataIsCheckedToo) {
+  std::size_t line = 0;
+  std::size_t column = 0;
+  const std::string msg = error_of("# embedding_time_s: 10\n# embedding_x_m: 1e300\n" + kHeader + kRow, &line, &column);
+  EXPECT_EQ(line, 2U);
+  EXPECT_EQ(column, 18U);
+  EXPECT_NE(msg.find("metadata 'embedding_x_m': 1e+300 is outside"), std::string::npos) << msg;
+  EXPECT_EQ(sg::parse_telemetry_text("# embedding_x_m: none\n" + kHeader + kRow, "x").rows.size(), 1U);
 }

@@ -1,6 +1,8 @@
 // soil_bin_csv.cpp: the soil-bin CSV reader (see the header for the forms).
 #include "sinkwatch/ground/soil_bin_csv.hpp"
 
+#include <iostream>
+
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -11,6 +13,8 @@
 #include <string_view>
 #include <system_error>
 #include <utility>
+
+#include "sinkwatch/ground/text_input.hpp"
 
 namespace sinkwatch {
 namespace ground {
@@ -28,7 +32,7 @@ std::string format_location(const std::string& source, std::size_t line, std::si
     }
   }
   if (!column_name.empty()) {
-    out << ": column '" << column_name << "'";
+    out << ": column " << text_input::quoted(column_name, 60);
   }
   return out.str();
 }
@@ -65,6 +69,48 @@ constexpr std::array<const char*, 4> kDimensionlessColumns = {"slip", "sinkage_r
 
 constexpr std::size_t kAbsent = static_cast<std::size_t>(-1);
 
+// Every column the reader knows, with its physical range: generous enough for
+// any real wheel and soil bin, narrow enough to catch nonsense (1e300, a
+// length in millimetres in a metre column). docs/input-files.md has the table.
+struct KnownColumn {
+  const char* name;
+  text_input::Range range;
+};
+constexpr double kMaxLoadN = 1e5;  // 10 t on one wheel
+const std::array<KnownColumn, 11> kKnownColumns = {{
+    {"slip", {-1.0, 1.0, false, false, ""}},
+    {"load_N", {0.0, kMaxLoadN, true, false, "N"}},
+    {"torque_Nm", {-1e4, 1e4, false, false, "N m"}},
+    {"sinkage_m", {-1.0, 10.0, false, false, "m"}},
+    {"drawbar_pull_N", {-kMaxLoadN, kMaxLoadN, false, false, "N"}},
+    {"wheel_radius_m", {0.0, 5.0, true, false, "m"}},
+    {"wheel_width_m", {0.0, 5.0, true, false, "m"}},
+    {"sinkage_ratio", {-1.0, 2.0, false, false, ""}},
+    {"drive_coeff", {-10.0, 10.0, false, false, ""}},
+    {"traction_coeff", {-10.0, 10.0, false, false, ""}},
+    {"paper_eq10_fit", {-20.0, 20.0, false, false, ""}},
+}};
+
+const KnownColumn* known_column(std::string_view name) {
+  for (const KnownColumn& column : kKnownColumns) {
+    if (name == column.name) {
+      return &column;
+    }
+  }
+  return nullptr;
+}
+
+const text_input::Range& range_of(std::string_view name) { return known_column(name)->range; }
+
+std::string known_column_list() {
+  std::string list;
+  for (const KnownColumn& column : kKnownColumns) {
+    list += list.empty() ? "" : ", ";
+    list += column.name;
+  }
+  return list;
+}
+
 struct Header {
   std::size_t line = 0;
   std::vector<std::string> names;
@@ -91,16 +137,38 @@ std::string missing_columns(const Header& header, const std::array<const char*, 
   return missing;
 }
 
-// Reads one line into `line`, without the trailing CR of a CRLF file.
-bool next_line(std::istream& in, std::string& line) {
-  if (!std::getline(in, line)) {
-    return false;
+// Reads the input line by line, counting lines: drops the trailing CR of a
+// CRLF file and a UTF-8 byte-order mark at the start, and refuses a line
+// holding a byte that text does not contain (binary input).
+class LineReader {
+ public:
+  LineReader(std::istream& in, const std::string& source) : in_(in), source_(source) {}
+
+  bool next(std::string& line) {
+    if (!std::getline(in_, line)) {
+      return false;
+    }
+    ++number_;
+    if (number_ == 1) {
+      (void)text_input::strip_bom(line);
+    }
+    if (!line.empty() && line.back() == '\r') {
+      line.pop_back();
+    }
+    if (const std::optional<std::size_t> at = text_input::first_binary_byte(line)) {
+      throw DataError(source_, number_, *at + 1, "",
+                      text_input::binary_message(static_cast<unsigned char>(line[*at])));
+    }
+    return true;
   }
-  if (!line.empty() && line.back() == '\r') {
-    line.pop_back();
-  }
-  return true;
-}
+
+  [[nodiscard]] std::size_t number() const noexcept { return number_; }
+
+ private:
+  std::istream& in_;
+  const std::string& source_;
+  std::size_t number_ = 0;
+};
 
 bool is_skipped(std::string_view line) {
   const std::string_view body = trim(line);
@@ -126,21 +194,26 @@ class RowParser {
     double value = 0.0;
     const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
     if (error == std::errc::result_out_of_range) {
-      fail(index, "'" + std::string(text) + "' is out of the range of a double");
+      fail(index, text_input::quoted(text) + " is out of the range of a double");
     }
     if (error != std::errc() || end != digits.data() + digits.size()) {
-      fail(index, "'" + std::string(text) + "' is not a number");
+      fail(index, text_input::quoted(text) + " is not a number");
     }
     if (!std::isfinite(value)) {
-      fail(index, "'" + std::string(text) + "' is not a finite number");
+      fail(index, text_input::quoted(text) + " is not a finite number");
     }
     return value;
   }
 
-  [[nodiscard]] double positive(std::size_t index) const {
+  // The number in column `index`, inside the column's physical range.
+  [[nodiscard]] double checked(std::size_t index) const {
     const double value = number(index);
-    if (!(value > 0.0)) {
-      fail(index, "'" + std::string(fields_[index]) + "' must be greater than zero");
+    const text_input::Range& range = range_of(header_.names[index]);
+    if (!range.contains(value)) {
+      if (range.min == 0.0 && range.min_open && value <= 0.0) {
+        fail(index, text_input::quoted(fields_[index]) + " must be greater than zero");
+      }
+      fail(index, text_input::out_of_range_message(value, range));
     }
     return value;
   }
@@ -179,37 +252,54 @@ const char* to_string(SoilBinForm form) noexcept {
 
 SoilBinDataset parse_soil_bin_csv(std::istream& in, const std::string& source,
                                   const SoilBinReadOptions& options) {
-  if (options.wheel_radius_m && !(std::isfinite(*options.wheel_radius_m) &&
-                                  *options.wheel_radius_m > 0.0)) {
-    throw DataError(source, 0, 0, "", "the wheel radius must be a finite number greater than zero");
+  if (options.wheel_radius_m && !range_of("wheel_radius_m").contains(*options.wheel_radius_m)) {
+    throw DataError(source, 0, 0, "",
+                    "the wheel radius must be a finite number in " +
+                        range_of("wheel_radius_m").describe() + ", got " +
+                        text_input::format_number(*options.wheel_radius_m));
   }
-  if (options.load_n && !(std::isfinite(*options.load_n) && *options.load_n > 0.0)) {
-    throw DataError(source, 0, 0, "", "the wheel load must be a finite number greater than zero");
+  if (options.load_n && !range_of("load_N").contains(*options.load_n)) {
+    throw DataError(source, 0, 0, "",
+                    "the wheel load must be a finite number in " + range_of("load_N").describe() +
+                        ", got " + text_input::format_number(*options.load_n));
+  }
+  if (options.wheel_width_m && !range_of("wheel_width_m").contains(*options.wheel_width_m)) {
+    throw DataError(source, 0, 0, "",
+                    "the wheel width must be a finite number in " +
+                        range_of("wheel_width_m").describe() + ", got " +
+                        text_input::format_number(*options.wheel_width_m));
   }
 
   std::string text;
-  std::size_t line_number = 0;
+  LineReader lines(in, source);
 
   // Header: the first line that is neither blank nor a comment.
   Header header;
-  while (next_line(in, text)) {
-    ++line_number;
+  while (lines.next(text)) {
     if (is_skipped(text)) {
       continue;
     }
-    header.line = line_number;
+    header.line = lines.number();
     for (std::string_view name : split_fields(text)) {
       const std::size_t column = header.names.size() + 1;
       if (name.empty()) {
-        throw DataError(source, line_number, column, "", "empty column name in the header");
+        throw DataError(source, header.line, column, "", "empty column name in the header");
       }
       if (header.find(name) != kAbsent) {
-        throw DataError(source, line_number, column, std::string(name),
+        throw DataError(source, header.line, column, std::string(name),
                         "column appears twice in the header");
+      }
+      if (known_column(name) == nullptr && !text_input::is_note_column(name)) {
+        throw DataError(source, header.line, column, std::string(name),
+                        "unknown column; the known columns are " + known_column_list() +
+                            " (a column whose name starts with 'note' is ignored)");
       }
       header.names.emplace_back(name);
     }
     break;
+  }
+  if (in.bad()) {
+    throw DataError(source, lines.number(), 0, "", "read error");
   }
   if (header.line == 0) {
     throw DataError(source, 0, 0, "", "empty file: no header row (only blank or comment lines)");
@@ -248,6 +338,7 @@ SoilBinDataset parse_soil_bin_csv(std::istream& in, const std::string& source,
   const std::size_t slip_col = header.find("slip");
   const std::size_t load_col = header.find("load_N");
   const std::size_t radius_col = header.find("wheel_radius_m");
+  const std::size_t width_col = header.find("wheel_width_m");
   if (load_col != kAbsent && options.load_n) {
     throw DataError(source, header.line, load_col + 1, "load_N",
                     "the load is given twice (this column and --load); keep one");
@@ -257,6 +348,10 @@ SoilBinDataset parse_soil_bin_csv(std::istream& in, const std::string& source,
     throw DataError(source, header.line, radius_col + 1, "wheel_radius_m",
                     "the radius is given twice (this column and --radius); keep one");
   }
+  if (width_col != kAbsent && options.wheel_width_m) {
+    throw DataError(source, header.line, width_col + 1, "wheel_width_m",
+                    "the width is given twice (this column and --width); keep one");
+  }
   if (dataset.form == SoilBinForm::dimensional) {
     if (radius_col == kAbsent && !options.wheel_radius_m) {
       throw DataError(source, header.line, 0, "",
@@ -265,8 +360,8 @@ SoilBinDataset parse_soil_bin_csv(std::istream& in, const std::string& source,
     }
   }
 
-  while (next_line(in, text)) {
-    ++line_number;
+  while (lines.next(text)) {
+    const std::size_t line_number = lines.number();
     if (is_skipped(text)) {
       continue;
     }
@@ -280,42 +375,57 @@ SoilBinDataset parse_soil_bin_csv(std::istream& in, const std::string& source,
                           std::to_string(fields.size()));
     }
     const RowParser parse(source, header, line_number, fields);
+    // Every known column is a number in its range, used or not (a column
+    // that is there is checked); the note columns are free text.
+    std::vector<double> values(fields.size(), 0.0);
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      if (!text_input::is_note_column(header.names[i])) {
+        values[i] = parse.checked(i);
+      }
+    }
+    const auto value = [&](const char* name) { return values[header.find(name)]; };
     SoilBinRow row;
     row.line = line_number;
-    row.slip = parse.number(slip_col);
-    if (load_col != kAbsent) {
-      row.load_n = parse.positive(load_col);
-    } else {
-      row.load_n = options.load_n;
-    }
+    row.slip = values[slip_col];
+    row.load_n = load_col != kAbsent ? std::optional<double>(values[load_col]) : options.load_n;
+    row.wheel_radius_m =
+        radius_col != kAbsent ? std::optional<double>(values[radius_col]) : options.wheel_radius_m;
+    row.wheel_width_m =
+        width_col != kAbsent ? std::optional<double>(values[width_col]) : options.wheel_width_m;
     if (dataset.form == SoilBinForm::dimensional) {
-      const double radius_m =
-          radius_col != kAbsent ? parse.positive(radius_col) : *options.wheel_radius_m;
+      const double radius_m = *row.wheel_radius_m;
       const double load_n = *row.load_n;
-      row.wheel_radius_m = radius_m;
-      row.torque_nm = parse.number(header.find("torque_Nm"));
-      row.sinkage_m = parse.number(header.find("sinkage_m"));
-      row.drawbar_pull_n = parse.number(header.find("drawbar_pull_N"));
+      row.torque_nm = value("torque_Nm");
+      row.sinkage_m = value("sinkage_m");
+      row.drawbar_pull_n = value("drawbar_pull_N");
       row.sinkage_ratio = *row.sinkage_m / radius_m;
       row.drive_coeff = *row.torque_nm / (radius_m * load_n);
       row.traction_coeff = *row.drawbar_pull_n / load_n;
-      if (!std::isfinite(row.sinkage_ratio) || !std::isfinite(row.drive_coeff) ||
-          !std::isfinite(row.traction_coeff)) {
-        throw DataError(source, line_number, 0, "",
-                        "z/r, T/(rW) or DP/W is not a finite number (extreme values in this row)");
+      // Each measurement is in range, but a unit mistake (millimetres in a
+      // metre column) shows in the ratios: they get the ranges of the
+      // dimensionless columns.
+      for (const auto& [name, ratio] :
+           {std::pair<const char*, double>{"sinkage_ratio", row.sinkage_ratio},
+            {"drive_coeff", row.drive_coeff},
+            {"traction_coeff", row.traction_coeff}}) {
+        if (!range_of(name).contains(ratio)) {
+          throw DataError(source, line_number, 0, "",
+                          std::string(name == std::string_view("sinkage_ratio") ? "z/r"
+                                      : name == std::string_view("drive_coeff")  ? "T/(rW)"
+                                                                                  : "DP/W") +
+                              " = " + text_input::out_of_range_message(ratio, range_of(name)) +
+                              " (check the units of this row)");
+        }
       }
     } else {
-      row.sinkage_ratio = parse.number(header.find("sinkage_ratio"));
-      row.drive_coeff = parse.number(header.find("drive_coeff"));
-      row.traction_coeff = parse.number(header.find("traction_coeff"));
-      // Not needed for the fit, but carried for tools that need the size.
-      row.wheel_radius_m =
-          radius_col != kAbsent ? parse.positive(radius_col) : options.wheel_radius_m;
+      row.sinkage_ratio = value("sinkage_ratio");
+      row.drive_coeff = value("drive_coeff");
+      row.traction_coeff = value("traction_coeff");
     }
     dataset.rows.push_back(row);
   }
   if (in.bad()) {
-    throw DataError(source, line_number, 0, "", "read error");
+    throw DataError(source, lines.number(), 0, "", "read error");
   }
   if (dataset.rows.empty()) {
     throw DataError(source, header.line, 0, "", "no data rows after the header");
@@ -324,7 +434,14 @@ SoilBinDataset parse_soil_bin_csv(std::istream& in, const std::string& source,
 }
 
 SoilBinDataset read_soil_bin_csv(const std::string& path, const SoilBinReadOptions& options) {
-  std::ifstream in(path);
+  if (path == text_input::kStdinPath) {
+    return parse_soil_bin_csv(std::cin, text_input::kStdinName, options);
+  }
+  const std::string problem = text_input::unreadable_reason(path);
+  if (!problem.empty()) {
+    throw DataError(path, 0, 0, "", problem);
+  }
+  std::ifstream in(path, std::ios::binary);
   if (!in) {
     throw DataError(path, 0, 0, "", "cannot open the file for reading");
   }

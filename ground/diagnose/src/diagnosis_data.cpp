@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -14,75 +13,6 @@ namespace sinkwatch {
 namespace ground {
 
 namespace {
-
-std::string trim(const std::string& s) {
-  const auto first = s.find_first_not_of(" \t\r\n");
-  if (first == std::string::npos) {
-    return {};
-  }
-  const auto last = s.find_last_not_of(" \t\r\n");
-  return s.substr(first, last - first + 1);
-}
-
-std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> fields;
-  std::stringstream ss(line);
-  std::string field;
-  while (std::getline(ss, field, ',')) {
-    fields.push_back(trim(field));
-  }
-  if (!line.empty() && line.back() == ',') {
-    fields.emplace_back();
-  }
-  return fields;
-}
-
-// The soil-bin reader does not read the wheel width; this scans the same file
-// for a wheel_width_m column and returns its value per source line. Lines and
-// columns are counted as the reader counts them (1-based, comments included).
-std::map<std::size_t, double> read_width_column(const std::string& path) {
-  std::map<std::size_t, double> widths;
-  std::ifstream in(path);
-  if (!in) {
-    throw DataError(path, 0, 0, "", "cannot open the file");
-  }
-  std::string line;
-  std::size_t line_no = 0;
-  std::optional<std::size_t> column;
-  bool header_seen = false;
-  while (std::getline(in, line)) {
-    ++line_no;
-    const std::string t = trim(line);
-    if (t.empty() || t.front() == '#') {
-      continue;
-    }
-    const std::vector<std::string> fields = split_csv_line(t);
-    if (!header_seen) {
-      header_seen = true;
-      for (std::size_t i = 0; i < fields.size(); ++i) {
-        if (fields[i] == "wheel_width_m") {
-          column = i;
-        }
-      }
-      if (!column) {
-        return widths;
-      }
-      continue;
-    }
-    if (*column >= fields.size()) {
-      throw DataError(path, line_no, *column + 1, "wheel_width_m", "missing value");
-    }
-    const std::string& text = fields[*column];
-    char* end = nullptr;
-    const double value = std::strtod(text.c_str(), &end);
-    if (text.empty() || end == nullptr || *end != '\0' || !std::isfinite(value) || value <= 0.0) {
-      throw DataError(path, line_no, *column + 1, "wheel_width_m",
-                      "'" + text + "' is not a positive number");
-    }
-    widths[line_no] = value;
-  }
-  return widths;
-}
 
 bool same_value(double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b)); }
 
@@ -203,37 +133,33 @@ DiagnosisData read_diagnosis_data(const std::string& path, const DiagnosisReadOp
       throw DataError(path, 0, 0, "", std::string(name) + " must be a positive number");
     }
   }
+  // One pass over the input (which may be standard input): the reader takes
+  // the width column too, and refuses a width given twice at its column.
   SoilBinReadOptions read_options;
   read_options.wheel_radius_m = options.radius_m;
+  read_options.wheel_width_m = options.width_m;
   const SoilBinDataset dataset = read_soil_bin_csv(path, read_options);
-  const std::map<std::size_t, double> widths = read_width_column(path);
 
   DiagnosisData data;
   data.source = dataset.source;
   data.dimensional = dataset.form == SoilBinForm::dimensional;
   data.loads_measured = dataset.has_load;
   data.has_loads = dataset.has_load || options.load_n.has_value();
-  if (!widths.empty() && options.width_m) {
-    throw DataError(path, 0, 0, "wheel_width_m",
-                    "the wheel width is given twice (--width and the wheel_width_m column); give one");
-  }
   if (dataset.rows.empty()) {
-    throw DataError(path, 0, 0, "", "no data rows");
+    throw DataError(dataset.source, 0, 0, "", "no data rows");
   }
   for (const SoilBinRow& in : dataset.rows) {
     DiagnosisRow row;
     row.line = in.line;
     row.slip = in.slip;
-    const std::optional<double> radius = in.wheel_radius_m ? in.wheel_radius_m : options.radius_m;
+    const std::optional<double> radius = in.wheel_radius_m;
     if (!radius) {
-      throw DataError(path, in.line, 0, "wheel_radius_m",
+      throw DataError(dataset.source, in.line, 0, "wheel_radius_m",
                       "no wheel radius: give --radius or a wheel_radius_m column");
     }
-    const auto width_it = widths.find(in.line);
-    const std::optional<double> width =
-        width_it != widths.end() ? std::optional<double>(width_it->second) : options.width_m;
+    const std::optional<double> width = in.wheel_width_m;
     if (!width) {
-      throw DataError(path, in.line, 0, "wheel_width_m",
+      throw DataError(dataset.source, in.line, 0, "wheel_width_m",
                       "no wheel width: give --width or a wheel_width_m column");
     }
     row.radius_m = *radius;

@@ -1,14 +1,18 @@
 // Telemetry CSV reader and writer (telemetry_log.hpp, docs/replay.md).
 #include "sinkwatch/ground/telemetry_log.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <iostream>
 #include <istream>
 #include <ostream>
 #include <sstream>
+
+#include "sinkwatch/ground/text_input.hpp"
 
 namespace sinkwatch::ground {
 namespace {
@@ -28,6 +32,41 @@ const std::vector<std::string> kNames = {
     "i_rf_a",     "i_rm_a",      "i_rr_a",      "direction",    "pitch_deg",     "roll_deg",
     "rocker_l_deg", "rocker_r_deg", "bogie_l_deg", "bogie_r_deg", "accel_mps2",   "speed_mps",
     "rim_speed_mps", "x_m",       "true_slip",   "true_sinkage_mm", "phase"};
+
+using text_input::Range;
+
+// The physical range of each numeric column: generous enough for any real
+// rover, narrow enough to refuse nonsense such as 1e300 (docs/input-files.md).
+const Range kTimeSRange{0.0, 4294967.295, false, false, "s"};  // the flight clock, in ms in 32 bits
+const Range kTimeMsRange{0.0, 4294967295.0, false, false, "ms"};
+const Range kCurrentRange{-1000.0, 1000.0, false, false, "A"};
+const Range kAngleRange{-90.0, 90.0, false, false, "deg"};
+const Range kAccelRange{-100.0, 100.0, false, false, "m/s^2"};
+const Range kSpeedRange{-100.0, 100.0, false, false, "m/s"};
+const Range kPositionRange{-1e6, 1e6, false, false, "m"};
+const Range kSlipRange{-1.0, 1.0, false, false, ""};
+const Range kSinkageMmRange{-1000.0, 10000.0, false, false, "mm"};
+const Range kGravityRange{0.0, 30.0, true, false, "m/s^2"};
+
+const Range& range_of(int col) {
+  switch (col) {
+    case kTimeS: return kTimeSRange;
+    case kTimeMs: return kTimeMsRange;
+    case kI0: case kI1: case kI2: case kI3: case kI4: case kI5: return kCurrentRange;
+    case kAccel: return kAccelRange;
+    case kSpeed: case kRimSpeed: return kSpeedRange;
+    case kX: return kPositionRange;
+    case kTrueSlip: return kSlipRange;
+    case kTrueSinkage: return kSinkageMmRange;
+    default: return kAngleRange;  // pitch, roll, rocker, bogie
+  }
+}
+
+std::string known_columns() {
+  std::string list;
+  for (const std::string& name : kNames) list += (list.empty() ? "" : ", ") + name;
+  return list;
+}
 
 struct Cell {
   std::string text;
@@ -59,17 +98,33 @@ class RowParser {
  public:
   RowParser(std::string source, const std::vector<Cell>& header, std::size_t header_line) : source_(std::move(source)) {
     index_.fill(-1);
+    std::vector<std::string> notes;
     for (std::size_t i = 0; i < header.size(); ++i) {
       int id = -1;
       for (int c = 0; c < kColCount; ++c) {
         if (kNames[static_cast<std::size_t>(c)] == header[i].text) id = c;
       }
+      if (id < 0 && text_input::is_note_column(header[i].text)) {
+        if (std::find(notes.begin(), notes.end(), header[i].text) != notes.end()) {
+          throw TelemetryError(source_, header_line, header[i].column,
+                               "column " + text_input::quoted(header[i].text) + " appears twice");
+        }
+        notes.push_back(header[i].text);
+        continue;  // annotation: free text, ignored
+      }
       if (id < 0) {
         throw TelemetryError(source_, header_line, header[i].column,
-                             "unknown column '" + header[i].text + "' (docs/replay.md lists the columns)");
+                             "unknown column " + text_input::quoted(header[i].text) + "; the known columns are " +
+                                 known_columns() + " (a column whose name starts with 'note' is ignored; "
+                                 "docs/replay.md)");
       }
       if (index_[static_cast<std::size_t>(id)] >= 0) {
-        throw TelemetryError(source_, header_line, header[i].column, "column '" + header[i].text + "' appears twice");
+        throw TelemetryError(source_, header_line, header[i].column,
+                             "column " + text_input::quoted(header[i].text) + " appears twice");
+      }
+      if ((id == kTimeS && has(kTimeMs)) || (id == kTimeMs && has(kTimeS))) {
+        throw TelemetryError(source_, header_line, header[i].column,
+                             "conflicting columns time_s and time_ms: give the time in one of them");
       }
       index_[static_cast<std::size_t>(id)] = static_cast<int>(i);
     }
@@ -77,7 +132,7 @@ class RowParser {
     const auto missing = [&](const std::string& what) {
       throw TelemetryError(source_, header_line, 1, "missing column " + what);
     };
-    if (has(kTimeS) == has(kTimeMs)) missing("time_s or time_ms (exactly one of them)");
+    if (!has(kTimeS) && !has(kTimeMs)) missing("time_s or time_ms (one of them)");
     for (int c : {kI0, kI1, kI2, kI3, kI4, kI5, kPitch, kRoll, kRockerL, kRockerR, kBogieL, kBogieR}) {
       if (!has(c)) missing("'" + kNames[static_cast<std::size_t>(c)] + "'");
     }
@@ -96,10 +151,6 @@ class RowParser {
     } else {
       r.time_s = required(cells, kTimeMs, line) / 1000.0;
     }
-    if (r.time_s < 0.0 || r.time_s > 4294967.295) {
-      const Cell& c = cells[static_cast<std::size_t>(index_[has(kTimeS) ? kTimeS : kTimeMs])];
-      throw TelemetryError(source_, line, c.column, "time out of range (0 to 4294967.295 s, the flight clock)");
-    }
     if (has(kValid)) {
       const Cell& c = cell(cells, kValid);
       if (c.text == "1") {
@@ -107,7 +158,7 @@ class RowParser {
       } else if (c.text == "0") {
         r.valid = false;
       } else {
-        throw TelemetryError(source_, line, c.column, "column 'valid': expected 0 or 1, got '" + c.text + "'");
+        throw TelemetryError(source_, line, c.column, "column 'valid': expected 0 or 1, got " + text_input::quoted(c.text));
       }
     }
     for (std::size_t w = 0; w < kTelemetryWheels; ++w) {
@@ -120,7 +171,8 @@ class RowParser {
       } else if (c.text == "R") {
         r.reverse = true;
       } else {
-        throw TelemetryError(source_, line, c.column, "column 'direction': expected F or R, got '" + c.text + "'");
+        throw TelemetryError(source_, line, c.column,
+                             "column 'direction': expected F or R, got " + text_input::quoted(c.text));
       }
     }
     r.pitch_deg = required(cells, kPitch, line);
@@ -157,7 +209,16 @@ class RowParser {
     const double v = std::strtod(c.text.c_str(), &end);
     if (end != c.text.c_str() + c.text.size() || errno == ERANGE || !std::isfinite(v)) {
       throw TelemetryError(source_, line, c.column,
-                           "column '" + name + "': expected a finite number, got '" + c.text + "'");
+                           "column '" + name + "': expected a finite number, got " + text_input::quoted(c.text));
+    }
+    const Range& range = range_of(col);
+    if (!range.contains(v)) {
+      if (col == kTimeS || col == kTimeMs) {
+        throw TelemetryError(source_, line, c.column,
+                             "column '" + name + "': time out of range: " + text_input::out_of_range_message(v, range) +
+                                 " (the flight clock)");
+      }
+      throw TelemetryError(source_, line, c.column, "column '" + name + "': " + text_input::out_of_range_message(v, range));
     }
     return v;
   }
@@ -194,7 +255,8 @@ std::vector<std::string> writer_header() {
 
 TelemetryError::TelemetryError(const std::string& source, std::size_t line, std::size_t column,
                                const std::string& message)
-    : std::runtime_error(source + ":" + std::to_string(line) + ":" + std::to_string(column) + ": " + message),
+    : std::runtime_error(source + (line > 0 ? ":" + std::to_string(line) : std::string()) +
+                         (line > 0 && column > 0 ? ":" + std::to_string(column) : std::string()) + ": " + message),
       line_(line),
       column_(column) {}
 
@@ -204,12 +266,37 @@ std::optional<double> TelemetryLog::number(const std::string& key) const {
   char* end = nullptr;
   const double v = std::strtod(it->second.c_str(), &end);
   if (it->second.empty() || end != it->second.c_str() + it->second.size() || !std::isfinite(v)) {
-    throw TelemetryError(source, 0, 0, "metadata '" + key + "': expected a number, got '" + it->second + "'");
+    const auto at = metadata_at.find(key);
+    const MetadataPosition where = at != metadata_at.end() ? at->second : MetadataPosition{};
+    throw TelemetryError(source, where.line, where.column,
+                         "metadata " + text_input::quoted(key) + ": expected a finite number, got " +
+                             text_input::quoted(it->second));
   }
   return v;
 }
 
 const std::vector<std::string>& telemetry_columns() { return kNames; }
+
+namespace {
+
+// The metadata the tools read as numbers, checked where they are read so that
+// a bad value is reported at its line and column.
+void check_metadata(const TelemetryLog& log) {
+  const std::pair<const char*, const Range*> numeric[] = {
+      {"gravity_mps2", &kGravityRange}, {"embedding_x_m", &kPositionRange}, {"embedding_time_s", &kTimeSRange}};
+  for (const auto& [key, range] : numeric) {
+    const auto it = log.metadata.find(key);
+    if (it == log.metadata.end() || (std::string(key) == "embedding_x_m" && it->second == "none")) continue;
+    const double v = *log.number(key);  // throws, at the value, when not a number
+    if (!range->contains(v)) {
+      const MetadataPosition& at = log.metadata_at.at(key);
+      throw TelemetryError(log.source, at.line, at.column,
+                           "metadata '" + std::string(key) + "': " + text_input::out_of_range_message(v, *range));
+    }
+  }
+}
+
+}  // namespace
 
 TelemetryLog read_telemetry_csv(std::istream& in, const std::string& source) {
   TelemetryLog log;
@@ -219,7 +306,11 @@ TelemetryLog read_telemetry_csv(std::istream& in, const std::string& source) {
   std::size_t number = 0;
   while (std::getline(in, line)) {
     ++number;
+    if (number == 1) text_input::strip_bom(line);
     if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (const std::optional<std::size_t> at = text_input::first_binary_byte(line)) {
+      throw TelemetryError(source, number, *at + 1, text_input::binary_message(static_cast<unsigned char>(line[*at])));
+    }
     const std::string t = trim(line);
     if (t.empty()) continue;
     if (t[0] == '#') {
@@ -227,7 +318,12 @@ TelemetryLog read_telemetry_csv(std::istream& in, const std::string& source) {
       const std::string body = trim(t.substr(1));
       const auto colon = body.find(':');
       if (colon != std::string::npos && colon > 0 && body.find(' ') > colon) {
-        log.metadata[body.substr(0, colon)] = trim(body.substr(colon + 1));
+        const std::string key = body.substr(0, colon);
+        log.metadata[key] = trim(body.substr(colon + 1));
+        // The key holds no ':', so the line's first ':' is this one.
+        const std::size_t colon_in_line = line.find(':');
+        const std::size_t value_at = line.find_first_not_of(" \t", colon_in_line + 1);
+        log.metadata_at[key] = MetadataPosition{number, (value_at == std::string::npos ? colon_in_line + 1 : value_at) + 1};
       } else {
         log.comments.push_back(body);
       }
@@ -235,6 +331,7 @@ TelemetryLog read_telemetry_csv(std::istream& in, const std::string& source) {
     }
     if (!parser) {
       parser.emplace(source, split(line), number);
+      check_metadata(log);
       continue;
     }
     const std::vector<Cell> cells = split(line);
@@ -250,14 +347,18 @@ TelemetryLog read_telemetry_csv(std::istream& in, const std::string& source) {
     }
     log.rows.push_back(std::move(row));
   }
+  if (in.bad()) throw TelemetryError(source, number, 0, "read error");
   if (!parser) throw TelemetryError(source, number, 1, "no header line (the file has only comments or is empty)");
   if (log.rows.empty()) throw TelemetryError(source, number, 1, "no data rows after the header");
   return log;
 }
 
 TelemetryLog read_telemetry_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open the telemetry file");
+  if (path == text_input::kStdinPath) return read_telemetry_csv(std::cin, text_input::kStdinName);
+  const std::string problem = text_input::unreadable_reason(path);
+  if (!problem.empty()) throw TelemetryError(path, 0, 0, problem);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw TelemetryError(path, 0, 0, "cannot open the telemetry file");
   return read_telemetry_csv(in, path);
 }
 

@@ -12,7 +12,13 @@
 //                  paper's Table 1), load_N optional (a column, or one
 //                  load for every row from the caller).
 // When every dimensional column is present the dimensional form is used (the
-// raw measurements are the primary data); other columns are ignored.
+// raw measurements are the primary data). The other known columns are
+// wheel_radius_m, wheel_width_m (read for the diagnosis) and paper_eq10_fit
+// (Table 1's own fitted value, checked and not used). A column the reader does
+// not know is an error naming it, unless its name starts with "note" (free
+// text, ignored): docs/input-files.md. Every number must lie in its column's
+// physical range (the table there); "-" reads standard input; a leading UTF-8
+// byte-order mark is skipped; a directory or a binary file is refused.
 //
 // Host only (ground tools). Every malformed input throws DataError naming the
 // file, the line and, where one is at fault, the column.
@@ -67,6 +73,7 @@ struct SoilBinRow {
   std::optional<double> sinkage_m;
   std::optional<double> drawbar_pull_n;
   std::optional<double> wheel_radius_m;
+  std::optional<double> wheel_width_m;  // the wheel_width_m column, or the caller's
 };
 
 struct SoilBinDataset {
@@ -83,13 +90,17 @@ struct SoilBinReadOptions {
   /// Wheel load of every row, for dimensionless input without a load_N
   /// column (Table 1 is all 3 kg). With a load_N column it is an error.
   std::optional<double> load_n;
+  /// Wheel width of every row, for input without a wheel_width_m column
+  /// (the diagnosis's --width). With a wheel_width_m column it is an error.
+  std::optional<double> wheel_width_m;
 };
 
 /// Parses CSV text. `source` names the input in messages.
 [[nodiscard]] SoilBinDataset parse_soil_bin_csv(std::istream& in, const std::string& source,
                                                 const SoilBinReadOptions& options = {});
 
-/// Opens and parses a file; an unreadable file is a DataError too.
+/// Opens and parses a file ("-": standard input, named "<stdin>" in
+/// messages); a missing or unreadable file or a directory is a DataError too.
 [[nodiscard]] SoilBinDataset read_soil_bin_csv(const std::string& path,
                                                const SoilBinReadOptions& options = {});
 

@@ -8,6 +8,12 @@
 // the plot, never by the flight code. Lines starting with '#' before the header
 // are comments; "# key: value" comments are kept as metadata (a scenario
 // records its gravity, seed and simulated embedding there).
+//
+// The input rules (docs/input-files.md) are those of every ground CSV reader:
+// "-" reads standard input, a directory or a binary file is refused, a leading
+// UTF-8 byte-order mark is skipped, an unknown column is an error unless its
+// name starts with "note", and every number must lie in its column's physical
+// range (gravity_mps2, embedding_x_m and embedding_time_s metadata too).
 #pragma once
 
 #include <array>
@@ -46,10 +52,17 @@ struct TelemetryRow {
   std::string phase;                      // e.g. "drive", "escape-fwd"
 };
 
+/// Where a metadata value stands in its file (1-based; 0: not from a file).
+struct MetadataPosition {
+  std::size_t line = 0;
+  std::size_t column = 0;
+};
+
 struct TelemetryLog {
   std::string source;                          // file name, or "<embedded default>"
   std::vector<std::string> comments;          // every '#' line, without the '#'
   std::map<std::string, std::string> metadata;  // "# key: value" lines
+  std::map<std::string, MetadataPosition> metadata_at;  // where each value was read
   std::vector<TelemetryRow> rows;
 
   /// metadata[key] as a number, or nullopt when absent.
@@ -57,7 +70,8 @@ struct TelemetryLog {
   std::optional<double> number(const std::string& key) const;
 };
 
-/// A problem in a telemetry file, with its position ("file:line:column: ...").
+/// A problem in a telemetry file, with its position ("file:line:column: ...";
+/// a line or column of 0, not tied to one, is left out).
 class TelemetryError : public std::runtime_error {
  public:
   TelemetryError(const std::string& source, std::size_t line, std::size_t column, const std::string& message);
@@ -73,9 +87,12 @@ class TelemetryError : public std::runtime_error {
 const std::vector<std::string>& telemetry_columns();
 
 /// Parses a whole log. `source` names the input in error messages.
-/// Throws TelemetryError on the first bad line (unknown or missing column,
-/// a cell that is not a number, wrong cell count, time going backwards).
+/// Throws TelemetryError on the first bad line (unknown, missing or
+/// conflicting column, a cell that is not a number or outside its column's
+/// physical range, wrong cell count, time going backwards, binary bytes).
 TelemetryLog read_telemetry_csv(std::istream& in, const std::string& source);
+/// Opens and reads a file; "-" reads standard input (named "<stdin>").
+/// A missing file or a directory is a TelemetryError too.
 TelemetryLog read_telemetry_file(const std::string& path);
 TelemetryLog parse_telemetry_text(const std::string& text, const std::string& source);
 
