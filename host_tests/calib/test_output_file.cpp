@@ -357,6 +357,19 @@ TEST(OutputCli, SimulateThroughASymlinkKeepsTheLink) {
   EXPECT_EQ(slurp(dir / "real.csv").rfind("# sinkwatch simulate", 0), 0U);
 }
 
+TEST(OutputCli, CalibrateThroughASymlinkKeepsTheLink) {
+  // The old write-then-rename replaced the link by a file.
+  const fs::path dir = scratch_dir();
+  fs::create_directories(dir / "runs");
+  put(dir / "runs" / "run-42.json", "old\n");
+  fs::create_symlink("runs/run-42.json", dir / "latest.json");
+  const CliRun run = run_cli("calibrate '" + kTable1 + "' --json '" + (dir / "latest.json").string() + "'", dir);
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_TRUE(fs::is_symlink(dir / "latest.json"));
+  EXPECT_NE(slurp(dir / "runs" / "run-42.json").find("\"c1\""), std::string::npos);
+  EXPECT_EQ(names_in(dir / "runs"), std::vector<std::string>{"run-42.json"});
+}
+
 TEST(OutputCli, CalibrateRefusesAFifoAndADirectoryAndLeavesThem) {
   const fs::path dir = scratch_dir();
   ASSERT_EQ(::mkfifo((dir / "fit.json").c_str(), 0600), 0);
