@@ -256,6 +256,34 @@ TEST(OutputFileSet, AnErrorInOneLeavesEveryTargetUntouched) {
   EXPECT_EQ(names_in(dir), (std::vector<std::string>{"a.json", "b.bin"}));
 }
 
+TEST(OutputFileSet, AnImageAnotherProgramDidNotWriteLeavesEveryTargetUntouched) {
+  // As a gnuplot run that exits 0 without drawing: the set's text file must
+  // not be renamed into place either.
+  const fs::path dir = scratch_dir();
+  put(dir / "summary.md", "old\n");
+  const std::string message = error_of([&] {
+    OutputFileSet set;
+    set.add((dir / "summary.md").string()).write("new\n");
+    OutputFile& image = set.add((dir / "plot.svg").string());
+    image.close();  // handed to the other program, which writes nothing
+    set.commit();
+  });
+  EXPECT_NE(message.find((dir / "plot.svg").string() + ": the output is empty"), std::string::npos) << message;
+  EXPECT_EQ(slurp(dir / "summary.md"), "old\n");
+  EXPECT_EQ(names_in(dir), std::vector<std::string>{"summary.md"});
+}
+
+TEST(OutputFile, AnImageAnotherProgramWroteIsRenamedIntoPlace) {
+  const fs::path dir = scratch_dir();
+  OutputFile image((dir / "plot.svg").string());
+  image.close();
+  EXPECT_EQ(fs::path(image.temporary_path()).extension(), ".svg") << "gnuplot terminals go by the extension";
+  put(image.temporary_path(), "<svg/>");
+  image.commit();
+  EXPECT_EQ(slurp(dir / "plot.svg"), "<svg/>");
+  EXPECT_EQ(names_in(dir), std::vector<std::string>{"plot.svg"});
+}
+
 TEST(OutputFileSet, WritesAllAndRefusesOneTargetTwice) {
   const fs::path dir = scratch_dir();
   {

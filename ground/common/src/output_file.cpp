@@ -232,6 +232,7 @@ struct OutputFile::State {
   int fd = -1;
   bool closed = false;
   bool external = false;  // close() was called before anything was written
+  bool prepared = false;  // closed, and an external writer's output checked
   bool committed = false;
   FdBuf buf{-1};
   std::ostream stream{&buf};
@@ -322,15 +323,11 @@ void OutputFile::close() {
   s.closed = true;
 }
 
-void OutputFile::commit() {
+void OutputFile::prepare() {
   State& s = *state_;
-  if (s.committed) return;
+  if (s.prepared || s.committed) return;
   close();
-  if (s.standard_output != nullptr) {
-    s.committed = true;
-    return;
-  }
-  if (s.external) {
+  if (s.standard_output == nullptr && s.external) {
     // Another program may have written the temporary after close().
     struct stat st {};
     if (::stat(s.temporary.c_str(), &st) != 0) s.fail_and_discard("the output was not written", errno);
@@ -342,6 +339,17 @@ void OutputFile::commit() {
       s.fail_and_discard("fsync failed", error);
     }
     ::close(fd);
+  }
+  s.prepared = true;
+}
+
+void OutputFile::commit() {
+  State& s = *state_;
+  if (s.committed) return;
+  prepare();
+  if (s.standard_output != nullptr) {
+    s.committed = true;
+    return;
   }
   // The target may have changed since the check (another program): check again.
   struct stat st {};
@@ -377,7 +385,7 @@ void OutputFileSet::commit() {
   // Every temporary is complete before the first rename; standard output is
   // checked last.
   for (const auto& file : files_) {
-    if (!file->is_standard_output()) file->close();
+    if (!file->is_standard_output()) file->prepare();
   }
   for (const auto& file : files_) {
     if (!file->is_standard_output()) file->commit();

@@ -95,7 +95,12 @@ class OutputFile {
   /// wrote and checks that it is not empty.
   void close();
 
-  /// Renames the temporary over the target (after close()); throws
+  /// close(), and for a temporary another program wrote, checks that it is
+  /// there and not empty and fsyncs it. commit() does it too; a set does it
+  /// for every file before the first rename.
+  void prepare();
+
+  /// Renames the temporary over the target (after prepare()); throws
   /// OutputError and removes the temporary on any error.
   void commit();
 
@@ -112,7 +117,8 @@ class OutputFileSet {
  public:
   /// Checks `path` and creates its temporary; returns the file to write.
   OutputFile& add(const std::string& path, std::ostream* standard_output = nullptr);
-  /// Closes every file (all checked), then renames each into place.
+  /// Prepares every file (all written, closed and checked), then renames
+  /// each into place.
   void commit();
   std::size_t size() const { return files_.size(); }
 
