@@ -114,6 +114,7 @@ std::string known_column_list() {
 struct Header {
   std::size_t line = 0;
   std::vector<std::string> names;
+  std::vector<const text_input::Range*> ranges;  // per column; nullptr: a note column
 
   [[nodiscard]] std::size_t find(std::string_view name) const {
     for (std::size_t i = 0; i < names.size(); ++i) {
@@ -208,7 +209,7 @@ class RowParser {
   // The number in column `index`, inside the column's physical range.
   [[nodiscard]] double checked(std::size_t index) const {
     const double value = number(index);
-    const text_input::Range& range = range_of(header_.names[index]);
+    const text_input::Range& range = *header_.ranges[index];
     if (!range.contains(value)) {
       if (range.min == 0.0 && range.min_open && value <= 0.0) {
         fail(index, text_input::quoted(fields_[index]) + " must be greater than zero");
@@ -294,6 +295,8 @@ SoilBinDataset parse_soil_bin_csv(std::istream& in, const std::string& source,
                         "unknown column; the known columns are " + known_column_list() +
                             " (a column whose name starts with 'note' is ignored)");
       }
+      const KnownColumn* const known = known_column(name);
+      header.ranges.push_back(known != nullptr ? &known->range : nullptr);
       header.names.emplace_back(name);
     }
     break;
@@ -379,7 +382,7 @@ SoilBinDataset parse_soil_bin_csv(std::istream& in, const std::string& source,
     // that is there is checked); the note columns are free text.
     std::vector<double> values(fields.size(), 0.0);
     for (std::size_t i = 0; i < fields.size(); ++i) {
-      if (!text_input::is_note_column(header.names[i])) {
+      if (header.ranges[i] != nullptr) {
         values[i] = parse.checked(i);
       }
     }

@@ -358,7 +358,7 @@ TelemetryLog read_telemetry_file(const std::string& path) {
   const std::string problem = text_input::unreadable_reason(path);
   if (!problem.empty()) throw TelemetryError(path, 0, 0, problem);
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw TelemetryError(path, 0, 0, "cannot open the telemetry file");
+  if (!in) throw TelemetryError(path, 0, 0, "cannot open the file for reading");
   return read_telemetry_csv(in, path);
 }
 
