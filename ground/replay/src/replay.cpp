@@ -3,6 +3,7 @@
 
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/ground/flight_table.hpp"
+#include "sinkwatch/ground/text_input.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -22,7 +23,7 @@ QType to_q(double v, const TelemetryRow& row, const std::string& source, const c
   const QType q = fx::from_double<QType>(v, st);
   if (!st.ok()) {
     throw TelemetryError(source, row.line, 1,
-                         std::string(what) + " = " + std::to_string(v) + " does not fit the flight code's format");
+                         std::string(what) + " = " + text_input::format_number(v) + " does not fit the flight code's format");
   }
   return q;
 }
@@ -77,11 +78,11 @@ OnboardLoop::OnboardLoop(ReplayConfig config) : config_(config) {
   fx::Status st;
   const flight::AccelMps2 g{fx::from_double<flight::AccelQ>(config_.gravity_mps2, st)};
   if (!st.ok() || config_.gravity_mps2 <= 0.0) {
-    throw std::invalid_argument("gravity " + std::to_string(config_.gravity_mps2) + " m/s^2 is not usable");
+    throw std::invalid_argument("gravity " + text_input::format_number(config_.gravity_mps2) + " m/s^2 is not usable");
   }
   rover_ = config_.rover ? *config_.rover : flight::yutu_like_rover_params(g);
   if (flight::validate_rover_params(rover_) != flight::RoverParamStatus::ok) {
-    throw std::invalid_argument("gravity " + std::to_string(config_.gravity_mps2) +
+    throw std::invalid_argument("gravity " + text_input::format_number(config_.gravity_mps2) +
                                 " m/s^2 is outside the rover model's range (0, 10]");
   }
 }

@@ -72,7 +72,7 @@ int run(const ReplayArgs& a, std::ostream& out, std::ostream& err) {
     title = "embedded scenario '" + a.scenario + "' (data/telemetry/" + a.scenario + ".csv, compiled in)";
   } else {
     log = read_telemetry_file(a.telemetry);
-    title = a.telemetry;
+    title = log.source;  // "<stdin>" for "-"
   }
   ReplayConfig config;
   config.gravity_mps2 = a.gravity > 0.0 ? a.gravity : log_gravity(log);
