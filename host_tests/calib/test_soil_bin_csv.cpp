@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sinkwatch/ground/soil_bin_csv.hpp"
+#include "input_test_support.hpp"
 
 namespace sinkwatch {
 namespace ground {
@@ -288,33 +289,8 @@ TEST(SoilBinCsvRejects, AFileThatDoesNotExist) {
 
 // --- the input rules of docs/input-files.md ---
 
-// Redirects std::cin to `text` for the lifetime of the object.
-class StdinFrom {
- public:
-  explicit StdinFrom(const std::string& text) : in_(text), old_(std::cin.rdbuf(in_.rdbuf())) {}
-  ~StdinFrom() {
-    std::cin.rdbuf(old_);
-    std::cin.clear();
-  }
-  StdinFrom(const StdinFrom&) = delete;
-  StdinFrom& operator=(const StdinFrom&) = delete;
-
- private:
-  std::istringstream in_;
-  std::streambuf* old_;
-};
-
-// True when every byte of `text` is printable ASCII (what a message may send
-// to a terminal).
-bool printable_ascii(const std::string& text) {
-  for (const char c : text) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (byte < 0x20U || byte >= 0x7FU) {
-      return false;
-    }
-  }
-  return true;
-}
+using test::printable_ascii;
+using test::StdinFrom;
 
 TEST(SoilBinCsvInput, SkipsAUtf8ByteOrderMark) {
   const SoilBinDataset d = parse("\xEF\xBB\xBF" + kDimensionless);

@@ -1,6 +1,7 @@
 // The telemetry CSV format: round trip, and every kind of bad row reported
 // with its file, line and column.
 #include "sinkwatch/ground/telemetry_log.hpp"
+#include "../calib/input_test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -179,29 +180,8 @@ TEST(TelemetryLog, MissingFileIsAnError) {
 
 namespace {
 
-// Redirects std::cin to `text` for the lifetime of the object.
-class StdinFrom {
- public:
-  explicit StdinFrom(const std::string& text) : in_(text), old_(std::cin.rdbuf(in_.rdbuf())) {}
-  ~StdinFrom() {
-    std::cin.rdbuf(old_);
-    std::cin.clear();
-  }
-  StdinFrom(const StdinFrom&) = delete;
-  StdinFrom& operator=(const StdinFrom&) = delete;
-
- private:
-  std::istringstream in_;
-  std::streambuf* old_;
-};
-
-bool printable_ascii(const std::string& text) {
-  for (const char c : text) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (byte < 0x20U || byte >= 0x7FU) return false;
-  }
-  return true;
-}
+using sinkwatch::test::printable_ascii;
+using sinkwatch::test::StdinFrom;
 
 }  // namespace
 
@@ -280,9 +260,9 @@ TEST(TelemetryLogInput, ABadGravityLineIsReportedAtItsLineAndColumn) {
 }
 
 TEST(TelemetryLogInput, GravityOutsideItsPhysicalRangeIsRefused) {
-  for (const std::string& g : {"1e300", "0", "-9.81", "31", "nan", "inf"}) {
+  for (const char* const g : {"1e300", "0", "-9.81", "31", "nan", "inf"}) {
     std::size_t line = 0;
-    const std::string msg = error_of("# gravity_mps2: " + g + "\n" + kHeader + kRow, &line);
+    const std::string msg = error_of(std::string("# gravity_mps2: ") + g + "\n" + kHeader + kRow, &line);
     EXPECT_EQ(line, 1U) << g;
     EXPECT_NE(msg.find("log.csv:1:17: metadata 'gravity_mps2': "), std::string::npos) << msg;
   }
