@@ -92,7 +92,15 @@ double OnboardLoop::escape_best_sinkage_m() const { return to_d(escape_.best_sin
 CycleRecord OnboardLoop::step(const TelemetryRow& row, const std::string& source, double x_m) {
   using namespace flight;
   RoverTelemetry t{};
+  // The on-board clock is uint32 milliseconds: a time outside 0 ... 4294967.295 s
+  // (possible in a row built in memory; the reader refuses it) has no clock
+  // value, and converting it would be undefined behaviour.
   const double ms = std::round(row.time_s * 1000.0);
+  if (!(ms >= 0.0 && ms <= 4294967295.0)) {
+    throw TelemetryError(source, row.line, 1,
+                         "time " + text_input::format_number(row.time_s) +
+                             " s is outside the on-board clock (0 ... 4294967.295 s)");
+  }
   t.time = TimeMs{static_cast<std::uint32_t>(ms)};
   t.valid = row.valid;
   for (std::size_t i = 0; i < kTelemetryWheels; ++i) {

@@ -117,7 +117,10 @@ class OnboardLoop {
   explicit OnboardLoop(ReplayConfig config = ReplayConfig{});
 
   /// One control cycle. `x_m` is recorded as given. Throws TelemetryError
-  /// (with the row's line) when a value does not fit its flight format.
+  /// (with the row's line) when a value does not fit its flight format, or
+  /// the time is outside the on-board clock's 0 ... 4294967.295 s. The clock
+  /// wraps to 0 after 4294967.295 s: rows may follow it across the wrap
+  /// (the flight code's time differences are modulo 2^32 ms).
   CycleRecord step(const TelemetryRow& row, const std::string& source, double x_m);
 
   const ReplayConfig& config() const { return config_; }
