@@ -38,14 +38,15 @@ CLI::Validator finite_number() {
       "finite", "finite");
 }
 
-CLI::Validator positive_finite_number() {
+CLI::Validator positive_finite_number(const std::string& unit) {
+  const std::string bound = unit.empty() ? std::string("> 0") : "> 0 " + unit;
   return CLI::Validator(
-      [](std::string& text) -> std::string {
+      [bound](std::string& text) -> std::string {
         double value = 0.0;
         return parse_finite(text, value) && value > 0.0 ? std::string()
-                                                         : "'" + text + "' is not a finite number > 0";
+                                                         : "'" + text + "' is not a finite number " + bound;
       },
-      "> 0", "positive finite");
+      bound, "positive finite");
 }
 
 CLI::Validator non_negative_integer() {

@@ -136,19 +136,6 @@ void run(const SimulateOptions& o, const std::string& command_line, std::ostream
   file.commit();
 }
 
-// CLI::PositiveNumber prints its whole double range on a typo; say what is wanted.
-CLI::Validator positive(const std::string& unit) {
-  return CLI::Validator(
-      [unit](std::string& text) -> std::string {
-        char* end = nullptr;
-        const double v = std::strtod(text.c_str(), &end);
-        if (text.empty() || end != text.c_str() + text.size() || !(v > 0.0) || !std::isfinite(v)) {
-          return "'" + text + "' must be a number > 0 " + unit;
-        }
-        return {};
-      },
-      "> 0 " + unit);
-}
 
 }  // namespace
 
@@ -161,10 +148,10 @@ CLI::App* add_simulate_command(CLI::App& app, std::string command_line, std::ost
       sub->add_option("--set", opts->sets, "Override a model parameter, NAME=VALUE (repeatable; see --list)"));
   auto* body = sub->add_option("--body", opts->body, "earth, moon or mars (sets gravity)")->capture_default_str();
   auto* gravity = sub->add_option("--gravity", opts->gravity, "Gravity in m/s^2 (instead of --body)")
-                      ->check(positive("m/s^2"));
+                      ->check(positive_finite_number("m/s^2"));
   body->excludes(gravity);
-  sub->add_option("--radius", opts->radius, "Wheel radius, m")->check(positive("m"))->capture_default_str();
-  sub->add_option("--width", opts->width, "Wheel width, m")->check(positive("m"))->capture_default_str();
+  sub->add_option("--radius", opts->radius, "Wheel radius, m")->check(positive_finite_number("m"))->capture_default_str();
+  sub->add_option("--width", opts->width, "Wheel width, m")->check(positive_finite_number("m"))->capture_default_str();
   auto* loads = non_empty_list(
       sub->add_option("--loads", opts->loads, "Wheel loads in N: list a,b,c or range start:step:stop"));
   auto* masses = non_empty_list(sub->add_option(

@@ -45,8 +45,8 @@ void add_verbosity_flags(CLI::App& sub, Verbosity& verbosity);
 
 /// A finite number (no nan or inf).
 CLI::Validator finite_number();
-/// A finite number > 0.
-CLI::Validator positive_finite_number();
+/// A finite number > 0; `unit` (e.g. "m") is named in the message and help.
+CLI::Validator positive_finite_number(const std::string& unit = {});
 /// A non-negative decimal integer ("-1", "1.5", "0x10" are refused). Add it
 /// with Option::transform (check() would not let it drop leading zeros, and
 /// CLI11 reads "010" as octal).
