@@ -53,7 +53,13 @@ struct ParameterSpec {
 
 /// A candidate effect: extra parameters on top of the base model.
 struct Candidate {
-  std::string name;
+  std::string name;             // unique: "<family>" or "<family>.<form>"
+  // The effect family the candidate belongs to (e.g. "grouser") and the
+  // literature form of it (e.g. "lug_tip"); several forms of one family
+  // compete and the ranking reports families, each by its best form.
+  // Empty family: the candidate is a family of its own (family = name).
+  std::string family;
+  std::string form;
   std::string description;
   std::vector<ParameterSpec> extra;
   double nominal_size = 0.0;    // a typical size of the primary parameter, for scale in reports
