@@ -169,10 +169,13 @@ double residual_rms(const std::vector<Observation>& data, const Coefficients& c)
   return std::sqrt(sum / static_cast<double>(data.size()));
 }
 
-CalibrationFit fit_sinkage_function(const std::vector<Observation>& data,
-                                    const FixedCoefficients& fixed) {
+namespace {
+
+// A fit with the fixed coefficients in place and every statistic NaN until
+// computed; refuses data without a degree of freedom.
+CalibrationFit unfitted(std::size_t rows, const FixedCoefficients& fixed) {
   CalibrationFit fit;
-  fit.rows = data.size();
+  fit.rows = rows;
   fit.free_count = fixed.free_count();
   if (fit.rows < fit.free_count + 1 || fit.rows == 0) {
     throw CalibrationError("too few rows: a fit of " + std::to_string(fit.free_count) +
@@ -194,82 +197,99 @@ CalibrationFit fit_sinkage_function(const std::vector<Observation>& data,
   fit.condition_number = kNaN;
   fit.condition_number_scaled = kNaN;
   fit.normal_equations_max_diff = kNaN;
+  return fit;
+}
 
-  const Problem p = build_problem(data, fixed);
-  const Eigen::Index n = p.a.rows();
+using Svd = Eigen::JacobiSVD<Eigen::MatrixXd>;
+
+// Refuses a rank-deficient A, naming the free coefficients it cannot separate.
+void require_full_rank(const Svd& svd, const Problem& p) {
+  if (full_rank(svd, p.a.rows())) {
+    return;
+  }
+  std::string names;
+  for (std::size_t k : p.free_index) {
+    names += names.empty() ? "" : ", ";
+    names += kNames[k];
+  }
+  throw CalibrationError("the columns of A for " + names +
+                         " are linearly dependent on this data (e.g. every run at the same "
+                         "slip and sinkage): the coefficients are not identifiable");
+}
+
+// Standard errors, 95 % intervals and correlations of the free coefficients
+// from the covariance sigma^2 (A'A)^-1, formed from the SVD as V S^-2 V' so
+// that A'A itself is never inverted.
+void fill_uncertainty(const Svd& svd, const Problem& p, const Eigen::VectorXd& solution,
+                      CalibrationFit& fit) {
   const Eigen::Index m = p.a.cols();
-
-  Eigen::VectorXd solution(m);
-  Eigen::VectorXd leverage = Eigen::VectorXd::Zero(n);  // h_ii, see the residuals below
-  if (m > 0) {
-    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(p.a, Eigen::ComputeThinU | Eigen::ComputeThinV);
-    if (!full_rank(svd, n)) {
-      std::string names;
-      for (std::size_t k : p.free_index) {
-        names += names.empty() ? "" : ", ";
-        names += kNames[k];
-      }
-      throw CalibrationError("the columns of A for " + names +
-                             " are linearly dependent on this data (e.g. every run at the same "
-                             "slip and sinkage): the coefficients are not identifiable");
-    }
-    solution = svd.solve(p.b);
-    fit.condition_number = condition_of(svd);
-    leverage = svd.matrixU().rowwise().squaredNorm();
-
-    const Eigen::VectorXd norms = p.a.colwise().norm();
-    const Eigen::MatrixXd scaled = p.a * norms.cwiseInverse().asDiagonal();
-    fit.condition_number_scaled = condition_of(Eigen::JacobiSVD<Eigen::MatrixXd>(scaled));
-
-    // The paper's route, kept for comparison only.
-    const Eigen::MatrixXd ata = p.a.transpose() * p.a;
-    const Eigen::VectorXd normal = ata.inverse() * (p.a.transpose() * p.b);
-    fit.normal_equations_max_diff = (normal - solution).cwiseAbs().maxCoeff();
-    for (Eigen::Index j = 0; j < m; ++j) {
-      const std::size_t k = p.free_index[static_cast<std::size_t>(j)];
-      fit.c[k] = solution(j);
-      fit.normal_equations_c[k] = normal(j);
-    }
-
-    // Covariance sigma^2 (A'A)^-1, formed from the SVD as V S^-2 V' so that
-    // A'A itself is never inverted.
-    const Eigen::VectorXd residual = p.b - p.a * solution;
-    const double sigma2 = residual.squaredNorm() / static_cast<double>(fit.dof);
-    const Eigen::MatrixXd& v = svd.matrixV();
-    const Eigen::VectorXd inv_s2 = svd.singularValues().array().square().inverse().matrix();
-    const Eigen::MatrixXd covariance = sigma2 * v * inv_s2.asDiagonal() * v.transpose();
-    const boost::math::students_t t_dist(static_cast<double>(fit.dof));
-    fit.t_quantile = boost::math::quantile(boost::math::complement(t_dist, 0.025));
-    for (Eigen::Index j = 0; j < m; ++j) {
-      const std::size_t k = p.free_index[static_cast<std::size_t>(j)];
-      fit.std_err[k] = std::sqrt(covariance(j, j));
-      fit.ci_low[k] = fit.c[k] - fit.t_quantile * fit.std_err[k];
-      fit.ci_high[k] = fit.c[k] + fit.t_quantile * fit.std_err[k];
-      for (Eigen::Index l = 0; l < m; ++l) {
-        const std::size_t q = p.free_index[static_cast<std::size_t>(l)];
-        // A perfect fit (zero residual) has no spread to correlate.
-        const double scale = std::sqrt(covariance(j, j) * covariance(l, l));
-        fit.correlation[k][q] = scale > 0.0 ? covariance(j, l) / scale : kNaN;
-      }
+  const Eigen::VectorXd residual = p.b - p.a * solution;
+  const double sigma2 = residual.squaredNorm() / static_cast<double>(fit.dof);
+  const Eigen::MatrixXd& v = svd.matrixV();
+  const Eigen::VectorXd inv_s2 = svd.singularValues().array().square().inverse().matrix();
+  const Eigen::MatrixXd covariance = sigma2 * v * inv_s2.asDiagonal() * v.transpose();
+  const boost::math::students_t t_dist(static_cast<double>(fit.dof));
+  fit.t_quantile = boost::math::quantile(boost::math::complement(t_dist, 0.025));
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const std::size_t k = p.free_index[static_cast<std::size_t>(j)];
+    fit.std_err[k] = std::sqrt(covariance(j, j));
+    fit.ci_low[k] = fit.c[k] - fit.t_quantile * fit.std_err[k];
+    fit.ci_high[k] = fit.c[k] + fit.t_quantile * fit.std_err[k];
+    for (Eigen::Index l = 0; l < m; ++l) {
+      const std::size_t q = p.free_index[static_cast<std::size_t>(l)];
+      // A perfect fit (zero residual) has no spread to correlate.
+      const double scale = std::sqrt(covariance(j, j) * covariance(l, l));
+      fit.correlation[k][q] = scale > 0.0 ? covariance(j, l) / scale : kNaN;
     }
   }
+}
 
-  // Residuals and leave-one-out residuals. The leave-one-out residual of row
-  // i is B_i - A_i C_(-i), C_(-i) the fit without row i; it has the closed
-  // form e_i / (1 - h_ii), h_ii = A_i (A'A)^-1 A_i' the row's leverage, the
-  // diagonal of the hat matrix A (A'A)^-1 A' = U U'. So h_ii = |U_i|^2, the
-  // squared norm of row i of the SVD's thin U (n x p, already computed):
-  // linear in n, no refit and no n x n matrix. A row with leverage 1 is the
-  // only one that pins some direction of C: without it the columns are
-  // dependent and there is no refit, so it is not cross-validated (NaN, and
-  // the LOO RMS is NaN), as for a refit that loses rank. "Leverage 1" is 1 -
-  // h_ii within the rounding of a computed h_ii, which grows with n like the
-  // rank tolerance: 1 - h_ii <= kLeverageTolerance * max(n, p) * eps.
+// Solves the free columns by SVD (at least one free), fills the
+// coefficients, conditioning, the normal-equations comparison and the
+// uncertainties, and returns the leverages h_ii = |U_i|^2 for the
+// leave-one-out residuals.
+Eigen::VectorXd solve_free(const Problem& p, CalibrationFit& fit) {
+  const Svd svd(p.a, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  require_full_rank(svd, p);
+  const Eigen::VectorXd solution = svd.solve(p.b);
+  fit.condition_number = condition_of(svd);
+
+  const Eigen::VectorXd norms = p.a.colwise().norm();
+  const Eigen::MatrixXd scaled = p.a * norms.cwiseInverse().asDiagonal();
+  fit.condition_number_scaled = condition_of(Svd(scaled));
+
+  // The paper's route, kept for comparison only.
+  const Eigen::MatrixXd ata = p.a.transpose() * p.a;
+  const Eigen::VectorXd normal = ata.inverse() * (p.a.transpose() * p.b);
+  fit.normal_equations_max_diff = (normal - solution).cwiseAbs().maxCoeff();
+  for (Eigen::Index j = 0; j < p.a.cols(); ++j) {
+    const std::size_t k = p.free_index[static_cast<std::size_t>(j)];
+    fit.c[k] = solution(j);
+    fit.normal_equations_c[k] = normal(j);
+  }
+  fill_uncertainty(svd, p, solution, fit);
+  return svd.matrixU().rowwise().squaredNorm();
+}
+
+// Residuals and leave-one-out residuals. The leave-one-out residual of row
+// i is B_i - A_i C_(-i), C_(-i) the fit without row i; it has the closed
+// form e_i / (1 - h_ii), h_ii = A_i (A'A)^-1 A_i' the row's leverage, the
+// diagonal of the hat matrix A (A'A)^-1 A' = U U'. So h_ii = |U_i|^2, the
+// squared norm of row i of the SVD's thin U (n x p, already computed):
+// linear in n, no refit and no n x n matrix. A row with leverage 1 is the
+// only one that pins some direction of C: without it the columns are
+// dependent and there is no refit, so it is not cross-validated (NaN, and
+// the LOO RMS is NaN), as for a refit that loses rank. "Leverage 1" is 1 -
+// h_ii within the rounding of a computed h_ii, which grows with n like the
+// rank tolerance: 1 - h_ii <= kLeverageTolerance * max(n, p) * eps.
+void fill_residuals(const std::vector<Observation>& data, const Eigen::VectorXd& leverage,
+                    Eigen::Index free_columns, CalibrationFit& fit) {
+  const Eigen::Index n = leverage.size();
   double ssr = 0.0;
   double loo_ssr = 0.0;
   fit.residuals.reserve(data.size());
   const double leverage_tolerance = kLeverageTolerance *
-                                    static_cast<double>(std::max(n, m)) *
+                                    static_cast<double>(std::max(n, free_columns)) *
                                     std::numeric_limits<double>::epsilon();
   for (Eigen::Index i = 0; i < n; ++i) {
     const Observation& o = data[static_cast<std::size_t>(i)];
@@ -295,6 +315,19 @@ CalibrationFit fit_sinkage_function(const std::vector<Observation>& data,
   fit.rms = std::sqrt(ssr / static_cast<double>(n));
   fit.residual_std = std::sqrt(ssr / static_cast<double>(fit.dof));
   fit.loo_rms = std::sqrt(loo_ssr / static_cast<double>(n));  // NaN propagates
+}
+
+}  // namespace
+
+CalibrationFit fit_sinkage_function(const std::vector<Observation>& data,
+                                    const FixedCoefficients& fixed) {
+  CalibrationFit fit = unfitted(data.size(), fixed);
+  const Problem p = build_problem(data, fixed);
+  const Eigen::Index m = p.a.cols();
+  // h_ii; zero when nothing is fitted (every coefficient fixed).
+  const Eigen::VectorXd leverage =
+      m > 0 ? solve_free(p, fit) : Eigen::VectorXd(Eigen::VectorXd::Zero(p.a.rows()));
+  fill_residuals(data, leverage, m, fit);
   std::stable_sort(fit.residuals.begin(), fit.residuals.end(),
                    [](const Residual& x, const Residual& y) { return x.slip < y.slip; });
   return fit;

@@ -41,7 +41,9 @@ std::string describe_fixed(const FixedCoefficients& fixed) {
   return text;
 }
 
-void print_fit(std::ostream& out, const CalibrationFit& fit) {
+// The solver line and the coefficient table: estimate, standard error and
+// 95 % interval of each free coefficient.
+void print_coefficients(std::ostream& out, const CalibrationFit& fit) {
   if (fit.free_count > 0) {
     out << format("  least squares by SVD of A: %zu rows, %zu free, %zu degrees of freedom, "
                   "t(0.975) = %.3f\n\n",
@@ -58,28 +60,42 @@ void print_fit(std::ostream& out, const CalibrationFit& fit) {
       out << format("  %-4s %11.6f       fixed\n", kNames[k], fit.c[k]);
     }
   }
-  if (fit.free_count > 1) {
-    out << "\n  correlation ";
-    for (std::size_t k = 0; k < kCoefficientCount; ++k) {
-      if (fit.free[k]) {
-        out << format("%8s", kNames[k]);
-      }
-    }
-    out << '\n';
-    for (std::size_t k = 0; k < kCoefficientCount; ++k) {
-      if (!fit.free[k]) {
-        continue;
-      }
-      out << format("  %-11s", kNames[k]);
-      for (std::size_t q = 0; q < kCoefficientCount; ++q) {
-        if (fit.free[q]) {
-          out << format("%8.4f", fit.correlation[k][q]);
-        }
-      }
-      out << '\n';
+}
+
+// One row of the correlation matrix, over the free coefficients only.
+void print_correlation_row(std::ostream& out, const CalibrationFit& fit, std::size_t k) {
+  out << format("  %-11s", kNames[k]);
+  for (std::size_t q = 0; q < kCoefficientCount; ++q) {
+    if (fit.free[q]) {
+      out << format("%8.4f", fit.correlation[k][q]);
     }
   }
   out << '\n';
+}
+
+// The correlation matrix of the free coefficients (only when two or more
+// are free: one has nothing to correlate with).
+void print_correlation(std::ostream& out, const CalibrationFit& fit) {
+  if (fit.free_count <= 1) {
+    return;
+  }
+  out << "\n  correlation ";
+  for (std::size_t k = 0; k < kCoefficientCount; ++k) {
+    if (fit.free[k]) {
+      out << format("%8s", kNames[k]);
+    }
+  }
+  out << '\n';
+  for (std::size_t k = 0; k < kCoefficientCount; ++k) {
+    if (fit.free[k]) {
+      print_correlation_row(out, fit, k);
+    }
+  }
+}
+
+// Conditioning, residual RMS, leave-one-out RMS and the normal-equations
+// cross-check of the SVD solution.
+void print_quality(std::ostream& out, const CalibrationFit& fit) {
   if (fit.free_count > 0) {
     out << format("  condition number of A   %.4g   (columns scaled to unit length: %.4g)\n",
                   fit.condition_number, fit.condition_number_scaled);
@@ -97,6 +113,13 @@ void print_fit(std::ostream& out, const CalibrationFit& fit) {
     }
     out << format("   (max |difference| from SVD: %.2g)\n", fit.normal_equations_max_diff);
   }
+}
+
+void print_fit(std::ostream& out, const CalibrationFit& fit) {
+  print_coefficients(out, fit);
+  print_correlation(out, fit);
+  out << '\n';
+  print_quality(out, fit);
   out << "\n  residuals by slip\n";
   out << "      slip      DP/W    fitted  residual  LOO res.   line\n";
   for (const Residual& r : fit.residuals) {
@@ -212,6 +235,26 @@ void print_flight_table(std::ostream& out, const FlightTableSummary& t) {
   }
 }
 
+// The C(W) table of --per-load: one fit per load, a row each.
+void print_load_table(std::ostream& out, const std::vector<LoadFit>& load_table) {
+  out << "\n  C(W) table, one fit per load\n";
+  out << "    load_N  rows        C1 +- se            C2 +- se            C3 +- se"
+         "              RMS   LOO RMS      cond\n";
+  for (const LoadFit& entry : load_table) {
+    const CalibrationFit& f = entry.fit;
+    out << format("  %8.3f %5zu", entry.load_n, f.rows);
+    for (std::size_t k = 0; k < kCoefficientCount; ++k) {
+      if (f.free[k]) {
+        out << format("  %8.4f +- %-7.2g", f.c[k], f.std_err[k]);
+      } else {
+        out << format("  %8.4f (fixed)   ", f.c[k]);
+      }
+    }
+    out << format("  %9.4g %9s  %8s\n", f.rms, num(f.loo_rms, "%.4g").c_str(),
+                  num(f.condition_number, "%.3g").c_str());
+  }
+}
+
 }  // namespace
 
 void print_report(std::ostream& out, const CalibrationReport& report) {
@@ -228,22 +271,7 @@ void print_report(std::ostream& out, const CalibrationReport& report) {
   }
   print_fit(out, report.fit);
   if (report.per_load) {
-    out << "\n  C(W) table, one fit per load\n";
-    out << "    load_N  rows        C1 +- se            C2 +- se            C3 +- se"
-           "              RMS   LOO RMS      cond\n";
-    for (const LoadFit& entry : report.load_table) {
-      const CalibrationFit& f = entry.fit;
-      out << format("  %8.3f %5zu", entry.load_n, f.rows);
-      for (std::size_t k = 0; k < kCoefficientCount; ++k) {
-        if (f.free[k]) {
-          out << format("  %8.4f +- %-7.2g", f.c[k], f.std_err[k]);
-        } else {
-          out << format("  %8.4f (fixed)   ", f.c[k]);
-        }
-      }
-      out << format("  %9.4g %9s  %8s\n", f.rms, num(f.loo_rms, "%.4g").c_str(),
-                    num(f.condition_number, "%.3g").c_str());
-    }
+    print_load_table(out, report.load_table);
   }
   if (report.flight_table) {
     print_flight_table(out, *report.flight_table);

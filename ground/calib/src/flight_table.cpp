@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 #include <sstream>
+#include <utility>
 
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/flight/estimator.hpp"
@@ -50,111 +51,84 @@ std::string describe_rows(const flight::CorrectionTable& c) {
   return out.str();
 }
 
+// The name of every RejectReason, in the enum's order (checked below), as
+// the flight code's enumerators are spelled: a table rather than a switch
+// keeps the function one screen long.
+using NamedReason = std::pair<flight::RejectReason, const char*>;
+using R = flight::RejectReason;
+constexpr std::array<NamedReason, flight::kRejectReasonCount> kRejectReasonNames = {{
+    {R::ok, "ok"},
+    {R::null_buffer, "null_buffer"},
+    {R::too_short, "too_short"},
+    {R::too_long, "too_long"},
+    {R::bad_magic, "bad_magic"},
+    {R::unsupported_format_version, "unsupported_format_version"},
+    {R::length_mismatch, "length_mismatch"},
+    {R::reserved_not_zero, "reserved_not_zero"},
+    {R::crc_mismatch, "crc_mismatch"},
+    {R::section_truncated, "section_truncated"},
+    {R::section_length_mismatch, "section_length_mismatch"},
+    {R::unknown_section, "unknown_section"},
+    {R::duplicate_section, "duplicate_section"},
+    {R::missing_section, "missing_section"},
+    {R::section_count_mismatch, "section_count_mismatch"},
+    {R::radius_out_of_range, "radius_out_of_range"},
+    {R::gear_ratio_out_of_range, "gear_ratio_out_of_range"},
+    {R::efficiency_out_of_range, "efficiency_out_of_range"},
+    {R::torque_constant_out_of_range, "torque_constant_out_of_range"},
+    {R::no_load_current_out_of_range, "no_load_current_out_of_range"},
+    {R::current_range_out_of_range, "current_range_out_of_range"},
+    {R::correction_count_out_of_range, "correction_count_out_of_range"},
+    {R::load_breakpoint_out_of_range, "load_breakpoint_out_of_range"},
+    {R::load_breakpoints_not_increasing, "load_breakpoints_not_increasing"},
+    {R::c1_out_of_range, "c1_out_of_range"},
+    {R::c2_out_of_range, "c2_out_of_range"},
+    {R::c3_out_of_range, "c3_out_of_range"},
+    {R::dp_max_out_of_range, "dp_max_out_of_range"},
+    {R::allowed_sinkage_out_of_range, "allowed_sinkage_out_of_range"},
+    {R::caution_sinkage_out_of_range, "caution_sinkage_out_of_range"},
+    {R::stop_sinkage_out_of_range, "stop_sinkage_out_of_range"},
+    {R::sinkage_hysteresis_out_of_range, "sinkage_hysteresis_out_of_range"},
+    {R::current_caution_fraction_out_of_range, "current_caution_fraction_out_of_range"},
+    {R::current_hysteresis_out_of_range, "current_hysteresis_out_of_range"},
+    {R::load_envelope_out_of_range, "load_envelope_out_of_range"},
+    {R::stale_timeout_out_of_range, "stale_timeout_out_of_range"},
+    {R::window_out_of_range, "window_out_of_range"},
+    {R::trip_count_out_of_range, "trip_count_out_of_range"},
+    {R::clear_count_out_of_range, "clear_count_out_of_range"},
+    {R::invalid_limit_out_of_range, "invalid_limit_out_of_range"},
+    {R::wheel_count_out_of_range, "wheel_count_out_of_range"},
+    {R::rover_stop_k_out_of_range, "rover_stop_k_out_of_range"},
+    {R::escape_phase_out_of_range, "escape_phase_out_of_range"},
+    {R::escape_cycles_out_of_range, "escape_cycles_out_of_range"},
+    {R::escape_patience_out_of_range, "escape_patience_out_of_range"},
+    {R::escape_decrease_out_of_range, "escape_decrease_out_of_range"},
+    {R::escape_freed_out_of_range, "escape_freed_out_of_range"},
+    {R::extension_too_long, "extension_too_long"},
+    {R::extension_rejected, "extension_rejected"},
+    {R::buffer_too_small, "buffer_too_small"},
+}};
+
+// Every entry sits at its enumerator's value and has a name, so a reason
+// added to the flight enum (kRejectReasonCount grows) without a name here
+// fails the build: an entry the initialiser leaves out is {ok, nullptr}.
+constexpr bool names_in_enum_order() {
+  for (std::size_t i = 0; i < kRejectReasonNames.size(); ++i) {
+    if (static_cast<std::size_t>(kRejectReasonNames[i].first) != i ||
+        kRejectReasonNames[i].second == nullptr) {
+      return false;
+    }
+  }
+  return true;
+}
+static_assert(names_in_enum_order(), "kRejectReasonNames must name every RejectReason in order");
+
 }  // namespace
 
 std::string reject_reason_name(flight::RejectReason reason) {
-  using R = flight::RejectReason;
-  switch (reason) {
-    case R::ok:
-      return "ok";
-    case R::null_buffer:
-      return "null_buffer";
-    case R::too_short:
-      return "too_short";
-    case R::too_long:
-      return "too_long";
-    case R::bad_magic:
-      return "bad_magic";
-    case R::unsupported_format_version:
-      return "unsupported_format_version";
-    case R::length_mismatch:
-      return "length_mismatch";
-    case R::reserved_not_zero:
-      return "reserved_not_zero";
-    case R::crc_mismatch:
-      return "crc_mismatch";
-    case R::section_truncated:
-      return "section_truncated";
-    case R::section_length_mismatch:
-      return "section_length_mismatch";
-    case R::unknown_section:
-      return "unknown_section";
-    case R::duplicate_section:
-      return "duplicate_section";
-    case R::missing_section:
-      return "missing_section";
-    case R::section_count_mismatch:
-      return "section_count_mismatch";
-    case R::radius_out_of_range:
-      return "radius_out_of_range";
-    case R::gear_ratio_out_of_range:
-      return "gear_ratio_out_of_range";
-    case R::efficiency_out_of_range:
-      return "efficiency_out_of_range";
-    case R::torque_constant_out_of_range:
-      return "torque_constant_out_of_range";
-    case R::no_load_current_out_of_range:
-      return "no_load_current_out_of_range";
-    case R::current_range_out_of_range:
-      return "current_range_out_of_range";
-    case R::correction_count_out_of_range:
-      return "correction_count_out_of_range";
-    case R::load_breakpoint_out_of_range:
-      return "load_breakpoint_out_of_range";
-    case R::load_breakpoints_not_increasing:
-      return "load_breakpoints_not_increasing";
-    case R::c1_out_of_range:
-      return "c1_out_of_range";
-    case R::c2_out_of_range:
-      return "c2_out_of_range";
-    case R::c3_out_of_range:
-      return "c3_out_of_range";
-    case R::dp_max_out_of_range:
-      return "dp_max_out_of_range";
-    case R::allowed_sinkage_out_of_range:
-      return "allowed_sinkage_out_of_range";
-    case R::caution_sinkage_out_of_range:
-      return "caution_sinkage_out_of_range";
-    case R::stop_sinkage_out_of_range:
-      return "stop_sinkage_out_of_range";
-    case R::sinkage_hysteresis_out_of_range:
-      return "sinkage_hysteresis_out_of_range";
-    case R::current_caution_fraction_out_of_range:
-      return "current_caution_fraction_out_of_range";
-    case R::current_hysteresis_out_of_range:
-      return "current_hysteresis_out_of_range";
-    case R::load_envelope_out_of_range:
-      return "load_envelope_out_of_range";
-    case R::stale_timeout_out_of_range:
-      return "stale_timeout_out_of_range";
-    case R::window_out_of_range:
-      return "window_out_of_range";
-    case R::trip_count_out_of_range:
-      return "trip_count_out_of_range";
-    case R::clear_count_out_of_range:
-      return "clear_count_out_of_range";
-    case R::invalid_limit_out_of_range:
-      return "invalid_limit_out_of_range";
-    case R::wheel_count_out_of_range:
-      return "wheel_count_out_of_range";
-    case R::rover_stop_k_out_of_range:
-      return "rover_stop_k_out_of_range";
-    case R::escape_phase_out_of_range:
-      return "escape_phase_out_of_range";
-    case R::escape_cycles_out_of_range:
-      return "escape_cycles_out_of_range";
-    case R::escape_patience_out_of_range:
-      return "escape_patience_out_of_range";
-    case R::escape_decrease_out_of_range:
-      return "escape_decrease_out_of_range";
-    case R::escape_freed_out_of_range:
-      return "escape_freed_out_of_range";
-    case R::extension_too_long:
-      return "extension_too_long";
-    case R::extension_rejected:
-      return "extension_rejected";
-    case R::buffer_too_small:
-      return "buffer_too_small";
+  const auto index = static_cast<std::size_t>(reason);
+  if (index < kRejectReasonNames.size()) {
+    return kRejectReasonNames[index].second;
   }
   return "reason " + std::to_string(static_cast<unsigned>(reason));
 }
@@ -209,6 +183,70 @@ std::optional<double> common_wheel_radius(const SoilBinDataset& dataset) {
   return radius;
 }
 
+namespace {
+
+// The C(W) rows in the flight's fixed-point formats; a value that does not
+// fit is an error naming it and its load.
+flight::CorrectionTable correction_table(const std::vector<CorrectionEntry>& rows) {
+  flight::CorrectionTable correction{};
+  correction.count = static_cast<std::uint8_t>(rows.size());
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const CorrectionEntry& e = rows[i];
+    flight::CorrectionRow& row = correction.rows[i];
+    row.load_n = quantise<flight::WheelLoadN>(e.load_n, "load", e.load_n);
+    row.c1 = quantise<flight::Ratio>(e.c[0], "C1", e.load_n);
+    row.c2 = quantise<flight::Ratio>(e.c[1], "C2", e.load_n);
+    row.c3 = quantise<flight::Ratio>(e.c[2], "C3", e.load_n);
+    row.dp_max_ratio = quantise<flight::Ratio>(e.dp_max_ratio, "DP_max/W", e.load_n);
+  }
+  return correction;
+}
+
+// The flight code's own validation; a refusal names the reason, the ranges
+// the estimator accepts and the rows the table would hold.
+void check_flight_validation(const flight::ParameterTable& table) {
+  const flight::RejectReason verdict = flight::validate(table);
+  if (verdict == flight::RejectReason::ok) {
+    return;
+  }
+  std::ostringstream message;
+  message.precision(4);
+  message << "the flight validation refuses the table (" << reject_reason_name(verdict)
+          << "); the flight estimator accepts C1 and C2 in [" << as_double(flight::kMinC12)
+          << ", " << as_double(flight::kMaxC12) << "], C3 in [" << as_double(flight::kMinC3)
+          << ", " << as_double(flight::kMaxC3) << "] and a wheel radius in ["
+          << as_double(flight::kMinRadiusM) << ", " << as_double(flight::kMaxRadiusM)
+          << "] m; the table would hold" << describe_rows(table.correction);
+  throw CalibrationError(message.str());
+}
+
+// Encodes the table, reads the bytes back with the loader's own decoder
+// (what we hand out must load) and takes the CRC-32 from the last 4 bytes.
+FlightTable encode_and_reload(const flight::ParameterTable& table) {
+  std::array<std::uint8_t, flight::kMaxTableBytes> buffer{};
+  const flight::EncodeResult encoded = flight::encode(table, buffer.data(), buffer.size());
+  if (encoded.status != flight::RejectReason::ok) {
+    throw CalibrationError("flight table: encode failed (" + reject_reason_name(encoded.status) +
+                           ")");
+  }
+  FlightTable result;
+  result.bytes.assign(buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(encoded.size));
+  const flight::RejectReason loaded =
+      flight::decode(result.bytes.data(), result.bytes.size(), result.table);
+  if (loaded != flight::RejectReason::ok) {
+    throw CalibrationError("flight table: the encoded bytes do not decode (" +
+                           reject_reason_name(loaded) + ")");
+  }
+  const std::size_t n = result.bytes.size();
+  result.crc = static_cast<std::uint32_t>(result.bytes[n - 4]) |
+               (static_cast<std::uint32_t>(result.bytes[n - 3]) << 8U) |
+               (static_cast<std::uint32_t>(result.bytes[n - 2]) << 16U) |
+               (static_cast<std::uint32_t>(result.bytes[n - 1]) << 24U);
+  return result;
+}
+
+}  // namespace
+
 FlightTable build_flight_table(const flight::ParameterTable& base,
                                const FlightTableRequest& request) {
   if (request.rows.empty() || request.rows.size() > flight::kMaxCorrectionRows) {
@@ -224,53 +262,9 @@ FlightTable build_flight_table(const flight::ParameterTable& base,
     table.wheel_radius_m =
         quantise<flight::LengthM>(*request.wheel_radius_m, "wheel radius", request.rows[0].load_n);
   }
-  table.correction = flight::CorrectionTable{};
-  table.correction.count = static_cast<std::uint8_t>(request.rows.size());
-  for (std::size_t i = 0; i < request.rows.size(); ++i) {
-    const CorrectionEntry& e = request.rows[i];
-    flight::CorrectionRow& row = table.correction.rows[i];
-    row.load_n = quantise<flight::WheelLoadN>(e.load_n, "load", e.load_n);
-    row.c1 = quantise<flight::Ratio>(e.c[0], "C1", e.load_n);
-    row.c2 = quantise<flight::Ratio>(e.c[1], "C2", e.load_n);
-    row.c3 = quantise<flight::Ratio>(e.c[2], "C3", e.load_n);
-    row.dp_max_ratio = quantise<flight::Ratio>(e.dp_max_ratio, "DP_max/W", e.load_n);
-  }
-
-  const flight::RejectReason verdict = flight::validate(table);
-  if (verdict != flight::RejectReason::ok) {
-    std::ostringstream message;
-    message.precision(4);
-    message << "the flight validation refuses the table (" << reject_reason_name(verdict)
-            << "); the flight estimator accepts C1 and C2 in ["
-            << as_double(flight::kMinC12) << ", " << as_double(flight::kMaxC12) << "], C3 in ["
-            << as_double(flight::kMinC3) << ", " << as_double(flight::kMaxC3)
-            << "] and a wheel radius in [" << as_double(flight::kMinRadiusM) << ", "
-            << as_double(flight::kMaxRadiusM) << "] m; the table would hold"
-            << describe_rows(table.correction);
-    throw CalibrationError(message.str());
-  }
-
-  std::array<std::uint8_t, flight::kMaxTableBytes> buffer{};
-  const flight::EncodeResult encoded = flight::encode(table, buffer.data(), buffer.size());
-  if (encoded.status != flight::RejectReason::ok) {
-    throw CalibrationError("flight table: encode failed (" + reject_reason_name(encoded.status) +
-                           ")");
-  }
-  FlightTable result;
-  result.bytes.assign(buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(encoded.size));
-  // Round trip through the loader's own decoder: what we hand out must load.
-  const flight::RejectReason loaded =
-      flight::decode(result.bytes.data(), result.bytes.size(), result.table);
-  if (loaded != flight::RejectReason::ok) {
-    throw CalibrationError("flight table: the encoded bytes do not decode (" +
-                           reject_reason_name(loaded) + ")");
-  }
-  const std::size_t n = result.bytes.size();
-  result.crc = static_cast<std::uint32_t>(result.bytes[n - 4]) |
-               (static_cast<std::uint32_t>(result.bytes[n - 3]) << 8U) |
-               (static_cast<std::uint32_t>(result.bytes[n - 2]) << 16U) |
-               (static_cast<std::uint32_t>(result.bytes[n - 1]) << 24U);
-  return result;
+  table.correction = correction_table(request.rows);
+  check_flight_validation(table);
+  return encode_and_reload(table);
 }
 
 flight::ParameterTable read_flight_table(const std::string& path) {
