@@ -315,7 +315,7 @@ TEST_P(EstimatorWithheldTerm, RanksFirst) {
   }
   const EstimatorModel model;
   const DiagnosisResult result = diagnose(model, rows, "generated");
-  EXPECT_NE(result.verdict, "no_gap");
+  EXPECT_NE(result.verdict, Verdict::no_gap);
   EXPECT_EQ(result.ranking.front().effect, tc.term) << result.verdict_text;
   EXPECT_GT(result.ranking.front().shrink_pct, 50.0);
 }
@@ -340,7 +340,7 @@ TEST(DiagnosisEstimator, NoTermIsNotExplained) {
     }
   }
   const DiagnosisResult result = diagnose(EstimatorModel{}, rows, "generated");
-  EXPECT_TRUE(result.verdict == "no_gap" || result.verdict == "weak_gap" || result.verdict == "not_explained")
+  EXPECT_TRUE(result.verdict == Verdict::no_gap || result.verdict == Verdict::weak_gap || result.verdict == Verdict::not_explained)
       << result.verdict_text;
 }
 

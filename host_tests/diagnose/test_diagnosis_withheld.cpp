@@ -156,7 +156,7 @@ TEST_P(WithheldEffect, RanksFirstWithTheTrueShrink) {
 
   Outcome out;
   out.effect = std::string(effect_name(effect));
-  out.verdict = result.verdict;
+  out.verdict = verdict_name(result.verdict);
   out.before = result.cv_heldout_rms_scaled;
   out.top = result.ranking.front().effect;
   for (std::size_t k = 0; k < result.ranking.size(); ++k) {
@@ -188,7 +188,7 @@ TEST_P(WithheldEffect, RanksFirstWithTheTrueShrink) {
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   outcomes().push_back(out);
 
-  EXPECT_NE(result.verdict, "no_gap") << "the withheld effect left no significant held-out gap";
+  EXPECT_NE(result.verdict, Verdict::no_gap) << "the withheld effect left no significant held-out gap";
   EXPECT_EQ(out.rank, 1U) << "top-ranked: " << out.top;
   EXPECT_NEAR(out.shrink, out.true_shrink, 10.0) << "reported shrink vs true shrink (percentage points)";
 }

@@ -1,188 +1,46 @@
-// diagnosis.cpp: fitting (Ceres), the WHERE breakdown and the ranking.
+// diagnosis.cpp: the stages of the diagnosis: enough data, noise, base fit
+// (with the WHERE breakdown), candidates (on all cores), ranking (candidates
+// and families) and verdict. The fits themselves are in diagnosis_fit.cpp.
 #include "sinkwatch/ground/diagnosis.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
-#include <limits>
-#include <memory>
-#include <numeric>
+#include <exception>
+#include <mutex>
 #include <sstream>
+#include <stdexcept>
+#include <thread>
+#include <tuple>
 #include <utility>
 
-#include <ceres/ceres.h>
+#include "diagnosis_internal.hpp"
 
 namespace sinkwatch {
 namespace ground {
 
+using detail::kInf;
+using detail::kNaN;
+using detail::RowNoise;
+
+const char* verdict_name(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::no_gap: return "no_gap";
+    case Verdict::weak_gap: return "weak_gap";
+    case Verdict::explained: return "explained";
+    case Verdict::partly_explained: return "partly_explained";
+    case Verdict::ambiguous: return "ambiguous";
+    case Verdict::not_explained: return "not_explained";
+    case Verdict::not_enough_data: return "not_enough_data";
+  }
+  return "unknown";
+}
+
+std::string family_of(const Candidate& candidate) {
+  return candidate.family.empty() ? candidate.name : candidate.family;
+}
+
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-std::vector<ParameterSpec> all_parameters(const DiagnosisModel& model, const Candidate* candidate,
-                                          const std::vector<DiagnosisRow>& train) {
-  std::vector<ParameterSpec> specs = model.base_parameters(train);
-  if (candidate != nullptr) {
-    specs.insert(specs.end(), candidate->extra.begin(), candidate->extra.end());
-  }
-  return specs;
-}
-
-std::vector<DiagnosisRow> select(const std::vector<DiagnosisRow>& rows, const std::vector<std::size_t>& idx) {
-  std::vector<DiagnosisRow> out;
-  out.reserve(idx.size());
-  for (std::size_t i : idx) {
-    out.push_back(rows[i]);
-  }
-  return out;
-}
-
-// Noise-scaled residuals of one row; the parameters are clamped into their
-// admissible range first, because numeric differentiation steps across the
-// bounds that Ceres enforces on the iterates.
-class RowResidual {
- public:
-  RowResidual(const DiagnosisModel& model, const Candidate* candidate, const DiagnosisRow& row,
-              std::vector<double> measured, std::vector<double> sigma, const std::vector<ParameterSpec>& specs)
-      : model_(model), candidate_(candidate), row_(row), measured_(std::move(measured)), sigma_(std::move(sigma)),
-        specs_(specs) {}
-
-  bool operator()(double const* const* parameters, double* residuals) const {
-    std::vector<double> p(specs_.size());
-    for (std::size_t i = 0; i < specs_.size(); ++i) {
-      p[i] = std::clamp(parameters[0][i], specs_[i].lower, specs_[i].upper);
-    }
-    std::vector<double> predicted;
-    if (!model_.predict(candidate_, p, row_, predicted)) {
-      return false;
-    }
-    for (std::size_t c = 0; c < measured_.size(); ++c) {
-      residuals[c] = (predicted[c] - measured_[c]) / sigma_[c];
-      if (!std::isfinite(residuals[c])) {
-        return false;
-      }
-    }
-    return true;
-  }
-
- private:
-  const DiagnosisModel& model_;
-  const Candidate* candidate_;
-  DiagnosisRow row_;
-  std::vector<double> measured_;
-  std::vector<double> sigma_;
-  std::vector<ParameterSpec> specs_;
-};
-
-// The noise of every row and channel, [row][channel]: hypot(floor,
-// relative |measured|), never below 5 % of the channel's RMS noise (a fitted
-// floor of zero would otherwise give rows near zero an unbounded weight).
-using RowNoise = std::vector<std::vector<double>>;
-
-RowNoise row_noise(const DiagnosisModel& model, const std::vector<DiagnosisRow>& rows,
-                   const std::vector<ChannelNoiseEstimate>& noise) {
-  RowNoise out;
-  out.reserve(rows.size());
-  for (const DiagnosisRow& row : rows) {
-    const std::vector<double> measured = model.measured(row);
-    std::vector<double> s(noise.size());
-    for (std::size_t c = 0; c < noise.size(); ++c) {
-      const double modelled = std::hypot(noise[c].floor, noise[c].relative * measured[c]);
-      s[c] = std::max(modelled, 0.05 * noise[c].sigma);
-    }
-    out.push_back(s);
-  }
-  return out;
-}
-
-// RMS over `idx` of residual / row noise, per channel (inf if the model
-// failed on one of the rows), and its combination over channels.
-std::vector<double> scaled_rms(const std::vector<std::vector<double>>& residuals, const std::vector<std::size_t>& idx,
-                               const RowNoise& noise) {
-  const std::size_t channels = noise.front().size();
-  std::vector<double> out(channels, 0.0);
-  bool failed = false;
-  for (std::size_t i : idx) {
-    if (std::isnan(residuals[i][0])) {
-      failed = true;
-      continue;
-    }
-    for (std::size_t c = 0; c < channels; ++c) {
-      const double r = residuals[i][c] / noise[i][c];
-      out[c] += r * r;
-    }
-  }
-  for (double& v : out) {
-    v = failed || idx.empty() ? kInf : std::sqrt(v / static_cast<double>(idx.size()));
-  }
-  return out;
-}
-
-double combined(const std::vector<double>& scaled) {
-  double sum = 0.0;
-  for (double r : scaled) {
-    sum += r * r;
-  }
-  return std::sqrt(sum / static_cast<double>(scaled.size()));
-}
-
-// Fills residuals, RMS and information criteria of a fit from its parameters.
-void evaluate_into(FitResult& fit, const DiagnosisModel& model, const Candidate* candidate,
-                   const std::vector<DiagnosisRow>& rows, const DataSplit& split, const RowNoise& noise) {
-  const std::size_t channels = noise.front().size();
-  fit.residuals.assign(rows.size(), std::vector<double>(channels, kNaN));
-  std::vector<double> predicted;
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (model.predict(candidate, fit.values, rows[i], predicted)) {
-      const std::vector<double> measured = model.measured(rows[i]);
-      for (std::size_t c = 0; c < channels; ++c) {
-        fit.residuals[i][c] = measured[c] - predicted[c];
-      }
-    }
-  }
-  auto rms_over = [&](const std::vector<std::size_t>& idx, std::vector<double>& rms, std::size_t& failures) {
-    rms.assign(channels, 0.0);
-    failures = 0;
-    for (std::size_t i : idx) {
-      if (std::isnan(fit.residuals[i][0])) {
-        ++failures;
-        continue;
-      }
-      for (std::size_t c = 0; c < channels; ++c) {
-        rms[c] += fit.residuals[i][c] * fit.residuals[i][c];
-      }
-    }
-    for (std::size_t c = 0; c < channels; ++c) {
-      rms[c] = failures > 0 ? kInf : std::sqrt(rms[c] / static_cast<double>(idx.size()));
-    }
-  };
-  std::size_t train_failures = 0;
-  rms_over(split.train, fit.train_rms, train_failures);
-  rms_over(split.heldout, fit.heldout_rms, fit.heldout_failures);
-  fit.train_rows = split.train.size();
-  fit.train_rms_scaled = combined(scaled_rms(fit.residuals, split.train, noise));
-  fit.heldout_rms_scaled = combined(scaled_rms(fit.residuals, split.heldout, noise));
-  fit.train_chi2 = 0.0;
-  for (std::size_t i : split.train) {
-    for (std::size_t c = 0; c < channels; ++c) {
-      const double r = fit.residuals[i][c] / noise[i][c];
-      fit.train_chi2 += r * r;
-    }
-  }
-  const double n = static_cast<double>(split.train.size() * channels);
-  const double k = static_cast<double>(fit.values.size());
-  const double chi2 = std::max(fit.train_chi2, 1e-300);
-  fit.aic = n * std::log(chi2 / n) + 2.0 * k;
-  fit.bic = n * std::log(chi2 / n) + k * std::log(n);
-}
-
-std::vector<double> sigmas(const std::vector<ChannelNoiseEstimate>& noise) {
-  std::vector<double> s;
-  for (const ChannelNoiseEstimate& e : noise) {
-    s.push_back(e.sigma);
-  }
-  return s;
-}
 
 std::string format_range(double low, double high) {
   std::ostringstream os;
@@ -195,8 +53,8 @@ std::string format_range(double low, double high) {
   return os.str();
 }
 
-// Splits the rows into up to `max_bins` bins of near-equal counts of distinct
-// values of `key` (so equal values never straddle two bins).
+// Up to `max_bins` bins of near-equal counts of distinct values (so equal
+// values never straddle two bins).
 std::vector<std::pair<double, double>> value_bins(std::vector<double> values, std::size_t max_bins) {
   std::sort(values.begin(), values.end());
   values.erase(std::unique(values.begin(), values.end(),
@@ -206,266 +64,103 @@ std::vector<std::pair<double, double>> value_bins(std::vector<double> values, st
   const std::size_t n = values.size();
   const std::size_t count = std::min(max_bins, n);
   for (std::size_t b = 0; b < count; ++b) {
-    const std::size_t first = b * n / count;
-    const std::size_t last = (b + 1) * n / count - 1;
-    bins.emplace_back(values[first], values[last]);
+    bins.emplace_back(values[b * n / count], values[(b + 1) * n / count - 1]);
   }
   return bins;
 }
 
-}  // namespace
+// ---------------------------------------------------------------- WHERE
 
-FitResult evaluate_model(const DiagnosisModel& model, const Candidate* candidate, const std::vector<double>& params,
-                         const std::vector<DiagnosisRow>& rows, const DataSplit& split,
-                         const std::vector<ChannelNoiseEstimate>& noise) {
-  FitResult fit;
-  fit.label = candidate != nullptr ? candidate->name : "base";
-  for (const ParameterSpec& spec : all_parameters(model, candidate, select(rows, split.train))) {
-    fit.names.push_back(spec.name);
-  }
-  fit.values = params;
-  fit.converged = true;
-  fit.solver_message = "not fitted (given parameters)";
-  evaluate_into(fit, model, candidate, rows, split, row_noise(model, rows, noise));
-  return fit;
-}
-
-PooledHeldout pooled_heldout(const DiagnosisModel& model, const std::vector<DiagnosisRow>& rows,
-                             const std::vector<FitResult>& fits, const std::vector<DataSplit>& folds,
-                             const std::vector<ChannelNoiseEstimate>& noise) {
-  const RowNoise row_sigma = row_noise(model, rows, noise);
-  const std::size_t channels = noise.size();
-  std::vector<double> sum(channels, 0.0);
-  std::vector<double> sum_scaled(channels, 0.0);
-  std::size_t count = 0;
-  bool failed = false;
-  for (std::size_t f = 0; f < folds.size(); ++f) {
-    for (std::size_t i : folds[f].heldout) {
-      ++count;
-      if (std::isnan(fits[f].residuals[i][0])) {
-        failed = true;
-        continue;
-      }
-      for (std::size_t c = 0; c < channels; ++c) {
-        const double r = fits[f].residuals[i][c];
-        sum[c] += r * r;
-        sum_scaled[c] += (r / row_sigma[i][c]) * (r / row_sigma[i][c]);
-      }
-    }
-  }
-  PooledHeldout pooled;
-  std::vector<double> scaled;
-  for (std::size_t c = 0; c < channels; ++c) {
-    const bool bad = failed || count == 0;
-    pooled.rms.push_back(bad ? kInf : std::sqrt(sum[c] / static_cast<double>(count)));
-    scaled.push_back(bad ? kInf : std::sqrt(sum_scaled[c] / static_cast<double>(count)));
-  }
-  pooled.scaled = combined(scaled);
-  return pooled;
-}
-
-FitResult fit_model(const DiagnosisModel& model, const Candidate* candidate, const std::vector<DiagnosisRow>& rows,
-                    const DataSplit& split, const std::vector<ChannelNoiseEstimate>& noise,
-                    const std::vector<double>& initial_base, const DiagnosisSettings& settings) {
-  const std::vector<DiagnosisRow> train = select(rows, split.train);
-  const std::vector<ParameterSpec> specs = all_parameters(model, candidate, train);
-  const RowNoise row_sigma = row_noise(model, rows, noise);
-  FitResult fit;
-  fit.label = candidate != nullptr ? candidate->name : "base";
-  std::vector<double> x(specs.size());
-  for (std::size_t i = 0; i < specs.size(); ++i) {
-    fit.names.push_back(specs[i].name);
-    x[i] = i < initial_base.size() ? initial_base[i] : specs[i].initial;
-    x[i] = std::clamp(x[i], specs[i].lower, specs[i].upper);
-  }
-
-  // Ceres needs a start where every training row evaluates. Try, in order:
-  // the given start; the candidate's terms at their lower end of "small"
-  // (a tenth of their initial value); the model's own initial values.
-  auto start_ok = [&](const std::vector<double>& start) {
-    std::vector<double> predicted;
-    return std::all_of(train.begin(), train.end(), [&](const DiagnosisRow& row) {
-      return model.predict(candidate, start, row, predicted);
-    });
-  };
-  if (!start_ok(x)) {
-    std::vector<double> small = x;
-    for (std::size_t i = initial_base.size(); i < specs.size(); ++i) {
-      small[i] = std::clamp(0.1 * specs[i].initial, specs[i].lower, specs[i].upper);
-    }
-    std::vector<double> own(specs.size());
-    for (std::size_t i = 0; i < specs.size(); ++i) {
-      own[i] = specs[i].initial;
-    }
-    if (start_ok(small)) {
-      x = small;
-    } else if (start_ok(own)) {
-      x = own;
-    } else {
-      throw DiagnosisError("the " + fit.label + " model has no solution at its starting point on some training rows");
-    }
-  }
-
-  ceres::Problem problem;
-  for (std::size_t i : split.train) {
-    auto* cost = new ceres::DynamicNumericDiffCostFunction<RowResidual, ceres::FORWARD>(
-        new RowResidual(model, candidate, rows[i], model.measured(rows[i]), row_sigma[i], specs));
-    cost->AddParameterBlock(static_cast<int>(specs.size()));
-    cost->SetNumResiduals(static_cast<int>(row_sigma[i].size()));
-    problem.AddResidualBlock(cost, nullptr, x.data());
-  }
-  for (std::size_t i = 0; i < specs.size(); ++i) {
-    problem.SetParameterLowerBound(x.data(), static_cast<int>(i), specs[i].lower);
-    problem.SetParameterUpperBound(x.data(), static_cast<int>(i), specs[i].upper);
-  }
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = settings.max_iterations;
-  options.function_tolerance = 1e-10;
-  options.gradient_tolerance = 1e-12;
-  options.parameter_tolerance = 1e-10;
-  options.logging_type = ceres::SILENT;
-  options.minimizer_progress_to_stdout = false;
-  options.num_threads = 1;
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
-  fit.converged = summary.termination_type == ceres::CONVERGENCE;
-  fit.solver_message = summary.message;
-  fit.iterations = static_cast<int>(summary.iterations.size());
-  if (!summary.IsSolutionUsable()) {
-    throw DiagnosisError("the " + fit.label + " fit failed: " + summary.message);
-  }
-  fit.values = x;
-  evaluate_into(fit, model, candidate, rows, split, row_sigma);
-  return fit;
-}
-
-std::vector<ChannelNoiseEstimate> estimate_channel_noise(const DiagnosisModel& model,
-                                                         const std::vector<DiagnosisRow>& rows,
-                                                         const DataSplit& split, const DiagnosisSettings& settings) {
-  const std::vector<ChannelInfo> channels = model.channels();
-  std::vector<ChannelNoiseEstimate> noise;
-  bool need_fit = false;
-  for (std::size_t c = 0; c < channels.size(); ++c) {
-    std::vector<double> values;
-    double scale = 0.0;
-    for (const DiagnosisRow& row : rows) {
-      values.push_back(model.measured(row)[c]);
-      scale += values.back() * values.back();
-    }
-    const NoiseEstimate e = estimate_noise(rows, values);
-    ChannelNoiseEstimate out{channels[c].name, e.sigma, e.method, e.dof, e.floor, e.relative};
-    if (e.method == "none" || !(e.sigma > 0.0)) {
-      // Placeholder scale for a preliminary fit: 1 % of the channel's RMS.
-      out.sigma = std::max(0.01 * std::sqrt(scale / static_cast<double>(rows.size())), 1e-12);
-      out.method = "fit_residual";
-      out.floor = out.sigma;
-      out.relative = 0.0;
-      need_fit = true;
-    }
-    noise.push_back(out);
-  }
-  if (need_fit) {
-    const FitResult pre = fit_model(model, nullptr, rows, split, noise, {}, settings);
-    const double n = static_cast<double>(split.train.size());
-    const double k = static_cast<double>(pre.values.size()) / static_cast<double>(channels.size());
-    for (std::size_t c = 0; c < channels.size(); ++c) {
-      if (noise[c].method == "fit_residual") {
-        // Residual standard deviation with the degrees of freedom the fit used.
-        noise[c].sigma = std::max(pre.train_rms[c] * std::sqrt(n / std::max(n - k, 1.0)), 1e-12);
-        noise[c].floor = noise[c].sigma;
-        noise[c].dof = static_cast<std::size_t>(std::max(n - k, 1.0));
-      }
-    }
-  }
-  return noise;
-}
-
-namespace {
-
-WhereBreakdown where_of(const DiagnosisModel& model, const std::vector<DiagnosisRow>& rows, const DataSplit& split,
-                        const std::vector<ChannelNoiseEstimate>& noise, const FitResult& base) {
-  WhereBreakdown where;
-  const std::vector<ChannelInfo> channels = model.channels();
-  const std::vector<double> sigma = sigmas(noise);
-  const RowNoise row_sigma = row_noise(model, rows, noise);
-  const std::vector<double> train_scaled = scaled_rms(base.residuals, split.train, row_sigma);
-  const std::vector<double> heldout_scaled = scaled_rms(base.residuals, split.heldout, row_sigma);
-  for (std::size_t c = 0; c < channels.size(); ++c) {
+std::vector<ChannelGap> channel_gaps(const DiagnosisResult& r, const RowNoise& row_sigma) {
+  const std::vector<double> train_scaled = detail::scaled_rms(r.base.residuals, r.train, row_sigma);
+  const std::vector<double> heldout_scaled = detail::scaled_rms(r.base.residuals, r.heldout, row_sigma);
+  std::vector<ChannelGap> gaps;
+  for (std::size_t c = 0; c < r.channels.size(); ++c) {
     ChannelGap gap;
-    gap.channel = channels[c].name;
-    gap.unit = channels[c].unit;
-    gap.noise_sigma = sigma[c];
-    gap.noise_method = noise[c].method;
-    gap.train_rms = base.train_rms[c];
-    gap.heldout_rms = base.heldout_rms[c];
+    gap.channel = r.channels[c].name;
+    gap.unit = r.channels[c].unit;
+    gap.noise_sigma = r.noise[c].sigma;
+    gap.noise_method = r.noise[c].method;
+    gap.train_rms = r.base.train_rms[c];
+    gap.heldout_rms = r.base.heldout_rms[c];
     double bias = 0.0;
     std::size_t used = 0;
-    for (std::size_t i : split.heldout) {
-      if (!std::isnan(base.residuals[i][c])) {
-        bias += base.residuals[i][c];
+    for (std::size_t i : r.heldout) {
+      if (!std::isnan(r.base.residuals[i][c])) {
+        bias += r.base.residuals[i][c];
         ++used;
       }
     }
     gap.heldout_bias = used > 0 ? bias / static_cast<double>(used) : kNaN;
     gap.train_over_noise = train_scaled[c];
     gap.heldout_over_noise = heldout_scaled[c];
-    where.channels.push_back(gap);
+    gaps.push_back(gap);
   }
+  return gaps;
+}
 
-  std::vector<bool> is_heldout(rows.size(), false);
-  for (std::size_t i : split.heldout) {
+// One bin of the base residuals: rows whose key lies in [low, high].
+RegimeBin regime_bin(const DiagnosisResult& r, const RowNoise& row_sigma, const std::vector<double>& key,
+                     const std::vector<bool>& is_heldout, std::pair<double, double> range) {
+  const std::size_t channels = r.channels.size();
+  RegimeBin bin;
+  bin.low = range.first;
+  bin.high = range.second;
+  bin.label = format_range(bin.low, bin.high);
+  bin.rms.assign(channels, 0.0);
+  bin.mean.assign(channels, 0.0);
+  bin.rms_over_noise.assign(channels, 0.0);
+  const double tol = 1e-9 * std::max(std::abs(bin.low), std::abs(bin.high));
+  for (std::size_t i = 0; i < r.rows.size(); ++i) {
+    if (key[i] < bin.low - tol || key[i] > bin.high + tol || std::isnan(r.base.residuals[i][0])) {
+      continue;
+    }
+    ++bin.rows;
+    bin.heldout_rows += is_heldout[i] ? 1U : 0U;
+    for (std::size_t c = 0; c < channels; ++c) {
+      const double e = r.base.residuals[i][c];
+      bin.rms[c] += e * e;
+      bin.mean[c] += e;
+      bin.rms_over_noise[c] += (e / row_sigma[i][c]) * (e / row_sigma[i][c]);
+    }
+  }
+  const double n = static_cast<double>(std::max<std::size_t>(bin.rows, 1));
+  for (std::size_t c = 0; c < channels; ++c) {
+    bin.rms[c] = std::sqrt(bin.rms[c] / n);
+    bin.mean[c] /= n;
+    bin.rms_over_noise[c] = std::sqrt(bin.rms_over_noise[c] / n);
+  }
+  return bin;
+}
+
+std::vector<RegimeBin> regime_bins(const DiagnosisResult& r, const RowNoise& row_sigma) {
+  std::vector<bool> is_heldout(r.rows.size(), false);
+  for (std::size_t i : r.heldout) {
     is_heldout[i] = true;
   }
-  auto add_regime = [&](const std::string& regime, const std::vector<double>& key, std::size_t max_bins) {
-    for (const auto& [low, high] : value_bins(key, max_bins)) {
-      RegimeBin bin;
-      bin.regime = regime;
-      bin.low = low;
-      bin.high = high;
-      bin.label = format_range(low, high);
-      bin.rms.assign(channels.size(), 0.0);
-      bin.mean.assign(channels.size(), 0.0);
-      bin.rms_over_noise.assign(channels.size(), 0.0);
-      for (std::size_t i = 0; i < rows.size(); ++i) {
-        const double tol = 1e-9 * std::max(std::abs(low), std::abs(high));
-        if (key[i] < low - tol || key[i] > high + tol || std::isnan(base.residuals[i][0])) {
-          continue;
-        }
-        ++bin.rows;
-        bin.heldout_rows += is_heldout[i] ? 1U : 0U;
-        for (std::size_t c = 0; c < channels.size(); ++c) {
-          bin.rms[c] += base.residuals[i][c] * base.residuals[i][c];
-          bin.mean[c] += base.residuals[i][c];
-          const double scaled = base.residuals[i][c] / row_sigma[i][c];
-          bin.rms_over_noise[c] += scaled * scaled;
-        }
-      }
-      for (std::size_t c = 0; c < channels.size(); ++c) {
-        const double n = static_cast<double>(std::max<std::size_t>(bin.rows, 1));
-        bin.rms[c] = std::sqrt(bin.rms[c] / n);
-        bin.mean[c] /= n;
-        bin.rms_over_noise[c] = std::sqrt(bin.rms_over_noise[c] / n);
-      }
-      where.bins.push_back(bin);
-    }
-  };
   std::vector<double> slip;
   std::vector<double> load;
   std::vector<double> sink;
-  for (const DiagnosisRow& row : rows) {
+  for (const DiagnosisRow& row : r.rows) {
     slip.push_back(row.slip);
     load.push_back(row.load_n);
     sink.push_back(row.sinkage_ratio);
   }
-  add_regime("slip", slip, 3);
-  const std::size_t load_count = distinct_loads(rows).size();
-  add_regime("load", load, load_count <= 6 ? load_count : 3);
-  add_regime("sinkage_ratio", sink, 3);
+  const std::size_t load_count = distinct_loads(r.rows).size();
+  const std::vector<std::tuple<std::string, const std::vector<double>*, std::size_t>> regimes = {
+      {"slip", &slip, 3}, {"load", &load, load_count <= 6 ? load_count : 3}, {"sinkage_ratio", &sink, 3}};
+  std::vector<RegimeBin> bins;
+  for (const auto& [regime, key, max_bins] : regimes) {
+    for (const auto& range : value_bins(*key, max_bins)) {
+      bins.push_back(regime_bin(r, row_sigma, *key, is_heldout, range));
+      bins.back().regime = regime;
+    }
+  }
+  return bins;
+}
 
-  where.components = model.gap_components(rows, base.values, sigma);
-
-  // One sentence on where the gap is largest.
+// One sentence on where the gap is largest.
+std::string largest_gap(const WhereBreakdown& where) {
   std::size_t worst_channel = 0;
   for (std::size_t c = 1; c < where.channels.size(); ++c) {
     if (where.channels[c].heldout_over_noise > where.channels[worst_channel].heldout_over_noise) {
@@ -474,8 +169,8 @@ WhereBreakdown where_of(const DiagnosisModel& model, const std::vector<Diagnosis
   }
   const RegimeBin* worst_bin = nullptr;
   for (const RegimeBin& bin : where.bins) {
-    if (bin.rows >= 2 && (worst_bin == nullptr ||
-                          bin.rms_over_noise[worst_channel] > worst_bin->rms_over_noise[worst_channel])) {
+    if (bin.rows >= 2 &&
+        (worst_bin == nullptr || bin.rms_over_noise[worst_channel] > worst_bin->rms_over_noise[worst_channel])) {
       worst_bin = &bin;
     }
   }
@@ -488,22 +183,49 @@ WhereBreakdown where_of(const DiagnosisModel& model, const std::vector<Diagnosis
     os << "; worst regime " << worst_bin->regime << " " << worst_bin->label << " with "
        << worst_bin->rms_over_noise[worst_channel] << "x noise";
   }
-  where.largest = os.str();
+  return os.str();
+}
+
+WhereBreakdown where_of(const DiagnosisModel& model, const DiagnosisResult& r) {
+  const RowNoise row_sigma = detail::row_noise(model, r.rows, r.noise);
+  WhereBreakdown where;
+  where.channels = channel_gaps(r, row_sigma);
+  where.bins = regime_bins(r, row_sigma);
+  std::vector<double> sigma;
+  for (const ChannelNoiseEstimate& e : r.noise) {
+    sigma.push_back(e.sigma);
+  }
+  where.components = model.gap_components(r.rows, r.base.values, sigma);
+  where.largest = largest_gap(where);
   return where;
+}
+
+// ---------------------------------------------------------------- fits on folds
+
+// What every fit of one diagnosis shares.
+struct Job {
+  const DiagnosisModel& model;
+  const DiagnosisSettings& settings;
+  DiagnosisResult& result;
+  std::size_t fixed = 0;  // leading (base) parameters held fixed
+};
+
+detail::FitRequest request_for(const Job& job, const Candidate* candidate, const DataSplit& split,
+                               const std::vector<double>& start, std::size_t fixed) {
+  return {&job.model, candidate, &job.result.rows, &split, &job.result.noise, start, fixed, &job.settings};
 }
 
 // Fits on folds 1.. of the cross-validation, each started from the fit on
 // fold 0 (a warm start: the optimum moves little when one load of several is
 // swapped, and a cold start with several starts per fold would cost the
 // diagnosis several times over). Throws DiagnosisError naming the fold.
-std::vector<FitResult> fold_fits(const DiagnosisModel& model, const Candidate* candidate,
-                                 const std::vector<DiagnosisRow>& rows, const std::vector<DataSplit>& folds,
-                                 const std::vector<ChannelNoiseEstimate>& noise, const FitResult& first,
-                                 const DiagnosisSettings& settings) {
+std::vector<FitResult> fold_fits(const Job& job, const Candidate* candidate, const FitResult& first,
+                                 std::size_t fixed) {
   std::vector<FitResult> fits{first};
+  const std::vector<DataSplit>& folds = job.result.folds;
   for (std::size_t f = 1; f < folds.size(); ++f) {
     try {
-      fits.push_back(fit_model(model, candidate, rows, folds[f], noise, first.values, settings));
+      fits.push_back(detail::run_fit(request_for(job, candidate, folds[f], first.values, fixed)));
     } catch (const DiagnosisError& e) {
       throw DiagnosisError("cross-validation fold (" + folds[f].rule + "): " + e.what());
     }
@@ -511,210 +233,521 @@ std::vector<FitResult> fold_fits(const DiagnosisModel& model, const Candidate* c
   return fits;
 }
 
-}  // namespace
+// ---------------------------------------------------------------- stages
 
-DiagnosisResult diagnose(const DiagnosisModel& model, const std::vector<DiagnosisRow>& rows, const std::string& source,
-                         const DiagnosisSettings& settings) {
-  DiagnosisResult result;
-  result.model = model.name();
-  result.source = source;
-  result.channels = model.channels();
-  result.rows = rows;
-  result.folds = settings.cross_validate ? cross_validation_folds(rows, settings.every_load_fold) : std::vector<DataSplit>{split_rows(rows)};
-  const DataSplit split = result.folds.front();
-  result.split_rule = split.rule;
-  result.train = split.train;
-  result.heldout = split.heldout;
-  result.noise = estimate_channel_noise(model, rows, split, settings);
-  for (const ChannelNoiseEstimate& n : result.noise) {
+std::string cv_rule_text(const DiagnosisResult& r, const DiagnosisSettings& settings) {
+  std::ostringstream rule;
+  if (r.folds.size() > 1) {
+    rule << "held-out RMS pooled over " << r.folds.size() << " cross-validation folds (";
+    rule << (distinct_loads(r.rows).size() < 3 ? "every 4th slip-sorted row, 4 offsets"
+             : settings.every_load_fold        ? "each load held out once"
+                                               : "the highest load held out, then the lowest");
+    rule << "), every fit redone on each fold";
+  } else {
+    rule << "held-out RMS of the split above (one fold)";
+  }
+  return rule.str();
+}
+
+// Stage 0: enough rows to fit and hold out? Sets the folds, or the verdict
+// not_enough_data with a campaign suggestion (false).
+bool enough_data(const DiagnosisModel& model, DiagnosisResult& r, const DiagnosisSettings& settings,
+                 std::size_t free_base) {
+  std::string why;
+  if (r.rows.size() < settings.min_rows) {
+    why = std::to_string(r.rows.size()) + " rows, fewer than the " + std::to_string(settings.min_rows) + " needed";
+  } else {
+    try {
+      r.folds = settings.cross_validate ? cross_validation_folds(r.rows, settings.every_load_fold)
+                                        : std::vector<DataSplit>{split_rows(r.rows)};
+    } catch (const std::invalid_argument& e) {
+      why = e.what();
+    }
+  }
+  // Residuals enough for the free base parameters and a two-term candidate,
+  // with two to spare.
+  const std::size_t needed = free_base + 4;
+  if (why.empty() && r.folds.front().train.size() * model.channels().size() < needed) {
+    why = std::to_string(r.folds.front().train.size()) + " training rows for " + std::to_string(free_base) +
+          " base parameters and a candidate's";
+  }
+  if (why.empty()) {
+    return true;
+  }
+  r.folds.clear();
+  r.verdict = Verdict::not_enough_data;
+  r.verdict_text = "not enough data (" + why + "). " + campaign_suggestion(r.rows, settings.min_rows);
+  return false;
+}
+
+// Stage 1: the noise of each channel, the yardstick of every residual.
+void noise_stage(const DiagnosisModel& model, DiagnosisResult& r, const DiagnosisSettings& settings) {
+  const DataSplit& split = r.folds.front();
+  r.split_rule = split.rule;
+  r.train = split.train;
+  r.heldout = split.heldout;
+  r.noise = estimate_channel_noise(model, r.rows, split, settings);
+  for (const ChannelNoiseEstimate& n : r.noise) {
     if (n.method == "fit_residual") {
-      result.notes.push_back("noise of " + n.channel +
-                             " estimated from the base fit's training residual (no replicates and too few "
-                             "neighbours): gaps are then measured against the base fit itself");
+      r.notes.push_back("noise of " + n.channel +
+                        " estimated from the base fit's training residual (no replicates and too few "
+                        "neighbours): gaps are then measured against the base fit itself");
     }
   }
-  result.row_noise = row_noise(model, rows, result.noise);
-  result.base = fit_model(model, nullptr, rows, split, result.noise, {}, settings);
-  if (!result.base.converged) {
-    result.notes.push_back("base fit did not converge: " + result.base.solver_message);
+  r.row_noise = detail::row_noise(model, r.rows, r.noise);
+}
+
+// Stage 2: the base fit on the first split (or, with `fixed_base`, the base
+// condition's parameters evaluated), WHERE, and the pooled "before".
+void base_stage(Job& job, const std::vector<double>& fixed_base) {
+  DiagnosisResult& r = job.result;
+  r.base = detail::run_fit(request_for(job, nullptr, r.folds.front(), fixed_base, fixed_base.size()));
+  if (!r.base.converged) {
+    r.notes.push_back("base fit did not converge: " + r.base.solver_message);
   }
-  result.where = where_of(model, rows, split, result.noise, result.base);
-  std::vector<FitResult> base_folds{result.base};
+  r.where = where_of(job.model, r);
+  std::vector<FitResult> base_folds{r.base};
   try {
-    base_folds = fold_fits(model, nullptr, rows, result.folds, result.noise, result.base, settings);
+    base_folds = fold_fits(job, nullptr, r.base, fixed_base.size());
   } catch (const DiagnosisError& e) {
-    result.notes.push_back(std::string("no cross-validation, the ranking uses the first split only: ") + e.what());
-    result.folds.resize(1);
+    r.notes.push_back(std::string("no cross-validation, the ranking uses the first split only: ") + e.what());
+    r.folds.resize(1);
   }
-  {
-    std::ostringstream rule;
-    if (result.folds.size() > 1) {
-      rule << "held-out RMS pooled over " << result.folds.size() << " cross-validation folds (";
-      rule << (distinct_loads(rows).size() < 3 ? "every 4th slip-sorted row, 4 offsets"
-               : settings.every_load_fold     ? "each load held out once"
-                                              : "the highest load held out, then the lowest");
-      rule << "), every fit redone on each fold";
-    } else {
-      rule << "held-out RMS of the split above (one fold)";
-    }
-    result.cv_rule = rule.str();
-  }
-  const PooledHeldout base_cv = pooled_heldout(model, rows, base_folds, result.folds, result.noise);
-  result.cv_heldout_rms = base_cv.rms;
-  result.cv_heldout_rms_scaled = base_cv.scaled;
+  r.cv_rule = cv_rule_text(r, job.settings);
+  const PooledHeldout pooled = pooled_heldout(job.model, r.rows, base_folds, r.folds, r.noise);
+  r.cv_heldout_rms = pooled.rms;
+  r.cv_heldout_rms_scaled = pooled.scaled;
+}
 
-  const std::vector<DiagnosisRow> train = select(rows, split.train);
-  const std::vector<double> sigma = sigmas(result.noise);
-  const double before = result.cv_heldout_rms_scaled;
-  for (const Candidate& candidate : model.candidates(train)) {
-    RankedEffect effect;
-    effect.effect = candidate.name;
-    effect.description = candidate.description;
-    effect.identifiable = candidate.identifiable;
-    effect.note = candidate.note;
-    effect.nominal_size = candidate.nominal_size;
-    effect.heldout_rms_before = before;
-    effect.channel_before = result.cv_heldout_rms;
-    if (candidate.identifiable) {
-      // Several starts for the candidate's own terms (multiples of its
-      // initial value), each from the fitted base; the lowest training
-      // cost wins. A local minimum would otherwise read as "no shrink".
-      bool fitted = false;
-      std::string failure;
-      std::vector<std::vector<double>> tried;
-      for (double multiple : settings.start_multiples) {
-        Candidate start = candidate;
-        std::vector<double> extra_start;
-        for (ParameterSpec& spec : start.extra) {
-          spec.initial = std::clamp(multiple * spec.initial, spec.lower, spec.upper);
-          extra_start.push_back(spec.initial);
-        }
-        if (std::find(tried.begin(), tried.end(), extra_start) != tried.end()) {
-          continue;
-        }
-        tried.push_back(extra_start);
-        try {
-          FitResult fit = fit_model(model, &start, rows, split, result.noise, result.base.values, settings);
-          if (!fitted || fit.train_chi2 < effect.fit.train_chi2) {
-            effect.fit = std::move(fit);
-            fitted = true;
-          }
-        } catch (const DiagnosisError& e) {
-          failure = e.what();
-        }
-      }
-      if (!fitted) {
-        effect.identifiable = false;
-        effect.note = failure;
-      }
+RankedEffect unscored(const Candidate& candidate, const DiagnosisResult& r) {
+  RankedEffect effect;
+  effect.effect = candidate.name;
+  effect.family = family_of(candidate);
+  effect.form = candidate.form;
+  effect.description = candidate.description;
+  effect.identifiable = candidate.identifiable;
+  effect.note = candidate.note;
+  effect.nominal_size = candidate.nominal_size;
+  effect.heldout_rms_before = r.cv_heldout_rms_scaled;
+  effect.channel_before = r.cv_heldout_rms;
+  return effect;
+}
+
+// Several starts for the candidate's own terms (multiples of its initial
+// value), each from the fitted base; the lowest training cost wins. A local
+// minimum would otherwise read as "no shrink". False when no start fitted.
+bool fit_from_starts(const Job& job, const Candidate& candidate, RankedEffect& effect) {
+  std::string failure;
+  bool fitted = false;
+  std::vector<std::vector<double>> tried;
+  for (double multiple : job.settings.start_multiples) {
+    Candidate start = candidate;
+    std::vector<double> extra_start;
+    for (ParameterSpec& spec : start.extra) {
+      spec.initial = std::clamp(multiple * spec.initial, spec.lower, spec.upper);
+      extra_start.push_back(spec.initial);
     }
-    PooledHeldout after;
-    if (effect.identifiable) {
+    if (std::find(tried.begin(), tried.end(), extra_start) != tried.end()) {
+      continue;
+    }
+    tried.push_back(extra_start);
+    try {
+      FitResult fit = detail::run_fit(
+          request_for(job, &start, job.result.folds.front(), job.result.base.values, job.fixed));
+      if (!fitted || fit.train_chi2 < effect.fit.train_chi2) {
+        effect.fit = std::move(fit);
+        fitted = true;
+      }
+    } catch (const DiagnosisError& e) {
+      failure = e.what();
+    }
+  }
+  if (!fitted) {
+    effect.note = failure;
+  }
+  return fitted;
+}
+
+// The shrink of the pooled held-out score, combined and per channel.
+void set_scores(RankedEffect& effect, const PooledHeldout& after, bool scored, std::size_t channels) {
+  effect.heldout_rms_after = scored ? after.scaled : kNaN;
+  effect.channel_after = scored ? after.rms : std::vector<double>(channels, kNaN);
+  const double before = effect.heldout_rms_before;
+  effect.shrink_pct = before > 0.0 ? 100.0 * (before - effect.heldout_rms_after) / before : kNaN;
+  effect.channel_shrink_pct.clear();
+  for (std::size_t c = 0; c < channels; ++c) {
+    const double b = effect.channel_before[c];
+    effect.channel_shrink_pct.push_back(b > 0.0 ? 100.0 * (b - effect.channel_after[c]) / b : kNaN);
+  }
+}
+
+// Stage 3 for one candidate: fitted from several starts on the first split,
+// refitted on every other fold, scored on the pooled held-out rows.
+RankedEffect assess(const Job& job, const Candidate& candidate) {
+  const DiagnosisResult& r = job.result;
+  RankedEffect effect = unscored(candidate, r);
+  if (effect.identifiable) {
+    effect.identifiable = fit_from_starts(job, candidate, effect);
+  }
+  PooledHeldout after;
+  if (effect.identifiable) {
+    try {
+      after = pooled_heldout(job.model, r.rows, fold_fits(job, &candidate, effect.fit, job.fixed), r.folds, r.noise);
+    } catch (const DiagnosisError& e) {
+      effect.identifiable = false;
+      effect.note = e.what();
+    }
+  }
+  if (effect.identifiable) {
+    for (std::size_t i = r.base.values.size(); i < effect.fit.values.size(); ++i) {
+      effect.fitted[effect.fit.names[i]] = effect.fit.values[i];
+    }
+    effect.train_bic = effect.fit.bic;
+    effect.delta_bic = effect.fit.bic - r.base.bic;
+    if (!effect.fit.converged) {
+      effect.note += (effect.note.empty() ? "" : "; ") + std::string("fit did not converge: ") + effect.fit.solver_message;
+    }
+  }
+  set_scores(effect, after, effect.identifiable, r.channels.size());
+  return effect;
+}
+
+// Runs work(i) for i in [0, n) on `threads` threads; each result goes to its
+// own slot, so the outcome does not depend on the schedule. The first
+// exception (by index) is rethrown after every thread has joined.
+template <typename Work>
+void parallel_for(std::size_t n, std::size_t threads, Work work) {
+  std::vector<std::exception_ptr> errors(n);
+  std::atomic<std::size_t> next{0};
+  auto worker = [&]() {
+    for (std::size_t i = next++; i < n; i = next++) {
       try {
-        after = pooled_heldout(model, rows, fold_fits(model, &candidate, rows, result.folds, result.noise, effect.fit, settings),
-                               result.folds, result.noise);
-      } catch (const DiagnosisError& e) {
-        effect.identifiable = false;
-        effect.note = e.what();
+        work(i);
+      } catch (...) {
+        errors[i] = std::current_exception();
       }
     }
-    if (effect.identifiable) {
-      effect.heldout_rms_after = after.scaled;
-      effect.channel_after = after.rms;
-      const std::size_t base_count = result.base.values.size();
-      for (std::size_t i = base_count; i < effect.fit.values.size(); ++i) {
-        effect.fitted[effect.fit.names[i]] = effect.fit.values[i];
-      }
-      effect.train_bic = effect.fit.bic;
-      effect.delta_bic = effect.fit.bic - result.base.bic;
-      if (!effect.fit.converged) {
-        effect.note += (effect.note.empty() ? "" : "; ") + std::string("fit did not converge: ") + effect.fit.solver_message;
-      }
-    } else {
-      effect.heldout_rms_after = kNaN;
-      effect.channel_after.assign(sigma.size(), kNaN);
-    }
-    effect.shrink_pct = before > 0.0 ? 100.0 * (before - effect.heldout_rms_after) / before : kNaN;
-    for (std::size_t c = 0; c < sigma.size(); ++c) {
-      effect.channel_shrink_pct.push_back(
-          effect.channel_before[c] > 0.0
-              ? 100.0 * (effect.channel_before[c] - effect.channel_after[c]) / effect.channel_before[c]
-              : kNaN);
-    }
-    result.ranking.push_back(std::move(effect));
+  };
+  std::vector<std::thread> pool;
+  for (std::size_t t = 1; t < std::min(threads, n); ++t) {
+    pool.emplace_back(worker);
   }
+  worker();
+  for (std::thread& t : pool) {
+    t.join();
+  }
+  for (const std::exception_ptr& e : errors) {
+    if (e) {
+      std::rethrow_exception(e);
+    }
+  }
+}
 
-  // Rank: identifiable first, by held-out score; then adjacent near-ties
-  // (within tie_fraction of the base's held-out score) go to the lower BIC.
-  std::stable_sort(result.ranking.begin(), result.ranking.end(), [](const RankedEffect& a, const RankedEffect& b) {
+std::size_t thread_count(const DiagnosisSettings& settings) {
+  if (settings.threads > 0) {
+    return settings.threads;
+  }
+  return std::max<std::size_t>(1, std::thread::hardware_concurrency());
+}
+
+// Stage 3: every candidate, in parallel; in the model's order.
+std::vector<RankedEffect> candidate_stage(const Job& job) {
+  const std::vector<Candidate> candidates = job.model.candidates(detail::select(job.result.rows, job.result.train));
+  std::vector<RankedEffect> effects(candidates.size());
+  std::mutex progress_lock;
+  std::size_t done = 0;
+  parallel_for(candidates.size(), thread_count(job.settings), [&](std::size_t i) {
+    effects[i] = assess(job, candidates[i]);
+    const std::lock_guard<std::mutex> lock(progress_lock);
+    ++done;
+    if (job.settings.progress) {
+      job.settings.progress(done, candidates.size());
+    }
+  });
+  return effects;
+}
+
+// ---------------------------------------------------------------- ranking
+
+// Identifiable first, by held-out score; then adjacent near-ties (within
+// tie_fraction of the base's held-out score) go to the lower BIC.
+void rank_effects(std::vector<RankedEffect>& ranking, double tie) {
+  std::stable_sort(ranking.begin(), ranking.end(), [](const RankedEffect& a, const RankedEffect& b) {
     if (a.identifiable != b.identifiable) {
       return a.identifiable;
     }
-    if (!a.identifiable) {
-      return false;
-    }
-    return a.heldout_rms_after < b.heldout_rms_after;
+    return a.identifiable && a.heldout_rms_after < b.heldout_rms_after;
   });
-  const double tie = settings.tie_fraction * before;
-  for (std::size_t pass = 0; pass < result.ranking.size(); ++pass) {
-    for (std::size_t i = 0; i + 1 < result.ranking.size(); ++i) {
-      RankedEffect& a = result.ranking[i];
-      RankedEffect& b = result.ranking[i + 1];
+  for (std::size_t pass = 0; pass < ranking.size(); ++pass) {
+    for (std::size_t i = 0; i + 1 < ranking.size(); ++i) {
+      RankedEffect& a = ranking[i];
+      RankedEffect& b = ranking[i + 1];
       if (a.identifiable && b.identifiable && std::abs(a.heldout_rms_after - b.heldout_rms_after) <= tie &&
           b.train_bic < a.train_bic) {
         std::swap(a, b);
       }
     }
   }
+}
 
-  std::ostringstream verdict;
-  verdict.precision(3);
-  const RankedEffect* best = result.ranking.empty() || !result.ranking.front().identifiable ? nullptr
-                                                                                            : &result.ranking.front();
-  if (before < settings.gap_threshold) {
-    result.verdict = "no_gap";
-    verdict << "no significant gap: the base model's held-out RMS is " << before
-            << "x the measurement noise (threshold " << settings.gap_threshold << "x); the ranking below is not evidence";
-  } else if (before <= settings.residual_threshold) {
-    result.verdict = "weak_gap";
-    verdict << "weak gap: the base model's held-out RMS is " << before << "x the measurement noise, between "
-            << settings.gap_threshold << "x and " << settings.residual_threshold << "x";
-    if (best != nullptr) {
-      verdict << "; the best candidate, " << best->effect << ", takes it to " << best->heldout_rms_after << "x ("
-              << best->shrink_pct << " % shrink), which on so small a gap is weak evidence for it";
+// Families in the order of their best form in the ranking.
+std::vector<RankedFamily> rank_families(const std::vector<RankedEffect>& ranking) {
+  std::vector<RankedFamily> families;
+  for (std::size_t k = 0; k < ranking.size(); ++k) {
+    const RankedEffect& e = ranking[k];
+    auto it = std::find_if(families.begin(), families.end(), [&](const RankedFamily& f) { return f.family == e.family; });
+    if (it == families.end()) {
+      RankedFamily f;
+      f.family = e.family;
+      f.best_effect = e.effect;
+      f.best_form = e.form;
+      f.best_rank = k;
+      f.identifiable = e.identifiable;
+      f.heldout_rms_after = e.heldout_rms_after;
+      f.shrink_pct = e.shrink_pct;
+      f.delta_bic = e.delta_bic;
+      families.push_back(f);
+      it = families.end() - 1;
     }
-  } else if (best == nullptr || best->shrink_pct < settings.explain_threshold_pct) {
-    result.verdict = "not_explained";
-    verdict << "no candidate explains the gap: held-out RMS " << before << "x noise";
-    if (best != nullptr) {
-      verdict << ", best candidate " << best->effect << " shrinks it by only " << best->shrink_pct << " % (threshold "
-              << settings.explain_threshold_pct << " %)";
-    }
-  } else if (best->heldout_rms_after > settings.residual_threshold) {
-    result.verdict = "partly_explained";
-    verdict << best->effect << " shrinks the held-out gap by " << best->shrink_pct << " % (" << before << " -> "
-            << best->heldout_rms_after << "x noise) but the rest stays above " << settings.residual_threshold
-            << "x noise: something else is missing too";
-  } else {
-    result.verdict = "explained";
-    verdict << best->effect << " explains the gap: held-out RMS " << before << " -> " << best->heldout_rms_after
-            << "x noise (" << best->shrink_pct << " % shrink)";
+    it->forms.push_back({e.effect, e.form, e.identifiable, e.heldout_rms_after, e.shrink_pct, e.note});
   }
-  if (best != nullptr && result.verdict != "no_gap") {
-    std::string tied;
-    for (std::size_t i = 1; i < result.ranking.size(); ++i) {
-      const RankedEffect& other = result.ranking[i];
-      if (other.identifiable && std::abs(other.heldout_rms_after - best->heldout_rms_after) <= tie) {
-        tied += (tied.empty() ? "" : ", ") + other.effect;
+  return families;
+}
+
+// ---------------------------------------------------------------- verdict
+
+std::string family_label(const RankedFamily& f) {
+  return f.best_form.empty() ? f.family : f.family + " (form " + f.best_form + ")";
+}
+
+// Families other than the best whose held-out score is within `tie` of it.
+std::string tied_families(const std::vector<RankedFamily>& families, double tie) {
+  std::string tied;
+  for (std::size_t i = 1; i < families.size(); ++i) {
+    const RankedFamily& other = families[i];
+    if (other.identifiable && std::abs(other.heldout_rms_after - families.front().heldout_rms_after) <= tie) {
+      tied += (tied.empty() ? "" : ", ") + family_label(other);
+    }
+  }
+  return tied;
+}
+
+struct VerdictInputs {
+  double before = 0.0;
+  double tie = 0.0;
+  const RankedFamily* best = nullptr;
+  std::string tied;
+};
+
+Verdict choose_verdict(const VerdictInputs& in, const DiagnosisSettings& s) {
+  if (in.before < s.gap_threshold) {
+    return Verdict::no_gap;
+  }
+  if (in.before <= s.residual_threshold) {
+    return Verdict::weak_gap;
+  }
+  if (in.best == nullptr || !(in.best->shrink_pct >= s.explain_threshold_pct)) {
+    return Verdict::not_explained;
+  }
+  const bool residual_high = in.best->heldout_rms_after > s.residual_threshold;
+  if (residual_high && in.best->shrink_pct < s.partial_threshold_pct) {
+    return Verdict::not_explained;
+  }
+  if (!in.tied.empty()) {
+    return Verdict::ambiguous;
+  }
+  return residual_high ? Verdict::partly_explained : Verdict::explained;
+}
+
+std::string verdict_text(Verdict v, const VerdictInputs& in, const DiagnosisSettings& s) {
+  std::ostringstream os;
+  os.precision(3);
+  const RankedFamily* b = in.best;
+  switch (v) {
+    case Verdict::no_gap:
+      os << "no significant gap: the base model's held-out RMS is " << in.before << "x the measurement noise (threshold "
+         << s.gap_threshold << "x); the ranking below is not evidence";
+      break;
+    case Verdict::weak_gap:
+      os << "weak gap: the base model's held-out RMS is " << in.before << "x the measurement noise, between "
+         << s.gap_threshold << "x and " << s.residual_threshold << "x";
+      if (b != nullptr) {
+        os << "; the best family, " << family_label(*b) << ", takes it to " << b->heldout_rms_after << "x ("
+           << b->shrink_pct << " % shrink), which on so small a gap is weak evidence for it";
       }
-    }
-    if (!tied.empty()) {
-      verdict << "; near-tie on held-out rows with " << tied
-              << " (within " << 100.0 * settings.tie_fraction << " % of the base's held-out RMS; ordered by training BIC)";
-    }
+      break;
+    case Verdict::not_explained:
+      os << "no candidate family explains the gap: held-out RMS " << in.before << "x noise";
+      if (b != nullptr) {
+        os << "; the nearest, " << family_label(*b) << ", shrinks it by only " << b->shrink_pct << " % to "
+           << b->heldout_rms_after << "x noise (a family is named when it shrinks the gap by "
+           << s.explain_threshold_pct << " % to " << s.residual_threshold << "x noise or by "
+           << s.partial_threshold_pct << " % or more): the missing effect is not among the candidates";
+      }
+      break;
+    case Verdict::ambiguous:
+      os << family_label(*b) << " and " << in.tied << " explain the held-out gap equally well (" << in.before << " -> "
+         << b->heldout_rms_after << "x noise, within " << 100.0 * s.tie_fraction
+         << " % of the base's held-out RMS): these data cannot tell the families apart; rows at other loads and "
+            "slips, or a base condition (--base), can";
+      break;
+    case Verdict::partly_explained:
+      os << family_label(*b) << " shrinks the held-out gap by " << b->shrink_pct << " % (" << in.before << " -> "
+         << b->heldout_rms_after << "x noise) but the rest stays above " << s.residual_threshold
+         << "x noise: something else is missing too";
+      break;
+    default:
+      os << family_label(*b) << " explains the gap: held-out RMS " << in.before << " -> " << b->heldout_rms_after
+         << "x noise (" << b->shrink_pct << " % shrink)";
   }
-  result.verdict_text = verdict.str();
-  return result;
+  return os.str();
+}
+
+// Stage 5: the verdict on the families.
+void verdict_stage(DiagnosisResult& r, const DiagnosisSettings& s) {
+  VerdictInputs in;
+  in.before = r.cv_heldout_rms_scaled;
+  in.tie = s.tie_fraction * in.before;
+  if (!r.families.empty() && r.families.front().identifiable) {
+    in.best = &r.families.front();
+    in.tied = tied_families(r.families, in.tie);
+  }
+  r.verdict = choose_verdict(in, s);
+  r.verdict_text = verdict_text(r.verdict, in, s);
+  const RankedEffect* soil = r.references.empty() ? nullptr : &r.references.front();
+  if (soil != nullptr && soil->identifiable && r.verdict != Verdict::no_gap) {
+    std::ostringstream os;
+    os.precision(3);
+    os << "; a soil change (the base refitted on this data) reaches " << soil->heldout_rms_after << "x noise ("
+       << soil->shrink_pct << " % shrink)";
+    if (in.best != nullptr) {
+      const double d = soil->heldout_rms_after - in.best->heldout_rms_after;
+      os << (std::abs(d) <= in.tie ? ", as well as " : d < 0.0 ? ", better than " : ", worse than ")
+         << family_label(*in.best);
+    }
+    r.verdict_text += os.str();
+  }
+}
+
+// Stages 3-5 on a result whose base stage is done.
+void rank_and_judge(Job& job) {
+  DiagnosisResult& r = job.result;
+  r.ranking = candidate_stage(job);
+  rank_effects(r.ranking, job.settings.tie_fraction * r.cv_heldout_rms_scaled);
+  r.families = rank_families(r.ranking);
+  verdict_stage(r, job.settings);
+}
+
+DiagnosisResult start_result(const DiagnosisModel& model, const std::vector<DiagnosisRow>& rows,
+                             const std::string& source, const DiagnosisSettings& settings) {
+  DiagnosisResult r;
+  r.model = model.name();
+  r.source = source;
+  r.channels = model.channels();
+  r.rows = rows;
+  r.settings = settings;
+  r.settings.progress = nullptr;
+  return r;
+}
+
+// The reference pseudo-candidate of the two-condition diagnosis: the base
+// parameters refitted on this data (fold by fold, from the base condition's).
+RankedEffect soil_change_reference(const Job& job) {
+  const DiagnosisResult& r = job.result;
+  RankedEffect e;
+  e.effect = "base_refit_on_data";
+  e.family = "soil_change";
+  e.description = "the base model's parameters refitted on this data (the soil, not an effect, changed)";
+  e.heldout_rms_before = r.cv_heldout_rms_scaled;
+  e.channel_before = r.cv_heldout_rms;
+  PooledHeldout after;
+  try {
+    e.fit = detail::run_fit(request_for(job, nullptr, r.folds.front(), r.base.values, 0));
+    after = pooled_heldout(job.model, r.rows, fold_fits(job, nullptr, e.fit, 0), r.folds, r.noise);
+    for (std::size_t i = 0; i < e.fit.values.size(); ++i) {
+      e.fitted[e.fit.names[i]] = e.fit.values[i];
+    }
+    e.train_bic = e.fit.bic;
+    e.delta_bic = e.fit.bic - r.base.bic;
+  } catch (const DiagnosisError& error) {
+    e.identifiable = false;
+    e.note = error.what();
+  }
+  set_scores(e, after, e.identifiable, r.channels.size());
+  return e;
+}
+
+}  // namespace
+
+std::string campaign_suggestion(const std::vector<DiagnosisRow>& rows, std::size_t min_rows) {
+  const std::vector<double> loads = distinct_loads(rows);
+  std::ostringstream os;
+  os.precision(3);
+  os << "The data: " << rows.size() << " row(s) at " << loads.size() << " load(s)";
+  for (std::size_t i = 0; i < loads.size(); ++i) {
+    os << (i == 0 ? " (" : ", ") << loads[i] << " N" << (i + 1 == loads.size() ? ")" : "");
+  }
+  os << ". To resolve it, ";
+  std::vector<double> add;
+  if (loads.empty()) {
+    os << "measure at least three loads";
+  } else if (loads.size() < 3) {
+    // Spread the loads over a factor of four (the withheld-effect check spans 12).
+    add = loads.size() == 1 ? std::vector<double>{0.5 * loads[0], 2.0 * loads[0]}
+                            : std::vector<double>{2.0 * loads.back()};
+    os << "add rows at load" << (add.size() > 1 ? "s " : " ");
+    for (std::size_t i = 0; i < add.size(); ++i) {
+      os << (i > 0 ? " and " : "") << add[i] << " N";
+    }
+    os << " and ";
+  } else {
+    os << "add rows at ";
+  }
+  const std::size_t total_loads = std::max<std::size_t>(loads.size() + add.size(), 1);
+  os << "slips 0.05, 0.15, 0.3, 0.45, 0.6 and 0.75 at every load (" << total_loads << " loads x 6 slips = "
+     << 6 * total_loads << " rows; a held-out load and cross-validation folds need three loads or more, "
+     << "and one load needs at least " << min_rows << " slips spread over 0.05..0.75, held out by slip range)";
+  return os.str();
+}
+
+DiagnosisResult diagnose(const DiagnosisModel& model, const std::vector<DiagnosisRow>& rows, const std::string& source,
+                         const DiagnosisSettings& settings) {
+  DiagnosisResult r = start_result(model, rows, source, settings);
+  if (!enough_data(model, r, settings, model.base_parameters(rows).size())) {
+    return r;
+  }
+  Job job{model, settings, r, 0};
+  noise_stage(model, r, settings);
+  base_stage(job, {});
+  rank_and_judge(job);
+  return r;
+}
+
+DiagnosisResult diagnose_against_base(const DiagnosisModel& model, const BaseCondition& base,
+                                      const std::vector<DiagnosisRow>& rows, const std::string& source,
+                                      const DiagnosisSettings& settings) {
+  DiagnosisResult r = start_result(model, rows, source, settings);
+  r.two_condition = true;
+  r.base_source = base.source;
+  r.base_rows = base.rows.size();
+  if (!enough_data(model, r, settings, 0)) {
+    return r;
+  }
+  // The base condition: every row of it trains, none is held out; its noise
+  // is its own.
+  DataSplit all;
+  for (std::size_t i = 0; i < base.rows.size(); ++i) {
+    all.train.push_back(i);
+  }
+  all.rule = "every row of the base condition";
+  const std::vector<ChannelNoiseEstimate> base_noise = estimate_channel_noise(model, base.rows, all, settings);
+  r.base_condition_fit = fit_model(model, nullptr, base.rows, all, base_noise, {}, settings);
+  Job job{model, settings, r, r.base_condition_fit.values.size()};
+  noise_stage(model, r, settings);
+  base_stage(job, r.base_condition_fit.values);
+  r.references.push_back(soil_change_reference(job));
+  rank_and_judge(job);
+  return r;
 }
 
 }  // namespace ground

@@ -83,6 +83,15 @@ std::string fit_json(const DiagnosisResult& r, const FitResult& fit, const std::
   return os.str();
 }
 
+// The noise residual (i, c) is divided by: the row's, else the channel's
+// (a result built without row noise), else NaN (no noise: not_enough_data).
+double row_noise_of(const DiagnosisResult& r, std::size_t i, std::size_t c) {
+  if (i < r.row_noise.size()) {
+    return r.row_noise[i][c];
+  }
+  return c < r.noise.size() ? r.noise[c].sigma : std::nan("");
+}
+
 const RankedEffect* top_effect(const DiagnosisResult& r) {
   if (r.ranking.empty() || !r.ranking.front().identifiable) {
     return nullptr;
@@ -90,25 +99,79 @@ const RankedEffect* top_effect(const DiagnosisResult& r) {
   return &r.ranking.front();
 }
 
-}  // namespace
+// The settings of the run, as (name, value) text pairs: the caller's (model
+// inputs), the wheel, the split and noise rules, thresholds and starts.
+std::vector<NamedSetting> settings_used(const DiagnosisResult& r) {
+  std::vector<NamedSetting> out = r.settings.inputs;
+  std::ostringstream radius;
+  std::ostringstream width;
+  std::vector<double> radii;
+  std::vector<double> widths;
+  for (const DiagnosisRow& row : r.rows) {
+    if (std::find(radii.begin(), radii.end(), row.radius_m) == radii.end()) {
+      radii.push_back(row.radius_m);
+      radius << (radii.size() > 1 ? ", " : "") << row.radius_m;
+    }
+    if (std::find(widths.begin(), widths.end(), row.width_m) == widths.end()) {
+      widths.push_back(row.width_m);
+      width << (widths.size() > 1 ? ", " : "") << row.width_m;
+    }
+  }
+  const DiagnosisSettings& s = r.settings;
+  std::ostringstream starts;
+  for (std::size_t i = 0; i < s.start_multiples.size(); ++i) {
+    starts << (i > 0 ? ", " : "") << s.start_multiples[i];
+  }
+  auto text = [](double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+  };
+  out.push_back({"wheel radius (m)", radius.str()});
+  out.push_back({"wheel width (m)", width.str()});
+  out.push_back({"split", r.split_rule});
+  out.push_back({"cross-validation", r.cv_rule});
+  out.push_back({"gap threshold (x noise)", text(s.gap_threshold)});
+  out.push_back({"residual threshold (x noise)", text(s.residual_threshold)});
+  out.push_back({"explain threshold (% shrink)", text(s.explain_threshold_pct)});
+  out.push_back({"partial threshold (% shrink)", text(s.partial_threshold_pct)});
+  out.push_back({"tie (fraction of the base's held-out RMS)", text(s.tie_fraction)});
+  out.push_back({"candidate starts (x initial size)", starts.str()});
+  out.push_back({"minimum rows", std::to_string(s.min_rows)});
+  out.push_back({"solver", "Ceres, forward differences, max " + std::to_string(s.max_iterations) +
+                               " iterations, function tolerance " + text(s.function_tolerance) +
+                               ", parameter tolerance " + text(s.parameter_tolerance)});
+  if (r.two_condition) {
+    out.push_back({"base condition", r.base_source + " (" + std::to_string(r.base_rows) +
+                                         " rows; base parameters fitted there and held fixed)"});
+  }
+  return out;
+}
 
-std::string to_json(const DiagnosisResult& r) {
+std::string settings_json(const DiagnosisResult& r) {
+  std::string out = "{";
+  const std::vector<NamedSetting> settings = settings_used(r);
+  for (std::size_t i = 0; i < settings.size(); ++i) {
+    out += (i > 0 ? ", " : "") + quote(settings[i].name) + ": " + quote(settings[i].value);
+  }
+  return out + "}";
+}
+
+std::string noise_json(const DiagnosisResult& r) {
   std::ostringstream os;
-  os << "{\n  \"model\": " << quote(r.model) << ",\n  \"source\": " << quote(r.source) << ",\n"
-     << "  \"rows\": " << r.rows.size() << ",\n  \"train_rows\": " << r.train.size()
-     << ",\n  \"heldout_rows\": " << r.heldout.size() << ",\n  \"split_rule\": " << quote(r.split_rule) << ",\n"
-     << "  \"cv_folds\": " << r.folds.size() << ",\n  \"cv_rule\": " << quote(r.cv_rule) << ",\n"
-     << "  \"cv_heldout_rms\": " << per_channel(r.channels, r.cv_heldout_rms) << ",\n"
-     << "  \"cv_heldout_rms_noise_units\": " << num(r.cv_heldout_rms_scaled) << ",\n"
-     << "  \"verdict\": " << quote(r.verdict) << ",\n  \"verdict_text\": " << quote(r.verdict_text) << ",\n";
-  os << "  \"noise\": [";
+  os << "[";
   for (std::size_t c = 0; c < r.noise.size(); ++c) {
     os << (c > 0 ? ", " : "") << "{\"channel\": " << quote(r.noise[c].channel) << ", \"sigma\": " << num(r.noise[c].sigma)
        << ", \"method\": " << quote(r.noise[c].method) << ", \"dof\": " << r.noise[c].dof
        << ", \"floor\": " << num(r.noise[c].floor) << ", \"relative\": " << num(r.noise[c].relative) << "}";
   }
-  os << "],\n  \"base_fit\": " << fit_json(r, r.base, "  ") << ",\n";
-  os << "  \"where\": {\n    \"largest\": " << quote(r.where.largest) << ",\n    \"channels\": [";
+  os << "]";
+  return os.str();
+}
+
+std::string where_json(const DiagnosisResult& r) {
+  std::ostringstream os;
+  os << "{\n    \"largest\": " << quote(r.where.largest) << ",\n    \"channels\": [";
   for (std::size_t c = 0; c < r.where.channels.size(); ++c) {
     const ChannelGap& g = r.where.channels[c];
     os << (c > 0 ? "," : "") << "\n      {\"channel\": " << quote(g.channel) << ", \"unit\": " << quote(g.unit)
@@ -133,30 +196,89 @@ std::string to_json(const DiagnosisResult& r) {
        << ", \"rms\": " << num(g.rms) << ", \"max_abs\": " << num(g.max_abs) << ", \"over_noise\": " << num(g.over_noise)
        << ", \"note\": " << quote(g.note) << "}";
   }
-  os << "\n    ]\n  },\n  \"ranking\": [";
-  for (std::size_t k = 0; k < r.ranking.size(); ++k) {
-    const RankedEffect& e = r.ranking[k];
-    os << (k > 0 ? "," : "") << "\n    {\"rank\": " << k + 1 << ", \"effect\": " << quote(e.effect)
-       << ", \"description\": " << quote(e.description) << ", \"identifiable\": " << (e.identifiable ? "true" : "false")
-       << ", \"note\": " << quote(e.note) << ",\n     \"heldout_rms_before\": " << num(e.heldout_rms_before)
-       << ", \"heldout_rms_after\": " << num(e.heldout_rms_after) << ", \"shrink_pct\": " << num(e.shrink_pct)
-       << ", \"rms_unit\": \"noise-scaled, combined over channels\""
-       << ",\n     \"channels\": {";
-    for (std::size_t c = 0; c < r.channels.size(); ++c) {
-      os << (c > 0 ? ", " : "") << quote(r.channels[c].name) << ": {\"heldout_rms_before\": " << num(e.channel_before[c])
-         << ", \"heldout_rms_after\": " << num(e.channel_after[c]) << ", \"shrink_pct\": " << num(e.channel_shrink_pct[c])
-         << ", \"unit\": " << quote(r.channels[c].unit) << "}";
-    }
-    os << "},\n     \"fitted\": {";
-    std::size_t i = 0;
-    for (const auto& [name, value] : e.fitted) {
-      os << (i++ > 0 ? ", " : "") << quote(name) << ": " << num(value);
-    }
-    os << "}, \"nominal_size\": " << num(e.nominal_size) << ", \"train_bic\": " << num(e.train_bic)
-       << ", \"delta_bic\": " << num(e.delta_bic) << ",\n     \"fit\": "
-       << (e.identifiable ? fit_json(r, e.fit, "     ") : std::string("null")) << "}";
+  os << "\n    ]\n  }";
+  return os.str();
+}
+
+std::string effect_json(const DiagnosisResult& r, const RankedEffect& e, std::size_t rank) {
+  std::ostringstream os;
+  os << "{\"rank\": " << rank << ", \"effect\": " << quote(e.effect) << ", \"family\": " << quote(e.family)
+     << ", \"form\": " << quote(e.form) << ", \"description\": " << quote(e.description)
+     << ", \"identifiable\": " << (e.identifiable ? "true" : "false") << ", \"note\": " << quote(e.note)
+     << ",\n     \"heldout_rms_before\": " << num(e.heldout_rms_before)
+     << ", \"heldout_rms_after\": " << num(e.heldout_rms_after) << ", \"shrink_pct\": " << num(e.shrink_pct)
+     << ", \"rms_unit\": \"noise-scaled, combined over channels\",\n     \"channels\": {";
+  for (std::size_t c = 0; c < r.channels.size(); ++c) {
+    os << (c > 0 ? ", " : "") << quote(r.channels[c].name) << ": {\"heldout_rms_before\": " << num(e.channel_before[c])
+       << ", \"heldout_rms_after\": " << num(e.channel_after[c]) << ", \"shrink_pct\": " << num(e.channel_shrink_pct[c])
+       << ", \"unit\": " << quote(r.channels[c].unit) << "}";
   }
-  os << "\n  ],\n  \"notes\": [";
+  os << "},\n     \"fitted\": {";
+  std::size_t i = 0;
+  for (const auto& [name, value] : e.fitted) {
+    os << (i++ > 0 ? ", " : "") << quote(name) << ": " << num(value);
+  }
+  os << "}, \"nominal_size\": " << num(e.nominal_size) << ", \"train_bic\": " << num(e.train_bic)
+     << ", \"delta_bic\": " << num(e.delta_bic) << ",\n     \"fit\": "
+     << (e.identifiable ? fit_json(r, e.fit, "     ") : std::string("null")) << "}";
+  return os.str();
+}
+
+std::string families_json(const DiagnosisResult& r) {
+  std::ostringstream os;
+  os << "[";
+  for (std::size_t k = 0; k < r.families.size(); ++k) {
+    const RankedFamily& f = r.families[k];
+    os << (k > 0 ? "," : "") << "\n    {\"rank\": " << k + 1 << ", \"family\": " << quote(f.family)
+       << ", \"best_form\": " << quote(f.best_form) << ", \"best_effect\": " << quote(f.best_effect)
+       << ", \"identifiable\": " << (f.identifiable ? "true" : "false")
+       << ", \"heldout_rms_after\": " << num(f.heldout_rms_after) << ", \"shrink_pct\": " << num(f.shrink_pct)
+       << ", \"delta_bic\": " << num(f.delta_bic) << ", \"forms\": [";
+    for (std::size_t i = 0; i < f.forms.size(); ++i) {
+      const FormScore& s = f.forms[i];
+      os << (i > 0 ? ", " : "") << "{\"form\": " << quote(s.form) << ", \"effect\": " << quote(s.effect)
+         << ", \"identifiable\": " << (s.identifiable ? "true" : "false")
+         << ", \"heldout_rms_after\": " << num(s.heldout_rms_after) << ", \"shrink_pct\": " << num(s.shrink_pct) << "}";
+    }
+    os << "]}";
+  }
+  os << "\n  ]";
+  return os.str();
+}
+
+std::string effects_json(const DiagnosisResult& r, const std::vector<RankedEffect>& effects) {
+  std::string out = "[";
+  for (std::size_t k = 0; k < effects.size(); ++k) {
+    out += (k > 0 ? ",\n    " : "\n    ") + effect_json(r, effects[k], k + 1);
+  }
+  return out + "\n  ]";
+}
+
+}  // namespace
+
+std::string to_json(const DiagnosisResult& r) {
+  std::ostringstream os;
+  os << "{\n  \"model\": " << quote(r.model) << ",\n  \"source\": " << quote(r.source) << ",\n"
+     << "  \"rows\": " << r.rows.size() << ",\n  \"train_rows\": " << r.train.size()
+     << ",\n  \"heldout_rows\": " << r.heldout.size() << ",\n  \"split_rule\": " << quote(r.split_rule) << ",\n"
+     << "  \"cv_folds\": " << r.folds.size() << ",\n  \"cv_rule\": " << quote(r.cv_rule) << ",\n"
+     << "  \"cv_heldout_rms\": " << per_channel(r.channels, r.cv_heldout_rms) << ",\n"
+     << "  \"cv_heldout_rms_noise_units\": " << num(r.cv_heldout_rms_scaled) << ",\n"
+     << "  \"verdict\": " << quote(verdict_name(r.verdict)) << ",\n  \"verdict_text\": " << quote(r.verdict_text)
+     << ",\n  \"settings\": " << settings_json(r) << ",\n  \"noise\": " << noise_json(r) << ",\n";
+  if (r.verdict != Verdict::not_enough_data) {
+    os << "  \"base_fit\": " << fit_json(r, r.base, "  ") << ",\n  \"where\": " << where_json(r) << ",\n";
+  }
+  os << "  \"two_condition\": " << (r.two_condition ? "true" : "false");
+  if (r.two_condition) {
+    os << ",\n  \"base_data\": " << quote(r.base_source) << ",\n  \"base_data_rows\": " << r.base_rows;
+    if (r.verdict != Verdict::not_enough_data) {
+      os << ",\n  \"base_condition_fit\": " << fit_json(r, r.base_condition_fit, "  ");
+    }
+    os << ",\n  \"references\": " << effects_json(r, r.references);
+  }
+  os << ",\n  \"families\": " << families_json(r) << ",\n  \"ranking\": " << effects_json(r, r.ranking)
+     << ",\n  \"notes\": [";
   for (std::size_t k = 0; k < r.notes.size(); ++k) {
     os << (k > 0 ? ", " : "") << quote(r.notes[k]);
   }
@@ -164,26 +286,41 @@ std::string to_json(const DiagnosisResult& r) {
   return os.str();
 }
 
-std::string summary_markdown(const DiagnosisResult& r) {
-  std::ostringstream os;
-  os << std::setprecision(4);
-  os << "# Sim-to-real gap diagnosis\n\n"
-     << "- data: " << r.source << " (" << r.rows.size() << " rows)\n"
-     << "- model: " << r.model << "\n"
-     << "- split: " << r.split_rule << "\n"
-     << "- ranking scored on: " << r.cv_rule << "\n"
-     << "- verdict: **" << r.verdict << "**: " << r.verdict_text << "\n\n";
+namespace {
+
+void markdown_settings(std::ostream& os, const DiagnosisResult& r) {
+  os << "## Settings\n\n| setting | value |\n|---|---|\n";
+  for (const NamedSetting& s : settings_used(r)) {
+    os << "| " << s.name << " | " << s.value << " |\n";
+  }
+  os << "\n";
+}
+
+void markdown_noise_and_base(std::ostream& os, const DiagnosisResult& r) {
   os << "## Noise per channel\n\nA row's noise is hypot(floor, relative x |value|); sigma is its RMS over the rows.\n\n"
      << "| channel | sigma | floor | relative | method | dof |\n|---|---|---|---|---|---|\n";
   for (const ChannelNoiseEstimate& n : r.noise) {
     os << "| " << n.channel << " | " << n.sigma << " | " << n.floor << " | " << n.relative << " | " << n.method << " | "
        << n.dof << " |\n";
   }
+  if (r.two_condition) {
+    os << "\n## Base condition\n\nBase parameters fitted on all " << r.base_rows << " rows of " << r.base_source
+       << " and held fixed on this data: ";
+    for (std::size_t i = 0; i < r.base_condition_fit.names.size(); ++i) {
+      os << (i > 0 ? ", " : "") << r.base_condition_fit.names[i] << " = " << r.base_condition_fit.values[i];
+    }
+    os << " (" << (r.base_condition_fit.converged ? "converged" : "NOT converged") << ", training RMS "
+       << r.base_condition_fit.train_rms_scaled << "x noise of the base condition)\n";
+  }
   os << "\n## Base fit\n\n";
   for (std::size_t i = 0; i < r.base.names.size(); ++i) {
     os << (i > 0 ? ", " : "") << r.base.names[i] << " = " << r.base.values[i];
   }
-  os << "\n\n(" << (r.base.converged ? "converged" : "NOT converged") << ", " << r.base.iterations << " iterations)\n\n";
+  os << "\n\n(" << (r.base.converged ? "converged" : "NOT converged") << ", " << r.base.iterations << " iterations"
+     << (r.two_condition ? "; held fixed from the base condition" : "") << ")\n\n";
+}
+
+void markdown_where(std::ostream& os, const DiagnosisResult& r) {
   os << "## Where\n\n" << r.where.largest << "\n\n"
      << "| channel | unit | noise | train RMS | held-out RMS | held-out bias | train/noise | held-out/noise |\n"
      << "|---|---|---|---|---|---|---|---|\n";
@@ -215,27 +352,77 @@ std::string summary_markdown(const DiagnosisResult& r) {
          << " | " << g.note << " |\n";
     }
   }
+}
+
+void markdown_families(std::ostream& os, const DiagnosisResult& r) {
+  os << "\n## Which family\n\nEach family scored by its best form (lowest pooled held-out RMS, noise units).\n\n"
+     << "| rank | family | best form | after | shrink % | delta BIC | other forms: after (shrink %) |\n"
+     << "|---|---|---|---|---|---|---|\n";
+  for (std::size_t k = 0; k < r.families.size(); ++k) {
+    const RankedFamily& f = r.families[k];
+    os << "| " << k + 1 << " | " << f.family << " | " << (f.best_form.empty() ? "-" : f.best_form) << " | "
+       << f.heldout_rms_after << " | " << f.shrink_pct << " | " << f.delta_bic << " | ";
+    for (std::size_t i = 1; i < f.forms.size(); ++i) {
+      os << f.forms[i].form << ": " << f.forms[i].heldout_rms_after << " (" << f.forms[i].shrink_pct << ") ";
+    }
+    os << "|\n";
+  }
+}
+
+void markdown_effect_row(std::ostream& os, const DiagnosisResult& r, const RankedEffect& e, const std::string& rank) {
+  os << "| " << rank << " | " << e.effect << " | " << e.heldout_rms_before << " | " << e.heldout_rms_after << " | "
+     << e.shrink_pct << " | " << e.delta_bic << " | ";
+  for (const auto& [name, value] : e.fitted) {
+    os << name << " = " << value << " ";
+  }
+  if (!e.note.empty()) {
+    os << "(" << e.note << ")";
+  }
+  os << " | ";
+  for (std::size_t c = 0; c < r.channels.size(); ++c) {
+    os << r.channels[c].name << " " << e.channel_before[c] << " -> " << e.channel_after[c] << " "
+       << r.channels[c].unit << " (" << e.channel_shrink_pct[c] << " %); ";
+  }
+  os << "|\n";
+}
+
+void markdown_ranking(std::ostream& os, const DiagnosisResult& r) {
   os << "\n## Which effect, and how far it shrinks the held-out gap\n\n"
      << "Held-out RMS in noise units, combined over channels, " << r.cv_rule
      << "; ranked by held-out RMS after, near-ties by training BIC. Fitted sizes are those of the first split.\n\n"
      << "| rank | effect | before | after | shrink % | delta BIC | fitted | per channel: before -> after unit (shrink %) |\n"
      << "|---|---|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < r.ranking.size(); ++k) {
-    const RankedEffect& e = r.ranking[k];
-    os << "| " << k + 1 << " | " << e.effect << " | " << e.heldout_rms_before << " | " << e.heldout_rms_after << " | "
-       << e.shrink_pct << " | " << e.delta_bic << " | ";
-    for (const auto& [name, value] : e.fitted) {
-      os << name << " = " << value << " ";
-    }
-    if (!e.note.empty()) {
-      os << "(" << e.note << ")";
-    }
-    os << " | ";
-    for (std::size_t c = 0; c < r.channels.size(); ++c) {
-      os << r.channels[c].name << " " << e.channel_before[c] << " -> " << e.channel_after[c] << " "
-         << r.channels[c].unit << " (" << e.channel_shrink_pct[c] << " %); ";
-    }
-    os << "|\n";
+    markdown_effect_row(os, r, r.ranking[k], std::to_string(k + 1));
+  }
+  for (const RankedEffect& e : r.references) {
+    markdown_effect_row(os, r, e, "reference");
+  }
+  if (!r.references.empty()) {
+    os << "\nreference: not a candidate effect but the base parameters refitted on this data (a soil change).\n";
+  }
+}
+
+}  // namespace
+
+std::string summary_markdown(const DiagnosisResult& r) {
+  std::ostringstream os;
+  os << std::setprecision(4);
+  os << "# Sim-to-real gap diagnosis\n\n"
+     << "- data: " << r.source << " (" << r.rows.size() << " rows)\n"
+     << "- model: " << r.model << "\n";
+  if (r.two_condition) {
+    os << "- base condition: " << r.base_source << " (" << r.base_rows << " rows)\n";
+  }
+  os << "- split: " << r.split_rule << "\n"
+     << "- ranking scored on: " << r.cv_rule << "\n"
+     << "- verdict: **" << verdict_name(r.verdict) << "**: " << r.verdict_text << "\n\n";
+  markdown_settings(os, r);
+  if (r.verdict != Verdict::not_enough_data) {
+    markdown_noise_and_base(os, r);
+    markdown_where(os, r);
+    markdown_families(os, r);
+    markdown_ranking(os, r);
   }
   for (const std::string& note : r.notes) {
     os << "\nNote: " << note << "\n";
@@ -249,7 +436,7 @@ ResidualRange residual_plot_range(const DiagnosisResult& r) {
   for (std::size_t i = 0; i < r.rows.size(); ++i) {
     for (std::size_t c = 0; c < r.channels.size(); ++c) {
       // As in residuals.dat: the residual over the row's noise in that channel.
-      const double noise = i < r.row_noise.size() ? r.row_noise[i][c] : r.noise[c].sigma;
+      const double noise = row_noise_of(r, i, c);
       for (const FitResult* fit : {&r.base, top != nullptr ? &top->fit : nullptr}) {
         if (fit == nullptr || i >= fit->residuals.size() || c >= fit->residuals[i].size()) {
           continue;
@@ -360,75 +547,66 @@ void check_report_directory(const std::string& dir) {
   }
 }
 
-std::vector<std::string> write_report(const DiagnosisResult& r, const std::string& dir, const std::string& gnuplot) {
-  namespace fs = std::filesystem;
-  std::vector<std::string> notes;
-  // Every file is written through a temporary (output_file.hpp) and renamed
-  // only when all of them, the plots included, are complete: an error leaves
-  // no half-written report.
-  check_report_directory(dir);
-  create_output_directory(dir);
-  const fs::path base(dir);
-  const RankedEffect* top = top_effect(r);
-  OutputFileSet files;
+namespace {
 
-  // residuals.dat: one line per row; residuals in noise units so that the
-  // channels share one axis.
-  OutputFile& dat_file = files.add((base / "residuals.dat").string());
-  {
-    std::ostream& dat = dat_file.stream();
-    dat << "# slip load_N sinkage_ratio heldout";
-    for (const ChannelInfo& c : r.channels) {
-      dat << " base_" << c.name;
-    }
-    for (const ChannelInfo& c : r.channels) {
-      dat << " top_" << c.name;
-    }
-    dat << "  (residual = measured - model, in units of the row's noise in that channel)\n";
-    std::vector<bool> held(r.rows.size(), false);
-    for (std::size_t i : r.heldout) {
-      held[i] = true;
-    }
-    dat << std::setprecision(8);
-    auto noise_of = [&](std::size_t i, std::size_t c) {
-      return i < r.row_noise.size() ? r.row_noise[i][c] : r.noise[c].sigma;
-    };
-    for (std::size_t i = 0; i < r.rows.size(); ++i) {
-      dat << r.rows[i].slip << ' ' << r.rows[i].load_n << ' ' << r.rows[i].sinkage_ratio << ' ' << (held[i] ? 1 : 0);
-      for (std::size_t c = 0; c < r.channels.size(); ++c) {
-        const double v = r.base.residuals[i][c] / noise_of(i, c);
-        dat << ' ' << (std::isfinite(v) ? num(v) : std::string("NaN"));
-      }
-      for (std::size_t c = 0; c < r.channels.size(); ++c) {
-        const double v = top != nullptr ? top->fit.residuals[i][c] / noise_of(i, c) : std::nan("");
-        dat << ' ' << (std::isfinite(v) ? num(v) : std::string("NaN"));
-      }
-      dat << '\n';
-    }
+// residuals.dat: one line per row; residuals in noise units so that the
+// channels share one axis (NaN where there is no fit: not_enough_data).
+void write_residuals_dat(std::ostream& dat, const DiagnosisResult& r) {
+  const RankedEffect* top = top_effect(r);
+  dat << "# slip load_N sinkage_ratio heldout";
+  for (const ChannelInfo& c : r.channels) {
+    dat << " base_" << c.name;
   }
-  // residuals.gp: residual vs slip and vs load, base and top effect.
-  const std::string top_name = top != nullptr ? top->effect : std::string("none");
-  const std::string script = residuals_plot_script(r);
-  files.add((base / "residuals.gp").string()).write(script);
-  {
-    std::ostringstream md;
-    md << summary_markdown(r);
-    if (gnuplot.empty()) {
-      md << "\nNote: gnuplot was not found, so no plots were drawn; residuals.dat and residuals.gp are here "
-            "(run `gnuplot residuals.gp` in this folder where gnuplot is installed).\n";
-    } else {
-      md << "\nPlots: residuals_vs_slip.svg, residuals_vs_load.svg (base and base + " << top_name << ").\n";
-    }
-    files.add((base / "summary.md").string()).write(md.str());
+  for (const ChannelInfo& c : r.channels) {
+    dat << " top_" << c.name;
   }
+  dat << "  (residual = measured - model, in units of the row's noise in that channel)\n";
+  std::vector<bool> held(r.rows.size(), false);
+  for (std::size_t i : r.heldout) {
+    held[i] = true;
+  }
+  dat << std::setprecision(8);
+  auto scaled = [&](const FitResult* fit, std::size_t i, std::size_t c) {
+    if (fit == nullptr || i >= fit->residuals.size()) {
+      return std::string("NaN");
+    }
+    const double v = fit->residuals[i][c] / row_noise_of(r, i, c);
+    return std::isfinite(v) ? num(v) : std::string("NaN");
+  };
+  for (std::size_t i = 0; i < r.rows.size(); ++i) {
+    dat << r.rows[i].slip << ' ' << r.rows[i].load_n << ' ' << r.rows[i].sinkage_ratio << ' ' << (held[i] ? 1 : 0);
+    for (std::size_t c = 0; c < r.channels.size(); ++c) {
+      dat << ' ' << scaled(&r.base, i, c);
+    }
+    for (std::size_t c = 0; c < r.channels.size(); ++c) {
+      dat << ' ' << scaled(top != nullptr ? &top->fit : nullptr, i, c);
+    }
+    dat << '\n';
+  }
+}
+
+std::string report_summary(const DiagnosisResult& r, const std::string& gnuplot) {
+  const RankedEffect* top = top_effect(r);
+  std::ostringstream md;
+  md << summary_markdown(r);
   if (gnuplot.empty()) {
-    files.commit();
-    notes.push_back("gnuplot not found: wrote residuals.dat, residuals.gp and summary.md but no plots");
-    return notes;
+    md << "\nNote: gnuplot was not found, so no plots were drawn; residuals.dat and residuals.gp are here "
+          "(run `gnuplot residuals.gp` in this folder where gnuplot is installed).\n";
+  } else {
+    md << "\nPlots: residuals_vs_slip.svg, residuals_vs_load.svg (base and base + "
+       << (top != nullptr ? top->effect : std::string("none")) << ").\n";
   }
-  // gnuplot draws into temporaries beside the targets, from the temporary
-  // residuals.dat, through a copy of residuals.gp naming them; its exit status
-  // and both plots are checked before anything is renamed into place.
+  return md.str();
+}
+
+// gnuplot draws into temporaries beside the targets, from the temporary
+// residuals.dat, through a copy of residuals.gp naming them; its exit status
+// is checked before anything is renamed into place (files.commit() then
+// checks that both plots were written).
+void draw_plots(OutputFileSet& files, OutputFile& dat_file, const std::string& script, const std::string& dir,
+                const std::string& gnuplot) {
+  namespace fs = std::filesystem;
+  const fs::path base(dir);
   dat_file.close();
   OutputFile& slip_svg = files.add((base / "residuals_vs_slip.svg").string());
   OutputFile& load_svg = files.add((base / "residuals_vs_load.svg").string());
@@ -457,10 +635,32 @@ std::vector<std::string> write_report(const DiagnosisResult& r, const std::strin
                              (messages.empty() ? std::string() : ":\n" + messages) +
                              "\nno report file was written");
   }
-  files.commit();  // checks that gnuplot wrote both plots
-  notes.push_back("plots written: " + (base / "residuals_vs_slip.svg").string() + ", " +
-                  (base / "residuals_vs_load.svg").string());
-  return notes;
+}
+
+}  // namespace
+
+std::vector<std::string> write_report(const DiagnosisResult& r, const std::string& dir, const std::string& gnuplot) {
+  namespace fs = std::filesystem;
+  // Every file is written through a temporary (output_file.hpp) and renamed
+  // only when all of them, the plots included, are complete: an error leaves
+  // no half-written report.
+  check_report_directory(dir);
+  create_output_directory(dir);
+  const fs::path base(dir);
+  OutputFileSet files;
+  OutputFile& dat_file = files.add((base / "residuals.dat").string());
+  write_residuals_dat(dat_file.stream(), r);
+  const std::string script = residuals_plot_script(r);
+  files.add((base / "residuals.gp").string()).write(script);
+  files.add((base / "summary.md").string()).write(report_summary(r, gnuplot));
+  if (gnuplot.empty()) {
+    files.commit();
+    return {"gnuplot not found: wrote residuals.dat, residuals.gp and summary.md but no plots"};
+  }
+  draw_plots(files, dat_file, script, dir, gnuplot);
+  files.commit();
+  return {"plots written: " + (base / "residuals_vs_slip.svg").string() + ", " +
+          (base / "residuals_vs_load.svg").string()};
 }
 
 }  // namespace ground

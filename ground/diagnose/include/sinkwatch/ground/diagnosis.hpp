@@ -17,12 +17,20 @@
 //   HOW FAR    held-out RMS per channel before and after, in the channel's
 //              unit and as a percentage, with the candidate's fitted size.
 //
+// The stages (diagnose()): input sufficiency (not_enough_data with a campaign
+// suggestion), noise, base fit, candidates (each fitted on every fold, on all
+// cores), ranking (candidates, then families each by its best form) and the
+// verdict (an enum, Verdict). With a base condition (diagnose_against_base):
+// the base parameters are fitted once on another data set (a smooth wheel, a
+// reference simulant) and held fixed; candidates fit their own terms only.
+//
 // docs/diagnosis.md gives the method, the split and ranking rules and their
 // thresholds. Host only, double precision.
 #ifndef SINKWATCH_GROUND_DIAGNOSIS_HPP
 #define SINKWATCH_GROUND_DIAGNOSIS_HPP
 
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -67,6 +75,9 @@ struct Candidate {
   std::string note;
   double reference = 0.0;       // a constant of the term fixed by the training rows (e.g. W_ref)
 };
+
+/// The family a candidate belongs to: its `family`, or its name when empty.
+[[nodiscard]] std::string family_of(const Candidate& candidate);
 
 /// A further component of the gap that is not a model effect (e.g. the flight
 /// code's fixed-point quantisation), in a channel's unit.
@@ -176,6 +187,8 @@ struct WhereBreakdown {
 /// the reported sizes.
 struct RankedEffect {
   std::string effect;
+  std::string family;               // family_of(candidate)
+  std::string form;                 // the candidate's form ("" for a one-form family)
   std::string description;
   bool identifiable = true;
   std::string note;
@@ -191,6 +204,55 @@ struct RankedEffect {
   double delta_bic = 0.0;           // candidate BIC - base BIC (negative: supported)
   FitResult fit;
 };
+
+/// One form's score within its family (RankedFamily::forms).
+struct FormScore {
+  std::string effect;               // the candidate's name
+  std::string form;
+  bool identifiable = true;
+  double heldout_rms_after = 0.0;   // noise-scaled, pooled over the folds
+  double shrink_pct = 0.0;
+  std::string note;
+};
+
+/// An effect family, scored by its best form: the identifiable form with the
+/// lowest pooled held-out RMS (the ranking's order, near-ties by BIC).
+struct RankedFamily {
+  std::string family;
+  std::string best_effect;          // candidate name of the best form
+  std::string best_form;
+  std::size_t best_rank = 0;        // index of the best form in DiagnosisResult::ranking
+  bool identifiable = true;         // some form could be fitted
+  double heldout_rms_after = 0.0;
+  double shrink_pct = 0.0;
+  double delta_bic = 0.0;
+  std::vector<FormScore> forms;     // every form, best first
+};
+
+/// The outcome of the diagnosis (docs/diagnosis.md, "Verdicts").
+enum class Verdict {
+  no_gap,            // base held-out RMS below gap_threshold x noise
+  weak_gap,          // between gap_threshold and residual_threshold x noise
+  explained,         // the best family takes the gap to residual_threshold x noise or below
+  partly_explained,  // the best family takes at least partial_threshold_pct of it, the rest stays above
+  ambiguous,         // two or more families tie on held-out rows: the data cannot tell them apart
+  not_explained,     // no family shrinks the gap enough (explain / partial thresholds)
+  not_enough_data,   // too few rows to fit and hold out: verdict_text suggests rows to add
+};
+
+/// The verdict's name in reports and JSON ("no_gap", "explained", ...).
+[[nodiscard]] const char* verdict_name(Verdict verdict);
+
+/// A setting of the run the caller describes for the report (e.g. gravity,
+/// soil preset), as text.
+struct NamedSetting {
+  std::string name;
+  std::string value;
+};
+
+/// Progress of the candidate stage: called with (fits done, fits in all)
+/// after every candidate, from the worker threads under one lock.
+using DiagnosisProgress = std::function<void(std::size_t done, std::size_t total)>;
 
 struct DiagnosisSettings {
   double tie_fraction = 0.02;           // near-tie: held-out scores within 2 % of the base's
@@ -209,6 +271,28 @@ struct DiagnosisSettings {
   // initial value (the Wong–Reece candidates start at half their documented
   // default size, so 1 and 4 mean half and twice that size).
   std::vector<double> start_multiples{1.0, 4.0};
+  // With the best family's residual above residual_threshold: it is named
+  // (partly_explained) only when it takes at least this share of the gap;
+  // below, the verdict is not_explained (no family describes the gap).
+  double partial_threshold_pct = 50.0;
+  // Fewer rows than this: not_enough_data (a campaign suggestion, no fit).
+  std::size_t min_rows = 8;
+  // Ceres stopping rules of every fit.
+  double function_tolerance = 1e-10;
+  double parameter_tolerance = 1e-10;
+  // Threads of the candidate stage; 0: std::thread::hardware_concurrency().
+  // The results do not depend on it (each candidate is fitted alone and
+  // written to its own slot).
+  std::size_t threads = 0;
+  DiagnosisProgress progress;
+  // Settings of the caller, stated in the report (gravity, soil preset, ...).
+  std::vector<NamedSetting> inputs;
+};
+
+/// The base condition of a two-condition diagnosis (diagnose_against_base).
+struct BaseCondition {
+  std::vector<DiagnosisRow> rows;
+  std::string source;
 };
 
 struct DiagnosisResult {
@@ -232,9 +316,20 @@ struct DiagnosisResult {
   FitResult base;
   WhereBreakdown where;
   std::vector<RankedEffect> ranking;  // best first; non-identifiable ones last
-  std::string verdict;                // "explained", "partly_explained", "not_explained", "no_gap"
+  std::vector<RankedFamily> families; // best first, each by its best form
+  Verdict verdict = Verdict::not_enough_data;
   std::string verdict_text;
   std::vector<std::string> notes;
+  DiagnosisSettings settings;         // as used (progress not shown)
+  // Two-condition diagnosis: the base condition's data, the base fitted on all
+  // of its rows (then held fixed), and the reference pseudo-candidate
+  // "base_refit_on_data" (the base parameters refitted on this data: a soil
+  // change) scored like a candidate. Empty / false otherwise.
+  bool two_condition = false;
+  std::string base_source;
+  std::size_t base_rows = 0;
+  FitResult base_condition_fit;
+  std::vector<RankedEffect> references;
 };
 
 /// Estimates the noise of each channel (model-free when possible, else from a
@@ -266,9 +361,21 @@ struct PooledHeldout {
                                            const std::vector<FitResult>& fits, const std::vector<DataSplit>& folds,
                                            const std::vector<ChannelNoiseEstimate>& noise);
 
-/// The whole diagnosis.
+/// The whole diagnosis. Too few rows give Verdict::not_enough_data (no
+/// exception): verdict_text says which loads and slips to add.
 [[nodiscard]] DiagnosisResult diagnose(const DiagnosisModel& model, const std::vector<DiagnosisRow>& rows,
                                        const std::string& source, const DiagnosisSettings& settings = {});
+
+/// Two-condition diagnosis: the base parameters are fitted on every row of
+/// `base` and held fixed; the gap is that base model on the held-out rows of
+/// `rows`; each candidate fits only its own terms on the training rows of
+/// each fold. `references` holds "base_refit_on_data".
+[[nodiscard]] DiagnosisResult diagnose_against_base(const DiagnosisModel& model, const BaseCondition& base,
+                                                    const std::vector<DiagnosisRow>& rows, const std::string& source,
+                                                    const DiagnosisSettings& settings = {});
+
+/// The campaign suggestion of not_enough_data: which loads and slips to add.
+[[nodiscard]] std::string campaign_suggestion(const std::vector<DiagnosisRow>& rows, std::size_t min_rows);
 
 }  // namespace ground
 }  // namespace sinkwatch
