@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string_view>
 #include <system_error>
+#include <tuple>
 #include <utility>
 
 #include "sinkwatch/ground/text_input.hpp"
@@ -251,55 +252,57 @@ const char* to_string(SoilBinForm form) noexcept {
   return "unknown";
 }
 
-SoilBinDataset parse_soil_bin_csv(std::istream& in, const std::string& source,
-                                  const SoilBinReadOptions& options) {
-  if (options.wheel_radius_m && !range_of("wheel_radius_m").contains(*options.wheel_radius_m)) {
-    throw DataError(source, 0, 0, "",
-                    "the wheel radius must be a finite number in " +
-                        range_of("wheel_radius_m").describe() + ", got " +
-                        text_input::format_number(*options.wheel_radius_m));
-  }
-  if (options.load_n && !range_of("load_N").contains(*options.load_n)) {
-    throw DataError(source, 0, 0, "",
-                    "the wheel load must be a finite number in " + range_of("load_N").describe() +
-                        ", got " + text_input::format_number(*options.load_n));
-  }
-  if (options.wheel_width_m && !range_of("wheel_width_m").contains(*options.wheel_width_m)) {
-    throw DataError(source, 0, 0, "",
-                    "the wheel width must be a finite number in " +
-                        range_of("wheel_width_m").describe() + ", got " +
-                        text_input::format_number(*options.wheel_width_m));
-  }
+namespace {
 
-  std::string text;
-  LineReader lines(in, source);
+// --radius, --load and --width, when given, are in their columns' ranges.
+void check_options(const SoilBinReadOptions& options, const std::string& source) {
+  const std::array<std::tuple<const std::optional<double>&, const char*, const char*>, 3> given = {{
+      {options.wheel_radius_m, "wheel_radius_m", "the wheel radius"},
+      {options.load_n, "load_N", "the wheel load"},
+      {options.wheel_width_m, "wheel_width_m", "the wheel width"},
+  }};
+  for (const auto& [value, column, what] : given) {
+    if (value && !range_of(column).contains(*value)) {
+      throw DataError(source, 0, 0, "",
+                      std::string(what) + " must be a finite number in " +
+                          range_of(column).describe() + ", got " +
+                          text_input::format_number(*value));
+    }
+  }
+}
 
-  // Header: the first line that is neither blank nor a comment.
+// The header's column names, each known or a note column, none twice.
+void read_header_names(std::string_view text, const std::string& source, Header& header) {
+  for (std::string_view name : split_fields(text)) {
+    const std::size_t column = header.names.size() + 1;
+    if (name.empty()) {
+      throw DataError(source, header.line, column, "", "empty column name in the header");
+    }
+    if (header.find(name) != kAbsent) {
+      throw DataError(source, header.line, column, std::string(name),
+                      "column appears twice in the header");
+    }
+    if (known_column(name) == nullptr && !text_input::is_note_column(name)) {
+      throw DataError(source, header.line, column, std::string(name),
+                      "unknown column; the known columns are " + known_column_list() +
+                          " (a column whose name starts with 'note' is ignored)");
+    }
+    const KnownColumn* const known = known_column(name);
+    header.ranges.push_back(known != nullptr ? &known->range : nullptr);
+    header.names.emplace_back(name);
+  }
+}
+
+// The header: the first line that is neither blank nor a comment.
+Header read_header(std::istream& in, LineReader& lines, const std::string& source) {
   Header header;
+  std::string text;
   while (lines.next(text)) {
-    if (is_skipped(text)) {
-      continue;
+    if (!is_skipped(text)) {
+      header.line = lines.number();
+      read_header_names(text, source, header);
+      break;
     }
-    header.line = lines.number();
-    for (std::string_view name : split_fields(text)) {
-      const std::size_t column = header.names.size() + 1;
-      if (name.empty()) {
-        throw DataError(source, header.line, column, "", "empty column name in the header");
-      }
-      if (header.find(name) != kAbsent) {
-        throw DataError(source, header.line, column, std::string(name),
-                        "column appears twice in the header");
-      }
-      if (known_column(name) == nullptr && !text_input::is_note_column(name)) {
-        throw DataError(source, header.line, column, std::string(name),
-                        "unknown column; the known columns are " + known_column_list() +
-                            " (a column whose name starts with 'note' is ignored)");
-      }
-      const KnownColumn* const known = known_column(name);
-      header.ranges.push_back(known != nullptr ? &known->range : nullptr);
-      header.names.emplace_back(name);
-    }
-    break;
   }
   if (in.bad()) {
     throw DataError(source, lines.number(), 0, "", "read error");
@@ -307,125 +310,177 @@ SoilBinDataset parse_soil_bin_csv(std::istream& in, const std::string& source,
   if (header.line == 0) {
     throw DataError(source, 0, 0, "", "empty file: no header row (only blank or comment lines)");
   }
+  return header;
+}
 
-  SoilBinDataset dataset;
-  dataset.source = source;
+// The form whose columns the header holds; otherwise an error naming what is
+// missing for the form the header was apparently meant to be.
+SoilBinForm form_of(const Header& header, const std::string& source) {
   const std::string dimensional_missing = missing_columns(header, kDimensionalColumns);
   const std::string dimensionless_missing = missing_columns(header, kDimensionlessColumns);
   if (dimensional_missing.empty()) {
-    dataset.form = SoilBinForm::dimensional;
-  } else if (dimensionless_missing.empty()) {
-    dataset.form = SoilBinForm::dimensionless;
-  } else {
-    // Name what is missing for the form the header was apparently meant to be.
-    const bool looks_dimensional = header.find("torque_Nm") != kAbsent ||
-                                   header.find("sinkage_m") != kAbsent ||
-                                   header.find("drawbar_pull_N") != kAbsent;
-    const bool looks_dimensionless = header.find("sinkage_ratio") != kAbsent ||
-                                     header.find("drive_coeff") != kAbsent ||
-                                     header.find("traction_coeff") != kAbsent;
-    std::string detail;
-    if (looks_dimensional && !looks_dimensionless) {
-      detail = "missing column(s) " + dimensional_missing +
-               " for the dimensional form (slip, load_N, torque_Nm, sinkage_m, drawbar_pull_N)";
-    } else if (looks_dimensionless && !looks_dimensional) {
-      detail = "missing column(s) " + dimensionless_missing +
-               " for the dimensionless form (slip, sinkage_ratio, drive_coeff, traction_coeff)";
-    } else {
-      detail = "the header has neither the dimensional columns (missing " + dimensional_missing +
-               ") nor the dimensionless columns (missing " + dimensionless_missing + ")";
-    }
-    throw DataError(source, header.line, 0, "", detail);
+    return SoilBinForm::dimensional;
   }
+  if (dimensionless_missing.empty()) {
+    return SoilBinForm::dimensionless;
+  }
+  const bool looks_dimensional = header.find("torque_Nm") != kAbsent ||
+                                 header.find("sinkage_m") != kAbsent ||
+                                 header.find("drawbar_pull_N") != kAbsent;
+  const bool looks_dimensionless = header.find("sinkage_ratio") != kAbsent ||
+                                   header.find("drive_coeff") != kAbsent ||
+                                   header.find("traction_coeff") != kAbsent;
+  std::string detail;
+  if (looks_dimensional && !looks_dimensionless) {
+    detail = "missing column(s) " + dimensional_missing +
+             " for the dimensional form (slip, load_N, torque_Nm, sinkage_m, drawbar_pull_N)";
+  } else if (looks_dimensionless && !looks_dimensional) {
+    detail = "missing column(s) " + dimensionless_missing +
+             " for the dimensionless form (slip, sinkage_ratio, drive_coeff, traction_coeff)";
+  } else {
+    detail = "the header has neither the dimensional columns (missing " + dimensional_missing +
+             ") nor the dimensionless columns (missing " + dimensionless_missing + ")";
+  }
+  throw DataError(source, header.line, 0, "", detail);
+}
 
-  const std::size_t slip_col = header.find("slip");
-  const std::size_t load_col = header.find("load_N");
-  const std::size_t radius_col = header.find("wheel_radius_m");
-  const std::size_t width_col = header.find("wheel_width_m");
-  if (load_col != kAbsent && options.load_n) {
-    throw DataError(source, header.line, load_col + 1, "load_N",
+// Where the shared columns are, each column or its option (never both).
+struct Columns {
+  std::size_t slip = kAbsent;
+  std::size_t load = kAbsent;
+  std::size_t radius = kAbsent;
+  std::size_t width = kAbsent;
+};
+
+Columns locate_columns(const Header& header, SoilBinForm form, const SoilBinReadOptions& options,
+                       const std::string& source) {
+  const Columns columns{header.find("slip"), header.find("load_N"), header.find("wheel_radius_m"),
+                        header.find("wheel_width_m")};
+  if (columns.load != kAbsent && options.load_n) {
+    throw DataError(source, header.line, columns.load + 1, "load_N",
                     "the load is given twice (this column and --load); keep one");
   }
-  dataset.has_load = load_col != kAbsent || options.load_n.has_value();
-  if (radius_col != kAbsent && options.wheel_radius_m) {
-    throw DataError(source, header.line, radius_col + 1, "wheel_radius_m",
+  if (columns.radius != kAbsent && options.wheel_radius_m) {
+    throw DataError(source, header.line, columns.radius + 1, "wheel_radius_m",
                     "the radius is given twice (this column and --radius); keep one");
   }
-  if (width_col != kAbsent && options.wheel_width_m) {
-    throw DataError(source, header.line, width_col + 1, "wheel_width_m",
+  if (columns.width != kAbsent && options.wheel_width_m) {
+    throw DataError(source, header.line, columns.width + 1, "wheel_width_m",
                     "the width is given twice (this column and --width); keep one");
   }
-  if (dataset.form == SoilBinForm::dimensional) {
-    if (radius_col == kAbsent && !options.wheel_radius_m) {
-      throw DataError(source, header.line, 0, "",
-                      "missing wheel radius: the dimensional form needs a wheel_radius_m column "
-                      "or --radius");
+  if (form == SoilBinForm::dimensional && columns.radius == kAbsent && !options.wheel_radius_m) {
+    throw DataError(source, header.line, 0, "",
+                    "missing wheel radius: the dimensional form needs a wheel_radius_m column "
+                    "or --radius");
+  }
+  return columns;
+}
+
+// The row's fields, split; a row with a field too many or too few is an
+// error at the first field that does not match the header.
+std::vector<std::string_view> row_fields(std::string_view text, const Header& header,
+                                         const std::string& source, std::size_t line_number) {
+  std::vector<std::string_view> fields = split_fields(text);
+  if (fields.size() != header.names.size()) {
+    const std::size_t column = std::min(fields.size(), header.names.size()) + 1;
+    const std::string name = fields.size() < header.names.size() ? header.names[column - 1] : "";
+    throw DataError(source, line_number, column, name,
+                    "wrong number of fields: the header has " +
+                        std::to_string(header.names.size()) + ", this row has " +
+                        std::to_string(fields.size()));
+  }
+  return fields;
+}
+
+// The ratios of a dimensional row. Each measurement is in range, but a unit
+// mistake (millimetres in a metre column) shows in the ratios: they get the
+// ranges of the dimensionless columns.
+void set_dimensional_ratios(SoilBinRow& row, const std::string& source) {
+  const double radius_m = *row.wheel_radius_m;
+  const double load_n = *row.load_n;
+  row.sinkage_ratio = *row.sinkage_m / radius_m;
+  row.drive_coeff = *row.torque_nm / (radius_m * load_n);
+  row.traction_coeff = *row.drawbar_pull_n / load_n;
+  for (const auto& [name, ratio] :
+       {std::pair<const char*, double>{"sinkage_ratio", row.sinkage_ratio},
+        {"drive_coeff", row.drive_coeff},
+        {"traction_coeff", row.traction_coeff}}) {
+    if (!range_of(name).contains(ratio)) {
+      throw DataError(source, row.line, 0, "",
+                      std::string(name == std::string_view("sinkage_ratio") ? "z/r"
+                                  : name == std::string_view("drive_coeff")  ? "T/(rW)"
+                                                                              : "DP/W") +
+                          " = " + text_input::out_of_range_message(ratio, range_of(name)) +
+                          " (check the units of this row)");
     }
   }
+}
 
+// What the reader needs to turn a data line into a row.
+struct RowContext {
+  const std::string& source;
+  const Header& header;
+  const Columns& columns;
+  SoilBinForm form;
+  const SoilBinReadOptions& options;
+};
+
+SoilBinRow parse_row(std::string_view text, std::size_t line_number, const RowContext& context) {
+  const Header& header = context.header;
+  const std::vector<std::string_view> fields =
+      row_fields(text, header, context.source, line_number);
+  const RowParser parse(context.source, header, line_number, fields);
+  // Every known column is a number in its range, used or not (a column
+  // that is there is checked); the note columns are free text.
+  std::vector<double> values(fields.size(), 0.0);
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    if (header.ranges[i] != nullptr) {
+      values[i] = parse.checked(i);
+    }
+  }
+  const auto value = [&](const char* name) { return values[header.find(name)]; };
+  const auto column_or_option = [&values](std::size_t column, const std::optional<double>& option) {
+    return column != kAbsent ? std::optional<double>(values[column]) : option;
+  };
+  SoilBinRow row;
+  row.line = line_number;
+  row.slip = values[context.columns.slip];
+  row.load_n = column_or_option(context.columns.load, context.options.load_n);
+  row.wheel_radius_m = column_or_option(context.columns.radius, context.options.wheel_radius_m);
+  row.wheel_width_m = column_or_option(context.columns.width, context.options.wheel_width_m);
+  if (context.form == SoilBinForm::dimensional) {
+    row.torque_nm = value("torque_Nm");
+    row.sinkage_m = value("sinkage_m");
+    row.drawbar_pull_n = value("drawbar_pull_N");
+    set_dimensional_ratios(row, context.source);
+  } else {
+    row.sinkage_ratio = value("sinkage_ratio");
+    row.drive_coeff = value("drive_coeff");
+    row.traction_coeff = value("traction_coeff");
+  }
+  return row;
+}
+
+}  // namespace
+
+SoilBinDataset parse_soil_bin_csv(std::istream& in, const std::string& source,
+                                  const SoilBinReadOptions& options) {
+  check_options(options, source);
+  LineReader lines(in, source);
+  const Header header = read_header(in, lines, source);
+
+  SoilBinDataset dataset;
+  dataset.source = source;
+  dataset.form = form_of(header, source);
+  const Columns columns = locate_columns(header, dataset.form, options, source);
+  dataset.has_load = columns.load != kAbsent || options.load_n.has_value();
+
+  const RowContext context{source, header, columns, dataset.form, options};
+  std::string text;
   while (lines.next(text)) {
-    const std::size_t line_number = lines.number();
-    if (is_skipped(text)) {
-      continue;
+    if (!is_skipped(text)) {
+      dataset.rows.push_back(parse_row(text, lines.number(), context));
     }
-    const std::vector<std::string_view> fields = split_fields(text);
-    if (fields.size() != header.names.size()) {
-      const std::size_t column = std::min(fields.size(), header.names.size()) + 1;
-      const std::string name = fields.size() < header.names.size() ? header.names[column - 1] : "";
-      throw DataError(source, line_number, column, name,
-                      "wrong number of fields: the header has " +
-                          std::to_string(header.names.size()) + ", this row has " +
-                          std::to_string(fields.size()));
-    }
-    const RowParser parse(source, header, line_number, fields);
-    // Every known column is a number in its range, used or not (a column
-    // that is there is checked); the note columns are free text.
-    std::vector<double> values(fields.size(), 0.0);
-    for (std::size_t i = 0; i < fields.size(); ++i) {
-      if (header.ranges[i] != nullptr) {
-        values[i] = parse.checked(i);
-      }
-    }
-    const auto value = [&](const char* name) { return values[header.find(name)]; };
-    SoilBinRow row;
-    row.line = line_number;
-    row.slip = values[slip_col];
-    row.load_n = load_col != kAbsent ? std::optional<double>(values[load_col]) : options.load_n;
-    row.wheel_radius_m =
-        radius_col != kAbsent ? std::optional<double>(values[radius_col]) : options.wheel_radius_m;
-    row.wheel_width_m =
-        width_col != kAbsent ? std::optional<double>(values[width_col]) : options.wheel_width_m;
-    if (dataset.form == SoilBinForm::dimensional) {
-      const double radius_m = *row.wheel_radius_m;
-      const double load_n = *row.load_n;
-      row.torque_nm = value("torque_Nm");
-      row.sinkage_m = value("sinkage_m");
-      row.drawbar_pull_n = value("drawbar_pull_N");
-      row.sinkage_ratio = *row.sinkage_m / radius_m;
-      row.drive_coeff = *row.torque_nm / (radius_m * load_n);
-      row.traction_coeff = *row.drawbar_pull_n / load_n;
-      // Each measurement is in range, but a unit mistake (millimetres in a
-      // metre column) shows in the ratios: they get the ranges of the
-      // dimensionless columns.
-      for (const auto& [name, ratio] :
-           {std::pair<const char*, double>{"sinkage_ratio", row.sinkage_ratio},
-            {"drive_coeff", row.drive_coeff},
-            {"traction_coeff", row.traction_coeff}}) {
-        if (!range_of(name).contains(ratio)) {
-          throw DataError(source, line_number, 0, "",
-                          std::string(name == std::string_view("sinkage_ratio") ? "z/r"
-                                      : name == std::string_view("drive_coeff")  ? "T/(rW)"
-                                                                                  : "DP/W") +
-                              " = " + text_input::out_of_range_message(ratio, range_of(name)) +
-                              " (check the units of this row)");
-        }
-      }
-    } else {
-      row.sinkage_ratio = value("sinkage_ratio");
-      row.drive_coeff = value("drive_coeff");
-      row.traction_coeff = value("traction_coeff");
-    }
-    dataset.rows.push_back(row);
   }
   if (in.bad()) {
     throw DataError(source, lines.number(), 0, "", "read error");
