@@ -99,104 +99,148 @@ SideContacts side_contacts(const RoverGeometry& g, double rocker_rad, double bog
   return c;
 }
 
-WheelLoads wheel_loads(const RoverGeometry& g, Attitude att, const JointAngles& joints) {
-  WheelLoads out;
+namespace {
+
+// ok, or why the geometry, attitude or joint angles cannot be solved.
+LoadStatus check_load_inputs(const RoverGeometry& g, Attitude att, const JointAngles& joints) {
   if (!validate(g).empty()) {
-    out.status = LoadStatus::invalid_geometry;
-    return out;
+    return LoadStatus::invalid_geometry;
   }
   if (!finite_all({att.pitch_rad, att.roll_rad}) || std::fabs(att.pitch_rad) > g.attitude_limit_rad ||
       std::fabs(att.roll_rad) > g.attitude_limit_rad) {
-    out.status = LoadStatus::attitude_out_of_range;
-    return out;
+    return LoadStatus::attitude_out_of_range;
   }
   for (std::size_t s = 0U; s < 2U; ++s) {
     if (!finite_all({joints.rocker_rad[s], joints.bogie_rad[s]}) ||
         std::fabs(joints.rocker_rad[s]) > g.rocker_limit_rad || std::fabs(joints.bogie_rad[s]) > g.bogie_limit_rad) {
-      out.status = LoadStatus::joint_out_of_range;
-      return out;
+      return LoadStatus::joint_out_of_range;
     }
   }
+  return LoadStatus::ok;
+}
 
-  // Every contact force is taken parallel to gravity (section 2), so every
-  // moment balance is a planar lever rule in the coordinates of the points
-  // projected along gravity onto the ground plane (section 3.2):
-  //   x~ = x - z tan(pitch)/cos(roll),  y~ = y - z tan(roll).
-  const double cos_pitch = std::cos(att.pitch_rad);
-  const double cos_roll = std::cos(att.roll_rad);
-  const double kx = std::sin(att.pitch_rad) / (cos_pitch * cos_roll);
-  const double ky = std::tan(att.roll_rad);
-  const double weight_n = g.mass_kg * g.gravity_mps2;
-  const double normal_fraction = cos_pitch * cos_roll;
-  out.weight_normal_n = weight_n * normal_fraction;
+// The projection along gravity onto the ground plane (section 3.2):
+//   x~ = x - z kx,  kx = tan(pitch)/cos(roll);  y~ = y - z ky,  ky = tan(roll).
+struct GravityProjection {
+  double kx;
+  double ky;
+};
 
-  const double com_xt = g.com_x_m - g.com_z_m * kx;
-  const double com_yt = g.com_y_m - g.com_z_m * ky;
-  // Rocker pivots at the origin of x and z: x~ = 0. The differential makes
-  // the moment of each side's wheels about its rocker pivot equal (section
-  // 3.4); with both pivots on one axis the body's pitch balance fixes it.
-  const double pivot_moment_nm = 0.5 * weight_n * com_xt;
+// One side's levers in projected coordinates: front lever a, bogie lever b,
+// the middle wheel's share beta of the bogie's load, and the projected
+// lateral positions of the front wheel and of the bogie's load.
+struct SideLevers {
+  double a, b, beta;
+  double yt_front, yt_bogie;
+};
 
-  struct Side {
-    double a, b, beta;  // front lever, bogie lever, middle wheel's share of the bogie
-    double yt_front, yt_bogie;
-  };
-  std::array<Side, 2> sides{};
-  for (std::size_t s = 0U; s < 2U; ++s) {
-    const double y_side = (s == 0U) ? 0.5 * g.track_width_m : -0.5 * g.track_width_m;
-    const SideContacts c = side_contacts(g, joints.rocker_rad[s], joints.bogie_rad[s]);
-    const std::size_t base = 3U * s;
-    const SidePoint pts[3] = {c.front, c.middle, c.rear};
-    for (std::size_t k = 0U; k < 3U; ++k) {
-      out.contact_x_m[base + k] = pts[k].x_m;
-      out.contact_z_m[base + k] = pts[k].z_m;
-    }
-    const double xt_f = c.front.x_m - c.front.z_m * kx;
-    const double xt_m = c.middle.x_m - c.middle.z_m * kx;
-    const double xt_r = c.rear.x_m - c.rear.z_m * kx;
-    const double xt_b = c.bogie_pivot.x_m - c.bogie_pivot.z_m * kx;
-    const double a = xt_f;
-    const double b = -xt_b;
-    const double bogie_span = xt_m - xt_r;
-    if (a + b < k_min_lever_m || bogie_span < k_min_lever_m) {
-      out.status = LoadStatus::degenerate;
-      return out;
-    }
-    const double beta = (xt_b - xt_r) / bogie_span;
-    const double yt_f = y_side - c.front.z_m * ky;
-    const double yt_m = y_side - c.middle.z_m * ky;
-    const double yt_r = y_side - c.rear.z_m * ky;
-    sides[s] = Side{a, b, beta, yt_f, beta * yt_m + (1.0 - beta) * yt_r};
+// Side s's contacts (recorded in `out`) and levers; false when a lever has
+// collapsed (shorter than k_min_lever_m).
+bool side_levers(const RoverGeometry& g, const JointAngles& joints, std::size_t s,
+                 GravityProjection proj, WheelLoads& out, SideLevers& levers) {
+  const double y_side = (s == 0U) ? 0.5 * g.track_width_m : -0.5 * g.track_width_m;
+  const SideContacts c = side_contacts(g, joints.rocker_rad[s], joints.bogie_rad[s]);
+  const std::size_t base = 3U * s;
+  const SidePoint pts[3] = {c.front, c.middle, c.rear};
+  for (std::size_t k = 0U; k < 3U; ++k) {
+    out.contact_x_m[base + k] = pts[k].x_m;
+    out.contact_z_m[base + k] = pts[k].z_m;
   }
+  const double xt_f = c.front.x_m - c.front.z_m * proj.kx;
+  const double xt_m = c.middle.x_m - c.middle.z_m * proj.kx;
+  const double xt_r = c.rear.x_m - c.rear.z_m * proj.kx;
+  const double xt_b = c.bogie_pivot.x_m - c.bogie_pivot.z_m * proj.kx;
+  const double a = xt_f;
+  const double b = -xt_b;
+  const double bogie_span = xt_m - xt_r;
+  if (a + b < k_min_lever_m || bogie_span < k_min_lever_m) {
+    return false;
+  }
+  const double beta = (xt_b - xt_r) / bogie_span;
+  const double yt_f = y_side - c.front.z_m * proj.ky;
+  const double yt_m = y_side - c.middle.z_m * proj.ky;
+  const double yt_r = y_side - c.rear.z_m * proj.ky;
+  levers = SideLevers{a, b, beta, yt_f, beta * yt_m + (1.0 - beta) * yt_r};
+  return true;
+}
 
-  // Roll balance (section 3.5): side s carries S_s, and its wheels' roll
-  // moment is S_s Y_s + M Z_s.
+// The body's weight and where it acts, projected; the moment each side's
+// wheels carry about its rocker pivot.
+struct BodyLoad {
+  double weight_n;
+  double com_yt;
+  double pivot_moment_nm;
+};
+
+// Roll balance (section 3.5): side s carries S_s, and its wheels' roll
+// moment is S_s Y_s + M Z_s. Then each side's lever rule splits S_s over its
+// wheels (support_n). False when the sides' lateral span has collapsed.
+bool split_supports(const std::array<SideLevers, 2>& sides, BodyLoad body, WheelLoads& out) {
   std::array<double, 2> big_y{};
   std::array<double, 2> big_z{};
   for (std::size_t s = 0U; s < 2U; ++s) {
-    const Side& d = sides[s];
+    const SideLevers& d = sides[s];
     big_y[s] = (d.b * d.yt_front + d.a * d.yt_bogie) / (d.a + d.b);
     big_z[s] = (d.yt_front - d.yt_bogie) / (d.a + d.b);
   }
   const double lateral_span = big_y[0] - big_y[1];
   if (lateral_span < k_min_lever_m) {
-    out.status = LoadStatus::degenerate;
-    return out;
+    return false;
   }
   std::array<double, 2> side_total{};
-  side_total[0] =
-      (weight_n * com_yt - pivot_moment_nm * (big_z[0] + big_z[1]) - weight_n * big_y[1]) / lateral_span;
-  side_total[1] = weight_n - side_total[0];
+  side_total[0] = (body.weight_n * body.com_yt - body.pivot_moment_nm * (big_z[0] + big_z[1]) -
+                   body.weight_n * big_y[1]) /
+                  lateral_span;
+  side_total[1] = body.weight_n - side_total[0];
 
   for (std::size_t s = 0U; s < 2U; ++s) {
-    const Side& d = sides[s];
-    const double front = (pivot_moment_nm + d.b * side_total[s]) / (d.a + d.b);
+    const SideLevers& d = sides[s];
+    const double front = (body.pivot_moment_nm + d.b * side_total[s]) / (d.a + d.b);
     const double bogie = side_total[s] - front;
     const double middle = d.beta * bogie;
     const double rear = bogie - middle;
     out.support_n[3U * s + 0U] = front;
     out.support_n[3U * s + 1U] = middle;
     out.support_n[3U * s + 2U] = rear;
+  }
+  return true;
+}
+
+}  // namespace
+
+WheelLoads wheel_loads(const RoverGeometry& g, Attitude att, const JointAngles& joints) {
+  WheelLoads out;
+  out.status = check_load_inputs(g, att, joints);
+  if (out.status != LoadStatus::ok) {
+    return out;
+  }
+  // Every contact force is taken parallel to gravity (section 2), so every
+  // moment balance is a planar lever rule in the coordinates of the points
+  // projected along gravity onto the ground plane (section 3.2).
+  const double cos_pitch = std::cos(att.pitch_rad);
+  const double cos_roll = std::cos(att.roll_rad);
+  const GravityProjection proj{std::sin(att.pitch_rad) / (cos_pitch * cos_roll), std::tan(att.roll_rad)};
+  const double weight_n = g.mass_kg * g.gravity_mps2;
+  const double normal_fraction = cos_pitch * cos_roll;
+  out.weight_normal_n = weight_n * normal_fraction;
+
+  const double com_xt = g.com_x_m - g.com_z_m * proj.kx;
+  const double com_yt = g.com_y_m - g.com_z_m * proj.ky;
+  // Rocker pivots at the origin of x and z: x~ = 0. The differential makes
+  // the moment of each side's wheels about its rocker pivot equal (section
+  // 3.4); with both pivots on one axis the body's pitch balance fixes it.
+  const double pivot_moment_nm = 0.5 * weight_n * com_xt;
+
+  std::array<SideLevers, 2> sides{};
+  for (std::size_t s = 0U; s < 2U; ++s) {
+    if (!side_levers(g, joints, s, proj, out, sides[s])) {
+      out.status = LoadStatus::degenerate;
+      return out;
+    }
+  }
+  if (!split_supports(sides, BodyLoad{weight_n, com_yt, pivot_moment_nm}, out)) {
+    out.status = LoadStatus::degenerate;
+    return out;
   }
   for (std::size_t i = 0U; i < k_wheel_count; ++i) {
     out.load_n[i] = out.support_n[i] * normal_fraction;
