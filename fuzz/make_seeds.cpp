@@ -9,7 +9,9 @@
 
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/drawbar_pull.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
+#include "sinkwatch/flight/rover_step.hpp"
 
 namespace sf = sinkwatch::flight;
 namespace fx = sinkwatch::fx;
@@ -69,6 +71,46 @@ void append(Bytes& b, const Cycle& c) {
   i32(b, raw<sf::AccelQ>(c.accel));
   i32(b, raw<sf::SpeedQ>(c.speed));
   i32(b, raw<sf::SpeedQ>(c.rim));
+}
+
+/// One sample of fuzz_step_differential: the bytes its Reader turns into
+/// these values (Reader::in(lo, hi) = lo + u32 % span; Reader::around(limit)
+/// spans +-1.05 limit, then a shift byte, 0 here).
+struct DifferentialSample {
+  std::uint8_t gravity = 0U;    // Moon
+  std::uint8_t sections = 0U;   // the default table's motor, corrections, monitor
+  std::uint8_t flags = 0x03U;   // speed and rim speed valid, every wheel forward
+  double current_a = 0.35;
+  double pitch = 0.05, roll = 0.0, rocker = 0.02, bogie = 0.0;
+  double accel = 0.0, speed = 0.05, rim = 0.055;
+};
+
+template <typename Q>
+void around(Bytes& b, double value, std::int32_t limit_raw) {
+  const std::int64_t reach = limit_raw + (limit_raw / 20);
+  u32(b, static_cast<std::uint32_t>(raw<Q>(value) + reach));
+  b.push_back(0U);
+}
+
+Bytes differential_seed(const DifferentialSample& s) {
+  const sf::RoverParams p = sf::yutu_like_rover_params(sf::kGravityMoon);
+  Bytes b{s.gravity};
+  const std::int32_t five_cm = raw<sf::LengthQ>(0.05);
+  for (int i = 0; i < 3; ++i) i32(b, five_cm);  // centre of mass offsets 0
+  b.push_back(s.sections);
+  b.push_back(s.flags);
+  const std::int32_t range = sf::default_parameter_table().motor.current_abs_max_a.raw();
+  for (int w = 0; w < 6; ++w) around<sf::CurrentQ>(b, s.current_a, range);
+  around<sf::AngleQ>(b, s.pitch, p.attitude_limit_rad.raw());
+  around<sf::AngleQ>(b, s.roll, p.attitude_limit_rad.raw());
+  for (int side = 0; side < 2; ++side) {
+    around<sf::AngleQ>(b, s.rocker, p.rocker_limit_rad.raw());
+    around<sf::AngleQ>(b, s.bogie, p.bogie_limit_rad.raw());
+  }
+  around<sf::AccelQ>(b, s.accel, sf::kMaxAbsAccel.raw());
+  around<sf::SpeedQ>(b, s.speed, sf::kMaxAbsSpeed.raw());
+  around<sf::SpeedQ>(b, s.rim, sf::kMaxAbsSpeed.raw());
+  return b;
 }
 
 }  // namespace
@@ -133,6 +175,20 @@ int main(int argc, char** argv) {
     append(bad, c);
   }
   write(dir + "/rover_step/bad_samples", bad);
+  // Step against its twin: a nominal drive, currents into STOP on Earth, a
+  // slipping rover (high slip: DP assumed at DP_max), and drawn sections.
+  write(dir + "/step_differential/nominal", differential_seed(DifferentialSample{}));
+  DifferentialSample stop;
+  stop.gravity = 2U;
+  stop.current_a = 4.5;
+  write(dir + "/step_differential/current_stop", differential_seed(stop));
+  DifferentialSample slipping;
+  slipping.speed = 0.01;
+  slipping.accel = 0.05;
+  write(dir + "/step_differential/high_slip", differential_seed(slipping));
+  DifferentialSample drawn;
+  drawn.sections = 7U;  // the bytes after the selector draw the table, the rest the sample
+  write(dir + "/step_differential/drawn_sections", differential_seed(drawn));
   std::printf("seeds written under %s\n", dir.c_str());
   return 0;
 }
