@@ -7,6 +7,7 @@
 
 #include <boost/math/special_functions/gamma.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <set>
@@ -349,6 +350,208 @@ TEST(WheelSoilEffects, EveryEffectAtZeroSizeIsTheBaseModel) {
       EXPECT_NEAR(zero.drawbar_pull_n / off.drawbar_pull_n, 1.0, 1e-12) << sg::effect_name(e);
     }
   }
+}
+
+// --- effect forms (issue 16) ------------------------------------------------
+
+// Every form of every effect at zero size is the base model, like the default forms.
+TEST(WheelSoilForms, EveryFormAtZeroSizeIsTheBaseModel) {
+  const sg::SimParameters p = base();
+  for (double slip : {0.1, 0.6}) {
+    const sg::WheelSoilState off = eval(p, 10 * kG, slip);
+    for (sg::Effect e : sg::kAllEffects) {
+      for (const std::string& form : sg::effect_forms(e)) {
+        sg::SimParameters q = p;
+        q.effects.set_enabled(e, true);
+        sg::set_effect_form(q.effects, e, form);
+        sg::set_parameter(q, sg::primary_parameter_name(e, form), 0.0);
+        if (e == sg::Effect::drive_friction) q.effects.drive_friction.k_w_m = 0.0;
+        const sg::WheelSoilState zero = eval(q, 10 * kG, slip);
+        EXPECT_NEAR(zero.sinkage_m / off.sinkage_m, 1.0, 1e-12) << sg::effect_name(e) << "." << form;
+        EXPECT_NEAR(zero.torque_nm / off.torque_nm, 1.0, 1e-12) << sg::effect_name(e) << "." << form;
+        EXPECT_NEAR(zero.drawbar_pull_n / off.drawbar_pull_n, 1.0, 1e-12) << sg::effect_name(e) << "." << form;
+      }
+    }
+  }
+}
+
+TEST(WheelSoilForms, FormsRoundTripByNameAndSelectTheirParameters) {
+  sg::EffectSettings settings;
+  for (sg::Effect e : sg::kAllEffects) {
+    const std::vector<std::string> forms = sg::effect_forms(e);
+    ASSERT_FALSE(forms.empty());
+    EXPECT_EQ(sg::effect_form(settings, e), forms.front()) << "the default form comes first";
+    for (const std::string& form : forms) {
+      sg::set_effect_form(settings, e, form);
+      EXPECT_EQ(sg::effect_form(settings, e), form);
+      const std::vector<std::string> names = sg::effect_parameter_names(e, form);
+      ASSERT_FALSE(names.empty());
+      EXPECT_EQ(names.front(), sg::primary_parameter_name(e, form));
+    }
+    EXPECT_THROW(sg::set_effect_form(settings, e, "no_such_form"), std::invalid_argument);
+  }
+  EXPECT_EQ(sg::primary_parameter_name(sg::Effect::slip_sinkage, "lyasko"), "slip_sinkage.ks");
+  EXPECT_EQ(sg::primary_parameter_name(sg::Effect::drive_friction, "speed"), "drive_friction.tv_nm");
+  EXPECT_EQ(sg::primary_parameter_name(sg::Effect::load_dependence, "stiffness"), "load_dependence.stiffening");
+  EXPECT_EQ(sg::effect_parameter_names(sg::Effect::grouser, "lug_face"),
+            (std::vector<std::string>{"grouser.height_m", "grouser.lug_count"}));
+  // Active names follow the selected form.
+  sg::SimParameters p = base();
+  p.effects.grouser.enabled = true;
+  p.effects.grouser.form = sg::GrouserForm::lug_face;
+  const auto names = sg::active_parameter_names(p);
+  EXPECT_NE(std::find(names.begin(), names.end(), "grouser.lug_count"), names.end());
+  EXPECT_EQ(std::find(names.begin(), names.end(), "grouser.lambda"), names.end());
+}
+
+// Lyasko 2010: z = z0 (1 + s)/(1 - 0.5 s). Through k / f^(n + 1/2) it is exact
+// for Bekker's wheel formula; the full integrals add the shear's lift, which
+// the base model has as well, so the ratio to the base at the same slip is f.
+TEST(WheelSoilForms, LyaskoSlipSinkageScalesTheSinkageByItsFactor) {
+  sg::SimParameters p = base();
+  sg::SimParameters q = p;
+  q.effects.slip_sinkage.enabled = true;
+  q.effects.slip_sinkage.form = sg::SlipSinkageForm::lyasko;
+  for (double load : {3 * kG, 20 * kG}) {
+    for (double s : {0.1, 0.3, 0.6}) {
+      const double f = (1.0 + s) / (1.0 - 0.5 * s);
+      const sg::WheelSoilState on = eval(q, load, s);
+      const sg::WheelSoilState off = eval(p, load, s);
+      EXPECT_NEAR(on.sinkage_m / off.sinkage_m / f, 1.0, 0.04) << "load " << load << " slip " << s;
+      EXPECT_DOUBLE_EQ(on.sinkage_exponent, p.soil.n);  // the exponent form is off
+    }
+  }
+  // The multiplier is 1 at zero slip.
+  EXPECT_NEAR(eval(q, 10 * kG, 0.0).sinkage_m / eval(p, 10 * kG, 0.0).sinkage_m, 1.0, 1e-9);
+}
+
+// Lug tip: the tip (r + h) slips against ground moving at the rim's speed,
+// so it shears even at zero slip; the rim-referenced form does not.
+TEST(WheelSoilForms, LugTipGrouserShearsAtZeroSlip) {
+  sg::SimParameters rim = base();
+  rim.effects.grouser.enabled = true;
+  rim.effects.grouser.height_m = 0.02;
+  sg::SimParameters tip = rim;
+  tip.effects.grouser.form = sg::GrouserForm::lug_tip;
+  const sg::WheelSoilState off = eval(base(), 10 * kG, 0.0);
+  const sg::WheelSoilState r0 = eval(rim, 10 * kG, 0.0);
+  const sg::WheelSoilState t0 = eval(tip, 10 * kG, 0.0);
+  EXPECT_DOUBLE_EQ(t0.shear_radius_m, 0.17);
+  // At s = 0 the rim form shears only by the curvature term (O(theta1^3)),
+  // the tip by h (sin theta1 - sin theta) more.
+  EXPECT_GT(t0.gross_thrust_n, 2.0 * r0.gross_thrust_n);
+  EXPECT_GT(t0.drawbar_pull_n, off.drawbar_pull_n + 5.0);
+  // At high slip the two forms converge: j is dominated by (r + h)(theta1 - theta).
+  const double rim_hi = eval(rim, 10 * kG, 0.9).drawbar_pull_n;
+  const double tip_hi = eval(tip, 10 * kG, 0.9).drawbar_pull_n;
+  EXPECT_NEAR(tip_hi / rim_hi, 1.0, 0.05);
+}
+
+// Lug faces: Rankine passive force on h x b per engaged lug, mobilised by
+// the shear displacement, added to thrust and (at mid-height) to torque.
+TEST(WheelSoilForms, LugFaceGrouserAddsPassiveThrustAtMidHeight) {
+  sg::SimParameters p = base();
+  sg::SimParameters q = p;
+  q.effects.grouser.enabled = true;
+  q.effects.grouser.form = sg::GrouserForm::lug_face;
+  q.effects.grouser.height_m = 0.02;
+  const sg::WheelSoilState off = eval(p, 10 * kG, 0.3);
+  const sg::WheelSoilState on = eval(q, 10 * kG, 0.3);
+  EXPECT_DOUBLE_EQ(on.sinkage_m, off.sinkage_m);  // no vertical component modelled
+  EXPECT_DOUBLE_EQ(on.shear_radius_m, 0.15);
+  const double f = on.lug_face_thrust_n;
+  EXPECT_NEAR(on.drawbar_pull_n - off.drawbar_pull_n, f, 1e-9);
+  EXPECT_NEAR(on.torque_nm - off.torque_nm, f * (0.15 + 0.01), 1e-9);
+  // Hand computation of the force.
+  const double phi = p.soil.friction_angle_rad;
+  const double n_phi = std::pow(std::tan(kPi / 4 + phi / 2), 2);
+  const double h = 0.02;
+  const double z = on.sinkage_m;
+  const double t1 = on.entry_angle_rad;
+  const double per_lug = h * 0.15 * (0.5 * p.soil.density_kg_m3 * kG * (z + h) * n_phi +
+                                     2.0 * p.soil.cohesion_pa * std::sqrt(n_phi));
+  const double j_exit = 0.15 * (t1 - 0.7 * std::sin(t1));
+  const double expected = 15.0 * t1 / (2 * kPi) * per_lug * (1.0 - std::exp(-0.5 * j_exit / p.soil.shear_modulus_m));
+  EXPECT_NEAR(f, expected, 1e-12 * expected);
+  // Size: a few newtons on a ~20 N drawbar pull; more at higher slip (mobilisation).
+  EXPECT_GT(f, 1.0);
+  EXPECT_LT(f, 0.3 * on.gross_thrust_n);
+  EXPECT_GT(eval(q, 10 * kG, 0.6).lug_face_thrust_n, f);
+}
+
+// Hegedus (1960), as Ishigami et al. 2007 use it: Rb = b D1 (c z + D2 gamma z^2 / 2).
+TEST(WheelSoilForms, HegedusBulldozingMatchesItsFormula) {
+  sg::SimParameters p = base();
+  sg::SimParameters q = p;
+  q.effects.bulldozing.enabled = true;
+  q.effects.bulldozing.form = sg::BulldozingForm::hegedus;
+  const sg::WheelSoilState off = eval(p, 10 * kG, 0.3);
+  const sg::WheelSoilState on = eval(q, 10 * kG, 0.3);
+  const double phi = p.soil.friction_angle_rad;
+  const double xc = kPi / 4 - phi / 2;
+  const double d1 = 1 / std::tan(xc) + std::tan(xc + phi);
+  const double d2 = 1 / std::tan(xc) + std::tan(phi) / (std::tan(xc) * std::tan(xc));
+  const double z = on.sinkage_m;
+  const double rb = 0.15 * d1 * (p.soil.cohesion_pa * z + 0.5 * d2 * p.soil.density_kg_m3 * kG * z * z);
+  EXPECT_NEAR(on.bulldozing_resistance_n, rb, 1e-12 * rb);
+  EXPECT_DOUBLE_EQ(on.sinkage_m, off.sinkage_m);
+  EXPECT_DOUBLE_EQ(on.torque_nm, off.torque_nm);
+  // Smaller than Bekker/Wong's on this soil (its factors are smaller).
+  sg::SimParameters bekker = p;
+  bekker.effects.bulldozing.enabled = true;
+  EXPECT_LT(rb, eval(bekker, 10 * kG, 0.3).bulldozing_resistance_n);
+  EXPECT_GT(rb / (10 * kG), 0.01);
+}
+
+// Stiffness form: the pressure rises faster than Bekker's where the stress
+// is high, so the wheel sinks less, relatively more so under a heavier load.
+TEST(WheelSoilForms, StiffnessLoadDependenceSinksLessUnderHigherLoad) {
+  sg::SimParameters p = base();
+  sg::SimParameters q = p;
+  q.effects.load_dependence.enabled = true;
+  q.effects.load_dependence.form = sg::LoadDependenceForm::stiffness;
+  const double light = eval(q, 2 * kG, 0.3).sinkage_m / eval(p, 2 * kG, 0.3).sinkage_m;
+  const double heavy = eval(q, 24 * kG, 0.3).sinkage_m / eval(p, 24 * kG, 0.3).sinkage_m;
+  EXPECT_LT(light, 1.0);
+  EXPECT_LT(heavy, light);
+  // The friction angle is untouched: at the same sinkage the shear law is the same,
+  // so the torque falls with the sinkage (shorter contact), not more.
+  EXPECT_LT(eval(q, 10 * kG, 0.3).torque_nm, eval(p, 10 * kG, 0.3).torque_nm);
+}
+
+TEST(WheelSoilForms, SpeedDriveFrictionGrowsWithTheWheelSpeed) {
+  sg::SimParameters p = base();
+  sg::SimParameters q = p;
+  q.effects.drive_friction.enabled = true;
+  q.effects.drive_friction.form = sg::DriveFrictionForm::speed;
+  for (double s : {0.0, 0.3, 0.75, 1.0}) {
+    const sg::WheelSoilState off = eval(p, 10 * kG, s);
+    const sg::WheelSoilState on = eval(q, 10 * kG, s);
+    EXPECT_NEAR(on.drive_friction_torque_nm, 0.1 / std::max(1.0 - s, 0.05) + 1e-3 * 10 * kG, 1e-12) << s;
+    EXPECT_DOUBLE_EQ(on.sinkage_m, off.sinkage_m);
+    EXPECT_DOUBLE_EQ(on.drawbar_pull_n, off.drawbar_pull_n);
+  }
+}
+
+// Wong's hump-shaped shear curve (not a catalogue effect): stiffer than
+// Janosi–Hanamoto (K = 1 cm) at small shear displacement, softer past its
+// peak at j = K_w = 2 cm, where it falls towards K_r of the peak. Against the
+// base, the torque therefore rises at low slip and falls behind at high slip.
+TEST(WheelSoilForms, ShearSofteningShiftsTractionFromHighToLowSlip) {
+  sg::SimParameters p = base();
+  sg::SimParameters q = p;
+  q.effects.shear_softening.enabled = true;
+  const double kr = q.effects.shear_softening.residual_ratio;
+  auto ratio = [&](double load, double s) { return eval(q, load, s).soil_torque_nm / eval(p, load, s).soil_torque_nm; };
+  for (double load : {2 * kG, 24 * kG}) {
+    EXPECT_GT(ratio(load, 0.05), 1.05) << load;
+    EXPECT_LT(ratio(load, 0.9), ratio(load, 0.3)) << load;
+    EXPECT_GT(ratio(load, 0.9), kr);
+  }
+  // Not in the catalogue: no parameter names, no Effect value.
+  for (const std::string& n : sg::active_parameter_names(q)) EXPECT_EQ(n.find("soften"), std::string::npos);
+  q.effects.shear_softening.residual_ratio = 1.5;
+  EXPECT_EQ(sg::evaluate(q, 10 * kG, 0.3).status, sg::SimStatus::bad_input);
 }
 
 // --- parameter vector ------------------------------------------------------

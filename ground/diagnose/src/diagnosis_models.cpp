@@ -39,31 +39,36 @@ std::vector<ParameterSpec> EstimatorModel::base_parameters(const std::vector<Dia
   return {{"c1", 1.0, -10.0, 10.0}, {"c2", 1.0, -10.0, 10.0}, {"c3", 0.0, -5.0, 5.0}};
 }
 
+namespace {
+
+// A candidate that is a family of its own (no forms).
+Candidate term(std::string name, std::string description, std::vector<ParameterSpec> extra, double nominal_size) {
+  Candidate c;
+  c.name = std::move(name);
+  c.description = std::move(description);
+  c.extra = std::move(extra);
+  c.nominal_size = nominal_size;
+  return c;
+}
+
+}  // namespace
+
 std::vector<Candidate> EstimatorModel::candidates(const std::vector<DiagnosisRow>& train) const {
   std::vector<Candidate> out;
-  out.push_back({"entry_angle_geometry",
-                 "exact entry angle: - C4 arccos(1 - z/r) beside the linear z/r term (Eq. 9 -> 10 step)",
-                 {{"c4", 0.0, -10.0, 10.0}},
-                 0.1,
-                 true,
-                 "",
-                 0.0});
-  Candidate load{"load_offset", "load-dependent offset: - C5 (W/W_ref - 1), W_ref = mean training load",
-                 {{"c5", 0.0, -5.0, 5.0}}, 0.05, true, "", 0.0};
+  out.push_back(term("entry_angle_geometry",
+                     "exact entry angle: - C4 arccos(1 - z/r) beside the linear z/r term (Eq. 9 -> 10 step)",
+                     {{"c4", 0.0, -10.0, 10.0}}, 0.1));
+  Candidate load = term("load_offset", "load-dependent offset: - C5 (W/W_ref - 1), W_ref = mean training load",
+                        {{"c5", 0.0, -5.0, 5.0}}, 0.05);
   load.reference = mean_load(train);
   if (distinct_loads(train).size() < 2) {
     load.identifiable = false;
     load.note = "needs training rows at two or more loads";
   }
   out.push_back(load);
-  out.push_back({"slip_shear",
-                 "shear still developing at low slip: - C6 exp(-s/s0) (Janosi-Hanamoto)",
-                 {{"c6", 0.0, -5.0, 5.0}, {"s0", 0.1, 0.01, 1.0}},
-                 0.1,
-                 true,
-                 "",
-                 0.0});
-  out.push_back({"bulldozing_z2", "frontal bulldozing: - C7 (z/r)^2", {{"c7", 0.0, -100.0, 100.0}}, 1.0, true, "", 0.0});
+  out.push_back(term("slip_shear", "shear still developing at low slip: - C6 exp(-s/s0) (Janosi-Hanamoto)",
+                     {{"c6", 0.0, -5.0, 5.0}, {"s0", 0.1, 0.01, 1.0}}, 0.1));
+  out.push_back(term("bulldozing_z2", "frontal bulldozing: - C7 (z/r)^2", {{"c7", 0.0, -100.0, 100.0}}, 1.0));
   // W_ref is a property of the training rows; keep it in the description.
   if (!train.empty()) {
     std::ostringstream os;
@@ -96,6 +101,100 @@ bool EstimatorModel::predict(const Candidate* candidate, const std::vector<doubl
   return std::isfinite(dpw);
 }
 
+namespace {
+
+// The coefficients the flight code runs for the quantisation check: the
+// fitted ones when inside the flight envelope (estimator.hpp), otherwise the
+// paper's Eq. 14 (1, 1, 0.2): the size of the quantisation does not depend on
+// the coefficients' values, only on the Q formats.
+struct FlightCoefficients {
+  std::vector<double> values;
+  std::string note;
+  flight::Coefficients c;
+  bool converted = true;  // every coefficient converted to its Q format
+};
+
+flight::Coefficients to_flight(const std::vector<double>& coeff, fx::Status& st) {
+  return flight::Coefficients{flight::Ratio(fx::from_double<flight::RatioQ>(coeff[0], st)),
+                              flight::Ratio(fx::from_double<flight::RatioQ>(coeff[1], st)),
+                              flight::Ratio(fx::from_double<flight::RatioQ>(coeff[2], st))};
+}
+
+FlightCoefficients flight_coefficients(const std::vector<double>& base_params, double radius_m) {
+  FlightCoefficients fc;
+  fc.values.assign(base_params.begin(), base_params.begin() + 3);
+  fc.note = "the fitted coefficients";
+  fx::Status st;
+  fc.c = to_flight(fc.values, st);
+  const flight::LengthM probe_r(fx::from_double<flight::LengthQ>(radius_m, st));
+  constexpr flight::LoadQ kOneNewton = fx::constant<flight::LoadQ>(1.0);
+  const flight::WheelLoadN probe_w(kOneNewton);
+  if (!st.ok() ||
+      flight::check_estimator_inputs(fc.c, probe_r, probe_w) == flight::EstimateStatus::invalid_coefficient) {
+    fc.values = {1.0, 1.0, 0.2};
+    fc.note = "Eq. 14's C = (1, 1, 0.2), because the fitted coefficients are outside the flight envelope "
+              "(C1, C2 in [0.25, 4], C3 in [-1, 1])";
+    st = fx::Status{};
+    fc.c = to_flight(fc.values, st);
+  }
+  fc.converted = st.ok();
+  return fc;
+}
+
+struct QuantisationSums {
+  std::size_t used = 0;
+  std::size_t skipped = 0;
+  std::string first_problem;
+  double sum = 0.0;  // of squared DP/W differences
+  double sum_z = 0.0;
+  double max_abs = 0.0;
+  double max_abs_z = 0.0;
+};
+
+// One row: flight Eq. 11 in both directions against the double twin on the
+// same quantised inputs.
+void add_quantisation_row(const FlightCoefficients& fc, const reference::Coefficients& twin, const DiagnosisRow& row,
+                          QuantisationSums& sums) {
+  if (!(row.load_n > 0.0)) {
+    ++sums.skipped;
+    sums.first_problem = "no wheel load (give --load for a file without load_N)";
+    return;
+  }
+  fx::Status in_st;
+  const flight::LengthM r(fx::from_double<flight::LengthQ>(row.radius_m, in_st));
+  const flight::WheelLoadN w(fx::from_double<flight::LoadQ>(row.load_n, in_st));
+  const flight::TorqueNm t(fx::from_double<flight::LoadQ>(row.torque_nm, in_st));
+  const flight::SinkageM z(fx::from_double<flight::LengthQ>(row.sinkage_m, in_st));
+  const flight::DrawbarPullN dp(fx::from_double<flight::LoadQ>(row.drawbar_pull_n, in_st));
+  const flight::DrawbarPullResult pull = flight::pull_from_sinkage(fc.c, r, w, t, z);
+  const flight::SinkageResult sink = flight::sinkage_from_pull(fc.c, r, w, t, dp);
+  if (!in_st.ok() || !fc.converted || pull.status != flight::EstimateStatus::ok ||
+      sink.status != flight::EstimateStatus::ok) {
+    ++sums.skipped;
+    if (sums.first_problem.empty()) {
+      sums.first_problem = "the flight code rejected the inputs or the fitted coefficients (status " +
+                           std::to_string(static_cast<int>(pull.status)) + ")";
+    }
+    return;
+  }
+  const double r_d = fx::to_double(r.q());
+  const double w_d = fx::to_double(w.q());
+  const double t_d = fx::to_double(t.q());
+  const double dpw_double = reference::drawbar_pull_n(twin, r_d, w_d, t_d, fx::to_double(z.q())) / w_d;
+  const double dpw_fixed = fx::to_double(pull.drawbar_pull_n.q()) / w_d;
+  const double z_double = reference::sinkage_m(twin, r_d, w_d, t_d, fx::to_double(dp.q()));
+  const double z_fixed = fx::to_double(sink.sinkage_m.q());
+  const double e = dpw_fixed - dpw_double;
+  const double ez = z_fixed - z_double;
+  sums.sum += e * e;
+  sums.sum_z += ez * ez;
+  sums.max_abs = std::max(sums.max_abs, std::abs(e));
+  sums.max_abs_z = std::max(sums.max_abs_z, std::abs(ez));
+  ++sums.used;
+}
+
+}  // namespace
+
 std::vector<GapComponent> EstimatorModel::gap_components(const std::vector<DiagnosisRow>& rows,
                                                          const std::vector<double>& base_params,
                                                          const std::vector<double>& sigma) const {
@@ -105,93 +204,34 @@ std::vector<GapComponent> EstimatorModel::gap_components(const std::vector<Diagn
   GapComponent qz;
   qz.name = "fixed_point_quantisation_sinkage";
   qz.channel = "sinkage_m";
-  // The flight code runs only coefficients inside its validated envelope
-  // (estimator.hpp); outside it, the quantisation is measured with the
-  // paper's Eq. 14 coefficients (1, 1, 0.2) instead: its size does not
-  // depend on the coefficients' values, only on the Q formats.
-  std::vector<double> coeff(base_params.begin(), base_params.begin() + 3);
-  std::string coeff_note = "the fitted coefficients";
-  fx::Status st;
-  flight::Coefficients c{flight::Ratio(fx::from_double<flight::RatioQ>(coeff[0], st)),
-                         flight::Ratio(fx::from_double<flight::RatioQ>(coeff[1], st)),
-                         flight::Ratio(fx::from_double<flight::RatioQ>(coeff[2], st))};
-  const flight::LengthM probe_r(fx::from_double<flight::LengthQ>(rows.front().radius_m, st));
-  constexpr flight::LoadQ kOneNewton = fx::constant<flight::LoadQ>(1.0);
-  const flight::WheelLoadN probe_w(kOneNewton);
-  if (!st.ok() || flight::check_estimator_inputs(c, probe_r, probe_w) == flight::EstimateStatus::invalid_coefficient) {
-    coeff = {1.0, 1.0, 0.2};
-    coeff_note = "Eq. 14's C = (1, 1, 0.2), because the fitted coefficients are outside the flight envelope "
-                 "(C1, C2 in [0.25, 4], C3 in [-1, 1])";
-    st = fx::Status{};
-    c = flight::Coefficients{flight::Ratio(fx::from_double<flight::RatioQ>(coeff[0], st)),
-                             flight::Ratio(fx::from_double<flight::RatioQ>(coeff[1], st)),
-                             flight::Ratio(fx::from_double<flight::RatioQ>(coeff[2], st))};
-  }
+  const FlightCoefficients fc = flight_coefficients(base_params, rows.front().radius_m);
   // The double twin takes the coefficients as the flight code holds them,
   // so that the difference is the arithmetic's rounding alone.
-  const reference::Coefficients twin = reference::from_flight(c);
-  std::size_t used = 0;
-  std::size_t skipped = 0;
-  std::string first_problem;
-  double sum = 0.0;
-  double sum_z = 0.0;
+  const reference::Coefficients twin = reference::from_flight(fc.c);
+  QuantisationSums sums;
   for (const DiagnosisRow& row : rows) {
-    if (!(row.load_n > 0.0)) {
-      ++skipped;
-      first_problem = "no wheel load (give --load for a file without load_N)";
-      continue;
-    }
-    fx::Status in_st;
-    const flight::LengthM r(fx::from_double<flight::LengthQ>(row.radius_m, in_st));
-    const flight::WheelLoadN w(fx::from_double<flight::LoadQ>(row.load_n, in_st));
-    const flight::TorqueNm t(fx::from_double<flight::LoadQ>(row.torque_nm, in_st));
-    const flight::SinkageM z(fx::from_double<flight::LengthQ>(row.sinkage_m, in_st));
-    const flight::DrawbarPullN dp(fx::from_double<flight::LoadQ>(row.drawbar_pull_n, in_st));
-    const flight::DrawbarPullResult pull = flight::pull_from_sinkage(c, r, w, t, z);
-    const flight::SinkageResult sink = flight::sinkage_from_pull(c, r, w, t, dp);
-    if (!in_st.ok() || !st.ok() || pull.status != flight::EstimateStatus::ok ||
-        sink.status != flight::EstimateStatus::ok) {
-      ++skipped;
-      if (first_problem.empty()) {
-        first_problem = "the flight code rejected the inputs or the fitted coefficients (status " +
-                        std::to_string(static_cast<int>(pull.status)) + ")";
-      }
-      continue;
-    }
-    // The double twin on the same (quantised) inputs.
-    const double r_d = fx::to_double(r.q());
-    const double w_d = fx::to_double(w.q());
-    const double t_d = fx::to_double(t.q());
-    const double dpw_double = reference::drawbar_pull_n(twin, r_d, w_d, t_d, fx::to_double(z.q())) / w_d;
-    const double dpw_fixed = fx::to_double(pull.drawbar_pull_n.q()) / w_d;
-    const double z_double = reference::sinkage_m(twin, r_d, w_d, t_d, fx::to_double(dp.q()));
-    const double z_fixed = fx::to_double(sink.sinkage_m.q());
-    const double e = dpw_fixed - dpw_double;
-    const double ez = z_fixed - z_double;
-    sum += e * e;
-    sum_z += ez * ez;
-    q.max_abs = std::max(q.max_abs, std::abs(e));
-    qz.max_abs = std::max(qz.max_abs, std::abs(ez));
-    ++used;
+    add_quantisation_row(fc, twin, row, sums);
   }
-  if (used == 0) {
-    q.note = "not computed: " + first_problem;
+  if (sums.used == 0) {
+    q.note = "not computed: " + sums.first_problem;
     q.rms = std::nan("");
     q.over_noise = std::nan("");
     return {q};
   }
-  q.rms = std::sqrt(sum / static_cast<double>(used));
-  qz.rms = std::sqrt(sum_z / static_cast<double>(used));
+  q.max_abs = sums.max_abs;
+  qz.max_abs = sums.max_abs_z;
+  q.rms = std::sqrt(sums.sum / static_cast<double>(sums.used));
+  qz.rms = std::sqrt(sums.sum_z / static_cast<double>(sums.used));
   q.over_noise = q.rms / sigma[0];
   // The traction-coefficient noise seen as sinkage: sigma_z = r sigma / C2.
-  const double sigma_z = rows.front().radius_m * sigma[0] / std::abs(coeff[1]);
+  const double sigma_z = rows.front().radius_m * sigma[0] / std::abs(fc.values[1]);
   qz.over_noise = qz.rms / sigma_z;
   std::ostringstream os;
   os << "flight Q-format Eq. 11 (pull_from_sinkage) minus its double twin (ground/reference) on the same "
         "quantised inputs, with "
-     << coeff_note << ", " << used << " rows";
-  if (skipped > 0) {
-    os << " (" << skipped << " skipped: " << first_problem << ")";
+     << fc.note << ", " << sums.used << " rows";
+  if (sums.skipped > 0) {
+    os << " (" << sums.skipped << " skipped: " << sums.first_problem << ")";
   }
   q.note = os.str();
   qz.note = "flight sinkage_from_pull minus its double twin, in metres; noise = r sigma(DP/W) / C2";
@@ -212,13 +252,13 @@ const ParameterInfo& info_of(const std::string& name) {
   throw std::invalid_argument("unknown simulator parameter " + name);
 }
 
-// The parameters of an effect the diagnosis fits: the primary one, plus the
-// load term of drive_friction (linear, identifiable whenever there are two
-// loads, and otherwise its default would be taken for the truth).
-std::vector<std::string> fitted_effect_parameters(Effect effect) {
-  std::vector<std::string> names{primary_parameter_name(effect)};
+// The parameters of an effect form the diagnosis fits: the primary one, plus
+// the load term of drive_friction (linear, identifiable whenever there are
+// two loads, and otherwise its default would be taken for the truth).
+std::vector<std::string> fitted_effect_parameters(Effect effect, const std::string& form) {
+  std::vector<std::string> names{primary_parameter_name(effect, form)};
   if (effect == Effect::drive_friction) {
-    for (const std::string& n : effect_parameter_names(effect)) {
+    for (const std::string& n : effect_parameter_names(effect, form)) {
       if (n != names.front()) {
         names.push_back(n);
       }
@@ -261,13 +301,20 @@ std::vector<ParameterSpec> WongReeceModel::base_parameters(const std::vector<Dia
 }
 
 Candidate WongReeceModel::candidate_for(Effect effect) const {
+  return candidate_for(effect, effect_forms(effect).front());
+}
+
+Candidate WongReeceModel::candidate_for(Effect effect, const std::string& form) const {
   SimParameters with = start_;
   with.effects = EffectSettings{};  // documented default sizes
   Candidate c;
-  c.name = std::string(effect_name(effect));
+  c.family = std::string(effect_name(effect));
+  c.form = form;
+  // A family with one form keeps the family's name, so that reports read as before forms.
+  c.name = effect_forms(effect).size() > 1 ? c.family + "." + form : c.family;
   std::ostringstream description;
-  description << "simulator effect " << c.name << " (fitted:";
-  for (const std::string& name : fitted_effect_parameters(effect)) {
+  description << "simulator effect " << c.family << ", form " << form << " (fitted:";
+  for (const std::string& name : fitted_effect_parameters(effect, form)) {
     const ParameterInfo& info = info_of(name);
     const double nominal = get_parameter(with, name);
     // Start half-way to the documented default size: neither at "off" (where
@@ -283,19 +330,47 @@ Candidate WongReeceModel::candidate_for(Effect effect) const {
   return c;
 }
 
+WongReeceModel WongReeceModel::excluding(std::vector<std::string> candidate_names) const {
+  WongReeceModel copy = *this;
+  copy.excluded_.insert(copy.excluded_.end(), candidate_names.begin(), candidate_names.end());
+  return copy;
+}
+
 std::vector<Candidate> WongReeceModel::candidates(const std::vector<DiagnosisRow>& train) const {
   std::vector<Candidate> out;
   for (Effect effect : kAllEffects) {
-    Candidate c = candidate_for(effect);
-    if (effect == Effect::drive_friction && distinct_loads(train).size() < 2) {
-      // t0 and k_w W are collinear at one load: fit t0 alone.
-      c.extra.resize(1);
-      c.note = "one training load: drive_friction.k_w_m held at its default";
+    for (const std::string& form : effect_forms(effect)) {
+      Candidate c = candidate_for(effect, form);
+      if (std::find(excluded_.begin(), excluded_.end(), c.name) != excluded_.end()) {
+        continue;
+      }
+      if (effect == Effect::drive_friction && distinct_loads(train).size() < 2) {
+        // The drag term and k_w W are collinear at one load: fit the drag alone.
+        c.extra.resize(1);
+        c.note = "one training load: drive_friction.k_w_m held at its default";
+      }
+      out.push_back(c);
     }
-    out.push_back(c);
   }
   return out;
 }
+
+namespace {
+
+// Switches a candidate's effect on in its form with the fitted values.
+void apply_candidate(const Candidate& candidate, const std::vector<double>& values, std::size_t first,
+                     SimParameters& p) {
+  const Effect effect = effect_from_name(candidate.family.empty() ? candidate.name : candidate.family);
+  p.effects.set_enabled(effect, true);
+  if (!candidate.form.empty()) {
+    set_effect_form(p.effects, effect, candidate.form);
+  }
+  for (std::size_t k = 0; k < candidate.extra.size(); ++k) {
+    set_parameter(p, candidate.extra[k].name, values[first + k]);
+  }
+}
+
+}  // namespace
 
 bool WongReeceModel::predict(const Candidate* candidate, const std::vector<double>& params, const DiagnosisRow& row,
                              std::vector<double>& out) const {
@@ -307,11 +382,7 @@ bool WongReeceModel::predict(const Candidate* candidate, const std::vector<doubl
       set_parameter(p, base_names_[i], params[i]);
     }
     if (candidate != nullptr) {
-      const Effect effect = effect_from_name(candidate->name);
-      p.effects.set_enabled(effect, true);
-      for (std::size_t k = 0; k < candidate->extra.size(); ++k) {
-        set_parameter(p, candidate->extra[k].name, params[base_names_.size() + k]);
-      }
+      apply_candidate(*candidate, params, base_names_.size(), p);
     }
   } catch (const std::invalid_argument&) {
     return false;

@@ -143,12 +143,20 @@ std::string describe_effects(const SimParameters& p) {
   for (Effect e : kAllEffects) {
     if (!p.effects.enabled(e)) continue;
     s << (first ? "" : " ") << effect_name(e) << '(';
-    bool first_param = true;
-    for (const std::string& name : effect_parameter_names(e)) {
+    const std::string form = effect_form(p.effects, e);
+    // The default form is not named, so that files from before forms read the same.
+    bool first_param = form == effect_forms(e).front();
+    if (!first_param) s << "form=" << form;
+    for (const std::string& name : effect_parameter_names(e, form)) {
       s << (first_param ? "" : ",") << name.substr(name.find('.') + 1) << '=' << fmt(get_parameter(p, name));
       first_param = false;
     }
     s << ')';
+    first = false;
+  }
+  if (p.effects.shear_softening.enabled) {
+    s << (first ? "" : " ") << "shear_softening(residual_ratio=" << fmt(p.effects.shear_softening.residual_ratio)
+      << ",peak_displacement_m=" << fmt(p.effects.shear_softening.peak_displacement_m) << ')';
     first = false;
   }
   return first ? std::string("none") : s.str();
@@ -191,6 +199,8 @@ std::vector<double> parse_number_list(std::string_view text) {
   return values;
 }
 
+// "form=NAME" may stand anywhere in the list; it is applied first, so that
+// the parameters are checked against that form's.
 void apply_effect_spec(std::string_view spec, SimParameters& params) {
   const std::string s = trim(spec);
   const std::size_t colon = s.find(':');
@@ -198,19 +208,26 @@ void apply_effect_spec(std::string_view spec, SimParameters& params) {
   params.effects.set_enabled(effect, true);
   if (colon == std::string::npos) return;
   const std::string prefix = std::string(effect_name(effect)) + ".";
-  const std::vector<std::string> known = effect_parameter_names(effect);
-  for (const std::string& item : split(std::string_view(s).substr(colon + 1), ',')) {
+  const std::vector<std::string> items = split(std::string_view(s).substr(colon + 1), ',');
+  for (const std::string& item : items) {
     const std::size_t eq = item.find('=');
     if (eq == std::string::npos) {
       throw std::invalid_argument("effect " + prefix.substr(0, prefix.size() - 1) + ": '" + item +
                                   "' is not param=value");
     }
+    if (trim(item.substr(0, eq)) == "form") set_effect_form(params.effects, effect, trim(item.substr(eq + 1)));
+  }
+  const std::vector<std::string> known = effect_parameter_names(effect, effect_form(params.effects, effect));
+  for (const std::string& item : items) {
+    const std::size_t eq = item.find('=');
+    if (trim(item.substr(0, eq)) == "form") continue;
     const std::string full = prefix + trim(item.substr(0, eq));
     bool found = false;
     for (const std::string& k : known) found = found || k == full;
     if (!found) {
-      std::string msg = "effect " + std::string(effect_name(effect)) + " has no parameter '" +
-                        trim(item.substr(0, eq)) + "'; its parameters:";
+      std::string msg = "effect " + std::string(effect_name(effect)) + " (form " +
+                        effect_form(params.effects, effect) + ") has no parameter '" + trim(item.substr(0, eq)) +
+                        "'; its parameters: form";
       for (const std::string& k : known) msg += " " + k.substr(prefix.size());
       throw std::invalid_argument(msg);
     }

@@ -45,18 +45,81 @@ void print_catalogue(std::ostream& out) {
   out << "bodies:\n";
   for (const Body& b : bodies()) out << "  " << b.name << "  g = " << b.gravity_m_s2 << " m/s^2\n";
   const SimParameters defaults = default_parameters();
-  out << "effects (--effect NAME[:param=value,...]), defaults in brackets:\n";
+  out << "effects (--effect NAME[:form=FORM,param=value,...]), one line per form (the first is the default), "
+         "defaults in brackets:\n";
   for (Effect e : kAllEffects) {
-    out << "  " << effect_name(e) << ':';
-    for (const std::string& name : effect_parameter_names(e)) {
-      out << ' ' << name.substr(name.find('.') + 1) << '[' << get_parameter(defaults, name) << ']';
+    for (const std::string& form : effect_forms(e)) {
+      out << "  " << effect_name(e) << ':';
+      if (effect_forms(e).size() > 1) out << " form=" << form;
+      for (const std::string& name : effect_parameter_names(e, form)) {
+        out << ' ' << name.substr(name.find('.') + 1) << '[' << get_parameter(defaults, name) << ']';
+      }
+      out << '\n';
     }
-    out << '\n';
   }
   out << "parameters (--set NAME=VALUE):\n";
   for (const ParameterInfo& info : parameter_catalogue()) {
     out << "  " << info.name << " [" << info.unit << "]  " << info.description << '\n';
   }
+}
+
+// Everything the options describe, parsed and checked before any work.
+struct SimulateSetup {
+  SimParameters params;
+  std::vector<double> loads;
+  std::vector<double> slips;
+  NoiseModel noise;
+  std::string gravity_text;
+};
+
+std::vector<double> checked_slips(const std::string& text) {
+  std::vector<double> slips = parse_number_list(text);
+  for (double s : slips) {
+    if (!(s >= 0.0 && s <= 1.0)) {
+      throw std::invalid_argument("--slips: slip " + std::to_string(s) + " is outside [0, 1]");
+    }
+  }
+  return slips;
+}
+
+std::vector<double> checked_loads(const SimulateOptions& o, double gravity_m_s2) {
+  std::vector<double> loads;
+  if (!o.loads.empty()) {
+    loads = parse_number_list(o.loads);
+  } else {
+    for (double m : parse_number_list(o.masses.empty() ? "3,7,10,15,20" : o.masses)) {
+      loads.push_back(m * gravity_m_s2);
+    }
+  }
+  for (double w : loads) {
+    if (!(w > 0.0)) throw std::invalid_argument("loads and masses must be > 0");
+  }
+  return loads;
+}
+
+SimulateSetup parse_setup(const SimulateOptions& o) {
+  SimulateSetup setup;
+  try {
+    SimParameters& params = setup.params;
+    params = default_parameters(o.soil);
+    params.wheel.radius_m = o.radius;
+    params.wheel.width_m = o.width;
+    if (o.gravity > 0.0) {
+      params.gravity_m_s2 = o.gravity;
+      setup.gravity_text = "custom";
+    } else {
+      params.gravity_m_s2 = body_gravity(o.body);
+      setup.gravity_text = o.body;
+    }
+    for (const std::string& s : o.sets) apply_parameter_assignment(s, params);
+    for (const std::string& e : o.effects) apply_effect_spec(e, params);
+    for (const std::string& n : o.noise) apply_noise_spec(n, setup.noise);
+    setup.slips = checked_slips(o.slips);
+    setup.loads = checked_loads(o, params.gravity_m_s2);
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError(e.what());
+  }
+  return setup;
 }
 
 void run(const SimulateOptions& o, const std::string& command_line, std::ostream& out, std::ostream& err) {
@@ -67,65 +130,25 @@ void run(const SimulateOptions& o, const std::string& command_line, std::ostream
   }
   // The output is checked before the work (docs/output-files.md).
   if (!o.out_path.empty()) (void)check_output_path(o.out_path);
-  SimParameters params;
-  std::vector<double> loads;
-  std::vector<double> slips;
-  NoiseModel noise;
-  std::string gravity_text;
-  try {
-    params = default_parameters(o.soil);
-    params.wheel.radius_m = o.radius;
-    params.wheel.width_m = o.width;
-    if (o.gravity > 0.0) {
-      params.gravity_m_s2 = o.gravity;
-      gravity_text = "custom";
-    } else {
-      params.gravity_m_s2 = body_gravity(o.body);
-      gravity_text = o.body;
-    }
-    for (const std::string& s : o.sets) apply_parameter_assignment(s, params);
-    for (const std::string& e : o.effects) apply_effect_spec(e, params);
-    for (const std::string& n : o.noise) apply_noise_spec(n, noise);
-    slips = parse_number_list(o.slips);
-    for (double s : slips) {
-      if (!(s >= 0.0 && s <= 1.0)) {
-        throw std::invalid_argument("--slips: slip " + std::to_string(s) + " is outside [0, 1]");
-      }
-    }
-    if (!o.loads.empty()) {
-      loads = parse_number_list(o.loads);
-    } else {
-      for (double m : parse_number_list(o.masses.empty() ? "3,7,10,15,20" : o.masses)) {
-        loads.push_back(m * params.gravity_m_s2);
-      }
-    }
-    for (double w : loads) {
-      if (!(w > 0.0)) throw std::invalid_argument("loads and masses must be > 0");
-    }
-  } catch (const std::invalid_argument& e) {
-    throw CLI::ValidationError(e.what());
-  }
-
+  const SimulateSetup setup = parse_setup(o);
   std::vector<DatasetRow> rows;
   try {
-    rows = generate_dataset(params, loads, slips, noise, o.seed);
+    rows = generate_dataset(setup.params, setup.loads, setup.slips, setup.noise, o.seed);
   } catch (const SimError& e) {
     err << error_prefix("simulate") << e.what() << '\n';
     throw CLI::RuntimeError(exit_status(ExitCode::data_error));
   }
   if (o.verbosity.verbose) {
-    err << error_prefix("simulate") << rows.size() << " rows: " << loads.size() << " loads x " << slips.size()
-        << " slips, seed " << o.seed << '\n';
+    err << error_prefix("simulate") << rows.size() << " rows: " << setup.loads.size() << " loads x "
+        << setup.slips.size() << " slips, seed " << o.seed << '\n';
   }
-  std::ostringstream grav;
-  grav << params.gravity_m_s2;
   const std::vector<std::string> comments = {
       "sinkwatch simulate: reference wheel-soil simulator (Wong-Reece rigid wheel, Bekker + Janosi-Hanamoto; "
       "docs/simulator.md)",
       "command: " + command_line,
-      describe_soil(params) + " (" + gravity_text + ")",
-      "effects: " + describe_effects(params),
-      "noise: " + describe_noise(noise),
+      describe_soil(setup.params) + " (" + setup.gravity_text + ")",
+      "effects: " + describe_effects(setup.params),
+      "noise: " + describe_noise(setup.noise),
       "seed: " + std::to_string(o.seed),
   };
   // --out through a temporary renamed into place, or standard output ("-" or
@@ -135,7 +158,6 @@ void run(const SimulateOptions& o, const std::string& command_line, std::ostream
   write_soil_bin_csv(file.stream(), rows, comments);
   file.commit();
 }
-
 
 }  // namespace
 

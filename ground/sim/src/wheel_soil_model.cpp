@@ -51,62 +51,102 @@ ParameterInfo effect_info(Effect effect, bool primary, std::string name, std::st
   return info;
 }
 
+ParameterInfo in_forms(ParameterInfo info, std::vector<std::string> forms) {
+  info.forms = std::move(forms);
+  return info;
+}
+
+using ParameterRef = std::function<double&(SimParameters&)>;
+
+void add_row(std::vector<ParameterRow>& t, ParameterInfo info, ParameterRef ref, double scale = 1.0) {
+  t.push_back(ParameterRow{std::move(info), std::move(ref), scale});
+}
+
+void add_base_rows(std::vector<ParameterRow>& t) {
+  add_row(t, base_info("soil.kc", "N/m^(n+1)", "Bekker cohesive modulus", 0.0, 1e7),
+          [](SimParameters& p) -> double& { return p.soil.kc; });
+  add_row(t, base_info("soil.kphi", "N/m^(n+2)", "Bekker frictional modulus", 0.0, 1e9),
+          [](SimParameters& p) -> double& { return p.soil.kphi; });
+  add_row(t, base_info("soil.n", "-", "sinkage exponent (n0 when slip_sinkage is on)", 0.2, 2.5),
+          [](SimParameters& p) -> double& { return p.soil.n; });
+  add_row(t, base_info("soil.c_pa", "Pa", "cohesion", 0.0, 1e5),
+          [](SimParameters& p) -> double& { return p.soil.cohesion_pa; });
+  add_row(t, base_info("soil.phi_deg", "deg", "internal friction angle", 0.0, 60.0),
+          [](SimParameters& p) -> double& { return p.soil.friction_angle_rad; }, 1.0 / kDegToRad);
+  add_row(t, base_info("soil.K_m", "m", "Janosi–Hanamoto shear deformation modulus", 1e-4, 0.2),
+          [](SimParameters& p) -> double& { return p.soil.shear_modulus_m; });
+  add_row(t, base_info("soil.density_kg_m3", "kg/m^3", "bulk density (bulldozing, lug faces)", 500.0, 3500.0),
+          [](SimParameters& p) -> double& { return p.soil.density_kg_m3; });
+  add_row(t, base_info("wheel.radius_m", "m", "wheel radius", 0.01, 2.0),
+          [](SimParameters& p) -> double& { return p.wheel.radius_m; });
+  add_row(t, base_info("wheel.width_m", "m", "wheel width", 0.01, 2.0),
+          [](SimParameters& p) -> double& { return p.wheel.width_m; });
+  add_row(t, base_info("gravity_m_s2", "m/s^2", "gravity (bulldozing soil weight; --masses)", 0.1, 30.0),
+          [](SimParameters& p) -> double& { return p.gravity_m_s2; });
+  add_row(t, base_info("model.a0", "-", "maximum-stress angle ratio, theta_m = a0 theta1", 0.0, 0.95),
+          [](SimParameters& p) -> double& { return p.a0; });
+}
+
+void add_sinkage_and_contact_rows(std::vector<ParameterRow>& t) {
+  add_row(t, in_forms(effect_info(Effect::slip_sinkage, true, "slip_sinkage.n1", "-", "n = n0 + n1 s", 0.0, 2.0),
+                     {"exponent"}),
+          [](SimParameters& p) -> double& { return p.effects.slip_sinkage.n1; });
+  add_row(t, in_forms(effect_info(Effect::slip_sinkage, true, "slip_sinkage.ks", "-",
+                                 "z = z0 (1 + ks s)/(1 - 0.5 ks s) (Lyasko: ks = 1)", 0.0, 1.9),
+                     {"lyasko"}),
+          [](SimParameters& p) -> double& { return p.effects.slip_sinkage.ks; });
+  add_row(t, effect_info(Effect::stress_peak_shift, true, "stress_peak_shift.a1", "-", "theta_m = (a0 + a1 s) theta1",
+                         0.0, 0.6),
+          [](SimParameters& p) -> double& { return p.effects.stress_peak_shift.a1; });
+  add_row(t, effect_info(Effect::rear_contact, true, "rear_contact.lambda_r", "-",
+                         "theta2 = -arccos(1 - lambda_r z / r)", 0.0, 1.0),
+          [](SimParameters& p) -> double& { return p.effects.rear_contact.lambda_r; });
+  add_row(t, effect_info(Effect::grouser, true, "grouser.height_m", "m", "grouser height h", 0.0, 0.1),
+          [](SimParameters& p) -> double& { return p.effects.grouser.height_m; });
+  // lambda is no parameter of lug_face (the rim shears at r); lug_count only of lug_face.
+  add_row(t, in_forms(effect_info(Effect::grouser, false, "grouser.lambda", "-", "r_s = r + lambda h", 0.0, 1.0),
+                      {"shear_radius", "lug_tip"}),
+          [](SimParameters& p) -> double& { return p.effects.grouser.lambda; });
+  add_row(t, in_forms(effect_info(Effect::grouser, false, "grouser.lug_count", "-", "lugs per wheel turn", 1.0, 100.0),
+                     {"lug_face"}),
+          [](SimParameters& p) -> double& { return p.effects.grouser.lug_count; });
+}
+
+void add_resistance_rows(std::vector<ParameterRow>& t) {
+  add_row(t, effect_info(Effect::bulldozing, true, "bulldozing.scale", "-",
+                         "multiplier on the bulldozing resistance (Bekker/Wong or Hegedus)", 0.0, 10.0),
+          [](SimParameters& p) -> double& { return p.effects.bulldozing.scale; });
+  add_row(t, in_forms(effect_info(Effect::load_dependence, true, "load_dependence.dphi_deg", "deg",
+                                 "phi = phi0 (1 + sigma/sigma_ref)^(-dphi/phi0) ~ phi0 - dphi ln(1 + sigma/sigma_ref)",
+                                 0.0, 10.0),
+                     {"friction_angle"}),
+          [](SimParameters& p) -> double& { return p.effects.load_dependence.dphi_deg; });
+  add_row(t, in_forms(effect_info(Effect::load_dependence, true, "load_dependence.stiffening", "-",
+                                 "sigma = sigma_B (1 + sigma_B/sigma_ref)^m", 0.0, 2.0),
+                     {"stiffness"}),
+          [](SimParameters& p) -> double& { return p.effects.load_dependence.stiffening; });
+  add_row(t, effect_info(Effect::load_dependence, false, "load_dependence.sigma_ref_pa", "Pa",
+                         "reference normal stress", 1.0, 1e6),
+          [](SimParameters& p) -> double& { return p.effects.load_dependence.sigma_ref_pa; });
+  add_row(t, in_forms(effect_info(Effect::drive_friction, true, "drive_friction.t0_nm", "N m",
+                                 "load-independent drag torque", 0.0, 10.0),
+                     {"constant"}),
+          [](SimParameters& p) -> double& { return p.effects.drive_friction.t0_nm; });
+  add_row(t, in_forms(effect_info(Effect::drive_friction, true, "drive_friction.tv_nm", "N m",
+                                 "viscous drag at zero slip, tv/(1 - s)", 0.0, 10.0),
+                     {"speed"}),
+          [](SimParameters& p) -> double& { return p.effects.drive_friction.tv_nm; });
+  add_row(t, effect_info(Effect::drive_friction, false, "drive_friction.k_w_m", "m",
+                         "load-proportional friction torque per newton", 0.0, 0.05),
+          [](SimParameters& p) -> double& { return p.effects.drive_friction.k_w_m; });
+}
+
 const std::vector<ParameterRow>& rows() {
   static const std::vector<ParameterRow> table = [] {
     std::vector<ParameterRow> t;
-    auto add = [&t](ParameterInfo info, std::function<double&(SimParameters&)> ref, double scale = 1.0) {
-      t.push_back(ParameterRow{std::move(info), std::move(ref), scale});
-    };
-    add(base_info("soil.kc", "N/m^(n+1)", "Bekker cohesive modulus", 0.0, 1e7),
-        [](SimParameters& p) -> double& { return p.soil.kc; });
-    add(base_info("soil.kphi", "N/m^(n+2)", "Bekker frictional modulus", 0.0, 1e9),
-        [](SimParameters& p) -> double& { return p.soil.kphi; });
-    add(base_info("soil.n", "-", "sinkage exponent (n0 when slip_sinkage is on)", 0.2, 2.5),
-        [](SimParameters& p) -> double& { return p.soil.n; });
-    add(base_info("soil.c_pa", "Pa", "cohesion", 0.0, 1e5),
-        [](SimParameters& p) -> double& { return p.soil.cohesion_pa; });
-    add(base_info("soil.phi_deg", "deg", "internal friction angle", 0.0, 60.0),
-        [](SimParameters& p) -> double& { return p.soil.friction_angle_rad; }, 1.0 / kDegToRad);
-    add(base_info("soil.K_m", "m", "Janosi–Hanamoto shear deformation modulus", 1e-4, 0.2),
-        [](SimParameters& p) -> double& { return p.soil.shear_modulus_m; });
-    add(base_info("soil.density_kg_m3", "kg/m^3", "bulk density (bulldozing only)", 500.0, 3500.0),
-        [](SimParameters& p) -> double& { return p.soil.density_kg_m3; });
-    add(base_info("wheel.radius_m", "m", "wheel radius", 0.01, 2.0),
-        [](SimParameters& p) -> double& { return p.wheel.radius_m; });
-    add(base_info("wheel.width_m", "m", "wheel width", 0.01, 2.0),
-        [](SimParameters& p) -> double& { return p.wheel.width_m; });
-    add(base_info("gravity_m_s2", "m/s^2", "gravity (bulldozing soil weight; --masses)", 0.1, 30.0),
-        [](SimParameters& p) -> double& { return p.gravity_m_s2; });
-    add(base_info("model.a0", "-", "maximum-stress angle ratio, theta_m = a0 theta1", 0.0, 0.95),
-        [](SimParameters& p) -> double& { return p.a0; });
-
-    add(effect_info(Effect::slip_sinkage, true, "slip_sinkage.n1", "-", "n = n0 + n1 s", 0.0, 2.0),
-        [](SimParameters& p) -> double& { return p.effects.slip_sinkage.n1; });
-    add(effect_info(Effect::stress_peak_shift, true, "stress_peak_shift.a1", "-",
-                    "theta_m = (a0 + a1 s) theta1", 0.0, 0.6),
-        [](SimParameters& p) -> double& { return p.effects.stress_peak_shift.a1; });
-    add(effect_info(Effect::rear_contact, true, "rear_contact.lambda_r", "-",
-                    "theta2 = -arccos(1 - lambda_r z / r)", 0.0, 1.0),
-        [](SimParameters& p) -> double& { return p.effects.rear_contact.lambda_r; });
-    add(effect_info(Effect::grouser, true, "grouser.height_m", "m", "grouser height h", 0.0, 0.1),
-        [](SimParameters& p) -> double& { return p.effects.grouser.height_m; });
-    add(effect_info(Effect::grouser, false, "grouser.lambda", "-", "r_s = r + lambda h", 0.0, 1.0),
-        [](SimParameters& p) -> double& { return p.effects.grouser.lambda; });
-    add(effect_info(Effect::bulldozing, true, "bulldozing.scale", "-",
-                    "multiplier on the Bekker/Wong bulldozing resistance", 0.0, 10.0),
-        [](SimParameters& p) -> double& { return p.effects.bulldozing.scale; });
-    add(effect_info(Effect::load_dependence, true, "load_dependence.dphi_deg", "deg",
-                    "phi = phi0 (1 + sigma/sigma_ref)^(-dphi/phi0) ~ phi0 - dphi ln(1 + sigma/sigma_ref)", 0.0, 10.0),
-        [](SimParameters& p) -> double& { return p.effects.load_dependence.dphi_deg; });
-    add(effect_info(Effect::load_dependence, false, "load_dependence.sigma_ref_pa", "Pa",
-                    "reference normal stress", 1.0, 1e6),
-        [](SimParameters& p) -> double& { return p.effects.load_dependence.sigma_ref_pa; });
-    add(effect_info(Effect::drive_friction, true, "drive_friction.t0_nm", "N m",
-                    "load-independent drag torque", 0.0, 10.0),
-        [](SimParameters& p) -> double& { return p.effects.drive_friction.t0_nm; });
-    add(effect_info(Effect::drive_friction, false, "drive_friction.k_w_m", "m",
-                    "load-proportional friction torque per newton", 0.0, 0.05),
-        [](SimParameters& p) -> double& { return p.effects.drive_friction.k_w_m; });
+    add_base_rows(t);
+    add_sinkage_and_contact_rows(t);
+    add_resistance_rows(t);
     return t;
   }();
   return table;
@@ -135,16 +175,21 @@ const ParameterRow& find_row(std::string_view name) {
 // inside the interval. A region of zero or tiny width costs nothing and
 // cannot upset the quadrature.
 struct Contact {
-  double r = 0, b = 0, rs = 0;         // radius, width, shear radius
+  double r = 0, b = 0, rs = 0;         // radius, width, shear radius (torque arm)
+  double j_arc = 0, j_chord = 0;       // j = j_arc (theta1 - theta) - j_chord (1 - s)(sin theta1 - sin theta)
   double k = 0, n = 0;                 // kc/b + kphi, exponent
   double c = 0, phi0 = 0, K = 0;       // shear
   double s = 0;                        // slip
   double theta1 = 0, theta2 = 0, thetam = 0;
   double front_width = 0, rear_width = 0;  // theta1 - thetam, thetam - theta2
   double sin1 = 0;                     // sin(theta1)
-  bool load_dependent = false;
+  bool load_dependent = false;         // load_dependence, form friction_angle
   double dphi_rad = 0, sigma_ref = 1;
-  double k_rn = 0;                     // k r^n
+  bool stiffening = false;             // load_dependence, form stiffness
+  double stiffening_m = 0;
+  bool softening = false;              // shear_softening (not a catalogue effect)
+  double residual_ratio = 1, peak_j = 1, hump = 0;
+  double k_rn = 0;                     // k r^n (divided by the Lyasko factor with that form)
   double tan_phi0 = 0;
   double rel_tol = kDefaultQuadratureRelTol;
 
@@ -165,7 +210,21 @@ struct Contact {
       const double phi = phi0 * std::exp(-(dphi_rad / phi0) * std::log1p(sigma / sigma_ref));
       tan_phi = std::tan(phi);
     }
-    return (c + sigma * tan_phi) * (-std::expm1(-j / K));
+    const double tau_max = c + sigma * tan_phi;
+    if (softening) {
+      // Wong's hump: K_r {1 + hump e^(1 - j/K_w)} (1 - e^(-j/K_w)), 1 at j = K_w.
+      const double x = j / peak_j;
+      return tau_max * residual_ratio * (1.0 + hump * std::exp(1.0 - x)) * (-std::expm1(-x));
+    }
+    return tau_max * (-std::expm1(-j / K));
+  }
+
+  // Bekker pressure at the rim for cos theta - cos theta1 = d, and its
+  // stiffening with stress (load_dependence, form stiffness).
+  double pressure(double d) const {
+    if (!(d > 0.0)) return 0.0;
+    const double sigma_b = k_rn * std::pow(d, n);
+    return stiffening ? sigma_b * std::pow(1.0 + sigma_b / sigma_ref, stiffening_m) : sigma_b;
   }
 
   Sample at(double u) const {
@@ -179,22 +238,31 @@ struct Contact {
     const double mid = theta1 - 0.5 * gap;
     const double d = 2.0 * std::sin(mid) * half_gap_sin;
     const double dsin = 2.0 * std::cos(mid) * half_gap_sin;
-    sm.sigma = d > 0.0 ? k_rn * std::pow(d, n) : 0.0;
+    sm.sigma = pressure(d);
     sm.front.sin_t = std::sin(theta_f);
     sm.front.cos_t = std::cos(theta_f);
-    sm.front.tau = shear(sm.sigma, rs * (gap - (1.0 - s) * dsin));
+    sm.front.tau = shear(sm.sigma, j_arc * gap - j_chord * (1.0 - s) * dsin);
     if (rear_width > 0.0) {
       const double theta_r = theta2 + u * rear_width;
       sm.rear.sin_t = std::sin(theta_r);
       sm.rear.cos_t = std::cos(theta_r);
-      sm.rear.tau = shear(sm.sigma, rs * ((theta1 - theta_r) - (1.0 - s) * (sin1 - sm.rear.sin_t)));
+      sm.rear.tau = shear(sm.sigma, j_arc * (theta1 - theta_r) - j_chord * (1.0 - s) * (sin1 - sm.rear.sin_t));
     }
     return sm;
   }
 };
 
 double sinkage_exponent(const SimParameters& p, double slip) {
-  return p.soil.n + (p.effects.slip_sinkage.enabled ? p.effects.slip_sinkage.n1 * slip : 0.0);
+  const auto& ss = p.effects.slip_sinkage;
+  return p.soil.n + (ss.enabled && ss.form == SlipSinkageForm::exponent ? ss.n1 * slip : 0.0);
+}
+
+// Lyasko's slip-sinkage multiplier f(s) = (1 + ks s)/(1 - 0.5 ks s); 1 unless
+// slip_sinkage is on in form lyasko.
+double lyasko_factor(const SimParameters& p, double slip) {
+  const auto& ss = p.effects.slip_sinkage;
+  if (!ss.enabled || ss.form != SlipSinkageForm::lyasko) return 1.0;
+  return (1.0 + ss.ks * slip) / (1.0 - 0.5 * ss.ks * slip);
 }
 
 double max_stress_ratio(const SimParameters& p, double slip) {
@@ -202,8 +270,25 @@ double max_stress_ratio(const SimParameters& p, double slip) {
 }
 
 double shear_radius(const SimParameters& p) {
-  return p.wheel.radius_m +
-         (p.effects.grouser.enabled ? p.effects.grouser.lambda * p.effects.grouser.height_m : 0.0);
+  const auto& g = p.effects.grouser;
+  const bool lengthens = g.enabled && g.form != GrouserForm::lug_face;
+  return p.wheel.radius_m + (lengthens ? g.lambda * g.height_m : 0.0);
+}
+
+void set_shear_law(const SimParameters& p, Contact& ct) {
+  const auto& ld = p.effects.load_dependence;
+  ct.load_dependent = ld.enabled && ld.form == LoadDependenceForm::friction_angle;
+  ct.stiffening = ld.enabled && ld.form == LoadDependenceForm::stiffness;
+  ct.dphi_rad = ld.dphi_deg * kDegToRad;
+  ct.sigma_ref = ld.sigma_ref_pa;
+  ct.stiffening_m = ld.stiffening;
+  const auto& soft = p.effects.shear_softening;
+  ct.softening = soft.enabled;
+  if (soft.enabled) {
+    ct.residual_ratio = soft.residual_ratio;
+    ct.peak_j = soft.peak_displacement_m;
+    ct.hump = 1.0 / (soft.residual_ratio * (1.0 - std::exp(-1.0))) - 1.0;
+  }
 }
 
 Contact make_contact(const SimParameters& p, double sinkage_m, double slip) {
@@ -211,6 +296,11 @@ Contact make_contact(const SimParameters& p, double sinkage_m, double slip) {
   ct.r = p.wheel.radius_m;
   ct.b = p.wheel.width_m;
   ct.rs = shear_radius(p);
+  ct.j_arc = ct.rs;
+  // Lug tip: the tip (radius r_s) slips against ground that moves at the
+  // vehicle speed, which the rim radius sets (s = 1 - v/(r omega)).
+  const bool lug_tip = p.effects.grouser.enabled && p.effects.grouser.form == GrouserForm::lug_tip;
+  ct.j_chord = lug_tip ? ct.r : ct.rs;
   ct.n = sinkage_exponent(p, slip);
   ct.k = p.soil.kc / ct.b + p.soil.kphi;
   ct.c = p.soil.cohesion_pa;
@@ -227,10 +317,10 @@ Contact make_contact(const SimParameters& p, double sinkage_m, double slip) {
   ct.front_width = ct.theta1 - ct.thetam;
   ct.rear_width = ct.thetam - ct.theta2;
   ct.sin1 = std::sin(ct.theta1);
-  ct.load_dependent = p.effects.load_dependence.enabled;
-  ct.dphi_rad = p.effects.load_dependence.dphi_deg * kDegToRad;
-  ct.sigma_ref = p.effects.load_dependence.sigma_ref_pa;
-  ct.k_rn = ct.k * std::pow(ct.r, ct.n);
+  set_shear_law(p, ct);
+  // Lyasko: a softer k by f^(n + 1/2) scales Bekker's wheel sinkage,
+  // z ~ (W / (b k sqrt(2r)))^(1/(n + 1/2)), by exactly f.
+  ct.k_rn = ct.k * std::pow(ct.r, ct.n) / std::pow(lyasko_factor(p, slip), ct.n + 0.5);
   ct.rel_tol = p.quadrature_rel_tol;
   return ct;
 }
@@ -269,12 +359,9 @@ double vertical_force(const Contact& ct) {
   return ct.r * ct.b * integral;
 }
 
-std::string check_parameters(const SimParameters& p, double load_n, double slip) {
-  std::ostringstream msg;
-  auto bad = [&msg](const char* what, double value) {
-    msg << what << " (got " << value << ")";
-    return msg.str();
-  };
+using Complaint = std::function<std::string(const char*, double)>;
+
+std::string check_base(const SimParameters& p, double load_n, double slip, const Complaint& bad) {
   if (!(p.wheel.radius_m > 0.0) || !std::isfinite(p.wheel.radius_m)) return bad("wheel radius must be > 0 m", p.wheel.radius_m);
   if (!(p.wheel.width_m > 0.0) || !std::isfinite(p.wheel.width_m)) return bad("wheel width must be > 0 m", p.wheel.width_m);
   if (!(load_n > 0.0) || !std::isfinite(load_n)) return bad("load must be > 0 N", load_n);
@@ -290,6 +377,22 @@ std::string check_parameters(const SimParameters& p, double load_n, double slip)
   if (!(p.soil.shear_modulus_m > 0.0) || !std::isfinite(p.soil.shear_modulus_m)) return bad("shear modulus K must be > 0 m", p.soil.shear_modulus_m);
   const double ratio = max_stress_ratio(p, slip);
   if (!(ratio >= 0.0 && ratio < 1.0)) return bad("theta_m/theta1 (a0 + a1 s) must be in [0, 1)", ratio);
+  return {};
+}
+
+// Soil weight enters bulldozing and the lug faces (gamma = rho g).
+std::string check_soil_weight(const SimParameters& p, const char* effect, const Complaint& bad) {
+  if (!(p.soil.density_kg_m3 > 0.0)) return bad((std::string("soil density must be > 0 for ") + effect).c_str(), p.soil.density_kg_m3);
+  if (!(p.gravity_m_s2 > 0.0)) return bad((std::string("gravity must be > 0 for ") + effect).c_str(), p.gravity_m_s2);
+  return {};
+}
+
+std::string check_geometry_effects(const SimParameters& p, double slip, const Complaint& bad) {
+  const auto& ss = p.effects.slip_sinkage;
+  if (ss.enabled && ss.form == SlipSinkageForm::lyasko) {
+    if (!(ss.ks >= 0.0 && ss.ks < 2.0)) return bad("slip_sinkage.ks must be in [0, 2)", ss.ks);
+    if (!(lyasko_factor(p, slip) > 0.0) || !std::isfinite(lyasko_factor(p, slip))) return bad("slip_sinkage.ks: 1 - 0.5 ks s must be > 0", ss.ks);
+  }
   if (p.effects.rear_contact.enabled) {
     const double lr = p.effects.rear_contact.lambda_r;
     if (!(lr >= 0.0 && lr <= 1.0)) return bad("rear_contact.lambda_r must be in [0, 1]", lr);
@@ -298,22 +401,46 @@ std::string check_parameters(const SimParameters& p, double load_n, double slip)
     const auto& g = p.effects.grouser;
     if (!(g.height_m >= 0.0) || !std::isfinite(g.height_m)) return bad("grouser.height_m must be >= 0", g.height_m);
     if (!(g.lambda >= 0.0 && g.lambda <= 1.0)) return bad("grouser.lambda must be in [0, 1]", g.lambda);
+    if (g.form == GrouserForm::lug_face) {
+      if (!(g.lug_count > 0.0) || !std::isfinite(g.lug_count)) return bad("grouser.lug_count must be > 0", g.lug_count);
+      return check_soil_weight(p, "grouser lug faces", bad);
+    }
   }
+  return {};
+}
+
+std::string check_force_effects(const SimParameters& p, const Complaint& bad) {
   if (p.effects.bulldozing.enabled) {
     if (!(p.effects.bulldozing.scale >= 0.0) || !std::isfinite(p.effects.bulldozing.scale)) return bad("bulldozing.scale must be >= 0", p.effects.bulldozing.scale);
-    if (!(p.soil.density_kg_m3 > 0.0)) return bad("soil density must be > 0 for bulldozing", p.soil.density_kg_m3);
-    if (!(p.gravity_m_s2 > 0.0)) return bad("gravity must be > 0 for bulldozing", p.gravity_m_s2);
+    if (std::string problem = check_soil_weight(p, "bulldozing", bad); !problem.empty()) return problem;
   }
   if (p.effects.load_dependence.enabled) {
     const auto& l = p.effects.load_dependence;
     if (!(l.dphi_deg >= 0.0) || !std::isfinite(l.dphi_deg)) return bad("load_dependence.dphi_deg must be >= 0", l.dphi_deg);
     if (!(l.sigma_ref_pa > 0.0) || !std::isfinite(l.sigma_ref_pa)) return bad("load_dependence.sigma_ref_pa must be > 0", l.sigma_ref_pa);
+    if (!(l.stiffening >= 0.0) || !std::isfinite(l.stiffening)) return bad("load_dependence.stiffening must be >= 0", l.stiffening);
   }
   if (p.effects.drive_friction.enabled) {
     const auto& d = p.effects.drive_friction;
-    if (!std::isfinite(d.t0_nm) || !std::isfinite(d.k_w_m)) return bad("drive_friction parameters must be finite", d.t0_nm);
+    if (!std::isfinite(d.t0_nm) || !std::isfinite(d.k_w_m) || !std::isfinite(d.tv_nm)) return bad("drive_friction parameters must be finite", d.t0_nm);
+  }
+  const auto& soft = p.effects.shear_softening;
+  if (soft.enabled) {
+    if (!(soft.residual_ratio > 0.0 && soft.residual_ratio <= 1.0)) return bad("shear_softening.residual_ratio must be in (0, 1]", soft.residual_ratio);
+    if (!(soft.peak_displacement_m > 0.0) || !std::isfinite(soft.peak_displacement_m)) return bad("shear_softening.peak_displacement_m must be > 0", soft.peak_displacement_m);
   }
   return {};
+}
+
+std::string check_parameters(const SimParameters& p, double load_n, double slip) {
+  std::ostringstream msg;
+  const Complaint bad = [&msg](const char* what, double value) {
+    msg << what << " (got " << value << ")";
+    return msg.str();
+  };
+  if (std::string problem = check_base(p, load_n, slip, bad); !problem.empty()) return problem;
+  if (std::string problem = check_geometry_effects(p, slip, bad); !problem.empty()) return problem;
+  return check_force_effects(p, bad);
 }
 
 // Static sinkage of Bekker's law under a rigid wheel with the parabolic contact
@@ -323,6 +450,174 @@ double bekker_sinkage_guess(const Contact& ct, double load_n) {
   const double g = std::sqrt(kPi) * boost::math::tgamma(ct.n + 1.0) / (2.0 * boost::math::tgamma(ct.n + 1.5));
   const double coeff = ct.b * ct.k * std::sqrt(2.0 * ct.r) * g;
   return std::pow(load_n / coeff, 1.0 / (ct.n + 0.5));
+}
+
+// Terzaghi's factors are needed by bulldozing; the Hegedus form has its own
+// (soil destructive angle X_c = 45 deg - phi/2).
+double bulldozing_resistance(const SimParameters& p, double z) {
+  const auto& bd = p.effects.bulldozing;
+  if (!bd.enabled) return 0.0;
+  const double gamma = p.soil.density_kg_m3 * p.gravity_m_s2;
+  const double c = p.soil.cohesion_pa;
+  const double phi = p.soil.friction_angle_rad;
+  if (bd.form == BulldozingForm::hegedus) {
+    const double xc = 0.25 * kPi - 0.5 * phi;
+    const double cot_xc = 1.0 / std::tan(xc);
+    const double d1 = cot_xc + std::tan(xc + phi);
+    const double d2 = cot_xc + cot_xc * cot_xc * std::tan(phi);
+    return bd.scale * p.wheel.width_m * d1 * (c * z + 0.5 * d2 * gamma * z * z);
+  }
+  const BearingFactors bf = terzaghi_factors(phi);
+  return bd.scale * p.wheel.width_m * (0.67 * c * z * bf.kpc + 0.5 * z * z * gamma * bf.kpgamma);
+}
+
+double drive_friction_torque(const SimParameters& p, double load_n, double slip) {
+  const auto& d = p.effects.drive_friction;
+  if (!d.enabled) return 0.0;
+  if (d.form == DriveFrictionForm::speed) {
+    // omega / omega(s = 0) = 1/(1 - s) at a fixed vehicle speed; capped at
+    // s = 0.95 (20x) so that s = 1 (a stalled vehicle) stays finite.
+    return d.tv_nm / std::max(1.0 - slip, 0.05) + d.k_w_m * load_n;
+  }
+  return d.t0_nm + d.k_w_m * load_n;
+}
+
+// Grouser form lug_face: the engaged lugs (lug_count per turn over the
+// contact angle theta1 - theta2) each push a face h x b against the soil's
+// Rankine passive pressure at the mean depth, (gamma (z + h)/2 N_phi + 2 c
+// sqrt(N_phi)) h b, N_phi = tan^2(45 deg + phi/2); mobilised like the shear,
+// 1 - e^(-j/K), at half the rim's shear displacement at the exit.
+double lug_face_thrust(const SimParameters& p, const Contact& ct, double z) {
+  const auto& g = p.effects.grouser;
+  if (!g.enabled || g.form != GrouserForm::lug_face) return 0.0;
+  const double gamma = p.soil.density_kg_m3 * p.gravity_m_s2;
+  const double n_phi = std::pow(std::tan(0.25 * kPi + 0.5 * ct.phi0), 2.0);
+  const double h = g.height_m;
+  const double per_lug = h * ct.b * (0.5 * gamma * (z + h) * n_phi + 2.0 * ct.c * std::sqrt(n_phi));
+  const double engaged = g.lug_count * (ct.theta1 - ct.theta2) / (2.0 * kPi);
+  const double j_exit = ct.r * ((ct.theta1 - ct.theta2) - (1.0 - ct.s) * (ct.sin1 - std::sin(ct.theta2)));
+  return engaged * per_lug * (-std::expm1(-0.5 * j_exit / ct.K));
+}
+
+struct SinkageRoot {
+  SimStatus status = SimStatus::ok;
+  std::string message;
+  double sinkage_m = 0.0;
+  int iterations = 0;
+};
+
+// Bracket of ln W(z) = ln load in x = ln z: one residual at Bekker's
+// closed-form static sinkage, then a step of 1.2 x the Newton step for
+// W ~ z^(n+1/2) (slope n + 1/2 in log-log), which usually brackets at once;
+// widened by factors of e if not. W(z) grows with z, from 0 at z = 0 to its
+// largest value at z = r. Returns lo, hi, f(lo), f(hi).
+template <class F>
+std::array<double, 4> bracket_sinkage(const SimParameters& p, double load_n, double slip, F residual) {
+  const double r = p.wheel.radius_m;
+  const double x_max = std::log(r);
+  const Contact probe = make_contact(p, 0.5 * r, slip);
+  // Lyasko's factor scales the sinkage by f (make_contact); the guess too.
+  const double guess = bekker_sinkage_guess(probe, load_n) * lyasko_factor(p, slip);
+  const double x0 = std::log(std::min(r, std::max(1e-9 * r, guess)));
+  const double f0 = residual(x0);
+  const double step = 1.2 * std::fabs(f0) / (probe.n + 0.5) + 1e-6;
+  double lo = x0, f_lo = f0, hi = x0, f_hi = f0;
+  if (f0 > 0.0) {
+    lo = x0 - step;
+    f_lo = residual(lo);
+    for (int i = 0; i < 40 && f_lo > 0.0; ++i) {
+      hi = lo;
+      f_hi = f_lo;
+      lo -= 1.0;
+      f_lo = residual(lo);
+    }
+  } else {
+    hi = std::min(x_max, x0 + step);
+    f_hi = residual(hi);
+    for (int i = 0; i < 60 && f_hi < 0.0 && hi < x_max; ++i) {
+      lo = hi;
+      f_lo = f_hi;
+      hi = std::min(x_max, hi + 1.0);
+      f_hi = residual(hi);
+    }
+  }
+  return {lo, hi, f_lo, f_hi};
+}
+
+// Solves ln W(z) = ln load in x = ln z: W grows about like z^(n+1/2), so the
+// residual is nearly linear in x and toms748 converges in a few steps.
+SinkageRoot solve_sinkage(const SimParameters& p, double load_n, double slip) {
+  SinkageRoot root;
+  const double r = p.wheel.radius_m;
+  const double log_load = std::log(load_n);
+  auto residual = [&](double x) {
+    const double w = vertical_force(make_contact(p, std::exp(x), slip));
+    return std::log(std::max(w, 1e-300)) - log_load;
+  };
+  const auto [lo, hi, f_lo, f_hi] = bracket_sinkage(p, load_n, slip, residual);
+  if (f_lo > 0.0) {
+    root.status = SimStatus::numerical_failure;
+    root.message = "could not bracket the sinkage from below";
+    return root;
+  }
+  if (f_hi < 0.0) {
+    std::ostringstream msg;
+    msg << "no equilibrium: at sinkage z = r = " << r << " m the soil carries only " << load_n * std::exp(f_hi)
+        << " N of the " << load_n << " N load (the wheel sinks past its axle)";
+    root.status = SimStatus::no_solution;
+    root.message = msg.str();
+    return root;
+  }
+  std::uintmax_t iterations = 100;
+  const auto bracket = boost::math::tools::toms748_solve(residual, lo, hi, f_lo, f_hi,
+                                                         boost::math::tools::eps_tolerance<double>(kRootBits), iterations);
+  if (iterations >= 100) {
+    root.status = SimStatus::numerical_failure;
+    root.message = "root finder did not converge in 100 iterations";
+    return root;
+  }
+  root.sinkage_m = std::exp(0.5 * (bracket.first + bracket.second));
+  root.iterations = static_cast<int>(iterations);
+  return root;
+}
+
+// The four remaining integrals at the solved sinkage, in two passes: a
+// complex integrand carries two real ones on the same nodes (tanh-sinh takes
+// any value type); then the effects' forces and torques.
+void fill_state(const SimParameters& p, double load_n, double slip, double z, WheelSoilState& st) {
+  const Contact ct = make_contact(p, z, slip);
+  const double rb = ct.r * ct.b;
+  using Pair = std::complex<double>;
+  const double wf = ct.front_width;
+  const double wr = ct.rear_width;
+  const Pair h_rc = rb * integrate_contact(ct, [&ct, wf, wr](double u) {
+    const Contact::Sample sm = ct.at(u);
+    return Pair(wf * sm.front.tau * sm.front.cos_t + wr * sm.rear.tau * sm.rear.cos_t,
+                sm.sigma * (wf * sm.front.sin_t + wr * sm.rear.sin_t));
+  });
+  const Pair tau_w = integrate_contact(ct, [&ct, wf, wr](double u) {
+    const Contact::Sample sm = ct.at(u);
+    return Pair(wf * sm.front.tau + wr * sm.rear.tau,
+                wf * (sm.sigma * sm.front.cos_t + sm.front.tau * sm.front.sin_t) +
+                    wr * (sm.sigma * sm.rear.cos_t + sm.rear.tau * sm.rear.sin_t));
+  });
+  st.sinkage_m = z;
+  st.entry_angle_rad = ct.theta1;
+  st.exit_angle_rad = ct.theta2;
+  st.max_stress_angle_rad = ct.thetam;
+  st.sinkage_exponent = ct.n;
+  st.shear_radius_m = ct.rs;
+  st.lug_face_thrust_n = lug_face_thrust(p, ct, z);
+  st.gross_thrust_n = h_rc.real() + st.lug_face_thrust_n;
+  st.compaction_resistance_n = h_rc.imag();
+  // The lug-face force acts at mid-height of the lugs.
+  st.soil_torque_nm = ct.r * ct.rs * ct.b * tau_w.real() +
+                      st.lug_face_thrust_n * (ct.r + 0.5 * p.effects.grouser.height_m);
+  st.bulldozing_resistance_n = bulldozing_resistance(p, z);
+  st.drive_friction_torque_nm = drive_friction_torque(p, load_n, slip);
+  st.torque_nm = st.soil_torque_nm + st.drive_friction_torque_nm;
+  st.drawbar_pull_n = st.gross_thrust_n - st.compaction_resistance_n - st.bulldozing_resistance_n;
+  st.vertical_force_n = rb * tau_w.imag();
 }
 
 }  // namespace
@@ -386,26 +681,98 @@ const std::vector<ParameterInfo>& parameter_catalogue() {
   return infos;
 }
 
+namespace {
+
+bool parameter_in_form(const ParameterInfo& info, Effect effect, std::string_view form) {
+  if (!info.is_effect_parameter || info.effect != effect) return false;
+  if (info.forms.empty()) return true;
+  for (const std::string& f : info.forms) {
+    if (f == form) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 std::vector<std::string> active_parameter_names(const SimParameters& params) {
   std::vector<std::string> names;
   for (const ParameterInfo& info : parameter_catalogue()) {
-    if (!info.is_effect_parameter || params.effects.enabled(info.effect)) names.push_back(info.name);
+    if (!info.is_effect_parameter ||
+        (params.effects.enabled(info.effect) &&
+         parameter_in_form(info, info.effect, effect_form(params.effects, info.effect)))) {
+      names.push_back(info.name);
+    }
+  }
+  return names;
+}
+
+std::vector<std::string> effect_parameter_names(Effect effect, std::string_view form) {
+  std::vector<std::string> names;
+  for (bool primary : {true, false}) {
+    for (const ParameterInfo& info : parameter_catalogue()) {
+      if (info.primary == primary && parameter_in_form(info, effect, form)) names.push_back(info.name);
+    }
   }
   return names;
 }
 
 std::vector<std::string> effect_parameter_names(Effect effect) {
-  std::vector<std::string> names;
-  for (const ParameterInfo& info : parameter_catalogue()) {
-    if (info.is_effect_parameter && info.effect == effect && info.primary) names.push_back(info.name);
-  }
-  for (const ParameterInfo& info : parameter_catalogue()) {
-    if (info.is_effect_parameter && info.effect == effect && !info.primary) names.push_back(info.name);
-  }
-  return names;
+  return effect_parameter_names(effect, effect_forms(effect).front());
+}
+
+std::string primary_parameter_name(Effect effect, std::string_view form) {
+  return effect_parameter_names(effect, form).front();
 }
 
 std::string primary_parameter_name(Effect effect) { return effect_parameter_names(effect).front(); }
+
+std::vector<std::string> effect_forms(Effect effect) {
+  switch (effect) {
+    case Effect::slip_sinkage: return {"exponent", "lyasko"};
+    case Effect::stress_peak_shift: return {"linear"};
+    case Effect::rear_contact: return {"rebound"};
+    case Effect::grouser: return {"shear_radius", "lug_tip", "lug_face"};
+    case Effect::bulldozing: return {"bekker", "hegedus"};
+    case Effect::load_dependence: return {"friction_angle", "stiffness"};
+    case Effect::drive_friction: return {"constant", "speed"};
+  }
+  return {"?"};
+}
+
+std::string effect_form(const EffectSettings& settings, Effect effect) {
+  std::size_t index = 0;
+  switch (effect) {
+    case Effect::slip_sinkage: index = static_cast<std::size_t>(settings.slip_sinkage.form); break;
+    case Effect::grouser: index = static_cast<std::size_t>(settings.grouser.form); break;
+    case Effect::bulldozing: index = static_cast<std::size_t>(settings.bulldozing.form); break;
+    case Effect::load_dependence: index = static_cast<std::size_t>(settings.load_dependence.form); break;
+    case Effect::drive_friction: index = static_cast<std::size_t>(settings.drive_friction.form); break;
+    case Effect::stress_peak_shift:
+    case Effect::rear_contact: break;
+  }
+  return effect_forms(effect).at(index);
+}
+
+void set_effect_form(EffectSettings& settings, Effect effect, std::string_view form) {
+  const std::vector<std::string> forms = effect_forms(effect);
+  std::size_t index = 0;
+  while (index < forms.size() && forms[index] != form) ++index;
+  if (index == forms.size()) {
+    std::string msg = "effect " + std::string(effect_name(effect)) + " has no form '" + std::string(form) + "'; its forms:";
+    for (const std::string& f : forms) msg += " " + f;
+    throw std::invalid_argument(msg);
+  }
+  const int i = static_cast<int>(index);
+  switch (effect) {
+    case Effect::slip_sinkage: settings.slip_sinkage.form = static_cast<SlipSinkageForm>(i); break;
+    case Effect::grouser: settings.grouser.form = static_cast<GrouserForm>(i); break;
+    case Effect::bulldozing: settings.bulldozing.form = static_cast<BulldozingForm>(i); break;
+    case Effect::load_dependence: settings.load_dependence.form = static_cast<LoadDependenceForm>(i); break;
+    case Effect::drive_friction: settings.drive_friction.form = static_cast<DriveFrictionForm>(i); break;
+    case Effect::stress_peak_shift:
+    case Effect::rear_contact: break;
+  }
+}
 
 std::vector<std::string> suggested_base_fit_parameters() {
   return {"soil.kphi", "soil.n", "soil.c_pa", "soil.phi_deg", "soil.K_m", "model.a0"};
@@ -479,114 +846,15 @@ Evaluation evaluate(const SimParameters& p, double load_n, double slip) {
     ev.message = problem;
     return ev;
   }
-  const double r = p.wheel.radius_m;
   try {
-    // Solve ln W(z) = ln load in x = ln z: W grows about like z^(n+1/2), so
-    // the residual is nearly linear in x and toms748 converges in a few steps.
-    const double log_load = std::log(load_n);
-    auto residual = [&](double x) {
-      const double w = vertical_force(make_contact(p, std::exp(x), slip));
-      return std::log(std::max(w, 1e-300)) - log_load;
-    };
-    const double x_max = std::log(r);
-
-    // Bracket the root: one residual at Bekker's closed-form static sinkage,
-    // then a step of 1.2 x the Newton step for W ~ z^(n+1/2) (slope n + 1/2
-    // in log-log), which usually brackets at once; widen by factors of e if
-    // not. W(z) grows with z, from 0 at z = 0 to its largest value at z = r.
-    const Contact probe = make_contact(p, 0.5 * r, slip);
-    const double x0 = std::log(std::min(r, std::max(1e-9 * r, bekker_sinkage_guess(probe, load_n))));
-    const double f0 = residual(x0);
-    const double step = 1.2 * std::fabs(f0) / (probe.n + 0.5) + 1e-6;
-    double lo = x0, f_lo = f0, hi = x0, f_hi = f0;
-    if (f0 > 0.0) {
-      lo = x0 - step;
-      f_lo = residual(lo);
-      for (int i = 0; i < 40 && f_lo > 0.0; ++i) {
-        hi = lo;
-        f_hi = f_lo;
-        lo -= 1.0;
-        f_lo = residual(lo);
-      }
-      if (f_lo > 0.0) {
-        ev.status = SimStatus::numerical_failure;
-        ev.message = "could not bracket the sinkage from below";
-        return ev;
-      }
-    } else {
-      hi = std::min(x_max, x0 + step);
-      f_hi = residual(hi);
-      for (int i = 0; i < 60 && f_hi < 0.0 && hi < x_max; ++i) {
-        lo = hi;
-        f_lo = f_hi;
-        hi = std::min(x_max, hi + 1.0);
-        f_hi = residual(hi);
-      }
-    }
-    if (f_hi < 0.0) {
-      std::ostringstream msg;
-      msg << "no equilibrium: at sinkage z = r = " << r << " m the soil carries only "
-          << load_n * std::exp(f_hi) << " N of the " << load_n << " N load (the wheel sinks past its axle)";
-      ev.status = SimStatus::no_solution;
-      ev.message = msg.str();
+    const SinkageRoot root = solve_sinkage(p, load_n, slip);
+    if (root.status != SimStatus::ok) {
+      ev.status = root.status;
+      ev.message = root.message;
       return ev;
     }
-    std::uintmax_t iterations = 100;
-    const auto bracket = boost::math::tools::toms748_solve(
-        residual, lo, hi, f_lo, f_hi, boost::math::tools::eps_tolerance<double>(kRootBits), iterations);
-    if (iterations >= 100) {
-      ev.status = SimStatus::numerical_failure;
-      ev.message = "root finder did not converge in 100 iterations";
-      return ev;
-    }
-    const double z = std::exp(0.5 * (bracket.first + bracket.second));
-
-    // The four remaining integrals in two passes: a complex integrand carries
-    // two real ones on the same nodes (tanh-sinh takes any value type).
-    const Contact ct = make_contact(p, z, slip);
-    const double rb = ct.r * ct.b;
-    using Pair = std::complex<double>;
-    const double wf = ct.front_width;
-    const double wr = ct.rear_width;
-    const Pair h_rc = rb * integrate_contact(ct, [&ct, wf, wr](double u) {
-      const Contact::Sample sm = ct.at(u);
-      return Pair(wf * sm.front.tau * sm.front.cos_t + wr * sm.rear.tau * sm.rear.cos_t,
-                  sm.sigma * (wf * sm.front.sin_t + wr * sm.rear.sin_t));
-    });
-    const Pair tau_w = integrate_contact(ct, [&ct, wf, wr](double u) {
-      const Contact::Sample sm = ct.at(u);
-      return Pair(wf * sm.front.tau + wr * sm.rear.tau,
-                  wf * (sm.sigma * sm.front.cos_t + sm.front.tau * sm.front.sin_t) +
-                      wr * (sm.sigma * sm.rear.cos_t + sm.rear.tau * sm.rear.sin_t));
-    });
-    const double h = h_rc.real();
-    const double rc = h_rc.imag();
-    const double tau_int = tau_w.real();
-
-    WheelSoilState& st = ev.state;
-    st.sinkage_m = z;
-    st.entry_angle_rad = ct.theta1;
-    st.exit_angle_rad = ct.theta2;
-    st.max_stress_angle_rad = ct.thetam;
-    st.sinkage_exponent = ct.n;
-    st.shear_radius_m = ct.rs;
-    st.gross_thrust_n = h;
-    st.compaction_resistance_n = rc;
-    st.soil_torque_nm = ct.r * ct.rs * ct.b * tau_int;
-    if (p.effects.bulldozing.enabled) {
-      const BearingFactors bf = terzaghi_factors(p.soil.friction_angle_rad);
-      const double gamma = p.soil.density_kg_m3 * p.gravity_m_s2;
-      st.bulldozing_resistance_n =
-          p.effects.bulldozing.scale * ct.b *
-          (0.67 * p.soil.cohesion_pa * z * bf.kpc + 0.5 * z * z * gamma * bf.kpgamma);
-    }
-    if (p.effects.drive_friction.enabled) {
-      st.drive_friction_torque_nm = p.effects.drive_friction.t0_nm + p.effects.drive_friction.k_w_m * load_n;
-    }
-    st.torque_nm = st.soil_torque_nm + st.drive_friction_torque_nm;
-    st.drawbar_pull_n = h - rc - st.bulldozing_resistance_n;
-    st.vertical_force_n = rb * tau_w.imag();
-    st.root_iterations = static_cast<int>(iterations);
+    fill_state(p, load_n, slip, root.sinkage_m, ev.state);
+    ev.state.root_iterations = root.iterations;
   } catch (const QuadratureFailure& e) {
     ev.status = SimStatus::numerical_failure;
     ev.message = e.what();

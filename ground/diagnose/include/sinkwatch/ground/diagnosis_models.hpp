@@ -19,9 +19,11 @@
 // WongReeceModel: the reference simulator (ground/sim, Wong–Reece with
 // Bekker and Janosi–Hanamoto), three channels sinkage_m, torque_nm,
 // drawbar_pull_n. Base: the simulator with every effect off and the soil
-// parameters kphi, n, c, phi, K free (default_base_parameters()). Candidates: each effect
-// of the simulator's catalogue, with its primary parameter free and its other
-// parameters at the simulator's documented defaults (a reduced parameter set).
+// parameters kphi, n, c, phi, K free (default_base_parameters()). Candidates: each form
+// of each effect of the simulator's catalogue (effect_forms: one candidate
+// "<family>.<form>" per form, or "<family>" for an effect with one form), with
+// the form's primary parameter free and its other parameters at the
+// simulator's documented defaults (a reduced parameter set).
 #ifndef SINKWATCH_GROUND_DIAGNOSIS_MODELS_HPP
 #define SINKWATCH_GROUND_DIAGNOSIS_MODELS_HPP
 
@@ -71,12 +73,19 @@ class WongReeceModel final : public DiagnosisModel {
   [[nodiscard]] bool predict(const Candidate* candidate, const std::vector<double>& params, const DiagnosisRow& row,
                              std::vector<double>& out) const override;
 
-  /// The candidate of one effect, as candidates() builds it.
+  /// The candidate of one effect form, as candidates() builds it; without a
+  /// form, the effect's default form.
   [[nodiscard]] Candidate candidate_for(Effect effect) const;
+  [[nodiscard]] Candidate candidate_for(Effect effect, const std::string& form) const;
+
+  /// The same model without the named candidates (e.g. "grouser.lug_tip"):
+  /// the cross-form check holds out the form that made the data.
+  [[nodiscard]] WongReeceModel excluding(std::vector<std::string> candidate_names) const;
 
  private:
   SimParameters start_;
   std::vector<std::string> base_names_;
+  std::vector<std::string> excluded_;
 };
 
 }  // namespace ground

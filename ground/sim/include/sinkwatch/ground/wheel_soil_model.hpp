@@ -60,27 +60,94 @@ std::string_view effect_name(Effect effect);
 // Throws std::invalid_argument naming the valid effects when `name` is unknown.
 Effect effect_from_name(std::string_view name);
 
+// The literature forms of the effects that have more than one
+// (docs/simulator.md, "Effects"; issue 16). The first enumerator of each is
+// the default: the form the simulator had before forms existed, so a setting
+// without a form computes what it always did.
+enum class SlipSinkageForm { exponent, lyasko };
+enum class GrouserForm { shear_radius, lug_tip, lug_face };
+enum class BulldozingForm { bekker, hegedus };
+enum class LoadDependenceForm { friction_angle, stiffness };
+enum class DriveFrictionForm { constant, speed };
+
 struct EffectSettings {
-  // slip_sinkage: n = n0 + n1 s (Ding et al. 2011/2015).
-  struct SlipSinkage { bool enabled = false; double n1 = 0.5; } slip_sinkage;
+  // slip_sinkage, form exponent: n = n0 + n1 s (Ding et al. 2011/2015);
+  // form lyasko: z = z0 (1 + ks s)/(1 - 0.5 ks s) (Lyasko 2010 with ks = 1),
+  // through the Bekker modulus k / f(s)^(n + 1/2).
+  struct SlipSinkage {
+    bool enabled = false;
+    SlipSinkageForm form = SlipSinkageForm::exponent;
+    double n1 = 0.5;
+    double ks = 1.0;
+  } slip_sinkage;
   // stress_peak_shift: theta_m = (a0 + a1 s) theta1 (Wong & Reece 1967).
   struct StressPeakShift { bool enabled = false; double a1 = 0.32; } stress_peak_shift;
   // rear_contact: theta2 = -arccos(1 - lambda_r z / r) (Ishigami et al. 2007).
   struct RearContact { bool enabled = false; double lambda_r = 0.9; } rear_contact;
-  // grouser: shear radius r_s = r + lambda h in j(theta) and the torque arm.
-  struct Grouser { bool enabled = false; double height_m = 0.01; double lambda = 1.0; } grouser;
-  // bulldozing: Rb = scale b (0.67 c z Kpc + 0.5 z^2 gamma Kpgamma) (Bekker/Wong,
-  // Terzaghi factors), subtracted from the drawbar pull.
-  struct Bulldozing { bool enabled = false; double scale = 1.0; } bulldozing;
-  // load_dependence: phi(sigma) = phi0 (1 + sigma/sigma_ref)^(-dphi/phi0), which is
-  // phi0 - dphi ln(1 + sigma/sigma_ref) to first order (after Bolton 1986).
-  struct LoadDependence { bool enabled = false; double dphi_deg = 1.5; double sigma_ref_pa = 1000.0; } load_dependence;
-  // drive_friction: T_measured = T_soil + t0 + k_w W (gearbox drag + bearing load term).
-  struct DriveFriction { bool enabled = false; double t0_nm = 0.1; double k_w_m = 1.0e-3; } drive_friction;
+  // grouser, form shear_radius: r_s = r + lambda h in j(theta) and the torque arm;
+  // form lug_tip: j = r_s (theta1 - theta) - r (1 - s)(sin theta1 - sin theta),
+  // the slip of the lug tip (radius r_s) against the ground (speed set by r);
+  // form lug_face: the rim shears as without lugs, plus the passive
+  // resistance of the engaged lug faces (lug_count lugs per turn, h x b each).
+  struct Grouser {
+    bool enabled = false;
+    GrouserForm form = GrouserForm::shear_radius;
+    double height_m = 0.01;
+    double lambda = 1.0;
+    double lug_count = 15.0;
+  } grouser;
+  // bulldozing, form bekker: Rb = scale b (0.67 c z Kpc + 0.5 z^2 gamma Kpgamma)
+  // (Bekker/Wong, Terzaghi factors); form hegedus: Rb = scale b D1 (c z + D2
+  // gamma z^2 / 2) (Hegedus 1960 as used by Ishigami et al. 2007); subtracted
+  // from the drawbar pull.
+  struct Bulldozing {
+    bool enabled = false;
+    BulldozingForm form = BulldozingForm::bekker;
+    double scale = 1.0;
+  } bulldozing;
+  // load_dependence, form friction_angle: phi(sigma) = phi0 (1 + sigma/sigma_ref)^(-dphi/phi0),
+  // which is phi0 - dphi ln(1 + sigma/sigma_ref) to first order (after Bolton 1986);
+  // form stiffness: sigma = sigma_B (1 + sigma_B/sigma_ref)^m, the Bekker
+  // modulus rising with stress (after Janbu 1963).
+  struct LoadDependence {
+    bool enabled = false;
+    LoadDependenceForm form = LoadDependenceForm::friction_angle;
+    double dphi_deg = 1.5;
+    double sigma_ref_pa = 1000.0;
+    double stiffening = 0.5;
+  } load_dependence;
+  // drive_friction, form constant: T_measured = T_soil + t0 + k_w W (gearbox
+  // drag + bearing load term); form speed: T_soil + tv/(1 - s) + k_w W, a
+  // viscous drag proportional to the wheel's angular speed at a fixed vehicle speed.
+  struct DriveFriction {
+    bool enabled = false;
+    DriveFrictionForm form = DriveFrictionForm::constant;
+    double t0_nm = 0.1;
+    double k_w_m = 1.0e-3;
+    double tv_nm = 0.1;
+  } drive_friction;
+  // Not an effect of the catalogue: no Effect value, no named parameters, so
+  // never a diagnosis candidate. It is the "form the library does not have" of
+  // the cross-form check (host_tests/diagnose/test_diagnosis_crossform.cpp):
+  // Wong's hump-shaped shear curve, tau = tau_max K_r {1 + [1/(K_r (1 - 1/e))
+  // - 1] e^(1 - j/K_w)} (1 - e^(-j/K_w)), peak tau_max at j = K_w, falling to
+  // K_r tau_max (Wong, Theory of Ground Vehicles), in place of Janosi–Hanamoto.
+  struct ShearSoftening {
+    bool enabled = false;
+    double residual_ratio = 0.75;      // K_r
+    double peak_displacement_m = 0.02;  // K_w
+  } shear_softening;
 
   bool enabled(Effect effect) const;
   void set_enabled(Effect effect, bool on);
 };
+
+// The forms of an effect by name, the default first; one name for an effect
+// with a single form ("linear" for stress_peak_shift, "rebound" for rear_contact).
+std::vector<std::string> effect_forms(Effect effect);
+std::string effect_form(const EffectSettings& settings, Effect effect);
+// Throws std::invalid_argument naming the effect's forms when `form` is unknown.
+void set_effect_form(EffectSettings& settings, Effect effect, std::string_view form);
 
 // Tolerances of the numerics (docs/simulator.md, "Numerical methods").
 // Quadrature: goal on tanh-sinh's error estimate (the difference between its
@@ -111,19 +178,24 @@ struct ParameterInfo {
   std::string description;
   bool is_effect_parameter = false;
   Effect effect = Effect::slip_sinkage;  // meaningful only when is_effect_parameter
-  bool primary = false;  // the one parameter that sets the effect's size (fit this one)
+  std::vector<std::string> forms;  // the effect forms it belongs to; empty: every form of the effect
+  bool primary = false;  // the one parameter that sets the size of its form (fit this one)
   double lower = 0.0;    // physically admissible range, for bounded fits
   double upper = 0.0;
 };
 
 // Every parameter the model has, in a fixed order.
 const std::vector<ParameterInfo>& parameter_catalogue();
-// The parameters of the base model plus those of the enabled effects.
+// The parameters of the base model plus those of the enabled effects (of
+// each enabled effect, the parameters of its selected form).
 std::vector<std::string> active_parameter_names(const SimParameters& params);
-// The parameters of one effect, primary first.
+// The parameters of one form of an effect, primary first; without a form,
+// the default form's.
 std::vector<std::string> effect_parameter_names(Effect effect);
-// The parameter that sets an effect's size (e.g. "bulldozing.scale").
+std::vector<std::string> effect_parameter_names(Effect effect, std::string_view form);
+// The parameter that sets the size of an effect form (e.g. "bulldozing.scale").
 std::string primary_parameter_name(Effect effect);
+std::string primary_parameter_name(Effect effect, std::string_view form);
 // A base-model set that is identifiable from soil-bin rows at one wheel width:
 // kc and kphi only appear as kc/b + kphi, so only kphi is in it.
 std::vector<std::string> suggested_base_fit_parameters();
@@ -157,7 +229,8 @@ struct WheelSoilState {
   double soil_torque_nm = 0.0;        // r r_s b Int tau
   double drive_friction_torque_nm = 0.0;
   double drawbar_pull_n = 0.0;        // gross thrust - compaction - bulldozing
-  double gross_thrust_n = 0.0;        // H  = r b Int tau cos
+  double gross_thrust_n = 0.0;        // H  = r b Int tau cos (+ lug-face thrust)
+  double lug_face_thrust_n = 0.0;     // grouser form lug_face: the part of H on the lug faces
   double compaction_resistance_n = 0.0;  // Rc = r b Int sigma sin
   double bulldozing_resistance_n = 0.0;  // Rb
   double vertical_force_n = 0.0;      // W recomputed at the solution (check: equals the load)
