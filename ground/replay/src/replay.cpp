@@ -89,7 +89,11 @@ OnboardLoop::OnboardLoop(ReplayConfig config) : config_(config) {
 
 double OnboardLoop::escape_best_sinkage_m() const { return to_d(escape_.best_sinkage_m()); }
 
-CycleRecord OnboardLoop::step(const TelemetryRow& row, const std::string& source, double x_m) {
+namespace {
+
+// The row in the flight code's fixed-point formats; a value that does not fit
+// is a TelemetryError on the row's line.
+flight::RoverTelemetry telemetry_of(const TelemetryRow& row, const std::string& source) {
   using namespace flight;
   RoverTelemetry t{};
   // The on-board clock is uint32 milliseconds: a time outside 0 ... 4294967.295 s
@@ -119,9 +123,14 @@ CycleRecord OnboardLoop::step(const TelemetryRow& row, const std::string& source
   if (t.speed_valid) t.speed_mps = SpeedMps{to_q<SpeedQ>(*row.speed_mps, row, source, "speed")};
   t.rim_speed_valid = row.rim_speed_mps.has_value();
   if (t.rim_speed_valid) t.rim_speed_mps = SpeedMps{to_q<SpeedQ>(*row.rim_speed_mps, row, source, "rim speed")};
+  return t;
+}
 
-  const RoverStepOutput out = step_.step(t, t.time, config_.table, rover_);
-
+// The cycle's record of the flight step's output, in SI units; the events
+// of the wheels that tripped this cycle come from the monitor.
+CycleRecord record_of(const flight::RoverStepOutput& out, const TelemetryRow& row, double x_m,
+                      const flight::RoverStep& step) {
+  using namespace flight;
   CycleRecord rec;
   rec.time_s = row.time_s;
   rec.x_m = x_m;
@@ -147,41 +156,62 @@ CycleRecord OnboardLoop::step(const TelemetryRow& row, const std::string& source
     c.stop_reason = w.stop_reason;
     c.stop_tripped = w.stop_tripped;
     if (w.stop_tripped) {
-      rec.new_events.push_back(convert(step_.monitor().wheel(static_cast<std::uint8_t>(i)).last_event()));
+      rec.new_events.push_back(convert(step.monitor().wheel(static_cast<std::uint8_t>(i)).last_event()));
     }
   }
+  return rec;
+}
+
+// Where the escape starts: the deepest estimate of this cycle or of the
+// events that stopped the rover, whichever is deeper.
+flight::SinkageM escape_start_sinkage(const CycleRecord& rec) {
+  double start_m = rec.max_sinkage_m().value_or(0.0);
+  for (const StopRecord& e : rec.new_events) {
+    if (e.max_estimated_sinkage_m) start_m = std::max(start_m, *e.max_estimated_sinkage_m);
+  }
+  fx::Status st;
+  return flight::SinkageM{fx::from_double<flight::LengthQ>(start_m, st)};
+}
+
+// The escape sequencer's input for a cycle: the deepest estimate, only while
+// driving forward at rim speed and not saturated (a reverse or slow cycle
+// says nothing about getting out).
+flight::EscapeInput escape_input(flight::TimeMs now, const TelemetryRow& row, CycleRecord& rec) {
+  flight::EscapeInput in{};
+  in.now = now;
+  const std::optional<double> deepest = rec.max_sinkage_m();
+  const bool driving_forward = !row.reverse && row.rim_speed_mps.has_value() &&
+                               *row.rim_speed_mps >= kEscapeMinRimSpeedMps &&
+                               !rec.drawbar_saturated;
+  in.sinkage_valid = driving_forward && deepest.has_value();
+  if (in.sinkage_valid) {
+    fx::Status st;
+    in.sinkage_m = flight::SinkageM{fx::from_double<flight::LengthQ>(*deepest, st)};
+    in.sinkage_valid = st.ok();
+    if (in.sinkage_valid) rec.escape_input_m = *deepest;
+  }
+  return in;
+}
+
+}  // namespace
+
+CycleRecord OnboardLoop::step(const TelemetryRow& row, const std::string& source, double x_m) {
+  using namespace flight;
+  const RoverTelemetry t = telemetry_of(row, source);
+  const RoverStepOutput out = step_.step(t, t.time, config_.table, rover_);
+  CycleRecord rec = record_of(out, row, x_m, step_);
 
   // The escape: started on the first stop, then fed forward-driving estimates.
   if (out.decision == RoverDecision::stop_and_replan && !stopped_) {
     stopped_ = true;
     if (config_.run_escape) {
-      const std::optional<double> deepest = rec.max_sinkage_m();
-      double start_m = deepest.value_or(0.0);
-      for (const StopRecord& e : rec.new_events) {
-        if (e.max_estimated_sinkage_m) start_m = std::max(start_m, *e.max_estimated_sinkage_m);
-      }
-      fx::Status st;
-      const SinkageM z0{fx::from_double<LengthQ>(start_m, st)};
-      rec.escape_started = escape_.start(t.time, z0);
+      rec.escape_started = escape_.start(t.time, escape_start_sinkage(rec));
     }
   } else if (escape_.state() == EscapeState::forward || escape_.state() == EscapeState::reverse) {
-    const EscapeState before = escape_.state();
     const EscapeCommand expected =
-        before == EscapeState::forward ? EscapeCommand::drive_forward : EscapeCommand::drive_reverse;
+        escape_.state() == EscapeState::forward ? EscapeCommand::drive_forward : EscapeCommand::drive_reverse;
     rec.direction_mismatch = (expected == EscapeCommand::drive_reverse) != row.reverse;
-    EscapeInput in{};
-    in.now = t.time;
-    const std::optional<double> deepest = rec.max_sinkage_m();
-    const bool driving_forward = !row.reverse && row.rim_speed_mps.has_value() &&
-                                 *row.rim_speed_mps >= kEscapeMinRimSpeedMps && !rec.drawbar_saturated;
-    in.sinkage_valid = driving_forward && deepest.has_value();
-    if (in.sinkage_valid) {
-      fx::Status st;
-      in.sinkage_m = SinkageM{fx::from_double<LengthQ>(*deepest, st)};
-      in.sinkage_valid = st.ok();
-      if (in.sinkage_valid) rec.escape_input_m = *deepest;
-    }
-    const EscapeOutput eo = escape_.step(in, config_.table.escape);
+    const EscapeOutput eo = escape_.step(escape_input(t.time, row, rec), config_.table.escape);
     rec.escape_finished_now = eo.finished;
   }
   rec.escape_active = escape_.state() != EscapeState::idle;

@@ -55,25 +55,34 @@ class Progress {
   bool on_;
 };
 
-int run(const ReplayArgs& a, std::ostream& out, std::ostream& err) {
-  // Every output is checked before the replay (docs/output-files.md).
-  if (!a.csv.empty()) (void)check_output_path(a.csv);
-  if (!a.plot.empty()) check_plot_path(a.plot);
+// The log to replay and the report's title for it.
+struct LoadedLog {
   TelemetryLog log;
   std::string title;
-  if (a.telemetry.empty()) {
-    const std::string& text = embedded_scenario_text(a.scenario);
-    if (text.empty()) {
-      err << error_prefix("replay") << "this build has no embedded scenario '" << a.scenario
-          << "' (data/telemetry/" << a.scenario << ".csv was missing at configure time)\n";
-      return exit_status(ExitCode::data_error);
-    }
-    log = parse_telemetry_text(text, "<embedded " + a.scenario + ".csv>");
-    title = "embedded scenario '" + a.scenario + "' (data/telemetry/" + a.scenario + ".csv, compiled in)";
-  } else {
-    log = read_telemetry_file(a.telemetry);
-    title = log.source;  // "<stdin>" for "-"
+};
+
+// The telemetry file, or the embedded scenario when no file is given;
+// nothing (the error printed on `err`) when this build lacks the scenario.
+std::optional<LoadedLog> load_log(const ReplayArgs& a, std::ostream& err) {
+  if (!a.telemetry.empty()) {
+    LoadedLog loaded{read_telemetry_file(a.telemetry), ""};
+    loaded.title = loaded.log.source;  // "<stdin>" for "-"
+    return loaded;
   }
+  const std::string& text = embedded_scenario_text(a.scenario);
+  if (text.empty()) {
+    err << error_prefix("replay") << "this build has no embedded scenario '" << a.scenario
+        << "' (data/telemetry/" << a.scenario << ".csv was missing at configure time)\n";
+    return std::nullopt;
+  }
+  return LoadedLog{parse_telemetry_text(text, "<embedded " + a.scenario + ".csv>"),
+                   "embedded scenario '" + a.scenario + "' (data/telemetry/" + a.scenario +
+                       ".csv, compiled in)"};
+}
+
+// Gravity (--gravity, else the log's), the escape switch and the uploaded
+// table, whose rover section overrides --gravity (with a note).
+ReplayConfig replay_config(const ReplayArgs& a, const TelemetryLog& log, std::ostream& err) {
   ReplayConfig config;
   config.gravity_mps2 = a.gravity > 0.0 ? a.gravity : log_gravity(log);
   config.run_escape = !a.no_escape;
@@ -83,19 +92,14 @@ int run(const ReplayArgs& a, std::ostream& out, std::ostream& err) {
       err << error_prefix("replay") << "note: --gravity is ignored: the table's rover section sets the gravity\n";
     }
   }
-  ReplayResult result;
-  {
-    Progress bar(err, log.rows.size(), a.verbosity.inform());
-    result = run_replay(log, config, [&bar](double f) { bar(f); });
-  }
-  ReportOptions options;
-  options.verbose = a.verbosity.verbose;
-  options.every_s = a.every_s;
-  options.title = title;
-  print_report(out, log, config, result, options);
-  // The CSV goes through a temporary (output_file.hpp), renamed once the
-  // plot is drawn too, so an error leaves neither half-written; "-" writes
-  // it to `out`.
+  return config;
+}
+
+// The CSV goes through a temporary (output_file.hpp), renamed once the plot
+// is drawn too, so an error leaves neither half-written; "-" writes it to
+// `out`. Each output written gets a line in the report.
+void write_outputs(const ReplayArgs& a, const TelemetryLog& log, const ReplayConfig& config,
+                   const ReplayResult& result, std::ostream& out) {
   std::optional<OutputFile> csv;
   if (!a.csv.empty()) {
     csv.emplace(a.csv, &out);
@@ -117,6 +121,29 @@ int run(const ReplayArgs& a, std::ostream& out, std::ostream& err) {
       out << "  plot       note: " << plot_note << '\n';
     }
   }
+}
+
+int run(const ReplayArgs& a, std::ostream& out, std::ostream& err) {
+  // Every output is checked before the replay (docs/output-files.md).
+  if (!a.csv.empty()) (void)check_output_path(a.csv);
+  if (!a.plot.empty()) check_plot_path(a.plot);
+  const std::optional<LoadedLog> loaded = load_log(a, err);
+  if (!loaded) {
+    return exit_status(ExitCode::data_error);
+  }
+  const TelemetryLog& log = loaded->log;
+  const ReplayConfig config = replay_config(a, log, err);
+  ReplayResult result;
+  {
+    Progress bar(err, log.rows.size(), a.verbosity.inform());
+    result = run_replay(log, config, [&bar](double f) { bar(f); });
+  }
+  ReportOptions options;
+  options.verbose = a.verbosity.verbose;
+  options.every_s = a.every_s;
+  options.title = loaded->title;
+  print_report(out, log, config, result, options);
+  write_outputs(a, log, config, result, out);
   finish_standard_output(out);
   return 0;
 }

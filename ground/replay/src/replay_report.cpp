@@ -122,13 +122,15 @@ std::optional<Lead> stop_lead(const TelemetryLog& log, const ReplayResult& resul
   return Lead{e->x_m - stop.x_m, e->time_s - stop.time_s};
 }
 
-void print_report(std::ostream& out, const TelemetryLog& log, const ReplayConfig& config, const ReplayResult& r,
-                  const ReportOptions& options) {
+namespace {
+
+// The title, the log's first comment (wrapped at about 100 columns), the
+// rover and the flight code's stop rule, and the timeline's column heads.
+void print_heading(std::ostream& out, const TelemetryLog& log, const ReplayConfig& config, const ReplayResult& r,
+                   const std::string& title, double duration) {
   const flight::MonitorParams& mp = config.table.monitor;
-  const double duration = r.cycles.empty() ? 0.0 : r.cycles.back().time_s - r.cycles.front().time_s;
-  out << "sinkwatch replay: " << options.title << '\n';
+  out << "sinkwatch replay: " << title << '\n';
   if (!log.comments.empty()) {
-    // The log's first comment, wrapped at about 100 columns.
     std::istringstream words(log.comments.front());
     std::string word;
     std::string line = " ";
@@ -152,67 +154,97 @@ void print_report(std::ostream& out, const TelemetryLog& log, const ReplayConfig
               static_cast<unsigned>(mp.trip_n), static_cast<unsigned>(mp.window_m),
               static_cast<unsigned>(mp.rover_stop_k));
   out << "\n      time       x   slip   deepest z  I/Imax  wheels               decision\n";
+}
 
+// What the timeline carries from one cycle to the next.
+struct Timeline {
   double next_line = -1e300;
   const CycleRecord* previous = nullptr;
   flight::EscapeState escape_before = flight::EscapeState::idle;
   std::optional<double> last_escape_input;
-  for (const CycleRecord& c : r.cycles) {
-    bool changed = previous == nullptr;
-    std::string changes;
-    if (previous) {
-      for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
-        if (c.wheels[i].state != previous->wheels[i].state) {
-          changed = true;
-          changes += strf("%s%s -> %s", changes.empty() ? "" : ", ", kWheelNames[i], to_string(c.wheels[i].state));
-        }
-      }
-      // A line when the rover-level picture changes; each wheel's own
-      // transitions are in --verbose and the CSV.
-      changed = c.worst_state() != previous->worst_state() || c.decision != previous->decision ||
-                c.status != previous->status;
-    }
-    if (options.verbose) {
-      out << verbose_line(c) << '\n';
-    } else if (changed || c.time_s >= next_line || &c == &r.cycles.back()) {
-      out << status_line(c) << (changes.empty() ? "" : "   <- " + changes) << '\n';
-      next_line = c.time_s + options.every_s;
-    }
-    const bool stop_now =
-        c.decision == flight::RoverDecision::stop_and_replan && (!previous || previous->decision != c.decision);
-    if (stop_now) {
-      const std::optional<double> truth = truth_sinkage_mm(log, c);
-      out << strf("\n  >>> STOP AND RE-PLAN at %.1f s, x = %.2f m%s. The wheels at the stop:\n", c.time_s, c.x_m,
-                  truth ? strf(" (simulator: deepest wheel %.1f mm)", *truth).c_str() : "");
-      wheel_table(out, c);
-      for (const StopRecord& e : c.new_events) out << "      event record: " << event_text(e) << '\n';
-      out << '\n';
-    } else if (!c.new_events.empty()) {
-      // Wheels that trip after the rover has stopped: one short line.
-      std::string names;
-      for (const StopRecord& e : c.new_events) names += std::string(names.empty() ? "" : ", ") + kWheelNames[e.wheel];
-      out << strf("%8.1f s %7.2f m  event records: %s (%s)\n", c.time_s, c.x_m, names.c_str(),
-                  to_string(c.new_events.front().reason));
-    }
-    if (c.escape_started) {
-      out << strf("  >>> escape sequence started (section 7: alternate forward and reverse, %.0f s + %.0f s per "
-                  "cycle)\n",
-                  config.table.escape.forward_phase_ms / 1000.0, config.table.escape.reverse_phase_ms / 1000.0);
-    }
-    if (c.escape_input_m) last_escape_input = c.escape_input_m;
-    if (c.escape_active && c.escape_state != escape_before && !c.escape_started) {
-      std::optional<double> truth = truth_sinkage_mm(log, c);
-      out << strf("%8.1f s %7.2f m  escape: %-8s cycles done %u, last forward estimate of the deepest wheel %s%s\n",
-                  c.time_s, c.x_m, to_string(c.escape_state), static_cast<unsigned>(c.escape_cycles),
-                  last_escape_input ? strf("%.1f mm", *last_escape_input * 1000.0).c_str() : "-",
-                  truth ? strf(" (simulator: %.1f mm)", *truth).c_str() : "");
-    }
-    escape_before = c.escape_state;
-    previous = &c;
-  }
+};
 
-  // Summary.
-  out << "\nSummary\n";
+// The wheels whose state changed since the previous cycle ("FL -> CAUTION").
+std::string wheel_changes(const CycleRecord& c, const CycleRecord& previous) {
+  std::string changes;
+  for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
+    if (c.wheels[i].state != previous.wheels[i].state) {
+      changes += strf("%s%s -> %s", changes.empty() ? "" : ", ", kWheelNames[i], to_string(c.wheels[i].state));
+    }
+  }
+  return changes;
+}
+
+// Every cycle with --verbose; otherwise a line when the rover-level picture
+// changes (each wheel's own transitions are in --verbose and the CSV), every
+// --every seconds and at the end.
+void print_cycle_line(std::ostream& out, const CycleRecord& c, bool last, const ReportOptions& options,
+                      Timeline& timeline) {
+  const CycleRecord* previous = timeline.previous;
+  const std::string changes = previous ? wheel_changes(c, *previous) : std::string();
+  const bool changed = previous == nullptr || c.worst_state() != previous->worst_state() ||
+                       c.decision != previous->decision || c.status != previous->status;
+  if (options.verbose) {
+    out << verbose_line(c) << '\n';
+  } else if (changed || c.time_s >= timeline.next_line || last) {
+    out << status_line(c) << (changes.empty() ? "" : "   <- " + changes) << '\n';
+    timeline.next_line = c.time_s + options.every_s;
+  }
+}
+
+// The rover's stop (the wheels and event records), or the wheels that trip
+// after it has stopped (one short line).
+void print_stop_events(std::ostream& out, const TelemetryLog& log, const CycleRecord& c,
+                       const CycleRecord* previous) {
+  const bool stop_now =
+      c.decision == flight::RoverDecision::stop_and_replan && (!previous || previous->decision != c.decision);
+  if (stop_now) {
+    const std::optional<double> truth = truth_sinkage_mm(log, c);
+    out << strf("\n  >>> STOP AND RE-PLAN at %.1f s, x = %.2f m%s. The wheels at the stop:\n", c.time_s, c.x_m,
+                truth ? strf(" (simulator: deepest wheel %.1f mm)", *truth).c_str() : "");
+    wheel_table(out, c);
+    for (const StopRecord& e : c.new_events) out << "      event record: " << event_text(e) << '\n';
+    out << '\n';
+  } else if (!c.new_events.empty()) {
+    std::string names;
+    for (const StopRecord& e : c.new_events) names += std::string(names.empty() ? "" : ", ") + kWheelNames[e.wheel];
+    out << strf("%8.1f s %7.2f m  event records: %s (%s)\n", c.time_s, c.x_m, names.c_str(),
+                to_string(c.new_events.front().reason));
+  }
+}
+
+// The escape's start and each change of its phase.
+void print_escape_progress(std::ostream& out, const TelemetryLog& log, const ReplayConfig& config,
+                           const CycleRecord& c, Timeline& timeline) {
+  if (c.escape_started) {
+    out << strf("  >>> escape sequence started (section 7: alternate forward and reverse, %.0f s + %.0f s per "
+                "cycle)\n",
+                config.table.escape.forward_phase_ms / 1000.0, config.table.escape.reverse_phase_ms / 1000.0);
+  }
+  if (c.escape_input_m) timeline.last_escape_input = c.escape_input_m;
+  if (c.escape_active && c.escape_state != timeline.escape_before && !c.escape_started) {
+    std::optional<double> truth = truth_sinkage_mm(log, c);
+    out << strf("%8.1f s %7.2f m  escape: %-8s cycles done %u, last forward estimate of the deepest wheel %s%s\n",
+                c.time_s, c.x_m, to_string(c.escape_state), static_cast<unsigned>(c.escape_cycles),
+                timeline.last_escape_input ? strf("%.1f mm", *timeline.last_escape_input * 1000.0).c_str() : "-",
+                truth ? strf(" (simulator: %.1f mm)", *truth).c_str() : "");
+  }
+  timeline.escape_before = c.escape_state;
+}
+
+void print_timeline(std::ostream& out, const TelemetryLog& log, const ReplayConfig& config, const ReplayResult& r,
+                    const ReportOptions& options) {
+  Timeline timeline;
+  for (const CycleRecord& c : r.cycles) {
+    print_cycle_line(out, c, &c == &r.cycles.back(), options, timeline);
+    print_stop_events(out, log, c, timeline.previous);
+    print_escape_progress(out, log, config, c, timeline);
+    timeline.previous = &c;
+  }
+}
+
+// Summary: the cycles the flight code could not use, and the stops.
+void print_cycles_and_stops(std::ostream& out, const ReplayResult& r, double duration) {
   std::size_t bad = 0;
   std::string issues;
   for (std::size_t s = 1; s < r.status_counts.size(); ++s) {
@@ -236,6 +268,11 @@ void print_report(std::ostream& out, const TelemetryLog& log, const ReplayConfig
   } else {
     out << "  stops      none: the rover was never stopped\n";
   }
+}
+
+// Summary: where the simulator's rover would embed and how far ahead of it
+// the flight code stopped; then the event records.
+void print_embedding_and_events(std::ostream& out, const TelemetryLog& log, const ReplayResult& r) {
   const std::optional<EmbeddingTruth> emb = log_embedding(log);
   if (emb) {
     out << strf("  embedding  the simulator's rover would embed at x = %.2f m, %.1f s (%s)\n", emb->x_m, emb->time_s,
@@ -258,27 +295,46 @@ void print_report(std::ostream& out, const TelemetryLog& log, const ReplayConfig
     out << strf("  events     %zu event record(s), the first: %s at %.1f s, %s\n", r.events.size(),
                 kWheelNames[r.events.front().wheel], r.events.front().time_s, to_string(r.events.front().reason));
   }
-  if (r.first_stop && r.cycles[*r.first_stop].escape_active) {
-    const CycleRecord& start = r.cycles[*r.first_stop];
-    if (r.escape_end) {
-      const CycleRecord& end = r.cycles[*r.escape_end];
-      std::optional<double> t0 = truth_sinkage_mm(log, start);
-      std::optional<double> t1 = truth_sinkage_mm(log, end);
-      out << strf("  escape     %s after %u forward/reverse cycle(s), %.1f s", to_string(end.escape_state),
-                  static_cast<unsigned>(end.escape_cycles), end.time_s - start.time_s);
-      if (end.escape_input_m) out << strf("; last estimate %.1f mm", *end.escape_input_m * 1000.0);
-      out << strf(" (freed at <= %.1f mm)", to_d(config.table.escape.freed_sinkage_m) * 1000.0);
-      if (t0 && t1) out << strf("; simulator's deepest wheel %.1f -> %.1f mm", *t0, *t1);
-      out << '\n';
-    } else {
-      out << strf("  escape     still %s when the log ends\n", to_string(r.cycles.back().escape_state));
-    }
-    if (r.direction_mismatches > 0) {
-      out << strf("  warning    %zu escape cycle(s) where the log's wheel direction differs from the sequencer's "
-                  "command\n             (the log was made with other parameters or by another sequencer)\n",
-                  r.direction_mismatches);
-    }
+}
+
+// Summary: how the escape ended, when the first stop started one.
+void print_escape_summary(std::ostream& out, const TelemetryLog& log, const ReplayConfig& config,
+                          const ReplayResult& r) {
+  if (!r.first_stop || !r.cycles[*r.first_stop].escape_active) {
+    return;
   }
+  const CycleRecord& start = r.cycles[*r.first_stop];
+  if (r.escape_end) {
+    const CycleRecord& end = r.cycles[*r.escape_end];
+    std::optional<double> t0 = truth_sinkage_mm(log, start);
+    std::optional<double> t1 = truth_sinkage_mm(log, end);
+    out << strf("  escape     %s after %u forward/reverse cycle(s), %.1f s", to_string(end.escape_state),
+                static_cast<unsigned>(end.escape_cycles), end.time_s - start.time_s);
+    if (end.escape_input_m) out << strf("; last estimate %.1f mm", *end.escape_input_m * 1000.0);
+    out << strf(" (freed at <= %.1f mm)", to_d(config.table.escape.freed_sinkage_m) * 1000.0);
+    if (t0 && t1) out << strf("; simulator's deepest wheel %.1f -> %.1f mm", *t0, *t1);
+    out << '\n';
+  } else {
+    out << strf("  escape     still %s when the log ends\n", to_string(r.cycles.back().escape_state));
+  }
+  if (r.direction_mismatches > 0) {
+    out << strf("  warning    %zu escape cycle(s) where the log's wheel direction differs from the sequencer's "
+                "command\n             (the log was made with other parameters or by another sequencer)\n",
+                r.direction_mismatches);
+  }
+}
+
+}  // namespace
+
+void print_report(std::ostream& out, const TelemetryLog& log, const ReplayConfig& config, const ReplayResult& r,
+                  const ReportOptions& options) {
+  const double duration = r.cycles.empty() ? 0.0 : r.cycles.back().time_s - r.cycles.front().time_s;
+  print_heading(out, log, config, r, options.title, duration);
+  print_timeline(out, log, config, r, options);
+  out << "\nSummary\n";
+  print_cycles_and_stops(out, r, duration);
+  print_embedding_and_events(out, log, r);
+  print_escape_summary(out, log, config, r);
 }
 
 void write_series_csv(std::ostream& out, const TelemetryLog& log, const ReplayResult& r) {
@@ -306,21 +362,19 @@ void write_series_csv(std::ostream& out, const TelemetryLog& log, const ReplayRe
   }
 }
 
-std::string plot_script(const TelemetryLog& log, const ReplayConfig& config, const ReplayResult& r,
-                        const std::string& image_path) {
-  const bool svg = image_path.size() >= 4 && image_path.compare(image_path.size() - 4, 4, ".svg") == 0;
-  // Every line is drawn with `lt N` of the palette (plot_style.hpp) and
-  // nothing else, so a legend key looks like the line it names.
-  const auto lt = [](int linetype) { return " lt " + std::to_string(linetype); };
-  const auto level = [&lt](PlotLevel l) { return lt(level_linetype(l)); };
-  std::ostringstream s;
-  s << "# gnuplot script written by sinkwatch replay for " << quote_gnuplot_string(log.source) << "\n";
-  s << (svg ? "set terminal svg size 1100,900 dynamic enhanced font 'sans,11'\n"
-            : "set terminal pngcairo size 1100,900 enhanced font 'sans,10'\n");
-  s << "set output '" << quote_gnuplot_string(image_path) << "'\n";
-  s << gnuplot_linetypes();
+namespace {
+
+// Every line is drawn with `lt N` of the palette (plot_style.hpp) and
+// nothing else, so a legend key looks like the line it names.
+std::string lt(int linetype) { return " lt " + std::to_string(linetype); }
+std::string level(PlotLevel l) { return lt(level_linetype(l)); }
+
+// The data block $D, one line per cycle: time, |I| and I_max of each wheel,
+// the estimates, the simulator's deepest wheel, the worst state, the stop
+// and the escape command (columns 1 to 23). Sets `truth` when the log has
+// the simulator's sinkage.
+void plot_data(std::ostream& s, const TelemetryLog& log, const ReplayResult& r, bool& truth) {
   s << "$D << EOD\n";
-  bool truth = false;
   for (const CycleRecord& c : r.cycles) {
     s << strf("%.3f", c.time_s);
     for (const WheelCycle& w : c.wheels) s << strf(" %.5f", std::fabs(w.current_a));
@@ -337,10 +391,10 @@ std::string plot_script(const TelemetryLog& log, const ReplayConfig& config, con
     s << esc << '\n';
   }
   s << "EOD\n";
-  // The log's name is user text: escaped, so that x_y.csv is not drawn as x
-  // with a subscript y.
-  s << "set multiplot layout 3,1 title '" << escape_gnuplot_text(log.source) << ": sinkwatch flight code replay'\n";
-  s << "set grid\nset key outside right\nset lmargin 14\nset rmargin 28\n";
+}
+
+// Vertical markers at the first stop and at the simulated embedding.
+void plot_markers(std::ostream& s, const TelemetryLog& log, const ReplayResult& r) {
   if (r.first_stop) {
     s << strf("set arrow 1 from %.3f, graph 0 to %.3f, graph 1 nohead", r.cycles[*r.first_stop].time_s,
               r.cycles[*r.first_stop].time_s)
@@ -355,6 +409,10 @@ std::string plot_script(const TelemetryLog& log, const ReplayConfig& config, con
     s << strf("set label 2 'simulated embedding' at %.3f, graph 0.85 left offset 0.5,0 tc", emb->time_s)
       << level(PlotLevel::embedding) << '\n';
   }
+}
+
+// Top panel: each wheel's |I| and the limits I_max.
+void plot_currents(std::ostream& s) {
   s << "set ylabel 'current [A]'\nset format x ''\n";
   s << "plot ";
   for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
@@ -367,6 +425,11 @@ std::string plot_script(const TelemetryLog& log, const ReplayConfig& config, con
       << (i == 0 ? " t 'I_{max} (each wheel)'" : " notitle");
   }
   s << "\n";
+}
+
+// Middle panel: each wheel's estimate, the stop and caution levels and,
+// when the log has it, the simulator's deepest wheel.
+void plot_sinkage(std::ostream& s, const ReplayConfig& config, bool truth) {
   const double stop_mm = fx::to_double(config.table.monitor.stop_sinkage_m.q()) * 1000.0;
   const double caution_mm = fx::to_double(config.table.monitor.caution_sinkage_m.q()) * 1000.0;
   s << "unset label 1\nunset label 2\n";
@@ -380,11 +443,38 @@ std::string plot_script(const TelemetryLog& log, const ReplayConfig& config, con
   s << strf(", %.3f w l", caution_mm) << level(PlotLevel::caution) << " t 'caution level'";
   if (truth) s << ", $D u 1:20 w l" << level(PlotLevel::truth) << " t 'simulator: deepest wheel'";
   s << "\n";
+}
+
+// Bottom panel: the worst wheel state, the rover's stop and the escape command.
+void plot_decisions(std::ostream& s) {
   s << "set format x '%g'\nset xlabel 'time [s]'\nset ylabel 'decision'\nset yrange [-1.5:2.5]\n";
   s << "set ytics ('reverse' -1, 'nominal' 0, 'caution, fwd' 1, 'stop' 2)\n";
   s << "plot $D u 1:21 w steps" << level(PlotLevel::state) << " t 'worst wheel state', "
     << "$D u 1:($22*2) w steps" << level(PlotLevel::stop) << " t 'rover: stop and re-plan', "
     << "$D u 1:23 w steps" << level(PlotLevel::escape) << " t 'escape command'\n";
+}
+
+}  // namespace
+
+std::string plot_script(const TelemetryLog& log, const ReplayConfig& config, const ReplayResult& r,
+                        const std::string& image_path) {
+  const bool svg = image_path.size() >= 4 && image_path.compare(image_path.size() - 4, 4, ".svg") == 0;
+  std::ostringstream s;
+  s << "# gnuplot script written by sinkwatch replay for " << quote_gnuplot_string(log.source) << "\n";
+  s << (svg ? "set terminal svg size 1100,900 dynamic enhanced font 'sans,11'\n"
+            : "set terminal pngcairo size 1100,900 enhanced font 'sans,10'\n");
+  s << "set output '" << quote_gnuplot_string(image_path) << "'\n";
+  s << gnuplot_linetypes();
+  bool truth = false;
+  plot_data(s, log, r, truth);
+  // The log's name is user text: escaped, so that x_y.csv is not drawn as x
+  // with a subscript y.
+  s << "set multiplot layout 3,1 title '" << escape_gnuplot_text(log.source) << ": sinkwatch flight code replay'\n";
+  s << "set grid\nset key outside right\nset lmargin 14\nset rmargin 28\n";
+  plot_markers(s, log, r);
+  plot_currents(s);
+  plot_sinkage(s, config, truth);
+  plot_decisions(s);
   s << "unset multiplot\n";
   return s.str();
 }

@@ -95,26 +95,13 @@ class World {
   double mass_kg() const { return geometry_.mass_kg; }
 
   // The slip at which the six wheels' drawbar pulls give `required_n`, on the
-  // branch where DP rises with slip, searched near `hint`.
+  // branch where DP rises with slip, searched near `hint`: bracketed in steps
+  // of 0.04 down and 0.02 up, then bisected.
   SlipSolution solve(double scale, const std::array<double, kN>& w, double required_n, double hint) const {
-    SimParameters p = base_;
-    p.soil.kc *= scale;
-    p.soil.kphi *= scale;
-    p.soil.cohesion_pa *= scale;
+    const SimParameters p = scaled(scale);
     SlipSolution sol;
-    const auto total = [&](double s, std::array<WheelTruth, kN>& wheels) -> std::optional<double> {
-      double sum = 0.0;
-      for (std::size_t i = 0; i < kN; ++i) {
-        const Evaluation e = evaluate(p, w[i], s);
-        if (!e.ok()) {
-          sol.failure = "wheel " + std::string(kWheelNames[i]) + " sinks to its axle at slip " + number(s, 2) +
-                        ", before the wheels give the pull the rover needs";
-          return std::nullopt;
-        }
-        wheels[i] = WheelTruth{e.state.sinkage_m, e.state.torque_nm, e.state.drawbar_pull_n};
-        sum += e.state.drawbar_pull_n;
-      }
-      return sum;
+    const auto total = [&](double s, std::array<WheelTruth, kN>& wheels) {
+      return total_pull(p, w, s, wheels, sol.failure);
     };
     std::array<WheelTruth, kN> lo_w{};
     std::array<WheelTruth, kN> hi_w{};
@@ -156,19 +143,12 @@ class World {
         lo = mid;
       }
     }
-    sol.ok = true;
-    sol.slip = hi;
-    sol.wheels = hi_w;
-    sol.failure.clear();
-    return sol;
+    return SlipSolution{true, "", hi, hi_w};
   }
 
   // The wheels spinning in place at the highest slip, for a stuck rover.
   std::array<WheelTruth, kN> spinning(double scale, const std::array<double, kN>& w) const {
-    SimParameters p = base_;
-    p.soil.kc *= scale;
-    p.soil.kphi *= scale;
-    p.soil.cohesion_pa *= scale;
+    const SimParameters p = scaled(scale);
     std::array<WheelTruth, kN> out{};
     for (std::size_t i = 0; i < kN; ++i) {
       const Evaluation e = evaluate(p, w[i], kEmbedMaxSlip);
@@ -179,6 +159,33 @@ class World {
   }
 
  private:
+  // The soil with its moduli and cohesion scaled (softer below 1).
+  SimParameters scaled(double scale) const {
+    SimParameters p = base_;
+    p.soil.kc *= scale;
+    p.soil.kphi *= scale;
+    p.soil.cohesion_pa *= scale;
+    return p;
+  }
+
+  // The six wheels' total drawbar pull at slip s (each wheel's state in
+  // `wheels`); nothing, and why in `failure`, when a wheel sinks to its axle.
+  static std::optional<double> total_pull(const SimParameters& p, const std::array<double, kN>& w, double s,
+                                          std::array<WheelTruth, kN>& wheels, std::string& failure) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < kN; ++i) {
+      const Evaluation e = evaluate(p, w[i], s);
+      if (!e.ok()) {
+        failure = "wheel " + std::string(kWheelNames[i]) + " sinks to its axle at slip " + number(s, 2) +
+                  ", before the wheels give the pull the rover needs";
+        return std::nullopt;
+      }
+      wheels[i] = WheelTruth{e.state.sinkage_m, e.state.torque_nm, e.state.drawbar_pull_n};
+      sum += e.state.drawbar_pull_n;
+    }
+    return sum;
+  }
+
   double interpolate(double x, double TerrainKnot::*field) const {
     const std::vector<TerrainKnot>& k = spec_.terrain;
     if (x <= k.front().x_m) return k.front().*field;
@@ -311,190 +318,245 @@ ScenarioSpec scenario_by_name(const std::string& name) {
   throw std::invalid_argument("unknown scenario '" + name + "'; known: embedding nominal steep-ripple");
 }
 
-Scenario generate_scenario(const ScenarioSpec& spec, const std::string& command_line,
-                           const std::function<void(double)>& progress) {
-  const World world(spec);
-  Noise noise(spec.seed);
-  ReplayConfig flight = spec.flight;
-  flight.gravity_mps2 = spec.gravity_mps2;
-  OnboardLoop onboard(flight);
-  const reference::Motor motor = reference::from_flight(flight.table.motor);
-  const double forward_ms = flight.table.escape.forward_phase_ms / 1000.0;
-  const double reverse_ms = flight.table.escape.reverse_phase_ms / 1000.0;
+namespace {
 
-  Scenario out;
-  TelemetryLog& log = out.log;
-  log.source = spec.name;
+// One cycle's command: direction d (+1 / -1), rim speed u >= 0, and the
+// phase the log names.
+struct Command {
+  int d = 1;
+  double u = 0.0;
+  std::string phase;
+};
 
+// The closed loop of generate_scenario: the simulated rover driven by the
+// phase it is in, the flight code (OnboardLoop) reading its telemetry, and
+// the phase changed by the flight code's decisions.
+class ScenarioRun {
+ public:
   enum class Mode { drive, escape, settle, stuck, done };
-  Mode mode = Mode::drive;
-  Motion m;
-  std::optional<Motion> at_stop;
-  flight::EscapeState last_escape = flight::EscapeState::idle;
-  double phase_start = 0.0;
-  double mode_end = 0.0;
-  std::array<WheelTruth, kN> last_wheels{};
-  int last_direction = 1;
 
-  for (std::size_t k = 0; mode != Mode::done; ++k) {
-    m.t = static_cast<double>(k) * spec.cycle_s;
-    if (m.t > spec.max_time_s) break;
-    if (progress && k % 50 == 0) progress(m.t);
+  ScenarioRun(const ScenarioSpec& spec, Scenario& out)
+      : spec_(spec), world_(spec), noise_(spec.seed), onboard_(flight_config(spec)),
+        motor_(reference::from_flight(onboard_.config().table.motor)),
+        forward_ms_(onboard_.config().table.escape.forward_phase_ms / 1000.0),
+        reverse_ms_(onboard_.config().table.escape.reverse_phase_ms / 1000.0), out_(out) {}
 
-    // The command for this cycle.
-    int d = 1;
-    double u = 0.0;
-    std::string phase;
-    switch (mode) {
-      case Mode::drive:
-        u = spec.speed_mps * std::min(1.0, m.t / spec.ramp_s);
-        phase = "drive";
-        break;
-      case Mode::escape: {
-        const flight::EscapeState es = onboard.escape_state();
-        if (es != last_escape) {
-          if (last_escape == flight::EscapeState::forward || last_escape == flight::EscapeState::reverse) {
-            m.gain *= spec.escape_soil_gain;  // a reversal carries soil under the wheels
-          }
-          last_escape = es;
-          phase_start = m.t;
-        }
-        const bool fwd = es == flight::EscapeState::forward;
-        const double len = fwd ? forward_ms : reverse_ms;
-        const double tin = m.t - phase_start;
-        d = fwd ? 1 : -1;
-        u = spec.speed_mps * std::clamp(std::min(tin / spec.ramp_s, (len - tin - spec.cycle_s) / spec.ramp_s), 0.0, 1.0);
-        phase = fwd ? "escape-fwd" : "escape-rev";
-        break;
-      }
-      case Mode::settle:
-      case Mode::stuck:
-      case Mode::done:
-        phase = mode == Mode::stuck ? "stuck" : "stopped";
-        d = last_direction;
-        break;
-    }
-
-    CycleTruth c;
-    if (mode == Mode::stuck) {
-      c.pitch_deg = world.slope_deg(m.x);
-      c.load_n = world.loads(c.pitch_deg);
-      c.wheels = world.spinning(world.soil_scale(m.x) * m.gain, c.load_n);
-      c.slip = kEmbedMaxSlip;
-      u = spec.speed_mps;
-      m.a = (0.0 - m.v) / spec.cycle_s;
-      m.v = 0.0;
-    } else {
-      c = advance(world, spec, m, d, u);
-      if (!c.ok && mode != Mode::drive) {
-        // No slip carries the rover: its wheels spin in place, digging.
-        c.ok = true;
-        c.wheels = world.spinning(world.soil_scale(m.x) * m.gain, c.load_n);
-        c.slip = kEmbedMaxSlip;
-        m.a = (0.0 - m.v) / spec.cycle_s;
-        m.v = 0.0;
-        phase += "-spinning";
-      }
-      if (!c.ok) {
-        out.truth.embedded = true;
-        out.truth.embed_x_m = m.x;
-        out.truth.embed_time_s = m.t;
-        out.truth.embed_reason = c.failure;
-        mode = Mode::stuck;
-        mode_end = m.t + spec.stuck_tail_s;
+  // Drives until the last phase ends or the time runs out.
+  void run(const std::function<void(double)>& progress) {
+    for (std::size_t k = 0; mode_ != Mode::done; ++k) {
+      m_.t = static_cast<double>(k) * spec_.cycle_s;
+      if (m_.t > spec_.max_time_s) break;
+      if (progress && k % 50 == 0) progress(m_.t);
+      Command cmd = command();
+      CycleTruth c;
+      if (!truth_of(cmd, c)) {
         --k;  // log this cycle as stuck
         continue;
       }
-      if (u <= 1e-6) {
-        c.wheels = last_wheels;
-        for (WheelTruth& w : c.wheels) {
-          w.torque_nm = 0.0;
-          w.drawbar_pull_n = 0.0;
-        }
-      }
-    }
-    last_wheels = c.wheels;
-    last_direction = d;
-
-    // The telemetry row: the truth plus sensor noise.
-    TelemetryRow row;
-    row.time_s = m.t;
-    row.valid = true;
-    double deepest = 0.0;
-    for (std::size_t i = 0; i < kN; ++i) {
-      const double torque = d * c.wheels[i].torque_nm;
-      const double clean =
-          u > 1e-6 ? reference::current_a(motor, torque, d > 0 ? flight::DriveDirection::forward
-                                                                 : flight::DriveDirection::reverse)
-                   : 0.0;
-      row.current_a[i] =
-          clean + noise.gauss(std::hypot(spec.noise.current_abs_a, spec.noise.current_rel * std::fabs(clean)));
-      deepest = std::max(deepest, c.wheels[i].sinkage_m);
-    }
-    row.reverse = d < 0;
-    row.pitch_deg = c.pitch_deg + noise.gauss(spec.noise.attitude_deg);
-    row.roll_deg = noise.gauss(spec.noise.attitude_deg);
-    row.rocker_deg = {noise.gauss(spec.noise.joint_deg), noise.gauss(spec.noise.joint_deg)};
-    row.bogie_deg = {noise.gauss(spec.noise.joint_deg), noise.gauss(spec.noise.joint_deg)};
-    row.accel_mps2 = m.a + noise.gauss(spec.noise.accel_mps2);
-    row.speed_mps = m.v + noise.gauss(spec.noise.speed_mps);
-    row.rim_speed_mps = d * u;
-    row.x_m = m.x;
-    row.true_slip = c.slip;
-    row.true_sinkage_mm = deepest * 1000.0;
-    row.phase = phase;
-    // Round through the file format, so the loop sees what the file holds.
-    row = parse_telemetry_row(format_telemetry_row(row));
-    const CycleRecord rec = onboard.step(row, spec.name, *row.x_m);
-    log.rows.push_back(row);
-
-    switch (mode) {
-      case Mode::drive:
-        if (rec.decision == flight::RoverDecision::stop_and_replan) {
-          out.truth.stop_time_s = m.t;
-          out.truth.stop_x_m = m.x;
-          at_stop = m;
-          mode = rec.escape_active ? Mode::escape : Mode::settle;
-          mode_end = m.t + spec.settle_s;
-          last_escape = flight::EscapeState::idle;
-        } else if (m.x >= spec.end_x_m) {
-          mode = Mode::settle;
-          mode_end = m.t + spec.settle_s;
-        }
-        break;
-      case Mode::escape:
-        if (rec.escape_state != flight::EscapeState::forward && rec.escape_state != flight::EscapeState::reverse) {
-          mode = Mode::settle;
-          mode_end = m.t + spec.settle_s;
-        }
-        break;
-      case Mode::settle:
-      case Mode::stuck:
-        if (m.t >= mode_end) mode = Mode::done;
-        break;
-      case Mode::done:
-        break;
+      last_wheels_ = c.wheels;
+      last_direction_ = cmd.d;
+      const TelemetryRow row = telemetry_row(c, cmd);
+      const CycleRecord rec = onboard_.step(row, spec_.name, *row.x_m);
+      out_.log.rows.push_back(row);
+      next_mode(rec);
     }
   }
 
   // Where would the rover have embedded had it not stopped? The drive up to
   // the stop is the open-loop drive; continue it without telemetry.
-  if (at_stop) {
-    Motion m2 = *at_stop;
-    for (std::size_t k = 1; m2.x < spec.end_x_m; ++k) {
-      m2.t = *out.truth.stop_time_s + static_cast<double>(k) * spec.cycle_s;
-      if (m2.t > spec.max_time_s) break;
-      const CycleTruth c = advance(world, spec, m2, 1, spec.speed_mps);
+  void find_open_loop_embedding() {
+    if (!at_stop_) return;
+    Motion m2 = *at_stop_;
+    for (std::size_t k = 1; m2.x < spec_.end_x_m; ++k) {
+      m2.t = *out_.truth.stop_time_s + static_cast<double>(k) * spec_.cycle_s;
+      if (m2.t > spec_.max_time_s) break;
+      const CycleTruth c = advance(world_, spec_, m2, 1, spec_.speed_mps);
       if (!c.ok) {
-        out.truth.embedded = true;
-        out.truth.embed_x_m = m2.x;
-        out.truth.embed_time_s = m2.t;
-        out.truth.embed_reason = c.failure;
+        record_embedding(m2, c.failure);
         break;
       }
     }
   }
 
+ private:
+  static ReplayConfig flight_config(const ScenarioSpec& spec) {
+    ReplayConfig flight = spec.flight;
+    flight.gravity_mps2 = spec.gravity_mps2;
+    return flight;
+  }
+
+  // The command for this cycle, by mode.
+  Command command() {
+    switch (mode_) {
+      case Mode::drive:
+        return Command{1, spec_.speed_mps * std::min(1.0, m_.t / spec_.ramp_s), "drive"};
+      case Mode::escape:
+        return escape_command();
+      case Mode::settle:
+      case Mode::stuck:
+      case Mode::done:
+        break;
+    }
+    return Command{last_direction_, 0.0, mode_ == Mode::stuck ? "stuck" : "stopped"};
+  }
+
+  // In the escape: the sequencer's direction, the speed ramped up and down
+  // within each phase; a reversal carries soil under the wheels.
+  Command escape_command() {
+    const flight::EscapeState es = onboard_.escape_state();
+    if (es != last_escape_) {
+      if (last_escape_ == flight::EscapeState::forward || last_escape_ == flight::EscapeState::reverse) {
+        m_.gain *= spec_.escape_soil_gain;
+      }
+      last_escape_ = es;
+      phase_start_ = m_.t;
+    }
+    const bool fwd = es == flight::EscapeState::forward;
+    const double len = fwd ? forward_ms_ : reverse_ms_;
+    const double tin = m_.t - phase_start_;
+    return Command{fwd ? 1 : -1,
+                   spec_.speed_mps *
+                       std::clamp(std::min(tin / spec_.ramp_s, (len - tin - spec_.cycle_s) / spec_.ramp_s), 0.0, 1.0),
+                   fwd ? "escape-fwd" : "escape-rev"};
+  }
+
+  // The wheels spinning in place at the highest slip: the rover stands.
+  void spin_in_place(CycleTruth& c) {
+    c.wheels = world_.spinning(world_.soil_scale(m_.x) * m_.gain, c.load_n);
+    c.slip = kEmbedMaxSlip;
+    m_.a = (0.0 - m_.v) / spec_.cycle_s;
+    m_.v = 0.0;
+  }
+
+  void record_embedding(const Motion& m, const std::string& reason) {
+    out_.truth.embedded = true;
+    out_.truth.embed_x_m = m.x;
+    out_.truth.embed_time_s = m.t;
+    out_.truth.embed_reason = reason;
+  }
+
+  // The simulator's truth for this cycle; false when the rover embeds while
+  // driving (then stuck from here on, and the cycle is run again as stuck).
+  bool truth_of(Command& cmd, CycleTruth& c) {
+    if (mode_ == Mode::stuck) {
+      c.pitch_deg = world_.slope_deg(m_.x);
+      c.load_n = world_.loads(c.pitch_deg);
+      spin_in_place(c);
+      cmd.u = spec_.speed_mps;
+      return true;
+    }
+    c = advance(world_, spec_, m_, cmd.d, cmd.u);
+    if (!c.ok && mode_ != Mode::drive) {
+      // No slip carries the rover: its wheels spin in place, digging.
+      c.ok = true;
+      spin_in_place(c);
+      cmd.phase += "-spinning";
+    }
+    if (!c.ok) {
+      record_embedding(m_, c.failure);
+      mode_ = Mode::stuck;
+      mode_end_ = m_.t + spec_.stuck_tail_s;
+      return false;
+    }
+    if (cmd.u <= 1e-6) {
+      // Standing: the wheels keep their last sinkage, carry no torque.
+      c.wheels = last_wheels_;
+      for (WheelTruth& w : c.wheels) {
+        w.torque_nm = 0.0;
+        w.drawbar_pull_n = 0.0;
+      }
+    }
+    return true;
+  }
+
+  // The telemetry row: the truth plus sensor noise, rounded through the
+  // file format so that the loop sees what the file holds.
+  TelemetryRow telemetry_row(const CycleTruth& c, const Command& cmd) {
+    const int d = cmd.d;
+    const double u = cmd.u;
+    const ScenarioNoise& noise = spec_.noise;
+    TelemetryRow row;
+    row.time_s = m_.t;
+    row.valid = true;
+    double deepest = 0.0;
+    for (std::size_t i = 0; i < kN; ++i) {
+      const double torque = d * c.wheels[i].torque_nm;
+      const double clean =
+          u > 1e-6 ? reference::current_a(motor_, torque, d > 0 ? flight::DriveDirection::forward
+                                                                 : flight::DriveDirection::reverse)
+                   : 0.0;
+      row.current_a[i] = clean + noise_.gauss(std::hypot(noise.current_abs_a, noise.current_rel * std::fabs(clean)));
+      deepest = std::max(deepest, c.wheels[i].sinkage_m);
+    }
+    row.reverse = d < 0;
+    row.pitch_deg = c.pitch_deg + noise_.gauss(noise.attitude_deg);
+    row.roll_deg = noise_.gauss(noise.attitude_deg);
+    row.rocker_deg = {noise_.gauss(noise.joint_deg), noise_.gauss(noise.joint_deg)};
+    row.bogie_deg = {noise_.gauss(noise.joint_deg), noise_.gauss(noise.joint_deg)};
+    row.accel_mps2 = m_.a + noise_.gauss(noise.accel_mps2);
+    row.speed_mps = m_.v + noise_.gauss(noise.speed_mps);
+    row.rim_speed_mps = d * u;
+    row.x_m = m_.x;
+    row.true_slip = c.slip;
+    row.true_sinkage_mm = deepest * 1000.0;
+    row.phase = cmd.phase;
+    return parse_telemetry_row(format_telemetry_row(row));
+  }
+
+  // The next cycle's mode from the flight code's decision and the path.
+  void next_mode(const CycleRecord& rec) {
+    switch (mode_) {
+      case Mode::drive:
+        if (rec.decision == flight::RoverDecision::stop_and_replan) {
+          out_.truth.stop_time_s = m_.t;
+          out_.truth.stop_x_m = m_.x;
+          at_stop_ = m_;
+          mode_ = rec.escape_active ? Mode::escape : Mode::settle;
+          mode_end_ = m_.t + spec_.settle_s;
+          last_escape_ = flight::EscapeState::idle;
+        } else if (m_.x >= spec_.end_x_m) {
+          mode_ = Mode::settle;
+          mode_end_ = m_.t + spec_.settle_s;
+        }
+        break;
+      case Mode::escape:
+        if (rec.escape_state != flight::EscapeState::forward && rec.escape_state != flight::EscapeState::reverse) {
+          mode_ = Mode::settle;
+          mode_end_ = m_.t + spec_.settle_s;
+        }
+        break;
+      case Mode::settle:
+      case Mode::stuck:
+        if (m_.t >= mode_end_) mode_ = Mode::done;
+        break;
+      case Mode::done:
+        break;
+    }
+  }
+
+  const ScenarioSpec& spec_;
+  const World world_;
+  Noise noise_;
+  OnboardLoop onboard_;
+  const reference::Motor motor_;
+  const double forward_ms_;
+  const double reverse_ms_;
+  Scenario& out_;
+
+  Mode mode_ = Mode::drive;
+  Motion m_;
+  std::optional<Motion> at_stop_;
+  flight::EscapeState last_escape_ = flight::EscapeState::idle;
+  double phase_start_ = 0.0;
+  double mode_end_ = 0.0;
+  std::array<WheelTruth, kN> last_wheels_{};
+  int last_direction_ = 1;
+};
+
+// The log's comments and metadata: what made it, and the simulator's truth
+// about the embedding.
+void describe_scenario(const ScenarioSpec& spec, const std::string& command_line, Scenario& out) {
+  TelemetryLog& log = out.log;
   log.comments = {
       "sinkwatch telemetry scenario '" + spec.name + "': " + spec.description,
       "made by the reference wheel-soil simulator (Wong-Reece, soil " + spec.soil +
@@ -521,6 +583,18 @@ Scenario generate_scenario(const ScenarioSpec& spec, const std::string& command_
   } else {
     log.metadata["embedding_x_m"] = "none";
   }
+}
+
+}  // namespace
+
+Scenario generate_scenario(const ScenarioSpec& spec, const std::string& command_line,
+                           const std::function<void(double)>& progress) {
+  Scenario out;
+  out.log.source = spec.name;
+  ScenarioRun run(spec, out);
+  run.run(progress);
+  run.find_open_loop_embedding();
+  describe_scenario(spec, command_line, out);
   return out;
 }
 
