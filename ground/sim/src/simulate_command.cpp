@@ -159,6 +159,16 @@ void run(const SimulateOptions& o, const std::string& command_line, std::ostream
   file.commit();
 }
 
+// The catalogue takes no settings: refuse them rather than ignore them.
+void refuse_settings_with_list(const CLI::App& sub) {
+  for (const CLI::Option* option : sub.get_options()) {
+    const std::string& name = option->get_name();
+    if (option->count() > 0 && name != "--list" && name != "--quiet" && name != "--verbose") {
+      throw_usage_error("--list excludes " + name);
+    }
+  }
+}
+
 }  // namespace
 
 CLI::App* add_simulate_command(CLI::App& app, std::string command_line, std::ostream& out, std::ostream& err) {
@@ -193,14 +203,7 @@ CLI::App* add_simulate_command(CLI::App& app, std::string command_line, std::ost
   std::ostream* out_ptr = &out;
   std::ostream* err_ptr = &err;
   sub->callback([sub, opts, command_line, out_ptr, err_ptr]() {
-    if (opts->list) {  // the catalogue takes no settings: refuse them rather than ignore them
-      for (const CLI::Option* option : sub->get_options()) {
-        const std::string& name = option->get_name();
-        if (option->count() > 0 && name != "--list" && name != "--quiet" && name != "--verbose") {
-          throw_usage_error("--list excludes " + name);
-        }
-      }
-    }
+    if (opts->list) refuse_settings_with_list(*sub);
     run_reporting_errors("simulate", *out_ptr, *err_ptr, [&]() { run(*opts, command_line, *out_ptr, *err_ptr); });
   });
   return sub;

@@ -1,0 +1,257 @@
+// The cross-form withheld-effect check (issue 16). The withheld check
+// (test_diagnosis_withheld.cpp) passes partly because data and library share
+// one form per effect. Here, with the same campaign, noise and seed:
+//
+//  (a) data made with a non-default literature form of an effect while the
+//      library is denied that form (WongReeceModel::excluding): it must fit
+//      the family with one of the family's other forms. Required where the
+//      held-out gap is significant (verdict not no_gap/weak_gap): the family
+//      ranks first among the families and the reported shrink is within 10
+//      points of the true shrink (the generating model's own held-out RMS,
+//      as in the withheld check);
+//  (b) data made with a form the library does not have at all (Wong's
+//      hump-shaped shear curve, EffectSettings::shear_softening, no catalogue
+//      effect): the verdict must not be `explained` — no family of the
+//      library is the cause, so naming one would be wrong.
+//
+// The form sizes were chosen from the literature and the simulator's
+// documented defaults before the first run (docs/findings-diagnosis.md,
+// section 1b) and not tuned to the seed. The table is printed on stdout and,
+// when SINKWATCH_DIAGNOSIS_TABLE names a file, written there.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <ostream>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sinkwatch/ground/diagnosis.hpp"
+#include "sinkwatch/ground/diagnosis_models.hpp"
+#include "sinkwatch/ground/soil_presets.hpp"
+#include "withheld_campaign.hpp"
+
+namespace sinkwatch {
+namespace ground {
+namespace {
+
+using withheld::campaign_rows;
+using withheld::FamilyReading;
+using withheld::read_family;
+using withheld::true_heldout_rms;
+
+// One cross-form case: an effect in a form, with its sizes.
+struct CrossCase {
+  Effect effect = Effect::grouser;
+  std::string form;
+  std::vector<std::pair<std::string, double>> sizes;
+};
+
+// Sizes: grousers 2 cm (the withheld check's size; 15 lugs for the lug-face
+// form, mid-range of Ding et al.'s 8-30), Lyasko's own ks = 1, Hegedus at
+// scale 1, a modulus exponent m = 0.5 (Janbu's typical value for sand), a
+// viscous drag of 0.3 N m at zero slip (the withheld check's gearbox drag).
+std::vector<CrossCase> resolved_cases() {
+  std::vector<CrossCase> all{
+      {Effect::grouser, "lug_tip", {{"grouser.height_m", 0.02}}},
+      {Effect::grouser, "lug_face", {{"grouser.height_m", 0.02}, {"grouser.lug_count", 15.0}}},
+      {Effect::slip_sinkage, "lyasko", {{"slip_sinkage.ks", 1.0}}},
+      {Effect::bulldozing, "hegedus", {{"bulldozing.scale", 1.0}}},
+      {Effect::load_dependence, "stiffness", {{"load_dependence.stiffening", 0.5}}},
+      {Effect::drive_friction, "speed", {{"drive_friction.tv_nm", 0.3}}},
+  };
+#if defined(SINKWATCH_DIAGNOSIS_QUICK)
+  all.resize(1);
+#endif
+  return all;
+}
+std::vector<CrossCase> unresolved_cases() { return {}; }
+
+void PrintTo(const CrossCase& c, std::ostream* os) { *os << effect_name(c.effect) << "." << c.form; }
+
+// The first three families with their best form's shrink, for the findings.
+std::string leading_families(const DiagnosisResult& result) {
+  std::ostringstream os;
+  os << std::setprecision(3);
+  for (std::size_t k = 0; k < result.families.size() && k < 3; ++k) {
+    const RankedFamily& f = result.families[k];
+    os << (k == 0 ? "" : ", ") << f.best_effect << " " << f.shrink_pct << " %";
+  }
+  return os.str();
+}
+
+struct Outcome {
+  std::string data;  // "<family>.<form>" that made the data
+  std::size_t rank = 0;
+  std::string top;
+  std::string best;
+  std::string fitted;
+  std::string truth;
+  double before = 0.0;
+  double after = 0.0;
+  double shrink = 0.0;
+  double true_after = 0.0;
+  double true_shrink = 0.0;
+  std::string verdict;
+  std::string leading;  // the first three families
+  double seconds = 0.0;
+};
+
+std::vector<Outcome>& outcomes() {
+  static std::vector<Outcome> all;
+  return all;
+}
+
+bool significant_gap(Verdict verdict) { return verdict != Verdict::no_gap && verdict != Verdict::weak_gap; }
+
+std::string format_number(double value) {
+  std::ostringstream os;
+  os << std::setprecision(3) << value;
+  return os.str();
+}
+
+class CrossFormEffect : public ::testing::TestWithParam<CrossCase> {};
+
+TEST_P(CrossFormEffect, FamilyRanksFirstWithTheTrueShrinkInAnotherForm) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const CrossCase& c = GetParam();
+  SimParameters truth = default_parameters("hit-lss1");
+  truth.effects.set_enabled(c.effect, true);
+  set_effect_form(truth.effects, c.effect, c.form);
+  for (const auto& [name, value] : c.sizes) {
+    set_parameter(truth, name, value);
+  }
+  const std::vector<DiagnosisRow> rows = campaign_rows(truth);
+
+  const WongReeceModel full(default_parameters("hit-lss1"));
+  const Candidate generating = full.candidate_for(c.effect, c.form);
+  const WongReeceModel model = full.excluding({generating.name});
+  const DiagnosisResult result = diagnose(model, rows, "generated", DiagnosisSettings{});
+
+  Outcome out;
+  out.data = generating.name;
+  out.verdict = verdict_name(result.verdict);
+  out.leading = leading_families(result);
+  out.before = result.cv_heldout_rms_scaled;
+  const FamilyReading family = read_family(result, c.effect);
+  out.rank = family.rank;
+  out.top = family.top;
+  out.best = family.best_effect;
+  out.fitted = family.fitted_name + " = " + format_number(family.fitted);
+  out.after = family.after;
+  out.shrink = family.shrink;
+  std::vector<double> true_params = get_parameters(truth, WongReeceModel::default_base_parameters());
+  for (const ParameterSpec& extra : generating.extra) {
+    true_params.push_back(get_parameter(truth, extra.name));
+    out.truth += (out.truth.empty() ? "" : ", ") + extra.name + " = " + format_number(true_params.back());
+  }
+  out.true_after = true_heldout_rms(full, &generating, true_params, rows, result);
+  out.true_shrink = 100.0 * (out.before - out.true_after) / out.before;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  outcomes().push_back(out);
+
+  EXPECT_NE(family.best_effect, generating.name) << "the generating form was held out of the library";
+  if (!significant_gap(result.verdict)) {
+    std::printf("%s: held-out gap %.2f x noise is not significant (%s); nothing to rank\n", out.data.c_str(),
+                out.before, out.verdict.c_str());
+    return;
+  }
+  EXPECT_EQ(out.rank, 1U) << "top family: " << out.top;
+  EXPECT_NEAR(out.shrink, out.true_shrink, 10.0) << "reported shrink vs true shrink (percentage points)";
+}
+
+std::string case_name(const ::testing::TestParamInfo<CrossCase>& param_info) {
+  return std::string(effect_name(param_info.param.effect)) + "_" + param_info.param.form;
+}
+
+INSTANTIATE_TEST_SUITE_P(OtherForm, CrossFormEffect, ::testing::ValuesIn(resolved_cases()), case_name);
+INSTANTIATE_TEST_SUITE_P(DISABLED_Unresolved, CrossFormEffect, ::testing::ValuesIn(unresolved_cases()), case_name);
+
+// (b) A form no family of the library has: Wong's hump-shaped shear curve
+// with K_r = 0.75 (tan 33 deg / tan 40 deg: a dense sand's critical-state
+// over peak friction) and its peak at K_w = 2 cm (two Janosi-Hanamoto K of
+// this soil).
+void run_unlisted_form(Outcome& out, Verdict& verdict) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SimParameters truth = default_parameters("hit-lss1");
+  truth.effects.shear_softening.enabled = true;
+  truth.effects.shear_softening.residual_ratio = 0.75;
+  truth.effects.shear_softening.peak_displacement_m = 0.02;
+  const std::vector<DiagnosisRow> rows = campaign_rows(truth);
+  const WongReeceModel model(default_parameters("hit-lss1"));
+  const DiagnosisResult result = diagnose(model, rows, "generated", DiagnosisSettings{});
+  verdict = result.verdict;
+  out.data = "shear_softening (not in the library)";
+  out.verdict = verdict_name(result.verdict);
+  out.leading = leading_families(result);
+  out.before = result.cv_heldout_rms_scaled;
+  out.truth = "K_r = 0.75, K_w = 0.02 m";
+  if (!result.families.empty()) {
+    const RankedFamily& top = result.families.front();
+    out.top = top.family;
+    out.best = top.best_effect;
+    out.after = top.heldout_rms_after;
+    out.shrink = top.shrink_pct;
+  }
+  // The generating model: its shear_softening is no catalogue effect, so a
+  // model started from the truth keeps it in its base.
+  const WongReeceModel truth_model(truth);
+  const std::vector<double> true_params = get_parameters(truth, WongReeceModel::default_base_parameters());
+  out.true_after = true_heldout_rms(truth_model, nullptr, true_params, rows, result);
+  out.true_shrink = 100.0 * (out.before - out.true_after) / out.before;
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+TEST(CrossFormUnlisted, FormOutsideTheLibraryIsNotCalledExplained) {
+#if defined(SINKWATCH_DIAGNOSIS_QUICK)
+  GTEST_SKIP() << "sanitizer build: one cross-form case only";
+#endif
+  Outcome out;
+  Verdict verdict = Verdict::not_enough_data;
+  run_unlisted_form(out, verdict);
+  outcomes().push_back(out);
+  EXPECT_NE(verdict, Verdict::explained) << "top family " << out.top << " (" << out.best << "), shrink "
+                                         << out.shrink << " %, held-out gap " << out.before << " x noise";
+}
+
+// Prints the table once every case has run.
+class TablePrinter : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    if (outcomes().empty()) {
+      return;
+    }
+    std::ostringstream os;
+    os << std::setprecision(3);
+    os << "| data made with | family rank | top family | best form in the library | fitted | true | "
+          "held-out before | after (fit) | after (true model) | shrink reported % | true shrink % | verdict | "
+          "time s |\n"
+       << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const Outcome& o : outcomes()) {
+      os << "| " << o.data << " | " << (o.rank == 0 ? std::string("–") : std::to_string(o.rank)) << " | " << o.top
+         << " | " << o.best << " | " << (o.fitted.empty() ? "–" : o.fitted) << " | " << o.truth << " | " << o.before
+         << " | " << o.after << " | " << o.true_after << " | " << o.shrink << " | " << o.true_shrink << " | "
+         << o.verdict << " | " << o.seconds << " |\n";
+    }
+    os << "\nLeading families (best form, shrink):\n";
+    for (const Outcome& o : outcomes()) {
+      os << "- " << o.data << ": " << o.leading << "\n";
+    }
+    std::printf("\n%s\n", os.str().c_str());
+    if (const char* path = std::getenv("SINKWATCH_DIAGNOSIS_TABLE")) {
+      std::ofstream(path) << os.str();
+    }
+  }
+};
+
+const ::testing::Environment* const kPrinter = ::testing::AddGlobalTestEnvironment(new TablePrinter);
+
+}  // namespace
+}  // namespace ground
+}  // namespace sinkwatch
