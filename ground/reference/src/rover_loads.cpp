@@ -297,5 +297,127 @@ DrawbarPulls drawbar_pulls(const RoverGeometry& g, const WheelLoads& loads, Draw
   return out;
 }
 
+
+// ------------------------------------------------- fuller quasi-static balance
+
+namespace {
+
+constexpr std::size_t k_balance_rows = k_wheel_count;
+using BalanceMatrix = std::array<std::array<double, k_wheel_count + 1U>, k_balance_rows>;
+
+/// Gaussian elimination with partial pivoting on the augmented 6 x 7 system;
+/// false when a pivot vanishes (a collapsed lever).
+bool solve_balance(BalanceMatrix& m, std::array<double, k_wheel_count>& x) {
+  for (std::size_t col = 0U; col < k_wheel_count; ++col) {
+    std::size_t best = col;
+    for (std::size_t r = col + 1U; r < k_balance_rows; ++r) {
+      if (std::fabs(m[r][col]) > std::fabs(m[best][col])) best = r;
+    }
+    if (std::fabs(m[best][col]) < 1e-12) return false;
+    std::swap(m[col], m[best]);
+    for (std::size_t r = col + 1U; r < k_balance_rows; ++r) {
+      const double f = m[r][col] / m[col][col];
+      for (std::size_t c = col; c <= k_wheel_count; ++c) m[r][c] -= f * m[col][c];
+    }
+  }
+  for (std::size_t k = k_wheel_count; k-- > 0U;) {
+    double v = m[k][k_wheel_count];
+    for (std::size_t c = k + 1U; c < k_wheel_count; ++c) v -= m[k][c] * x[c];
+    x[k] = v / m[k][k];
+  }
+  return true;
+}
+
+/// Contact points of the six wheels (body frame) and the bogie pivots.
+struct BalancePoints {
+  std::array<double, k_wheel_count> x{};
+  std::array<double, k_wheel_count> y{};
+  std::array<double, k_wheel_count> z{};  // contact; the axle is one radius above
+  std::array<SidePoint, 2> bogie_pivot{};
+};
+
+BalancePoints balance_points(const RoverGeometry& g, const JointAngles& joints) {
+  BalancePoints p;
+  for (std::size_t s = 0U; s < 2U; ++s) {
+    const SideContacts c = side_contacts(g, joints.rocker_rad[s], joints.bogie_rad[s]);
+    const SidePoint pts[3] = {c.front, c.middle, c.rear};
+    for (std::size_t k = 0U; k < 3U; ++k) {
+      p.x[3U * s + k] = pts[k].x_m;
+      p.z[3U * s + k] = pts[k].z_m;
+      p.y[3U * s + k] = (s == 0U) ? 0.5 * g.track_width_m : -0.5 * g.track_width_m;
+    }
+    p.bogie_pivot[s] = c.bogie_pivot;
+  }
+  return p;
+}
+
+/// The rows of the balance (docs/rover-loads.md, section 11.2): unknowns N_i.
+BalanceMatrix balance_rows(const RoverGeometry& g, const ForceBalanceInput& in, const BalancePoints& p) {
+  const double cp = std::cos(in.attitude.pitch_rad);
+  const double sp = std::sin(in.attitude.pitch_rad);
+  const double cr = std::cos(in.attitude.roll_rad);
+  const double sr = std::sin(in.attitude.roll_rad);
+  const double mg = g.mass_kg * g.gravity_mps2;
+  const WheelTraction& t = in.traction;
+  BalanceMatrix m{};
+  // Moment about +y (pitch) of wheel i's tangential force at its axle and its
+  // drive-torque reaction on the link, about the point (px, pz).
+  const auto pitch_terms = [&](std::size_t i, double pz) {
+    return (p.z[i] + g.wheel_radius_m - pz) * t.tangential_n[i] - t.soil_torque_nm[i];
+  };
+  double pitch_rhs = -(-g.com_z_m * g.mass_kg * (g.gravity_mps2 * sp + in.accel_mps2) + g.com_x_m * mg * cp * cr);
+  double diff_rhs = 0.0;
+  for (std::size_t i = 0U; i < k_wheel_count; ++i) {
+    m[0][i] = 1.0;
+    m[1][i] = -p.x[i];
+    pitch_rhs -= pitch_terms(i, 0.0);
+    m[4][i] = (i < 3U) ? -p.x[i] : p.x[i];
+    diff_rhs -= (i < 3U) ? pitch_terms(i, 0.0) : -pitch_terms(i, 0.0);
+    m[5][i] = p.y[i] - p.z[i] * (sr / cr);
+  }
+  m[0][k_wheel_count] = mg * cp * cr;
+  m[1][k_wheel_count] = pitch_rhs;
+  m[4][k_wheel_count] = diff_rhs;
+  m[5][k_wheel_count] = mg * cp * (g.com_y_m * cr - g.com_z_m * sr);
+  for (std::size_t s = 0U; s < 2U; ++s) {
+    const SidePoint pv = p.bogie_pivot[s];
+    double rhs = 0.0;
+    for (std::size_t k = 1U; k < 3U; ++k) {
+      const std::size_t i = 3U * s + k;
+      m[2U + s][i] = -(p.x[i] - pv.x_m);
+      rhs -= pitch_terms(i, pv.z_m);
+    }
+    m[2U + s][k_wheel_count] = rhs;
+  }
+  return m;
+}
+
+}  // namespace
+
+ForceBalanceLoads force_balance_loads(const RoverGeometry& g, const ForceBalanceInput& in) {
+  ForceBalanceLoads out;
+  out.status = check_load_inputs(g, in.attitude, in.joints);
+  if (out.status != LoadStatus::ok) return out;
+  for (std::size_t i = 0U; i < k_wheel_count; ++i) {
+    if (!finite_all({in.traction.tangential_n[i], in.traction.soil_torque_nm[i], in.accel_mps2})) {
+      out.status = LoadStatus::degenerate;
+      return out;
+    }
+  }
+  const BalancePoints p = balance_points(g, in.joints);
+  BalanceMatrix m = balance_rows(g, in, p);
+  if (!solve_balance(m, out.load_n)) {
+    out.status = LoadStatus::degenerate;
+    return out;
+  }
+  double along = 0.0;
+  for (const double f : in.traction.tangential_n) along += f;
+  out.along_residual_n =
+      along - g.mass_kg * (g.gravity_mps2 * std::sin(in.attitude.pitch_rad) + in.accel_mps2);
+  out.min_load_n = *std::min_element(out.load_n.begin(), out.load_n.end());
+  out.status = (out.min_load_n < 0.0) ? LoadStatus::tip_over : LoadStatus::ok;
+  return out;
+}
+
 }  // namespace ground
 }  // namespace sinkwatch

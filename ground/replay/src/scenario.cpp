@@ -61,6 +61,24 @@ struct WheelTruth {
   double sinkage_m = 0.0;
   double torque_nm = 0.0;  // in the direction of driving
   double drawbar_pull_n = 0.0;
+  double soil_torque_nm = 0.0;  // without drive friction: what the link's balance sees
+};
+
+WheelTruth wheel_truth(const WheelSoilState& s) {
+  return WheelTruth{s.sinkage_m, s.torque_nm, s.drawbar_pull_n, s.soil_torque_nm};
+}
+
+// The soil under the rover: the left wheels' scale and the right wheels'
+// factor on it (one-side softening).
+struct SideSoil {
+  double scale = 1.0;
+  double right_factor = 1.0;
+};
+
+struct SideParams {
+  SimParameters left;
+  SimParameters right;
+  bool same = true;  // both sides on the same soil: a wheel may reuse its mirror's state
 };
 
 struct SlipSolution {
@@ -73,23 +91,40 @@ struct SlipSolution {
 class World {
  public:
   explicit World(const ScenarioSpec& spec)
-      : spec_(spec), base_(default_parameters(spec.soil)), geometry_(yutu_like_geometry(spec.gravity_mps2)) {
-    base_.gravity_m_s2 = spec.gravity_mps2;
-    // Sinkage grows with slip (Ding et al.): the slip-sinkage the paper's
-    // soil-bin tests show and Purgatory's dig-in needs.
-    base_.effects.slip_sinkage.enabled = true;
+      : spec_(spec), base_(base_parameters(spec)), geometry_(yutu_like_geometry(spec.gravity_mps2)) {
+    geometry_.mass_kg = spec.mass_kg;
     if (spec.terrain.empty()) throw std::invalid_argument("scenario '" + spec.name + "' has no terrain");
   }
 
   double slope_deg(double x) const { return interpolate(x, &TerrainKnot::slope_deg); }
+  double roll_deg(double x) const { return interpolate(x, &TerrainKnot::roll_deg); }
   double soil_scale(double x) const { return interpolate(x, &TerrainKnot::soil_scale); }
+  SideSoil soil(double x, double gain) const {
+    return SideSoil{soil_scale(x) * gain, interpolate(x, &TerrainKnot::right_soil_factor)};
+  }
+  bool force_balance() const { return spec_.load_model == ScenarioLoadModel::force_balance; }
 
-  std::array<double, kN> loads(double pitch_deg) const {
-    const WheelLoads w = wheel_loads(geometry_, Attitude{pitch_deg * kDeg, 0.0}, JointAngles{});
+  // The flight code's statics at this attitude (contact forces parallel to gravity).
+  std::array<double, kN> statics_loads(double pitch_deg, double roll_deg) const {
+    const WheelLoads w = wheel_loads(geometry_, Attitude{pitch_deg * kDeg, roll_deg * kDeg}, JointAngles{});
     if (w.status != LoadStatus::ok) throw std::runtime_error("scenario: wheel loads failed at the path's slope");
     std::array<double, kN> out{};
     for (std::size_t i = 0; i < kN; ++i) out[i] = w.load_n[i];
     return out;
+  }
+
+  // The loads of the spec's load model; the fuller balance with the wheels'
+  // pulls and soil torques (`traction`, body frame) and the acceleration.
+  std::array<double, kN> loads(double pitch_deg, double roll_deg, double accel_mps2,
+                               const WheelTraction& traction) const {
+    if (!force_balance()) return statics_loads(pitch_deg, roll_deg);
+    ForceBalanceInput in;
+    in.attitude = Attitude{pitch_deg * kDeg, roll_deg * kDeg};
+    in.accel_mps2 = accel_mps2;
+    in.traction = traction;
+    const ForceBalanceLoads w = force_balance_loads(geometry_, in);
+    if (w.status != LoadStatus::ok) throw std::runtime_error("scenario: force-balance wheel loads failed");
+    return w.load_n;
   }
 
   double mass_kg() const { return geometry_.mass_kg; }
@@ -97,8 +132,8 @@ class World {
   // The slip at which the six wheels' drawbar pulls give `required_n`, on the
   // branch where DP rises with slip, searched near `hint`: bracketed in steps
   // of 0.04 down and 0.02 up, then bisected.
-  SlipSolution solve(double scale, const std::array<double, kN>& w, double required_n, double hint) const {
-    const SimParameters p = scaled(scale);
+  SlipSolution solve(SideSoil soil, const std::array<double, kN>& w, double required_n, double hint) const {
+    const SideParams p = scaled(soil);
     SlipSolution sol;
     const auto total = [&](double s, std::array<WheelTruth, kN>& wheels) {
       return total_pull(p, w, s, wheels, sol.failure);
@@ -131,7 +166,7 @@ class World {
       lo = hi;
       lo_w = hi_w;
     }
-    for (int k = 0; k < 14; ++k) {
+    for (int k = 0; k < spec_.slip_bisections; ++k) {
       const double mid = 0.5 * (lo + hi);
       std::array<WheelTruth, kN> mid_w{};
       const std::optional<double> f_mid = total(mid, mid_w);
@@ -147,20 +182,34 @@ class World {
   }
 
   // The wheels spinning in place at the highest slip, for a stuck rover.
-  std::array<WheelTruth, kN> spinning(double scale, const std::array<double, kN>& w) const {
-    const SimParameters p = scaled(scale);
+  std::array<WheelTruth, kN> spinning(SideSoil soil, const std::array<double, kN>& w) const {
+    const SideParams p = scaled(soil);
     std::array<WheelTruth, kN> out{};
     for (std::size_t i = 0; i < kN; ++i) {
-      const Evaluation e = evaluate(p, w[i], kEmbedMaxSlip);
-      out[i] = e.ok() ? WheelTruth{e.state.sinkage_m, e.state.torque_nm, e.state.drawbar_pull_n}
-                      : WheelTruth{geometry_.wheel_radius_m, e.state.torque_nm, 0.0};
+      const Evaluation e = evaluate(i < kN / 2 ? p.left : p.right, w[i], kEmbedMaxSlip);
+      out[i] = e.ok() ? wheel_truth(e.state) : WheelTruth{geometry_.wheel_radius_m, e.state.torque_nm, 0.0, 0.0};
     }
     return out;
   }
 
  private:
+  static SimParameters base_parameters(const ScenarioSpec& spec) {
+    SimParameters p = default_parameters(spec.soil_parameters ? std::string("hit-lss1") : spec.soil);
+    if (spec.soil_parameters) p.soil = *spec.soil_parameters;
+    p.gravity_m_s2 = spec.gravity_mps2;
+    p.quadrature_rel_tol = spec.quadrature_rel_tol;
+    if (spec.effects) {
+      p.effects = *spec.effects;
+    } else {
+      // Sinkage grows with slip (Ding et al.): the slip-sinkage the paper's
+      // soil-bin tests show and Purgatory's dig-in needs.
+      p.effects.slip_sinkage.enabled = true;
+    }
+    return p;
+  }
+
   // The soil with its moduli and cohesion scaled (softer below 1).
-  SimParameters scaled(double scale) const {
+  SimParameters scaled_one(double scale) const {
     SimParameters p = base_;
     p.soil.kc *= scale;
     p.soil.kphi *= scale;
@@ -168,19 +217,32 @@ class World {
     return p;
   }
 
+  SideParams scaled(SideSoil soil) const {
+    SideParams p{scaled_one(soil.scale), {}, soil.right_factor == 1.0};
+    p.right = p.same ? p.left : scaled_one(soil.scale * soil.right_factor);
+    return p;
+  }
+
   // The six wheels' total drawbar pull at slip s (each wheel's state in
   // `wheels`); nothing, and why in `failure`, when a wheel sinks to its axle.
-  static std::optional<double> total_pull(const SimParameters& p, const std::array<double, kN>& w, double s,
+  // A right wheel on the same soil and load as its left mirror reuses its
+  // state (the simulator is deterministic: the same numbers, once).
+  static std::optional<double> total_pull(const SideParams& p, const std::array<double, kN>& w, double s,
                                           std::array<WheelTruth, kN>& wheels, std::string& failure) {
     double sum = 0.0;
     for (std::size_t i = 0; i < kN; ++i) {
-      const Evaluation e = evaluate(p, w[i], s);
+      if (i >= kN / 2 && p.same && w[i] == w[i - kN / 2]) {
+        wheels[i] = wheels[i - kN / 2];
+        sum += wheels[i].drawbar_pull_n;
+        continue;
+      }
+      const Evaluation e = evaluate(i < kN / 2 ? p.left : p.right, w[i], s);
       if (!e.ok()) {
         failure = "wheel " + std::string(kWheelNames[i]) + " sinks to its axle at slip " + number(s, 2) +
                   ", before the wheels give the pull the rover needs";
         return std::nullopt;
       }
-      wheels[i] = WheelTruth{e.state.sinkage_m, e.state.torque_nm, e.state.drawbar_pull_n};
+      wheels[i] = wheel_truth(e.state);
       sum += e.state.drawbar_pull_n;
     }
     return sum;
@@ -211,6 +273,7 @@ struct Motion {
   double a = 0.0;     // signed
   double hint = 0.0;  // last slip
   double gain = 1.0;  // soil improvement from escape reversals
+  WheelTraction traction{};  // last cycle's pulls and soil torques, body frame (force_balance)
 };
 
 struct CycleTruth {
@@ -218,35 +281,70 @@ struct CycleTruth {
   std::string failure;
   double slip = 0.0;
   double pitch_deg = 0.0;
+  double roll_deg = 0.0;
   std::array<double, kN> load_n{};
   std::array<WheelTruth, kN> wheels{};
 };
+
+// The slip that carries the rover at the cycle's loads c.load_n in direction
+// d at rim speed u. The wheels carry the slope and the acceleration. When the
+// soil cannot give the extra pull a speed ramp needs, the rover accelerates
+// only as fast as traction allows: quasi-static (docs/scenarios.md). The
+// acceleration `a` is this cycle's own (v_new - v) / dt, found by a few
+// fixed-point passes, so that the IMU's reading and the pull agree.
+SlipSolution carry(const World& world, const ScenarioSpec& spec, const Motion& m, const CycleTruth& c, int d,
+                   double u, double& a) {
+  const double slope_along = d * c.pitch_deg * kDeg;  // the slope as the driving direction sees it
+  const double slope_pull = world.mass_kg() * spec.gravity_mps2 * std::sin(slope_along);
+  const SideSoil soil = world.soil(m.x, m.gain);
+  SlipSolution s;
+  for (int pass = 0; pass < 4; ++pass) {
+    s = world.solve(soil, c.load_n, slope_pull + world.mass_kg() * d * a, m.hint);
+    if (!s.ok && d * a > 0.0) s = world.solve(soil, c.load_n, slope_pull, m.hint);
+    if (!s.ok) break;
+    const double a_new = (d * u * (1.0 - s.slip) - m.v) / spec.cycle_s;
+    if (std::fabs(a_new - a) < 1e-4) break;
+    a = a_new;
+  }
+  return s;
+}
+
+// The wheels' pulls and soil torques in the body frame (driving direction d).
+WheelTraction traction_of(const std::array<WheelTruth, kN>& wheels, int d) {
+  WheelTraction t;
+  for (std::size_t i = 0; i < kN; ++i) {
+    t.tangential_n[i] = d * wheels[i].drawbar_pull_n;
+    t.soil_torque_nm[i] = d * wheels[i].soil_torque_nm;
+  }
+  return t;
+}
+
+double max_abs_difference(const std::array<double, kN>& a, const std::array<double, kN>& b) {
+  double m = 0.0;
+  for (std::size_t i = 0; i < kN; ++i) m = std::max(m, std::fabs(a[i] - b[i]));
+  return m;
+}
+
+// Loads <-> simulator to a fixed point (force_balance only): the loads from
+// the last cycle's forces, the slip at them, the loads from the new forces,
+// until they change by less than this, at most spec.load_iterations times.
+constexpr double kLoadFixedPointN = 0.05;
 
 // One cycle of driving in direction d (+1 / -1) at rim speed u >= 0.
 CycleTruth advance(const World& world, const ScenarioSpec& spec, Motion& m, int d, double u) {
   CycleTruth c;
   c.pitch_deg = world.slope_deg(m.x);
-  c.load_n = world.loads(c.pitch_deg);
-  const double dt = spec.cycle_s;
+  c.roll_deg = world.roll_deg(m.x);
+  c.load_n = world.loads(c.pitch_deg, c.roll_deg, m.a, m.traction);
   double v_new = 0.0;
   if (u > 1e-6) {
-    const double slope_along = d * c.pitch_deg * kDeg;  // the slope as the driving direction sees it
-    // The wheels carry the slope and the last cycle's m*a. When the soil
-    // cannot give the extra pull a speed ramp needs, the rover accelerates
-    // only as fast as traction allows: quasi-static (docs/scenarios.md).
-    // The acceleration is this cycle's own (v_new - v) / dt, found by a few
-    // fixed-point passes, so that the IMU's reading and the pull agree.
-    const double slope_pull = world.mass_kg() * spec.gravity_mps2 * std::sin(slope_along);
-    const double scale = world.soil_scale(m.x) * m.gain;
     double a = m.a;
-    SlipSolution s;
-    for (int pass = 0; pass < 4; ++pass) {
-      s = world.solve(scale, c.load_n, slope_pull + world.mass_kg() * d * a, m.hint);
-      if (!s.ok && d * a > 0.0) s = world.solve(scale, c.load_n, slope_pull, m.hint);
-      if (!s.ok) break;
-      const double a_new = (d * u * (1.0 - s.slip) - m.v) / dt;
-      if (std::fabs(a_new - a) < 1e-4) break;
-      a = a_new;
+    SlipSolution s = carry(world, spec, m, c, d, u, a);
+    for (int it = 0; s.ok && world.force_balance() && it < spec.load_iterations; ++it) {
+      const std::array<double, kN> w = world.loads(c.pitch_deg, c.roll_deg, a, traction_of(s.wheels, d));
+      if (max_abs_difference(w, c.load_n) < kLoadFixedPointN) break;
+      c.load_n = w;
+      s = carry(world, spec, m, c, d, u, a);
     }
     if (!s.ok) {
       c.ok = false;
@@ -256,17 +354,18 @@ CycleTruth advance(const World& world, const ScenarioSpec& spec, Motion& m, int 
     c.slip = s.slip;
     c.wheels = s.wheels;
     m.hint = s.slip;
+    m.traction = traction_of(s.wheels, d);
     v_new = d * u * (1.0 - s.slip);
   } else {
     // Standing: the wheels keep their last sinkage, carry no torque.
     m.hint = 0.0;
+    m.traction = WheelTraction{};
   }
-  m.a = (v_new - m.v) / dt;
+  m.a = (v_new - m.v) / spec.cycle_s;
   m.v = v_new;
-  m.x += v_new * dt;
+  m.x += v_new * spec.cycle_s;
   return c;
 }
-
 
 }  // namespace
 
@@ -335,8 +434,8 @@ class ScenarioRun {
  public:
   enum class Mode { drive, escape, settle, stuck, done };
 
-  ScenarioRun(const ScenarioSpec& spec, Scenario& out)
-      : spec_(spec), world_(spec), noise_(spec.seed), onboard_(flight_config(spec)),
+  ScenarioRun(const ScenarioSpec& spec, Scenario& out, bool open_loop = false)
+      : open_loop_(open_loop), spec_(spec), world_(spec), noise_(spec.seed), onboard_(flight_config(spec)),
         motor_(reference::from_flight(onboard_.config().table.motor)),
         forward_ms_(onboard_.config().table.escape.forward_phase_ms / 1000.0),
         reverse_ms_(onboard_.config().table.escape.reverse_phase_ms / 1000.0), out_(out) {}
@@ -356,6 +455,12 @@ class ScenarioRun {
       last_wheels_ = c.wheels;
       last_direction_ = cmd.d;
       const TelemetryRow row = telemetry_row(c, cmd);
+      if (open_loop_) {
+        out_.log.rows.push_back(row);
+        out_.cycle_loads.push_back(CycleLoads{c.load_n, world_.statics_loads(c.pitch_deg, c.roll_deg)});
+        next_open_loop_mode();
+        continue;
+      }
       const CycleRecord rec = onboard_.step(row, spec_.name, *row.x_m);
       out_.log.rows.push_back(row);
       next_mode(rec);
@@ -422,7 +527,7 @@ class ScenarioRun {
 
   // The wheels spinning in place at the highest slip: the rover stands.
   void spin_in_place(CycleTruth& c) {
-    c.wheels = world_.spinning(world_.soil_scale(m_.x) * m_.gain, c.load_n);
+    c.wheels = world_.spinning(world_.soil(m_.x, m_.gain), c.load_n);
     c.slip = kEmbedMaxSlip;
     m_.a = (0.0 - m_.v) / spec_.cycle_s;
     m_.v = 0.0;
@@ -440,7 +545,8 @@ class ScenarioRun {
   bool truth_of(Command& cmd, CycleTruth& c) {
     if (mode_ == Mode::stuck) {
       c.pitch_deg = world_.slope_deg(m_.x);
-      c.load_n = world_.loads(c.pitch_deg);
+      c.roll_deg = world_.roll_deg(m_.x);
+      c.load_n = world_.loads(c.pitch_deg, c.roll_deg, 0.0, WheelTraction{});
       spin_in_place(c);
       cmd.u = spec_.speed_mps;
       return true;
@@ -464,6 +570,7 @@ class ScenarioRun {
       for (WheelTruth& w : c.wheels) {
         w.torque_nm = 0.0;
         w.drawbar_pull_n = 0.0;
+        w.soil_torque_nm = 0.0;
       }
     }
     return true;
@@ -490,7 +597,7 @@ class ScenarioRun {
     }
     row.reverse = d < 0;
     row.pitch_deg = c.pitch_deg + noise_.gauss(noise.attitude_deg);
-    row.roll_deg = noise_.gauss(noise.attitude_deg);
+    row.roll_deg = c.roll_deg + noise_.gauss(noise.attitude_deg);
     row.rocker_deg = {noise_.gauss(noise.joint_deg), noise_.gauss(noise.joint_deg)};
     row.bogie_deg = {noise_.gauss(noise.joint_deg), noise_.gauss(noise.joint_deg)};
     row.accel_mps2 = m_.a + noise_.gauss(noise.accel_mps2);
@@ -501,6 +608,13 @@ class ScenarioRun {
     row.true_sinkage_mm = deepest * 1000.0;
     row.phase = cmd.phase;
     return parse_telemetry_row(format_telemetry_row(row));
+  }
+
+  // The open-loop drive: to the goal, or to the embedding and its stuck tail.
+  void next_open_loop_mode() {
+    if ((mode_ == Mode::drive && m_.x >= spec_.end_x_m) || (mode_ == Mode::stuck && m_.t >= mode_end_)) {
+      mode_ = Mode::done;
+    }
   }
 
   // The next cycle's mode from the flight code's decision and the path.
@@ -534,6 +648,7 @@ class ScenarioRun {
     }
   }
 
+  const bool open_loop_;
   const ScenarioSpec& spec_;
   const World world_;
   Noise noise_;
@@ -569,7 +684,7 @@ void describe_scenario(const ScenarioSpec& spec, const std::string& command_line
   log.metadata["gravity_mps2"] = number(spec.gravity_mps2, 2);
   log.metadata["cycle_s"] = number(spec.cycle_s, 3);
   log.metadata["commanded_speed_mps"] = number(spec.speed_mps, 3);
-  log.metadata["rover"] = "yutu-like 140 kg, r = 0.15 m (docs/rover-loads.md)";
+  log.metadata["rover"] = "yutu-like " + number(spec.mass_kg, 0) + " kg, r = 0.15 m (docs/rover-loads.md)";
   std::string knots;
   for (const TerrainKnot& t : spec.terrain) {
     knots += (knots.empty() ? "" : " ") + number(t.x_m, 1) + "/" + number(t.soil_scale, 3) + "/" + number(t.slope_deg, 1);
@@ -595,6 +710,14 @@ Scenario generate_scenario(const ScenarioSpec& spec, const std::string& command_
   run.run(progress);
   run.find_open_loop_embedding();
   describe_scenario(spec, command_line, out);
+  return out;
+}
+
+Scenario generate_open_loop_drive(const ScenarioSpec& spec) {
+  Scenario out;
+  out.log.source = spec.name;
+  ScenarioRun run(spec, out, true);
+  run.run({});
   return out;
 }
 

@@ -155,6 +155,48 @@ struct DrawbarPulls {
 [[nodiscard]] DrawbarPulls drawbar_pulls(const RoverGeometry& g, const WheelLoads& loads, DrawbarInput in,
                                          const DrawbarParams& p);
 
+
+// ------------------------------------------------- fuller quasi-static balance
+//
+// Not a flight twin: the ground's fuller statics (docs/rover-loads.md,
+// section 11) for the scenario generator, so that the flight model's
+// simplifications (every contact force parallel to gravity, no drive-torque
+// reaction) are tested rather than assumed. Each wheel's soil force is split
+// into its component along the ground (the wheel's drawbar pull, from the
+// simulator) and its normal load; the wheel passes that force to its link at
+// the axle together with the reaction of its drive torque (the motor's stator
+// is on the link). Lateral forces on a roll slope are shared in proportion to
+// the normal loads. Ground plane = the body's x-y plane (planar terrain).
+
+/// Each wheel's soil force along the ground (+ forward, the drawbar pull)
+/// and the torque the soil takes from it (+ driving forward) [N, N m].
+struct WheelTraction {
+  std::array<double, k_wheel_count> tangential_n{};
+  std::array<double, k_wheel_count> soil_torque_nm{};
+};
+
+struct ForceBalanceInput {
+  Attitude attitude;
+  JointAngles joints;
+  double accel_mps2{0.0};  ///< along the path (body x): the d'Alembert force -m a at the centre of mass
+  WheelTraction traction;
+};
+
+struct ForceBalanceLoads {
+  LoadStatus status{LoadStatus::invalid_geometry};
+  std::array<double, k_wheel_count> load_n{};  ///< normal loads (body z) [N]
+  /// Sum of the tangential forces minus m (g sin(pitch) + a): zero when the
+  /// given pulls carry the rover [N]. The normal balance holds by construction.
+  double along_residual_n{0.0};
+  double min_load_n{0.0};
+};
+
+/// The six normal loads that balance the rover with the given tangential
+/// forces and drive torques: total normal force, pitch moment, both bogies,
+/// the differential (equal rocker moments) and the roll moment. With zero
+/// traction on level ground it equals wheel_loads().
+[[nodiscard]] ForceBalanceLoads force_balance_loads(const RoverGeometry& g, const ForceBalanceInput& in);
+
 }  // namespace ground
 }  // namespace sinkwatch
 

@@ -19,7 +19,9 @@
 
 #include "sinkwatch/ground/replay.hpp"
 #include "sinkwatch/ground/telemetry_log.hpp"
+#include "sinkwatch/ground/wheel_soil_model.hpp"
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -30,11 +32,19 @@ namespace sinkwatch::ground {
 
 inline constexpr double kEmbedMaxSlip = 0.95;
 
-/// The path: soil softness and slope, linear between knots, held beyond.
+/// The path: soil softness, slope and roll, linear between knots, held beyond.
 struct TerrainKnot {
   double x_m = 0.0;
   double soil_scale = 1.0;  // multiplies kc, kphi and the cohesion of the base soil (< 1: softer)
   double slope_deg = 0.0;   // path slope, positive uphill
+  double roll_deg = 0.0;    // cross slope, positive right side down
+  double right_soil_factor = 1.0;  // the right wheels' soil_scale is soil_scale times this (one-side softening)
+};
+
+/// How the generator gets the six wheel loads (docs/rover-loads.md).
+enum class ScenarioLoadModel {
+  flight_statics,  // the flight code's own statics (contact forces parallel to gravity): the shipped scenarios
+  force_balance,   // the fuller balance: each wheel's drawbar pull and drive-torque reaction (section 11)
 };
 
 struct ScenarioNoise {
@@ -63,6 +73,14 @@ struct ScenarioSpec {
   std::vector<TerrainKnot> terrain;
   ScenarioNoise noise;
   ReplayConfig flight;             // the flight software in the loop
+  // Campaign extensions (docs/campaign.md); the defaults are the shipped scenarios' world.
+  double mass_kg = 140.0;                       // the simulated rover's mass (the flight code keeps its table's)
+  std::optional<SoilParameters> soil_parameters;  // a drawn soil in place of the preset `soil`
+  std::optional<EffectSettings> effects;        // the simulator's effects; none: slip_sinkage only
+  ScenarioLoadModel load_model = ScenarioLoadModel::flight_statics;
+  int load_iterations = 4;           // force_balance: loads <-> simulator passes per cycle (at most)
+  double quadrature_rel_tol = kDefaultQuadratureRelTol;  // the simulator's quadrature goal
+  int slip_bisections = 14;          // bisection steps of the rover's slip
 };
 
 /// From firm ground into a soft ripple until the wheels would embed
@@ -86,9 +104,17 @@ struct ScenarioTruth {
   std::optional<double> stop_x_m;
 };
 
+/// One cycle's wheel loads in the simulated world and what the flight
+/// code's statics (wheel_loads(), same mass, attitude and joints) give there.
+struct CycleLoads {
+  std::array<double, kTelemetryWheels> true_n{};
+  std::array<double, kTelemetryWheels> flight_statics_n{};
+};
+
 struct Scenario {
   TelemetryLog log;
   ScenarioTruth truth;
+  std::vector<CycleLoads> cycle_loads;  // generate_open_loop_drive only, one per row
 };
 
 /// Deterministic: the same spec gives the same rows on any machine with
@@ -96,5 +122,14 @@ struct Scenario {
 /// `progress` (may be empty) gets the simulated time in seconds.
 Scenario generate_scenario(const ScenarioSpec& spec, const std::string& command_line,
                            const std::function<void(double)>& progress = {});
+
+/// The open-loop drive alone (docs/campaign.md): forward at the commanded
+/// speed, never stopping, until the goal or the embedding (then
+/// stuck_tail_s of rows with the wheels spinning); the flight code is not
+/// in the loop. Up to any stop of the flight code the closed-loop drive is
+/// this drive (same rows, same noise draws), so replaying these rows through
+/// OnboardLoop gives the flight code's first stop exactly, for any table.
+/// `truth.stop_*` stay empty; `cycle_loads` has one entry per row.
+Scenario generate_open_loop_drive(const ScenarioSpec& spec);
 
 }  // namespace sinkwatch::ground
