@@ -705,8 +705,8 @@ std::string campaign_suggestion(const std::vector<DiagnosisRow>& rows, std::size
   }
   const std::size_t total_loads = std::max<std::size_t>(loads.size() + add.size(), 1);
   os << "slips 0.05, 0.15, 0.3, 0.45, 0.6 and 0.75 at every load (" << total_loads << " loads x 6 slips = "
-     << 6 * total_loads << " rows; a held-out load and cross-validation folds need three loads or more, "
-     << "and one load needs at least " << min_rows << " slips spread over 0.05..0.75, held out by slip range)";
+     << 6 * total_loads << " rows: a held-out load and cross-validation folds need three loads or more; at one load, "
+     << "at least " << min_rows << " slips spread over 0.05..0.75, a quarter of them held out by slip range)";
   return os.str();
 }
 

@@ -2,12 +2,16 @@
 #include "sinkwatch/ground/diagnosis_data.hpp"
 
 #include <algorithm>
+#include <array>
+#include <fstream>
 #include <cmath>
 #include <map>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
+
+#include "sinkwatch/ground/text_input.hpp"
 
 namespace sinkwatch {
 namespace ground {
@@ -28,6 +32,17 @@ struct Difference {
   double m = 0.0;
 };
 
+// w_a = 1 / prod_{m != a} (x_a - x_m) over the four points from j.
+double divided_difference_weight(const std::vector<double>& xs, std::size_t j, std::size_t a) {
+  double prod = 1.0;
+  for (std::size_t m = j; m < j + 4; ++m) {
+    if (m != a) {
+      prod *= xs[a] - xs[m];
+    }
+  }
+  return 1.0 / prod;
+}
+
 void add_third_differences(const std::vector<double>& xs, const std::vector<double>& ys,
                            std::vector<Difference>& out) {
   for (std::size_t j = 0; j + 3 < xs.size(); ++j) {
@@ -35,13 +50,7 @@ void add_third_differences(const std::vector<double>& xs, const std::vector<doub
     double w2 = 0.0;
     double y2 = 0.0;
     for (std::size_t a = j; a < j + 4; ++a) {
-      double prod = 1.0;
-      for (std::size_t m = j; m < j + 4; ++m) {
-        if (m != a) {
-          prod *= xs[a] - xs[m];
-        }
-      }
-      const double w = 1.0 / prod;
+      const double w = divided_difference_weight(xs, j, a);
       d += w * ys[a];
       w2 += w * w;
       y2 += w * w * ys[a] * ys[a];
@@ -126,6 +135,127 @@ DiagnosisRow make_row(double slip, double load_n, double sinkage_m, double torqu
   return row;
 }
 
+namespace {
+
+// The row of the diagnosis from a soil-bin row: the geometry from the option
+// or the columns (DataError when neither), the dimensional values from the
+// ratios for dimensionless input (zero when no load is known; only the
+// quantisation check needs them then).
+DiagnosisRow to_diagnosis_row(const SoilBinRow& in, const std::string& source, const DiagnosisReadOptions& options) {
+  DiagnosisRow row;
+  row.line = in.line;
+  row.slip = in.slip;
+  if (!in.wheel_radius_m) {
+    throw DataError(source, in.line, 0, "wheel_radius_m", "no wheel radius: give --radius or a wheel_radius_m column");
+  }
+  if (!in.wheel_width_m) {
+    throw DataError(source, in.line, 0, "wheel_width_m", "no wheel width: give --width or a wheel_width_m column");
+  }
+  row.radius_m = *in.wheel_radius_m;
+  row.width_m = *in.wheel_width_m;
+  row.sinkage_ratio = in.sinkage_ratio;
+  row.drive_coeff = in.drive_coeff;
+  row.traction_coeff = in.traction_coeff;
+  if (in.load_n) {
+    row.load_n = *in.load_n;
+    row.load_measured = true;
+  } else if (options.load_n) {
+    row.load_n = *options.load_n;
+  }
+  if (in.sinkage_m && in.torque_nm && in.drawbar_pull_n) {
+    row.sinkage_m = *in.sinkage_m;
+    row.torque_nm = *in.torque_nm;
+    row.drawbar_pull_n = *in.drawbar_pull_n;
+  } else {
+    row.sinkage_m = row.sinkage_ratio * row.radius_m;
+    row.torque_nm = row.drive_coeff * row.radius_m * row.load_n;
+    row.drawbar_pull_n = row.traction_coeff * row.load_n;
+  }
+  return row;
+}
+
+// The header's column names of a file, to name columns by number in the
+// diagnosis's own checks; empty for standard input (read once, by the
+// reader), where messages name the column without its number.
+std::vector<std::string> header_columns(const std::string& path) {
+  std::vector<std::string> names;
+  if (path == "-") {
+    return names;
+  }
+  std::ifstream in(path);
+  std::string line;
+  bool first = true;
+  while (std::getline(in, line)) {
+    if (first) {
+      (void)text_input::strip_bom(line);
+      first = false;
+    }
+    const std::size_t body = line.find_first_not_of(" \t\r");
+    if (body == std::string::npos || line[body] == '#') {
+      continue;
+    }
+    std::stringstream fields(line);
+    std::string field;
+    while (std::getline(fields, field, ',')) {
+      const std::size_t a = field.find_first_not_of(" \t\r");
+      const std::size_t b = field.find_last_not_of(" \t\r");
+      names.push_back(a == std::string::npos ? std::string() : field.substr(a, b - a + 1));
+    }
+    break;
+  }
+  return names;
+}
+
+std::size_t column_number(const std::vector<std::string>& columns, const std::string& name) {
+  const auto it = std::find(columns.begin(), columns.end(), name);
+  return it == columns.end() ? 0 : static_cast<std::size_t>(it - columns.begin()) + 1;
+}
+
+// One measured channel as the file gives it: its column and value per row.
+struct MeasuredColumn {
+  const char* name;
+  double (*value)(const DiagnosisRow&);
+};
+
+// Values the diagnosis cannot use although the reader's ranges admit them
+// (docs/diagnosis.md, "Input checks"): a negative sinkage (the reader allows
+// it for other tools' conventions), and a channel without any scatter (every
+// row the same value: a constant filled in or a copied column, no measurement).
+void check_rows(const DiagnosisData& data, const std::vector<std::string>& columns) {
+  const std::array<MeasuredColumn, 3> measured =
+      data.dimensional
+          ? std::array<MeasuredColumn, 3>{{{"sinkage_m", [](const DiagnosisRow& r) { return r.sinkage_m; }},
+                                           {"torque_Nm", [](const DiagnosisRow& r) { return r.torque_nm; }},
+                                           {"drawbar_pull_N", [](const DiagnosisRow& r) { return r.drawbar_pull_n; }}}}
+          : std::array<MeasuredColumn, 3>{{{"sinkage_ratio", [](const DiagnosisRow& r) { return r.sinkage_ratio; }},
+                                           {"drive_coeff", [](const DiagnosisRow& r) { return r.drive_coeff; }},
+                                           {"traction_coeff", [](const DiagnosisRow& r) { return r.traction_coeff; }}}};
+  for (const DiagnosisRow& row : data.rows) {
+    const double sinkage = measured[0].value(row);
+    if (sinkage < 0.0) {
+      throw DataError(data.source, row.line, column_number(columns, measured[0].name), measured[0].name,
+                      "negative sinkage " + text_input::format_number(sinkage) +
+                          " is not physical for the diagnosis (the wheel sinks into the soil; z >= 0)");
+    }
+  }
+  if (data.rows.size() < 2) {
+    return;
+  }
+  for (const MeasuredColumn& column : measured) {
+    const double first = column.value(data.rows.front());
+    const bool constant = std::all_of(data.rows.begin(), data.rows.end(),
+                                      [&](const DiagnosisRow& r) { return column.value(r) == first; });
+    if (constant) {
+      throw DataError(data.source, data.rows.front().line, column_number(columns, column.name), column.name,
+                      "every row has the same value " + text_input::format_number(first) +
+                          ": a channel without scatter is not a measurement (a constant filled in, or a copied "
+                          "column), and its noise cannot be estimated");
+    }
+  }
+}
+
+}  // namespace
+
 DiagnosisData read_diagnosis_data(const std::string& path, const DiagnosisReadOptions& options) {
   for (const auto& [name, value] : {std::pair<const char*, std::optional<double>>{"--radius", options.radius_m},
                                     {"--width", options.width_m}, {"--load", options.load_n}}) {
@@ -149,43 +279,9 @@ DiagnosisData read_diagnosis_data(const std::string& path, const DiagnosisReadOp
     throw DataError(dataset.source, 0, 0, "", "no data rows");
   }
   for (const SoilBinRow& in : dataset.rows) {
-    DiagnosisRow row;
-    row.line = in.line;
-    row.slip = in.slip;
-    const std::optional<double> radius = in.wheel_radius_m;
-    if (!radius) {
-      throw DataError(dataset.source, in.line, 0, "wheel_radius_m",
-                      "no wheel radius: give --radius or a wheel_radius_m column");
-    }
-    const std::optional<double> width = in.wheel_width_m;
-    if (!width) {
-      throw DataError(dataset.source, in.line, 0, "wheel_width_m",
-                      "no wheel width: give --width or a wheel_width_m column");
-    }
-    row.radius_m = *radius;
-    row.width_m = *width;
-    row.sinkage_ratio = in.sinkage_ratio;
-    row.drive_coeff = in.drive_coeff;
-    row.traction_coeff = in.traction_coeff;
-    if (in.load_n) {
-      row.load_n = *in.load_n;
-      row.load_measured = true;
-    } else if (options.load_n) {
-      row.load_n = *options.load_n;
-    }
-    if (in.sinkage_m && in.torque_nm && in.drawbar_pull_n) {
-      row.sinkage_m = *in.sinkage_m;
-      row.torque_nm = *in.torque_nm;
-      row.drawbar_pull_n = *in.drawbar_pull_n;
-    } else {
-      // Dimensionless input: the dimensional values follow from r and W
-      // (zero when no load is known; only the quantisation check needs them).
-      row.sinkage_m = row.sinkage_ratio * row.radius_m;
-      row.torque_nm = row.drive_coeff * row.radius_m * row.load_n;
-      row.drawbar_pull_n = row.traction_coeff * row.load_n;
-    }
-    data.rows.push_back(row);
+    data.rows.push_back(to_diagnosis_row(in, dataset.source, options));
   }
+  check_rows(data, header_columns(path));
   return data;
 }
 
@@ -280,50 +376,64 @@ std::vector<DataSplit> cross_validation_folds(const std::vector<DiagnosisRow>& r
   return folds;
 }
 
-NoiseEstimate estimate_noise(const std::vector<DiagnosisRow>& rows, const std::vector<double>& values) {
-  // Group by load; within a load, group replicates by slip.
+namespace {
+
+// Within each load, rows sorted by slip: the pooled replicate scatter (rows
+// at the same slip) and the third differences of the slip-wise values.
+struct SlipScatter {
+  double replicate_ss = 0.0;
+  std::size_t replicate_dof = 0;
+  std::vector<Difference> diffs;
+};
+
+// One load's rows (sorted by slip): replicate groups and one representative per slip.
+void add_load_scatter(const std::vector<DiagnosisRow>& rows, const std::vector<double>& values,
+                      const std::vector<std::size_t>& members, SlipScatter& out) {
+  std::vector<double> xs;
+  std::vector<double> ys;
+  std::size_t start = 0;
+  while (start < members.size()) {
+    std::size_t end = start + 1;
+    while (end < members.size() && same_value(rows[members[end]].slip, rows[members[start]].slip)) {
+      ++end;
+    }
+    double mean = 0.0;
+    for (std::size_t k = start; k < end; ++k) {
+      mean += values[members[k]];
+    }
+    mean /= static_cast<double>(end - start);
+    for (std::size_t k = start; k < end; ++k) {
+      out.replicate_ss += (values[members[k]] - mean) * (values[members[k]] - mean);
+    }
+    out.replicate_dof += end - start - 1;
+    xs.push_back(rows[members[start]].slip);
+    ys.push_back(values[members[start]]);
+    start = end;
+  }
+  add_third_differences(xs, ys, out.diffs);
+}
+
+SlipScatter slip_scatter(const std::vector<DiagnosisRow>& rows, const std::vector<double>& values) {
   std::map<std::size_t, std::vector<std::size_t>> by_load;
   const std::vector<double> loads = distinct_loads(rows);
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const auto it = std::find_if(loads.begin(), loads.end(), [&](double l) { return same_value(l, rows[i].load_n); });
     by_load[static_cast<std::size_t>(it - loads.begin())].push_back(i);
   }
-
-  double replicate_ss = 0.0;
-  std::size_t replicate_dof = 0;
-  std::vector<Difference> slip_diffs;
+  SlipScatter out;
   for (auto& [load_index, members] : by_load) {
     (void)load_index;
     std::stable_sort(members.begin(), members.end(),
                      [&](std::size_t a, std::size_t b) { return rows[a].slip < rows[b].slip; });
-    // Replicate groups, and the slip-wise means that the differences use.
-    std::vector<double> xs;
-    std::vector<double> ys;
-    std::size_t start = 0;
-    while (start < members.size()) {
-      std::size_t end = start + 1;
-      while (end < members.size() && same_value(rows[members[end]].slip, rows[members[start]].slip)) {
-        ++end;
-      }
-      double mean = 0.0;
-      for (std::size_t k = start; k < end; ++k) {
-        mean += values[members[k]];
-      }
-      mean /= static_cast<double>(end - start);
-      for (std::size_t k = start; k < end; ++k) {
-        replicate_ss += (values[members[k]] - mean) * (values[members[k]] - mean);
-      }
-      replicate_dof += end - start - 1;
-      xs.push_back(rows[members[start]].slip);
-      ys.push_back(values[members[start]]);  // one representative per slip
-      start = end;
-    }
-    add_third_differences(xs, ys, slip_diffs);
+    add_load_scatter(rows, values, members, out);
   }
+  return out;
+}
 
-  // The same along load at each slip: rows with the same slip, one
-  // representative per load, sorted by load.
-  std::vector<Difference> load_diffs;
+// The same along load at each slip: rows with the same slip, one
+// representative per load, sorted by load.
+std::vector<Difference> load_differences(const std::vector<DiagnosisRow>& rows, const std::vector<double>& values) {
+  std::vector<Difference> diffs;
   std::vector<std::size_t> by_slip(rows.size());
   std::iota(by_slip.begin(), by_slip.end(), std::size_t{0});
   std::stable_sort(by_slip.begin(), by_slip.end(), [&](std::size_t a, std::size_t b) {
@@ -343,47 +453,56 @@ NoiseEstimate estimate_noise(const std::vector<DiagnosisRow>& rows, const std::v
         ys.push_back(values[by_slip[k]]);
       }
     }
-    add_third_differences(xs, ys, load_diffs);
+    add_third_differences(xs, ys, diffs);
     start = end;
   }
+  return diffs;
+}
 
+// sigma from the differences; with at least 6 of them the floor + relative
+// model, whose RMS over the values is then sigma.
+void estimate_from_differences(const std::vector<Difference>& diffs, const std::vector<double>& values,
+                               NoiseEstimate& estimate) {
+  double sum = 0.0;
+  for (const Difference& d : diffs) {
+    sum += d.v;
+  }
+  estimate.dof = diffs.size();
+  estimate.sigma = std::sqrt(sum / static_cast<double>(diffs.size()));
+  estimate.floor = estimate.sigma;
+  if (diffs.size() >= 6) {
+    fit_noise_model(diffs, estimate.floor, estimate.relative);
+    double mean_square = 0.0;
+    for (double y : values) {
+      mean_square += estimate.floor * estimate.floor + estimate.relative * estimate.relative * y * y;
+    }
+    estimate.sigma = std::sqrt(mean_square / static_cast<double>(values.size()));
+  }
+}
+
+}  // namespace
+
+NoiseEstimate estimate_noise(const std::vector<DiagnosisRow>& rows, const std::vector<double>& values) {
+  const SlipScatter slip = slip_scatter(rows, values);
+  const std::vector<Difference> load_diffs = load_differences(rows, values);
   NoiseEstimate estimate;
-  const std::vector<Difference>* diffs = nullptr;
-  if (replicate_dof >= 3) {
-    estimate.sigma = std::sqrt(replicate_ss / static_cast<double>(replicate_dof));
+  if (slip.replicate_dof >= 3) {
+    estimate.sigma = std::sqrt(slip.replicate_ss / static_cast<double>(slip.replicate_dof));
     estimate.floor = estimate.sigma;
     estimate.method = "replicates";
-    estimate.dof = replicate_dof;
-  } else if (load_diffs.size() >= 3 && load_diffs.size() >= slip_diffs.size()) {
+    estimate.dof = slip.replicate_dof;
+  } else if (load_diffs.size() >= 3 && load_diffs.size() >= slip.diffs.size()) {
     // Along load when the grid is at least as dense in load as in slip: the
     // forces grow with load as near power laws, whereas the shear curve's
     // steep rise at low slip leaks into wide slip windows
     // (findings-diagnosis.md measures both on noise-free simulator data).
-    diffs = &load_diffs;
     estimate.method = "neighbour_scatter_load";
-  } else if (slip_diffs.size() >= 3) {
-    diffs = &slip_diffs;
+    estimate_from_differences(load_diffs, values, estimate);
+  } else if (slip.diffs.size() >= 3) {
     estimate.method = "neighbour_scatter";
+    estimate_from_differences(slip.diffs, values, estimate);
   } else {
     estimate.method = "none";
-  }
-  if (diffs != nullptr) {
-    double sum = 0.0;
-    for (const Difference& d : *diffs) {
-      sum += d.v;
-    }
-    estimate.dof = diffs->size();
-    estimate.sigma = std::sqrt(sum / static_cast<double>(diffs->size()));
-    estimate.floor = estimate.sigma;
-    // The floor + relative model needs differences enough for two numbers.
-    if (diffs->size() >= 6) {
-      fit_noise_model(*diffs, estimate.floor, estimate.relative);
-      double mean_square = 0.0;
-      for (double y : values) {
-        mean_square += estimate.floor * estimate.floor + estimate.relative * estimate.relative * y * y;
-      }
-      estimate.sigma = std::sqrt(mean_square / static_cast<double>(values.size()));
-    }
   }
   return estimate;
 }

@@ -430,24 +430,31 @@ std::string summary_markdown(const DiagnosisResult& r) {
   return os.str();
 }
 
-ResidualRange residual_plot_range(const DiagnosisResult& r) {
-  const RankedEffect* top = top_effect(r);
+namespace {
+
+// The largest finite |residual / row noise| of a fit (0 for none).
+double largest_scaled(const DiagnosisResult& r, const FitResult* fit) {
   double largest = 0.0;
-  for (std::size_t i = 0; i < r.rows.size(); ++i) {
-    for (std::size_t c = 0; c < r.channels.size(); ++c) {
+  if (fit == nullptr) {
+    return largest;
+  }
+  for (std::size_t i = 0; i < r.rows.size() && i < fit->residuals.size(); ++i) {
+    for (std::size_t c = 0; c < r.channels.size() && c < fit->residuals[i].size(); ++c) {
       // As in residuals.dat: the residual over the row's noise in that channel.
-      const double noise = row_noise_of(r, i, c);
-      for (const FitResult* fit : {&r.base, top != nullptr ? &top->fit : nullptr}) {
-        if (fit == nullptr || i >= fit->residuals.size() || c >= fit->residuals[i].size()) {
-          continue;
-        }
-        const double v = fit->residuals[i][c] / noise;
-        if (std::isfinite(v)) {
-          largest = std::max(largest, std::fabs(v));
-        }
+      const double v = fit->residuals[i][c] / row_noise_of(r, i, c);
+      if (std::isfinite(v)) {
+        largest = std::max(largest, std::fabs(v));
       }
     }
   }
+  return largest;
+}
+
+}  // namespace
+
+ResidualRange residual_plot_range(const DiagnosisResult& r) {
+  const RankedEffect* top = top_effect(r);
+  const double largest = std::max(largest_scaled(r, &r.base), largest_scaled(r, top != nullptr ? &top->fit : nullptr));
   // Symmetric about zero with a margin, so that the zero line is in the middle
   // of every panel; at least +-1 noise unit.
   const double half = std::max(1.0, largest * 1.05);
