@@ -94,8 +94,13 @@ std::vector<sg::DiagnosisRow> campaign(const std::string& effect) {
   sg::SimParameters truth = sg::default_parameters("hit-lss1");
   const sg::Effect e = sg::effect_from_name(effect);
   truth.effects.set_enabled(e, true);
+  // The sizes of the withheld check (test_diagnosis_withheld.cpp, switch_on).
   if (e == sg::Effect::grouser) {
     sg::set_parameter(truth, "grouser.height_m", 0.02);
+  } else if (e == sg::Effect::load_dependence) {
+    sg::set_parameter(truth, "load_dependence.dphi_deg", 4.0);
+  } else if (e == sg::Effect::drive_friction) {
+    sg::set_parameter(truth, "drive_friction.t0_nm", 0.3);
   }
   std::vector<double> loads;
   for (double kg : {2.0, 4.0, 7.0, 11.0, 16.0, 24.0}) {
