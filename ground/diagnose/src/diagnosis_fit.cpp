@@ -105,12 +105,20 @@ class RowResidual {
       const double v = i < first_size_ ? parameters[0][i] : parameters[1][i - first_size_];
       p[i] = std::clamp(v, specs_[i].lower, specs_[i].upper);
     }
-    std::vector<double> predicted;
-    if (!model_.predict(candidate_, p, row_, predicted)) {
+    // Ceres evaluates an accepted trial point twice (residuals alone, then
+    // with the Jacobian, whose forward differences start from it): the second
+    // time the simulator is not run again. Each functor belongs to one
+    // problem, solved on one thread.
+    if (!cache_.valid || p != cache_.parameters) {
+      cache_.parameters = p;
+      cache_.ok = model_.predict(candidate_, p, row_, cache_.predicted);
+      cache_.valid = true;
+    }
+    if (!cache_.ok) {
       return false;
     }
     for (std::size_t c = 0; c < measured_.size(); ++c) {
-      residuals[c] = (predicted[c] - measured_[c]) / sigma_[c];
+      residuals[c] = (cache_.predicted[c] - measured_[c]) / sigma_[c];
       if (!std::isfinite(residuals[c])) {
         return false;
       }
@@ -126,6 +134,13 @@ class RowResidual {
   std::vector<double> sigma_;
   std::vector<ParameterSpec> specs_;
   std::size_t first_size_;
+  struct Cache {
+    bool valid = false;
+    bool ok = false;
+    std::vector<double> parameters;
+    std::vector<double> predicted;
+  };
+  mutable Cache cache_;  // the last prediction, by its (clamped) parameters
 };
 
 // Plain RMS per channel of the residuals over `idx`, in the channel's unit
