@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include "sinkwatch/ground/calibrate_command.hpp"
+#include "sinkwatch/ground/campaign_command.hpp"
 #include "sinkwatch/ground/cli_conventions.hpp"
 #include "sinkwatch/ground/diagnose_command.hpp"
 #include "sinkwatch/ground/replay_command.hpp"
@@ -20,6 +21,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "sinkwatch 0.1.0");
   sinkwatch::ground::add_calibrate_command(app);
+  sinkwatch::ground::add_campaign_command(app, sinkwatch::ground::join_command_line(argc, argv));
   sinkwatch::ground::add_diagnose_command(app);
   sinkwatch::ground::add_replay_command(app);
   sinkwatch::ground::add_simulate_command(app, sinkwatch::ground::join_command_line(argc, argv));

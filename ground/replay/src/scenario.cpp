@@ -124,7 +124,16 @@ class World {
     in.traction = traction;
     const ForceBalanceLoads w = force_balance_loads(geometry_, in);
     if (w.status != LoadStatus::ok) throw std::runtime_error("scenario: force-balance wheel loads failed");
-    return w.load_n;
+    std::array<double, kN> out = w.load_n;
+    // A left-right symmetric case gets exactly symmetric loads (the
+    // elimination's rounding differs by side), so mirror wheels share states.
+    bool symmetric = roll_deg == 0.0;
+    for (std::size_t i = 0; i < kN / 2; ++i) {
+      symmetric = symmetric && traction.tangential_n[i] == traction.tangential_n[i + kN / 2] &&
+                  traction.soil_torque_nm[i] == traction.soil_torque_nm[i + kN / 2];
+    }
+    for (std::size_t i = 0; symmetric && i < kN / 2; ++i) out[i] = out[i + kN / 2] = 0.5 * (out[i] + out[i + kN / 2]);
+    return out;
   }
 
   double mass_kg() const { return geometry_.mass_kg; }
@@ -140,10 +149,10 @@ class World {
     };
     std::array<WheelTruth, kN> lo_w{};
     std::array<WheelTruth, kN> hi_w{};
-    double lo = std::max(0.0, hint - 0.04);
+    double lo = std::max(0.0, hint - spec_.slip_step_down);
     std::optional<double> f_lo = total(lo, lo_w);
     while (f_lo && *f_lo >= required_n && lo > 0.0) {
-      lo = std::max(0.0, lo - 0.04);
+      lo = std::max(0.0, lo - spec_.slip_step_down);
       f_lo = total(lo, lo_w);
     }
     if (!f_lo) return sol;
@@ -154,31 +163,23 @@ class World {
       return sol;
     }
     double hi = lo;
+    std::optional<double> f_hi;
     while (true) {
       if (hi >= kEmbedMaxSlip) {
         sol.failure = "net traction <= 0: no slip up to 95 % gives the pull the slope needs";
         return sol;
       }
-      hi = std::min(hi + 0.02, kEmbedMaxSlip);
-      const std::optional<double> f_hi = total(hi, hi_w);
+      hi = std::min(hi + spec_.slip_step_up, kEmbedMaxSlip);
+      f_hi = total(hi, hi_w);
       if (!f_hi) return sol;
       if (*f_hi >= required_n) break;
       lo = hi;
+      f_lo = f_hi;
       lo_w = hi_w;
     }
-    for (int k = 0; k < spec_.slip_bisections; ++k) {
-      const double mid = 0.5 * (lo + hi);
-      std::array<WheelTruth, kN> mid_w{};
-      const std::optional<double> f_mid = total(mid, mid_w);
-      if (!f_mid) return sol;
-      if (*f_mid >= required_n) {
-        hi = mid;
-        hi_w = mid_w;
-      } else {
-        lo = mid;
-      }
-    }
-    return SlipSolution{true, "", hi, hi_w};
+    const Bracket b{lo, *f_lo - required_n, hi, *f_hi - required_n, hi_w};
+    return spec_.slip_refine == SlipRefine::bisection ? bisect(total, b, required_n, sol)
+                                                      : illinois(total, b, required_n, sol);
   }
 
   // The wheels spinning in place at the highest slip, for a stuck rover.
@@ -193,6 +194,60 @@ class World {
   }
 
  private:
+  // lo carries less than the rover needs (g_lo < 0), hi enough (g_hi >= 0).
+  struct Bracket {
+    double lo, g_lo, hi, g_hi;
+    std::array<WheelTruth, kN> hi_w;
+  };
+
+  template <typename Total>
+  SlipSolution bisect(const Total& total, Bracket b, double required_n, SlipSolution& sol) const {
+    for (int k = 0; k < spec_.slip_bisections; ++k) {
+      const double mid = 0.5 * (b.lo + b.hi);
+      std::array<WheelTruth, kN> mid_w{};
+      const std::optional<double> f_mid = total(mid, mid_w);
+      if (!f_mid) return sol;
+      if (*f_mid >= required_n) {
+        b.hi = mid;
+        b.hi_w = mid_w;
+      } else {
+        b.lo = mid;
+      }
+    }
+    return SlipSolution{true, "", b.hi, b.hi_w};
+  }
+
+  // False position with the Illinois modification (the retained end's
+  // value halved): superlinear, so a few steps reach what 14 bisections do.
+  // Stops when the bracket is narrower than kIllinoisSlip or the pull is
+  // within kIllinoisPullN of the need; returns the end that carries the rover.
+  template <typename Total>
+  SlipSolution illinois(const Total& total, Bracket b, double required_n, SlipSolution& sol) const {
+    constexpr double kIllinoisSlip = 1e-4;
+    constexpr double kIllinoisPullN = 0.005;
+    int side = 0;
+    for (int k = 0; k < spec_.slip_bisections && b.hi - b.lo > kIllinoisSlip && b.g_hi > kIllinoisPullN; ++k) {
+      const double s = std::clamp(b.hi - b.g_hi * (b.hi - b.lo) / (b.g_hi - b.g_lo), b.lo, b.hi);
+      std::array<WheelTruth, kN> s_w{};
+      const std::optional<double> f_s = total(s, s_w);
+      if (!f_s) return sol;
+      const double g = *f_s - required_n;
+      if (g >= 0.0) {
+        b.hi = s;
+        b.g_hi = g;
+        b.hi_w = s_w;
+        if (side == 1) b.g_lo *= 0.5;
+        side = 1;
+      } else {
+        b.lo = s;
+        b.g_lo = g;
+        if (side == -1) b.g_hi *= 0.5;
+        side = -1;
+      }
+    }
+    return SlipSolution{true, "", b.hi, b.hi_w};
+  }
+
   static SimParameters base_parameters(const ScenarioSpec& spec) {
     SimParameters p = default_parameters(spec.soil_parameters ? std::string("hit-lss1") : spec.soil);
     if (spec.soil_parameters) p.soil = *spec.soil_parameters;

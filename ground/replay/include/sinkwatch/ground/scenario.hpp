@@ -41,6 +41,11 @@ struct TerrainKnot {
   double right_soil_factor = 1.0;  // the right wheels' soil_scale is soil_scale times this (one-side softening)
 };
 
+/// How the bracketed slip is refined: bisection (the shipped scenarios) or
+/// false position with the Illinois modification (the campaign: fewer
+/// simulator calls for the same slip resolution).
+enum class SlipRefine { bisection, illinois };
+
 /// How the generator gets the six wheel loads (docs/rover-loads.md).
 enum class ScenarioLoadModel {
   flight_statics,  // the flight code's own statics (contact forces parallel to gravity): the shipped scenarios
@@ -80,7 +85,10 @@ struct ScenarioSpec {
   ScenarioLoadModel load_model = ScenarioLoadModel::flight_statics;
   int load_iterations = 4;           // force_balance: loads <-> simulator passes per cycle (at most)
   double quadrature_rel_tol = kDefaultQuadratureRelTol;  // the simulator's quadrature goal
-  int slip_bisections = 14;          // bisection steps of the rover's slip
+  int slip_bisections = 14;          // refinement steps of the rover's slip (at most, for illinois)
+  double slip_step_down = 0.04;      // bracketing the slip: steps down from the last slip, then up
+  double slip_step_up = 0.02;
+  SlipRefine slip_refine = SlipRefine::bisection;
 };
 
 /// From firm ground into a soft ripple until the wheels would embed

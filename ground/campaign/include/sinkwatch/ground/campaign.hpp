@@ -1,0 +1,158 @@
+// campaign.hpp: a Monte Carlo evaluation of the flight code in the loop over
+// families of simulated traverses (issue 14; docs/campaign.md).
+//
+// Each traverse is a ScenarioSpec drawn from a family (soil, softening
+// profile, slope, roll, bumps, mass, sensor noise, simulator effects) and a
+// seed. The simulator makes the open-loop drive (generate_open_loop_drive:
+// forward at the commanded speed until the goal or the embedding, wheel loads
+// from the fuller force balance); the flight code (OnboardLoop) reads its rows.
+// Up to the flight code's first stop the closed-loop drive is this drive, so
+// the first STOP found on these rows is the stop the rover would have made,
+// for the given table and for every stop level of the sweep (the loop re-run
+// per level on the same rows, exact). The embedding point is the scenario
+// generator's (docs/scenarios.md). Per traverse: first CAUTION, first STOP and
+// its reason, lead, outcome, and the lead an ideal sinkage sensor (the
+// simulator's deepest wheel against the same stop level) would have had.
+//
+// Deterministic per seed: traverse k of family f depends only on (seed, f, k),
+// results are stored by index, so any thread count gives the same numbers.
+#pragma once
+
+#include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/ground/scenario.hpp"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sinkwatch::ground {
+
+enum class CampaignFamily {
+  gradual,     // a preset soil softening gradually over 3-8 m
+  abrupt,      // an abrupt soft patch (0.3 m transition)
+  stepwise,    // three steps of softening, 2 m apart
+  one_side,    // only the right wheels' soil softens
+  slope,       // gradual softening on an uphill slope of 0-12 deg
+  roll,        // gradual softening at a roll of 0-10 deg
+  bumps,       // gradual softening with short bumps (slope features up to ~14 deg)
+  drawn_soil,  // a soil drawn within published ranges of kc, kphi, n, c, phi, K
+  effects,     // a preset soil with the simulator's effects switched on at random
+};
+inline constexpr std::array<CampaignFamily, 9> kAllCampaignFamilies{
+    CampaignFamily::gradual, CampaignFamily::abrupt,  CampaignFamily::stepwise,
+    CampaignFamily::one_side, CampaignFamily::slope,  CampaignFamily::roll,
+    CampaignFamily::bumps,    CampaignFamily::drawn_soil, CampaignFamily::effects};
+
+const char* family_name(CampaignFamily f);
+/// Throws std::invalid_argument naming the families when `name` is unknown.
+CampaignFamily family_from_name(const std::string& name);
+/// Kept out of any tuning by default, reported apart: drawn soils, one-side softening.
+std::vector<CampaignFamily> default_held_out_families();
+
+enum class TraverseOutcome {
+  stopped_ahead,  // embeds; the flight code stopped >= 1 m before the embedding point
+  stopped_close,  // embeds; stopped before it, by less than 1 m
+  late,           // embeds; stopped at or after the embedding
+  missed,         // embeds; never stopped
+  false_stop,     // never embeds, but the flight code stopped
+  ok_no_stop,     // never embeds, never stopped
+};
+inline constexpr std::size_t kTraverseOutcomes = 6;
+const char* outcome_name(TraverseOutcome o);
+
+inline constexpr double kCloseLeadM = 1.0;  // stopped_ahead vs stopped_close
+
+/// What was drawn for one traverse, with the spec the simulator runs.
+struct TraverseDraw {
+  CampaignFamily family = CampaignFamily::gradual;
+  std::size_t index = 0;
+  std::uint64_t seed = 0;        // the traverse's own seed (noise and draws)
+  std::string soil;              // preset name, or "drawn"
+  double mass_kg = 140.0;
+  double slope_deg = 0.0;        // the uphill slope after the start (0 outside `slope`)
+  double roll_deg = 0.0;
+  double min_soil_scale = 1.0;   // the softest soil_scale of the path
+  double noise_scale = 1.0;      // multiplies every sensor noise sigma
+  std::string effects;           // effects switched on, '+'-joined
+  ScenarioSpec spec;
+};
+
+/// Traverse `index` of `family` for `seed`: a pure function of the three.
+/// `path_length_m` is the drive's goal (docs/campaign.md: 16 m by default).
+TraverseDraw draw_traverse(CampaignFamily family, std::uint64_t seed, std::size_t index, double path_length_m = 16.0);
+
+/// The flight code's first stop and caution on one traverse's rows, for one table.
+struct FlightVerdict {
+  std::optional<double> caution_time_s, caution_x_m;
+  std::optional<double> stop_time_s, stop_x_m;
+  flight::StopReason stop_reason = flight::StopReason::none;
+  std::optional<double> lead_m, lead_s;  // embedding minus stop, when both exist
+  TraverseOutcome outcome = TraverseOutcome::ok_no_stop;
+};
+
+/// The ideal sensor: the first row whose true deepest-wheel sinkage reaches the level.
+struct IdealVerdict {
+  std::optional<double> cross_time_s, cross_x_m;
+  std::optional<double> lead_m, lead_s;  // embedding minus crossing (negative: after it)
+};
+
+struct TraverseResult {
+  TraverseDraw draw;
+  bool held_out = false;
+  bool embedded = false;
+  double embed_x_m = 0.0, embed_time_s = 0.0;
+  std::string embed_reason;
+  double max_true_sinkage_mm = 0.0;  // deepest wheel before the embedding (or over the drive)
+  FlightVerdict flight;              // the campaign's table
+  IdealVerdict ideal;                // at the table's stop level
+  // The fuller balance against the flight statics, mean over the driving
+  // rows: true load / statics load - 1 of the rear and of the front wheels.
+  double rear_load_excess = 0.0, front_load_excess = 0.0;
+  std::vector<FlightVerdict> sweep;  // one per CampaignOptions::sweep_stop_mm
+  std::vector<IdealVerdict> sweep_ideal;
+  std::size_t rows = 0;
+};
+
+struct CampaignOptions {
+  std::size_t traverses_per_family = 8;
+  std::uint64_t seed = 14;
+  std::vector<CampaignFamily> families{kAllCampaignFamilies.begin(), kAllCampaignFamilies.end()};
+  std::vector<CampaignFamily> held_out = default_held_out_families();
+  flight::ParameterTable table = flight::default_parameter_table();
+  std::string table_source = "built-in default";
+  unsigned threads = 0;  // 0: all cores
+  double path_length_m = 16.0;
+  /// Stop levels of the sweep [mm]: caution, stop and allowed (z_max) levels
+  /// scaled together from the table's (docs/campaign.md).
+  std::vector<double> sweep_stop_mm{25, 30, 35, 40, 45, 50, 55, 60, 70};
+  /// Called from worker threads (serialised) with (done, total).
+  std::function<void(std::size_t, std::size_t)> progress;
+};
+
+/// The table with its caution, stop and allowed sinkage levels scaled so that
+/// the stop level is `stop_m` (caution/stop and allowed/stop kept; the
+/// hysteresis capped below the caution). Throws std::invalid_argument when the
+/// flight code's validate() refuses the result.
+flight::ParameterTable table_at_stop_level(const flight::ParameterTable& table, double stop_m);
+
+/// The flight code's verdict on an open-loop traverse's rows.
+FlightVerdict flight_verdict(const Scenario& drive, const flight::ParameterTable& table, double gravity_mps2);
+/// The ideal sensor's verdict at `level_m` on the same rows.
+IdealVerdict ideal_verdict(const Scenario& drive, double level_m);
+
+/// One traverse: the simulator's drive, then the verdicts.
+TraverseResult evaluate_traverse(const TraverseDraw& draw, const CampaignOptions& options);
+
+struct CampaignResult {
+  CampaignOptions options;
+  std::vector<TraverseResult> traverses;  // family by family, index order
+  double seconds = 0.0;                   // wall time of the run
+};
+
+CampaignResult run_campaign(const CampaignOptions& options);
+
+}  // namespace sinkwatch::ground

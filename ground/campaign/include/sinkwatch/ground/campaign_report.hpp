@@ -1,0 +1,50 @@
+// campaign_report.hpp: what `sinkwatch campaign --out DIR` writes
+// (docs/campaign.md): traverses.csv and traverses.json (one record per
+// traverse), summary.md (per family: outcomes, median lead, the ideal
+// sensor's lead; tuning and held-out families apart; the stop-level sweep),
+// leads.dat/levels.dat with their gnuplot scripts, and, when gnuplot is
+// installed, lead_by_family.svg and false_stop_vs_lead.svg.
+#pragma once
+
+#include "sinkwatch/ground/campaign.hpp"
+#include "sinkwatch/ground/output_file.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace sinkwatch::ground {
+
+/// The CSV columns, in order.
+const std::vector<std::string>& traverse_csv_columns();
+std::string traverses_csv(const CampaignResult& r);
+std::string traverses_json(const CampaignResult& r);
+std::string campaign_summary(const CampaignResult& r, const std::string& command_line, bool plots);
+
+/// Median of the values (nothing when empty).
+std::optional<double> median(std::vector<double> values);
+
+/// The report folder: every file checked (and its temporary made) when this
+/// is constructed, before the campaign runs; written by write() through
+/// temporaries and renamed into place only when all are complete.
+class CampaignReport {
+ public:
+  /// `gnuplot`: the program to draw with, empty for none (scripts only).
+  CampaignReport(const std::string& dir, std::string gnuplot);
+  CampaignReport(const CampaignReport&) = delete;
+  CampaignReport& operator=(const CampaignReport&) = delete;
+  ~CampaignReport();
+  /// Writes every file; returns the paths written.
+  std::vector<std::string> write(const CampaignResult& r, const std::string& command_line);
+
+ private:
+  struct Files;
+  std::string dir_;
+  std::string gnuplot_;
+  std::unique_ptr<Files> files_;
+};
+
+/// The gnuplot program (SINKWATCH_GNUPLOT, else "gnuplot") when it runs, else empty.
+std::string find_campaign_gnuplot();
+
+}  // namespace sinkwatch::ground

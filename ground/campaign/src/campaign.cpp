@@ -1,0 +1,413 @@
+// The campaign's families, draws, verdicts and the threaded run (campaign.hpp,
+// docs/campaign.md).
+#include "sinkwatch/ground/campaign.hpp"
+
+#include "sinkwatch/fixedpoint/host_convert.hpp"
+#include "sinkwatch/ground/soil_presets.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <mutex>
+#include <random>
+#include <stdexcept>
+#include <thread>
+#include <utility>
+
+namespace sinkwatch::ground {
+namespace {
+
+constexpr double kDegRad = 3.14159265358979323846 / 180.0;
+
+// Portable draws: the engine is specified bit for bit, the conversion is ours.
+class Draws {
+ public:
+  explicit Draws(std::uint64_t seed) : engine_(seed) {}
+  double uniform(double lo, double hi) {
+    return lo + (hi - lo) * (static_cast<double>(engine_() >> 11) * (1.0 / 9007199254740992.0));
+  }
+  double log_uniform(double lo, double hi) { return std::exp(uniform(std::log(lo), std::log(hi))); }
+  bool chance(double p) { return uniform(0.0, 1.0) < p; }
+  std::size_t pick(std::size_t n) { return std::min(n - 1, static_cast<std::size_t>(uniform(0.0, 1.0) * n)); }
+
+ private:
+  std::mt19937_64 engine_;
+};
+
+// SplitMix64: one well-mixed seed per (campaign seed, family, index).
+std::uint64_t mix(std::uint64_t z) {
+  z += 0x9E3779B97F4A7C15ULL;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+
+// A piecewise-linear function of x, held beyond its ends (0 when empty).
+struct Profile {
+  std::vector<std::pair<double, double>> knots;
+  double at(double x) const {
+    if (knots.empty()) return 0.0;
+    if (x <= knots.front().first) return knots.front().second;
+    for (std::size_t i = 1; i < knots.size(); ++i) {
+      if (x <= knots[i].first) {
+        const double f = (x - knots[i - 1].first) / (knots[i].first - knots[i - 1].first);
+        return knots[i - 1].second + f * (knots[i].second - knots[i - 1].second);
+      }
+    }
+    return knots.back().second;
+  }
+};
+
+// The softening along the path, from 1 at x0 down to `min_scale`.
+Profile softening(CampaignFamily family, Draws& r, double x0, double min_scale) {
+  Profile p;
+  p.knots = {{0.0, 1.0}, {x0, 1.0}};
+  if (family == CampaignFamily::abrupt) {
+    p.knots.push_back({x0 + 0.3, min_scale});
+  } else if (family == CampaignFamily::stepwise) {
+    for (int k = 1; k <= 3; ++k) {
+      const double level = std::pow(min_scale, k / 3.0);
+      p.knots.push_back({x0 + 2.0 * (k - 1) + 0.3, level});
+      if (k < 3) p.knots.push_back({x0 + 2.0 * k, level});
+    }
+  } else {
+    const double length = r.uniform(3.0, 8.0);  // geometric fall over 3-8 m
+    for (int k = 1; k <= 4; ++k) p.knots.push_back({x0 + length * k / 4.0, std::pow(min_scale, k / 4.0)});
+  }
+  return p;
+}
+
+// Short bumps: slope features of 0.8-2 m length and 3-10 cm height.
+Profile bumps(Draws& r, double end_x) {
+  Profile p;
+  p.knots.push_back({0.0, 0.0});
+  double x = r.uniform(2.0, 4.0);
+  while (x + 2.0 < end_x) {
+    const double length = r.uniform(0.8, 2.0);
+    const double slope_deg = std::atan(r.uniform(0.03, 0.10) / (0.5 * length)) / kDegRad;
+    p.knots.insert(p.knots.end(), {{x, 0.0}, {x + 0.25 * length, slope_deg}, {x + 0.75 * length, -slope_deg},
+                                   {x + length, 0.0}});
+    x += length + r.uniform(1.0, 4.0);
+  }
+  return p;
+}
+
+// A soil within the published ranges (../shared/reference/terramechanics.md 2.7).
+SoilParameters drawn_soil(Draws& r) {
+  SoilParameters s;
+  s.name = "drawn";
+  s.kc = r.log_uniform(0.9e3, 16e3);
+  s.kphi = r.log_uniform(800e3, 2500e3);
+  s.n = r.uniform(0.7, 1.2);
+  s.cohesion_pa = r.log_uniform(170.0, 1700.0);
+  s.friction_angle_rad = r.uniform(28.0, 37.0) * kDegRad;
+  s.shear_modulus_m = r.uniform(0.010, 0.025);
+  s.density_kg_m3 = 1600.0;
+  return s;
+}
+
+// Every effect but slip_sinkage (always on) with probability 1/2.
+EffectSettings random_effects(Draws& r, std::string& names) {
+  EffectSettings e;
+  e.slip_sinkage.enabled = true;
+  names = "slip_sinkage";
+  for (const Effect effect : kAllEffects) {
+    if (effect == Effect::slip_sinkage || !r.chance(0.5)) continue;
+    e.set_enabled(effect, true);
+    names += "+" + std::string(effect_name(effect));
+  }
+  return e;
+}
+
+// The knots: every x where a profile changes, each knot with all profiles' values.
+std::vector<TerrainKnot> knots_of(const Profile& scale, bool one_side, const Profile& slope, const Profile& roll) {
+  std::vector<double> xs;
+  for (const Profile* p : {&scale, &slope, &roll}) {
+    for (const auto& k : p->knots) xs.push_back(k.first);
+  }
+  std::sort(xs.begin(), xs.end());
+  xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
+  std::vector<TerrainKnot> knots;
+  for (const double x : xs) {
+    const double s = scale.at(x);
+    knots.push_back(TerrainKnot{x, one_side ? 1.0 : s, slope.at(x), roll.at(x), one_side ? s : 1.0});
+  }
+  return knots;
+}
+
+void scale_noise(ScenarioNoise& n, double f) {
+  n.current_abs_a *= f;
+  n.current_rel *= f;
+  n.attitude_deg *= f;
+  n.joint_deg *= f;
+  n.accel_mps2 *= f;
+  n.speed_mps *= f;
+}
+
+// The simulator settings of every campaign traverse (docs/campaign.md, "Speed").
+void campaign_settings(ScenarioSpec& s, double path_length_m) {
+  s.end_x_m = path_length_m;
+  s.stuck_tail_s = 10.0;
+  s.max_time_s = 60.0 * path_length_m / s.speed_mps;
+  s.load_model = ScenarioLoadModel::force_balance;
+  s.quadrature_rel_tol = 1e-6;
+  s.slip_refine = SlipRefine::illinois;
+  s.slip_bisections = 12;
+  s.slip_step_down = 0.01;
+  s.slip_step_up = 0.01;
+}
+
+}  // namespace
+
+const char* family_name(CampaignFamily f) {
+  switch (f) {
+    case CampaignFamily::gradual: return "gradual";
+    case CampaignFamily::abrupt: return "abrupt";
+    case CampaignFamily::stepwise: return "stepwise";
+    case CampaignFamily::one_side: return "one-side";
+    case CampaignFamily::slope: return "slope";
+    case CampaignFamily::roll: return "roll";
+    case CampaignFamily::bumps: return "bumps";
+    case CampaignFamily::drawn_soil: return "drawn-soil";
+    case CampaignFamily::effects: return "effects";
+  }
+  return "unknown";
+}
+
+CampaignFamily family_from_name(const std::string& name) {
+  std::string known;
+  for (const CampaignFamily f : kAllCampaignFamilies) {
+    if (name == family_name(f)) return f;
+    known += std::string(" ") + family_name(f);
+  }
+  throw std::invalid_argument("unknown family '" + name + "'; known:" + known);
+}
+
+std::vector<CampaignFamily> default_held_out_families() {
+  return {CampaignFamily::one_side, CampaignFamily::drawn_soil};
+}
+
+const char* outcome_name(TraverseOutcome o) {
+  switch (o) {
+    case TraverseOutcome::stopped_ahead: return "stopped_ahead";
+    case TraverseOutcome::stopped_close: return "stopped_close";
+    case TraverseOutcome::late: return "late";
+    case TraverseOutcome::missed: return "missed";
+    case TraverseOutcome::false_stop: return "false_stop";
+    case TraverseOutcome::ok_no_stop: return "ok_no_stop";
+  }
+  return "unknown";
+}
+
+TraverseDraw draw_traverse(CampaignFamily family, std::uint64_t seed, std::size_t index, double path_length_m) {
+  TraverseDraw d;
+  d.family = family;
+  d.index = index;
+  d.seed = mix(mix(seed) ^ (static_cast<std::uint64_t>(family) << 32U) ^ index);
+  Draws r(d.seed);
+  ScenarioSpec& s = d.spec;
+  s.name = std::string(family_name(family)) + "-" + std::to_string(index);
+  s.seed = d.seed;
+  campaign_settings(s, path_length_m);
+  // Drawn for every family in the same order, so a family's own draws come after.
+  d.mass_kg = r.uniform(120.0, 160.0);
+  d.noise_scale = r.uniform(0.5, 2.0);
+  const bool ordinary = r.chance(0.4);
+  d.min_soil_scale = ordinary ? r.log_uniform(0.15, 1.0) : r.log_uniform(0.005, 0.1);
+  const double x0 = r.uniform(3.0, 6.0);
+  const std::vector<std::string> presets = soil_preset_names();
+  d.soil = presets[r.pick(presets.size())];
+  s.mass_kg = d.mass_kg;
+  scale_noise(s.noise, d.noise_scale);
+  const Profile scale = softening(family, r, x0, d.min_soil_scale);
+  Profile slope, roll;
+  if (family == CampaignFamily::slope) d.slope_deg = r.uniform(0.0, 12.0);
+  if (family == CampaignFamily::roll) d.roll_deg = r.uniform(0.0, 10.0);
+  if (d.slope_deg != 0.0) slope.knots = {{1.0, 0.0}, {2.0, d.slope_deg}};
+  if (d.roll_deg != 0.0) roll.knots = {{1.0, 0.0}, {2.0, d.roll_deg}};
+  if (family == CampaignFamily::bumps) slope = bumps(r, path_length_m);
+  if (family == CampaignFamily::drawn_soil) {
+    d.soil = "drawn";
+    s.soil_parameters = drawn_soil(r);
+  }
+  s.soil = d.soil == "drawn" ? std::string("hit-lss1") : d.soil;
+  d.effects = "slip_sinkage";
+  if (family == CampaignFamily::effects) s.effects = random_effects(r, d.effects);
+  s.terrain = knots_of(scale, family == CampaignFamily::one_side, slope, roll);
+  s.description = std::string("campaign family ") + family_name(family);
+  return d;
+}
+
+flight::ParameterTable table_at_stop_level(const flight::ParameterTable& table, double stop_m) {
+  flight::ParameterTable t = table;
+  flight::MonitorParams& m = t.monitor;
+  const double stop = fx::to_double(m.stop_sinkage_m.q());
+  const double f = stop_m / stop;
+  const double radius = fx::to_double(t.wheel_radius_m.q());
+  const double caution = fx::to_double(m.caution_sinkage_m.q()) * f;
+  const double allowed = std::min(radius, fx::to_double(m.allowed_sinkage_m.q()) * f);
+  const double hysteresis = std::min(fx::to_double(m.sinkage_hysteresis_m.q()), 0.5 * caution);
+  fx::Status st;
+  m.stop_sinkage_m = flight::SinkageM{fx::from_double<flight::LengthQ>(stop_m, st)};
+  m.caution_sinkage_m = flight::SinkageM{fx::from_double<flight::LengthQ>(caution, st)};
+  m.allowed_sinkage_m = flight::SinkageM{fx::from_double<flight::LengthQ>(allowed, st)};
+  m.sinkage_hysteresis_m = flight::SinkageM{fx::from_double<flight::LengthQ>(hysteresis, st)};
+  if (!st.ok() || flight::validate(t) != flight::RejectReason::ok) {
+    throw std::invalid_argument("a stop level of " + std::to_string(stop_m * 1000.0) +
+                                " mm gives a table the flight code refuses");
+  }
+  return t;
+}
+
+namespace {
+
+// Outcome and lead from the stop and the simulator's embedding.
+void classify(const ScenarioTruth& truth, FlightVerdict& v) {
+  if (!truth.embedded) {
+    v.outcome = v.stop_time_s ? TraverseOutcome::false_stop : TraverseOutcome::ok_no_stop;
+    return;
+  }
+  if (!v.stop_time_s) {
+    v.outcome = TraverseOutcome::missed;
+    return;
+  }
+  v.lead_m = truth.embed_x_m - *v.stop_x_m;
+  v.lead_s = truth.embed_time_s - *v.stop_time_s;
+  if (*v.stop_time_s >= truth.embed_time_s) {
+    v.outcome = TraverseOutcome::late;
+  } else {
+    v.outcome = *v.lead_m >= kCloseLeadM ? TraverseOutcome::stopped_ahead : TraverseOutcome::stopped_close;
+  }
+}
+
+}  // namespace
+
+FlightVerdict flight_verdict(const Scenario& drive, const flight::ParameterTable& table, double gravity_mps2) {
+  ReplayConfig config;
+  config.table = table;
+  config.gravity_mps2 = gravity_mps2;
+  config.run_escape = false;
+  OnboardLoop loop(config);
+  FlightVerdict v;
+  for (const TelemetryRow& row : drive.log.rows) {
+    const CycleRecord rec = loop.step(row, drive.log.source, row.x_m.value_or(0.0));
+    if (!v.caution_time_s && rec.worst_state() != flight::WheelState::nominal) {
+      v.caution_time_s = row.time_s;
+      v.caution_x_m = rec.x_m;
+    }
+    if (v.stop_reason == flight::StopReason::none && !rec.new_events.empty()) {
+      v.stop_reason = rec.new_events.front().reason;
+    }
+    if (rec.decision == flight::RoverDecision::stop_and_replan) {
+      v.stop_time_s = row.time_s;
+      v.stop_x_m = rec.x_m;
+      break;
+    }
+  }
+  classify(drive.truth, v);
+  return v;
+}
+
+IdealVerdict ideal_verdict(const Scenario& drive, double level_m) {
+  IdealVerdict v;
+  for (const TelemetryRow& row : drive.log.rows) {
+    if (row.true_sinkage_mm && *row.true_sinkage_mm >= level_m * 1000.0) {
+      v.cross_time_s = row.time_s;
+      v.cross_x_m = row.x_m.value_or(0.0);
+      break;
+    }
+  }
+  if (v.cross_time_s && drive.truth.embedded) {
+    v.lead_m = drive.truth.embed_x_m - *v.cross_x_m;
+    v.lead_s = drive.truth.embed_time_s - *v.cross_time_s;
+  }
+  return v;
+}
+
+namespace {
+
+// The simulator's deepest wheel before the embedding, and the mean load
+// excess of the fuller balance over the flight statics while driving.
+void truth_statistics(const Scenario& drive, TraverseResult& out) {
+  double rear_true = 0.0, rear_statics = 0.0, front_true = 0.0, front_statics = 0.0;
+  for (std::size_t i = 0; i < drive.log.rows.size(); ++i) {
+    const TelemetryRow& row = drive.log.rows[i];
+    if (drive.truth.embedded && row.time_s >= drive.truth.embed_time_s) break;
+    out.max_true_sinkage_mm = std::max(out.max_true_sinkage_mm, row.true_sinkage_mm.value_or(0.0));
+    if (row.phase != "drive" || i >= drive.cycle_loads.size()) continue;
+    const CycleLoads& l = drive.cycle_loads[i];
+    rear_true += l.true_n[2] + l.true_n[5];
+    rear_statics += l.flight_statics_n[2] + l.flight_statics_n[5];
+    front_true += l.true_n[0] + l.true_n[3];
+    front_statics += l.flight_statics_n[0] + l.flight_statics_n[3];
+  }
+  out.rear_load_excess = rear_statics > 0.0 ? rear_true / rear_statics - 1.0 : 0.0;
+  out.front_load_excess = front_statics > 0.0 ? front_true / front_statics - 1.0 : 0.0;
+}
+
+}  // namespace
+
+TraverseResult evaluate_traverse(const TraverseDraw& draw, const CampaignOptions& options) {
+  TraverseResult out;
+  out.draw = draw;
+  out.held_out = std::find(options.held_out.begin(), options.held_out.end(), draw.family) != options.held_out.end();
+  const Scenario drive = generate_open_loop_drive(draw.spec);
+  out.rows = drive.log.rows.size();
+  out.embedded = drive.truth.embedded;
+  out.embed_x_m = drive.truth.embed_x_m;
+  out.embed_time_s = drive.truth.embed_time_s;
+  out.embed_reason = drive.truth.embed_reason;
+  truth_statistics(drive, out);
+  const double gravity = draw.spec.gravity_mps2;
+  out.flight = flight_verdict(drive, options.table, gravity);
+  out.ideal = ideal_verdict(drive, fx::to_double(options.table.monitor.stop_sinkage_m.q()));
+  for (const double level_mm : options.sweep_stop_mm) {
+    out.sweep.push_back(flight_verdict(drive, table_at_stop_level(options.table, level_mm / 1000.0), gravity));
+    out.sweep_ideal.push_back(ideal_verdict(drive, level_mm / 1000.0));
+  }
+  return out;
+}
+
+CampaignResult run_campaign(const CampaignOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  CampaignResult result;
+  result.options = options;
+  std::vector<TraverseDraw> draws;
+  for (const CampaignFamily f : options.families) {
+    for (std::size_t k = 0; k < options.traverses_per_family; ++k) {
+      draws.push_back(draw_traverse(f, options.seed, k, options.path_length_m));
+    }
+  }
+  result.traverses.resize(draws.size());
+  std::atomic<std::size_t> next{0};
+  std::size_t done = 0;
+  std::mutex mutex;
+  std::exception_ptr failure;
+  const auto worker = [&]() {
+    for (std::size_t i = next++; i < draws.size(); i = next++) {
+      try {
+        result.traverses[i] = evaluate_traverse(draws[i], options);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (!failure) failure = std::current_exception();
+        next = draws.size();
+      }
+      const std::lock_guard<std::mutex> lock(mutex);
+      ++done;
+      if (options.progress) options.progress(done, draws.size());
+    }
+  };
+  unsigned threads = options.threads != 0 ? options.threads : std::max(1U, std::thread::hardware_concurrency());
+  threads = static_cast<unsigned>(std::min<std::size_t>(threads, std::max<std::size_t>(1, draws.size())));
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  if (failure) std::rethrow_exception(failure);
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace sinkwatch::ground

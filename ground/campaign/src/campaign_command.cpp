@@ -1,0 +1,156 @@
+// `sinkwatch campaign` (campaign_command.hpp, docs/campaign.md).
+#include "sinkwatch/ground/campaign_command.hpp"
+
+#include "sinkwatch/ground/campaign.hpp"
+#include "sinkwatch/ground/campaign_report.hpp"
+#include "sinkwatch/ground/cli_conventions.hpp"
+#include "sinkwatch/ground/output_file.hpp"
+#include "sinkwatch/ground/replay.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <unistd.h>
+
+#include <iostream>
+#include <memory>
+
+namespace sinkwatch::ground {
+namespace {
+
+struct CampaignArgs {
+  std::size_t traverses = 8;
+  std::uint64_t seed = 14;
+  std::vector<std::string> families;
+  std::vector<std::string> held_out;
+  std::string table;
+  unsigned jobs = 0;
+  std::string out_dir;
+  std::vector<double> levels_mm;
+  double path_length_m = 16.0;
+  Verbosity verbosity;
+  std::string command_line = "sinkwatch campaign";
+};
+
+std::vector<CampaignFamily> families_of(const std::vector<std::string>& names) {
+  std::vector<CampaignFamily> out;
+  for (const std::string& n : names) {
+    if (n == "none") continue;
+    try {
+      out.push_back(family_from_name(n));
+    } catch (const std::invalid_argument& e) {
+      throw_usage_error(e.what());
+    }
+  }
+  return out;
+}
+
+CampaignOptions options_of(const CampaignArgs& a) {
+  CampaignOptions o;
+  if (a.traverses == 0) throw_usage_error("--traverses must be at least 1");
+  o.traverses_per_family = a.traverses;
+  o.seed = a.seed;
+  if (!a.families.empty()) o.families = families_of(a.families);
+  if (o.families.empty()) throw_usage_error("--families names no family");
+  if (!a.held_out.empty()) o.held_out = families_of(a.held_out);
+  if (!a.levels_mm.empty()) o.sweep_stop_mm = a.levels_mm;
+  o.threads = a.jobs;
+  o.path_length_m = a.path_length_m;
+  if (!a.table.empty()) {
+    ReplayConfig config;
+    load_parameter_table(a.table, config);
+    o.table = config.table;
+    o.table_source = a.table;
+  }
+  for (const double level : o.sweep_stop_mm) {
+    try {
+      (void)table_at_stop_level(o.table, level / 1000.0);
+    } catch (const std::invalid_argument& e) {
+      throw_usage_error(std::string("--levels: ") + e.what());
+    }
+  }
+  return o;
+}
+
+// A progress bar on stderr when it is a terminal.
+std::function<void(std::size_t, std::size_t)> progress_bar(std::ostream& err, bool show) {
+  if (!show || isatty(STDERR_FILENO) == 0) return {};
+  return [&err](std::size_t done, std::size_t total) {
+    const std::size_t width = 40;
+    const std::size_t filled = total ? width * done / total : width;
+    err << "\r  [" << std::string(filled, '#') << std::string(width - filled, '.') << "] " << done << "/" << total
+        << (done == total ? "\n" : "") << std::flush;
+  };
+}
+
+int run(const CampaignArgs& a, std::ostream& out, std::ostream& err) {
+  CampaignOptions options = options_of(a);
+  // Every output is checked before the campaign runs (docs/output-files.md).
+  CampaignReport report(a.out_dir, find_campaign_gnuplot());
+  options.progress = progress_bar(err, a.verbosity.inform());
+  if (a.verbosity.verbose) {
+    err << "sinkwatch campaign: " << options.families.size() * options.traverses_per_family << " traverses\n";
+  }
+  const CampaignResult result = run_campaign(options);
+  const std::vector<std::string> written = report.write(result, a.command_line);
+  out << campaign_summary(result, a.command_line, written.size() > 6);
+  for (const std::string& path : written) out << "  wrote " << path << '\n';
+  finish_standard_output(out);
+  return 0;
+}
+
+void add_options(CLI::App* sub, CampaignArgs& a) {
+  sub->add_option("--traverses", a.traverses, "traverses per family")->transform(non_negative_integer())->capture_default_str();
+  sub->add_option("--seed", a.seed, "campaign seed: the same seed gives the same files")->transform(non_negative_integer())->capture_default_str();
+  non_empty_list(sub->add_option("--families", a.families,
+                                 "families to run (default: all): gradual abrupt stepwise one-side slope roll bumps "
+                                 "drawn-soil effects")->delimiter(','));
+  non_empty_list(sub->add_option("--held-out", a.held_out,
+                                 "families kept out of any tuning and reported apart (default: one-side,drawn-soil; "
+                                 "'none' for none)")->delimiter(','));
+  non_empty_value(sub->add_option("--table", a.table, "flight parameter table (binary; default: the built-in default table)"));
+  sub->add_option("-j,--jobs", a.jobs, "threads (default: all cores)")->transform(non_negative_integer());
+  non_empty_value(sub->add_option("--out", a.out_dir, "report folder: summary.md, traverses.csv, traverses.json, plots"))
+      ->required();
+  non_empty_list(sub->add_option("--levels", a.levels_mm, "stop levels of the sweep [mm] (default 25,30,...,70)")
+                     ->delimiter(',')
+                     ->check(positive_finite_number("mm")));
+  sub->add_option("--path-length", a.path_length_m, "length of every traverse [m]")
+      ->check(positive_finite_number("m"))
+      ->check(CLI::Range(4.0, 200.0))
+      ->capture_default_str();
+  add_verbosity_flags(*sub, a.verbosity);
+}
+
+CLI::App* add(CLI::App& app, std::shared_ptr<CampaignArgs> args, std::ostream& out, std::ostream& err) {
+  CLI::App* sub = app.add_subcommand(
+      "campaign",
+      "Monte Carlo evaluation of the flight code in the loop over families of simulated traverses: embedding "
+      "point, first CAUTION and STOP, lead, outcome, and the ideal sinkage sensor's lead (docs/campaign.md).");
+  add_options(sub, *args);
+  sub->callback([args, &out, &err]() {
+    int rc = exit_status(ExitCode::data_error);
+    run_reporting_errors("campaign", out, err, [&]() { rc = run(*args, out, err); });
+    if (rc != exit_status(ExitCode::ok)) throw CLI::RuntimeError(rc);
+  });
+  return sub;
+}
+
+}  // namespace
+
+CLI::App* add_campaign_command(CLI::App& app, const std::string& command_line) {
+  const std::shared_ptr<CampaignArgs> a = std::make_shared<CampaignArgs>();
+  a->command_line = command_line;
+  return add(app, a, std::cout, std::cerr);
+}
+
+int run_campaign_command(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{"sinkwatch", "sinkwatch"};
+  const std::shared_ptr<CampaignArgs> a = std::make_shared<CampaignArgs>();
+  for (const std::string& s : args) a->command_line += " " + s;
+  add(app, a, out, err);
+  std::vector<std::string> argv{"campaign"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return run_command_line(app, argv, out, err);
+}
+
+}  // namespace sinkwatch::ground

@@ -1,0 +1,375 @@
+// The campaign's report files (campaign_report.hpp, docs/campaign.md).
+#include "sinkwatch/ground/campaign_report.hpp"
+
+#include "sinkwatch/ground/plot_style.hpp"
+#include "sinkwatch/ground/replay.hpp"
+
+#include "sinkwatch/fixedpoint/host_convert.hpp"
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace sinkwatch::ground {
+namespace {
+
+std::string fixed(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+std::string opt(const std::optional<double>& v, int digits, const char* none = "") {
+  return v ? fixed(*v, digits) : std::string(none);
+}
+
+std::string json_opt(const std::optional<double>& v, int digits) { return v ? fixed(*v, digits) : "null"; }
+
+std::string json_string(const std::string& s) {
+  std::string q = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') q += '\\';
+    q += c;
+  }
+  return q + "\"";
+}
+
+// One traverse's CSV fields, in traverse_csv_columns() order.
+std::vector<std::string> csv_fields(const TraverseResult& t) {
+  const TraverseDraw& d = t.draw;
+  const FlightVerdict& f = t.flight;
+  return {family_name(d.family), t.held_out ? "1" : "0", std::to_string(d.index), std::to_string(d.seed), d.soil,
+          fixed(d.mass_kg, 1), fixed(d.slope_deg, 2), fixed(d.roll_deg, 2), fixed(d.min_soil_scale, 4),
+          fixed(d.noise_scale, 3), d.effects, t.embedded ? "1" : "0", t.embedded ? fixed(t.embed_x_m, 3) : "",
+          t.embedded ? fixed(t.embed_time_s, 1) : "", t.embed_reason, opt(f.caution_time_s, 1), opt(f.caution_x_m, 3),
+          opt(f.stop_time_s, 1), opt(f.stop_x_m, 3), f.stop_time_s ? to_string(f.stop_reason) : "",
+          opt(f.lead_m, 3), opt(f.lead_s, 1), outcome_name(f.outcome), opt(t.ideal.cross_time_s, 1),
+          opt(t.ideal.cross_x_m, 3), opt(t.ideal.lead_m, 3), opt(t.ideal.lead_s, 1), fixed(t.max_true_sinkage_mm, 1),
+          fixed(t.rear_load_excess, 4), fixed(t.front_load_excess, 4), std::to_string(t.rows)};
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (const char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+bool is_embedding(const TraverseResult& t) { return t.embedded; }
+
+}  // namespace
+
+const std::vector<std::string>& traverse_csv_columns() {
+  static const std::vector<std::string> columns = {
+      "family", "held_out", "index", "seed", "soil", "mass_kg", "slope_deg", "roll_deg", "min_soil_scale",
+      "noise_scale", "effects", "embedded", "embed_x_m", "embed_time_s", "embed_reason", "caution_time_s",
+      "caution_x_m", "stop_time_s", "stop_x_m", "stop_reason", "lead_m", "lead_s", "outcome", "ideal_cross_time_s",
+      "ideal_cross_x_m", "ideal_lead_m", "ideal_lead_s", "max_true_sinkage_mm", "rear_load_excess",
+      "front_load_excess", "rows"};
+  return columns;
+}
+
+std::string traverses_csv(const CampaignResult& r) {
+  std::ostringstream out;
+  const std::vector<std::string>& columns = traverse_csv_columns();
+  for (std::size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i];
+  out << '\n';
+  for (const TraverseResult& t : r.traverses) {
+    const std::vector<std::string> fields = csv_fields(t);
+    for (std::size_t i = 0; i < fields.size(); ++i) out << (i ? "," : "") << csv_field(fields[i]);
+    out << '\n';
+  }
+  return out.str();
+}
+
+std::string traverses_json(const CampaignResult& r) {
+  std::ostringstream out;
+  out << "{\"seed\": " << r.options.seed << ", \"table\": " << json_string(r.options.table_source)
+      << ", \"sweep_stop_mm\": [";
+  for (std::size_t i = 0; i < r.options.sweep_stop_mm.size(); ++i) {
+    out << (i ? ", " : "") << fixed(r.options.sweep_stop_mm[i], 1);
+  }
+  out << "],\n \"traverses\": [\n";
+  const std::vector<std::string>& columns = traverse_csv_columns();
+  for (std::size_t k = 0; k < r.traverses.size(); ++k) {
+    const TraverseResult& t = r.traverses[k];
+    const std::vector<std::string> fields = csv_fields(t);
+    out << "  {";
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      const bool number = !fields[i].empty() && fields[i].find_first_not_of("-0123456789.") == std::string::npos;
+      out << (i ? ", " : "") << json_string(columns[i]) << ": "
+          << (number ? fields[i] : (fields[i].empty() ? std::string("null") : json_string(fields[i])));
+    }
+    out << ", \"sweep\": [";
+    for (std::size_t i = 0; i < t.sweep.size(); ++i) {
+      out << (i ? ", " : "") << "{\"outcome\": " << json_string(outcome_name(t.sweep[i].outcome))
+          << ", \"stop_time_s\": " << json_opt(t.sweep[i].stop_time_s, 1)
+          << ", \"lead_m\": " << json_opt(t.sweep[i].lead_m, 3)
+          << ", \"ideal_lead_m\": " << json_opt(t.sweep_ideal[i].lead_m, 3) << "}";
+    }
+    out << "]}" << (k + 1 < r.traverses.size() ? "," : "") << '\n';
+  }
+  out << " ]}\n";
+  return out.str();
+}
+
+std::optional<double> median(std::vector<double> values) {
+  if (values.empty()) return std::nullopt;
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+namespace {
+
+// Counts and medians of a group of traverses at one verdict per traverse.
+struct GroupStats {
+  std::size_t traverses = 0, embeddings = 0;
+  std::array<std::size_t, kTraverseOutcomes> outcomes{};
+  std::vector<double> leads, ideal_leads, rear_excess;
+  std::size_t lead_at_80pct_of_ideal = 0;  // embeddings whose stop lead >= 0.8 ideal lead
+};
+
+GroupStats group_stats(const std::vector<const TraverseResult*>& group, std::optional<std::size_t> level) {
+  GroupStats g;
+  for (const TraverseResult* t : group) {
+    const FlightVerdict& f = level ? t->sweep[*level] : t->flight;
+    const IdealVerdict& ideal = level ? t->sweep_ideal[*level] : t->ideal;
+    ++g.traverses;
+    ++g.outcomes[static_cast<std::size_t>(f.outcome)];
+    g.rear_excess.push_back(t->rear_load_excess);
+    if (!is_embedding(*t)) continue;
+    ++g.embeddings;
+    if (f.lead_m) g.leads.push_back(*f.lead_m);
+    if (ideal.lead_m) g.ideal_leads.push_back(*ideal.lead_m);
+    if (f.lead_m && ideal.lead_m && *f.lead_m >= 0.8 * *ideal.lead_m) ++g.lead_at_80pct_of_ideal;
+  }
+  return g;
+}
+
+std::string percent(std::size_t part, std::size_t whole) {
+  return whole ? fixed(100.0 * static_cast<double>(part) / static_cast<double>(whole), 0) + " %" : "–";
+}
+
+std::string family_row(const std::string& name, const GroupStats& g) {
+  std::ostringstream row;
+  row << "| " << name << " | " << g.traverses << " | " << g.embeddings;
+  for (const std::size_t c : g.outcomes) row << " | " << c;
+  const std::optional<double> rear = median(g.rear_excess);
+  row << " | " << opt(median(g.leads), 2, "–") << " | " << opt(median(g.ideal_leads), 2, "–") << " | "
+      << percent(g.lead_at_80pct_of_ideal, g.embeddings) << " | "
+      << (rear ? fixed(100.0 * *rear, 1) + " %" : "–") << " |\n";
+  return row.str();
+}
+
+std::vector<const TraverseResult*> select(const CampaignResult& r, const std::function<bool(const TraverseResult&)>& f) {
+  std::vector<const TraverseResult*> out;
+  for (const TraverseResult& t : r.traverses) {
+    if (f(t)) out.push_back(&t);
+  }
+  return out;
+}
+
+std::string outcome_table(const CampaignResult& r) {
+  std::ostringstream md;
+  md << "| family | traverses | embeddings | stopped ≥ 1 m ahead | stopped < 1 m ahead | late | missed | "
+        "false stop | ok, no stop | median lead [m] | median ideal-sensor lead [m] | lead ≥ 80 % of ideal | "
+        "median rear-load excess |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const bool held : {false, true}) {
+    for (const CampaignFamily f : r.options.families) {
+      const auto group = select(r, [&](const TraverseResult& t) { return t.draw.family == f && t.held_out == held; });
+      if (!group.empty()) md << family_row(std::string(family_name(f)) + (held ? " (held out)" : ""), group_stats(group, {}));
+    }
+    const auto all = select(r, [&](const TraverseResult& t) { return t.held_out == held; });
+    if (!all.empty()) {
+      md << family_row(held ? "**all held-out families**" : "**all tuning families**", group_stats(all, {}));
+    }
+  }
+  return md.str();
+}
+
+std::string levels_table(const CampaignResult& r) {
+  std::ostringstream md;
+  md << "| stop level [mm] | group | false-stop rate | stopped before embedding | median lead [m] | "
+        "median ideal-sensor lead [m] |\n|---|---|---|---|---|---|\n";
+  for (std::size_t k = 0; k < r.options.sweep_stop_mm.size(); ++k) {
+    for (const bool held : {false, true}) {
+      const auto group = select(r, [&](const TraverseResult& t) { return t.held_out == held; });
+      if (group.empty()) continue;
+      const GroupStats g = group_stats(group, k);
+      const std::size_t ordinary = g.traverses - g.embeddings;
+      const std::size_t before = g.outcomes[0] + g.outcomes[1];
+      md << "| " << fixed(r.options.sweep_stop_mm[k], 0) << " | " << (held ? "held out" : "tuning") << " | "
+         << percent(g.outcomes[static_cast<std::size_t>(TraverseOutcome::false_stop)], ordinary) << " | "
+         << percent(before, g.embeddings) << " | " << opt(median(g.leads), 2, "–") << " | "
+         << opt(median(g.ideal_leads), 2, "–") << " |\n";
+    }
+  }
+  return md.str();
+}
+
+}  // namespace
+
+std::string campaign_summary(const CampaignResult& r, const std::string& command_line, bool plots) {
+  std::ostringstream md;
+  md << "# sinkwatch campaign\n\n`" << command_line << "`\n\n"
+     << r.traverses.size() << " traverses (" << r.options.traverses_per_family << " per family), seed "
+     << r.options.seed << ", table: " << r.options.table_source << ", path " << fixed(r.options.path_length_m, 1)
+     << " m, " << fixed(r.seconds, 1) << " s wall time.\n\n"
+     << "Outcomes with the table (lead = embedding − stop along the path; the ideal sensor stops where the "
+        "simulator's deepest wheel first reaches the table's stop level; medians over the embeddings that "
+        "have one; rear-load excess = the fuller balance's rear loads over the flight statics', − 1):\n\n"
+     << outcome_table(r)
+     << "\nStop-level sweep (caution, stop and allowed sinkage scaled together; the flight code re-run on the same "
+        "open-loop rows per level; false-stop rate over the traverses that never embed):\n\n"
+     << levels_table(r)
+     << (plots ? "\nPlots: lead_by_family.svg, false_stop_vs_lead.svg.\n"
+               : "\ngnuplot was not found: leads.dat, levels.dat and the .gp scripts are here, no plots.\n");
+  return md.str();
+}
+
+namespace {
+
+std::string leads_dat(const CampaignResult& r) {
+  std::ostringstream dat;
+  dat << "# family_index lead_m ideal_lead_m (embeddings only; NaN: none)\n";
+  for (const TraverseResult& t : r.traverses) {
+    if (!t.embedded) continue;
+    const auto pos = std::find(r.options.families.begin(), r.options.families.end(), t.draw.family);
+    const double jitter = 0.3 * (static_cast<double>(t.draw.index % 7) / 6.0 - 0.5);
+    dat << fixed(static_cast<double>(pos - r.options.families.begin()) + jitter, 3) << ' '
+        << opt(t.flight.lead_m, 3, "NaN") << ' ' << opt(t.ideal.lead_m, 3, "NaN") << '\n';
+  }
+  return dat.str();
+}
+
+std::string levels_dat(const CampaignResult& r) {
+  std::ostringstream dat;
+  dat << "# stop_mm false_stop_rate_tuning median_lead_tuning_m false_stop_rate_held_out median_lead_held_out_m\n";
+  for (std::size_t k = 0; k < r.options.sweep_stop_mm.size(); ++k) {
+    dat << fixed(r.options.sweep_stop_mm[k], 1);
+    for (const bool held : {false, true}) {
+      const GroupStats g = group_stats(select(r, [&](const TraverseResult& t) { return t.held_out == held; }), k);
+      const std::size_t ordinary = g.traverses - g.embeddings;
+      const std::size_t fs = g.outcomes[static_cast<std::size_t>(TraverseOutcome::false_stop)];
+      dat << ' ' << (ordinary ? fixed(static_cast<double>(fs) / static_cast<double>(ordinary), 4) : "NaN") << ' '
+          << opt(median(g.leads), 3, "NaN");
+    }
+    dat << '\n';
+  }
+  return dat.str();
+}
+
+// The two scripts; `out_lead`/`out_levels` are where the SVGs go.
+std::string plot_script(const CampaignResult& r, const std::string& leads, const std::string& levels,
+                        const std::string& out_lead, const std::string& out_levels) {
+  std::ostringstream gp;
+  gp << "# gnuplot script written by sinkwatch campaign; run: gnuplot campaign.gp\n"
+     << gnuplot_linetypes() << "set datafile missing 'NaN'\nset terminal svg size 900,500\n"
+     << "set output " << quote_gnuplot_string(out_lead) << "\nset title 'Lead per family (embeddings)'\n"
+     << "set ylabel 'lead before the embedding [m]'\nset grid\nset xtics (";
+  for (std::size_t i = 0; i < r.options.families.size(); ++i) {
+    gp << (i ? ", " : "") << quote_gnuplot_string(family_name(r.options.families[i])) << ' ' << i;
+  }
+  gp << ")\nset xrange [-0.5:" << r.options.families.size() - 0.5 << "]\n"
+     << "plot " << quote_gnuplot_string(leads) << " using 1:2 with points lt " << wheel_linetype(0)
+     << " title 'flight code, table', '' using ($1+0.15):3 with points lt " << wheel_linetype(3)
+     << " title 'ideal sinkage sensor, same stop level', 0 with lines lt " << level_linetype(PlotLevel::embedding)
+     << " title 'embedding'\n"
+     << "set output " << quote_gnuplot_string(out_levels) << "\nset title 'False-stop rate vs median lead, stop level varied'\n"
+     << "set xtics auto\nset autoscale x\nset xlabel 'median lead [m]'\nset ylabel 'false-stop rate'\n"
+     << "plot " << quote_gnuplot_string(levels) << " using 3:2:(sprintf('%.0f', $1)) with labels point lt "
+     << wheel_linetype(0) << " offset 1,0.5 title 'tuning families (label: stop level, mm)', '' using 5:4 "
+     << "with points lt " << wheel_linetype(3) << " title 'held-out families'\n";
+  return gp.str();
+}
+
+std::string shell_quote(const std::string& text) {
+  std::string q = "'";
+  for (const char c : text) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+}  // namespace
+
+std::string find_campaign_gnuplot() {
+  const char* env = std::getenv("SINKWATCH_GNUPLOT");
+  const std::string program = env != nullptr ? std::string(env) : std::string("gnuplot");
+  if (program.empty()) return {};
+  const std::string probe = shell_quote(program) + " -e exit >/dev/null 2>&1";
+  return std::system(probe.c_str()) == 0 ? program : std::string();
+}
+
+struct CampaignReport::Files {
+  OutputFileSet set;
+  OutputFile* csv = nullptr;
+  OutputFile* json = nullptr;
+  OutputFile* summary = nullptr;
+  OutputFile* leads = nullptr;
+  OutputFile* levels = nullptr;
+  OutputFile* script = nullptr;
+  OutputFile* lead_svg = nullptr;
+  OutputFile* levels_svg = nullptr;
+};
+
+CampaignReport::CampaignReport(const std::string& dir, std::string gnuplot)
+    : dir_(dir), gnuplot_(std::move(gnuplot)), files_(std::make_unique<Files>()) {
+  check_output_directory(dir);
+  create_output_directory(dir);
+  const std::filesystem::path base(dir);
+  const auto add = [&](const char* name) { return &files_->set.add((base / name).string()); };
+  files_->csv = add("traverses.csv");
+  files_->json = add("traverses.json");
+  files_->summary = add("summary.md");
+  files_->leads = add("leads.dat");
+  files_->levels = add("levels.dat");
+  files_->script = add("campaign.gp");
+  if (!gnuplot_.empty()) {
+    files_->lead_svg = add("lead_by_family.svg");
+    files_->levels_svg = add("false_stop_vs_lead.svg");
+  }
+}
+
+CampaignReport::~CampaignReport() = default;
+
+std::vector<std::string> CampaignReport::write(const CampaignResult& r, const std::string& command_line) {
+  Files& f = *files_;
+  f.csv->write(traverses_csv(r));
+  f.json->write(traverses_json(r));
+  f.summary->write(campaign_summary(r, command_line, !gnuplot_.empty()));
+  f.leads->write(leads_dat(r));
+  f.levels->write(levels_dat(r));
+  f.script->write(plot_script(r, "leads.dat", "levels.dat", "lead_by_family.svg", "false_stop_vs_lead.svg"));
+  if (!gnuplot_.empty()) {
+    f.leads->close();
+    f.levels->close();
+    f.lead_svg->close();
+    f.levels_svg->close();
+    // gnuplot draws into the SVGs' temporaries from the data's temporaries.
+    const std::string script = plot_script(r, f.leads->temporary_path(), f.levels->temporary_path(),
+                                           f.lead_svg->temporary_path(), f.levels_svg->temporary_path());
+    const std::string command = shell_quote(gnuplot_) + " >/dev/null 2>&1 <<'SINKWATCH_GP'\n" + script + "SINKWATCH_GP\n";
+    const int status = std::system(command.c_str());
+    if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+      throw std::runtime_error(dir_ + ": gnuplot (" + gnuplot_ + ") failed drawing the plots; no report file was written");
+    }
+  }
+  f.set.commit();
+  std::vector<std::string> written;
+  for (const char* name : {"summary.md", "traverses.csv", "traverses.json", "leads.dat", "levels.dat", "campaign.gp"}) {
+    written.push_back((std::filesystem::path(dir_) / name).string());
+  }
+  if (!gnuplot_.empty()) {
+    written.push_back((std::filesystem::path(dir_) / "lead_by_family.svg").string());
+    written.push_back((std::filesystem::path(dir_) / "false_stop_vs_lead.svg").string());
+  }
+  return written;
+}
+
+}  // namespace sinkwatch::ground
