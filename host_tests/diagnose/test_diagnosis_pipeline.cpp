@@ -303,10 +303,16 @@ TEST(DiagnoseInputs, AnUnwritableOutputIsRefusedBeforeTheDataIsRead) {
 }
 
 TEST(DiagnoseInputs, BadGeometryOptionIsAnError) {
-  DiagnoseOptions options = command_options(temp_file("geometry.csv", csv(9)));
-  options.radius_m = -0.15;
-  std::ostringstream out;
-  EXPECT_THROW(run_diagnose(options, out), DataError);
+  const std::string path = temp_file("geometry.csv", csv(9));
+  for (double bad : {-0.15, 0.0, std::nan(""), HUGE_VAL}) {
+    DiagnoseOptions radius = command_options(path);
+    radius.radius_m = bad;
+    DiagnoseOptions width = command_options(path);
+    width.width_m = bad;
+    std::ostringstream out;
+    EXPECT_THROW(run_diagnose(radius, out), DataError) << "radius " << bad;
+    EXPECT_THROW(run_diagnose(width, out), DataError) << "width " << bad;
+  }
 }
 
 struct BadRow {
