@@ -188,7 +188,49 @@ TEST(FxRescale, OverflowSaturatesInBothDirections) {
   EXPECT_EQ(s4.bits(), only(Flag::overflow));
 }
 
+TEST(FxRescale, WideningPastSixtyFourBitsSaturatesBySign) {
+  // A 64-bit integer moved to 32 fraction bits: 2^40 needs 73 bits, past
+  // every format, and the 64-bit intermediate reports it.
+  using QInt64 = fx::Q<std::int64_t, 0>;
+  fx::Status up;
+  EXPECT_EQ(fx::rescale<Q31_32>(QInt64::from_raw(std::int64_t{1} << 40), up), Q31_32::max());
+  EXPECT_EQ(up.bits(), only(Flag::overflow));
+  fx::Status down;
+  EXPECT_EQ(fx::rescale<Q31_32>(QInt64::from_raw(-(std::int64_t{1} << 40)), down), Q31_32::min());
+  EXPECT_EQ(down.bits(), only(Flag::overflow));
+  fx::Status zero;
+  EXPECT_EQ(fx::rescale<Q31_32>(QInt64::from_raw(0), zero).raw(), 0);
+  EXPECT_TRUE(zero.ok());
+}
+
 // ---------------------------------------------------------------- mul
+
+TEST(FxMul, SixtyFourBitPathGivesTheSameBitsAsTheWidePath) {
+  // Q31.32 products of two magnitudes below 2^32 take the 64-bit path; at
+  // and around the 2^32 boundary the two paths must agree with the exact
+  // rounded product, (|a| |b| + 2^31) >> 32 in the library's 128-bit helpers
+  // (no __int128: this test also runs on ARM32).
+  const std::int64_t values[] = {1, 3, 0x7FFFFFFF, 0x80000000LL, 0xFFFFFFFFLL, 0x100000000LL, 0x100000001LL,
+                                 0x1234567890LL};
+  for (std::int64_t a : values) {
+    for (std::int64_t b : values) {
+      for (int sign = 0; sign < 4; ++sign) {
+        const std::int64_t sa = (sign & 1) != 0 ? -a : a;
+        const std::int64_t sb = (sign & 2) != 0 ? -b : b;
+        fx::Status s;
+        const Q31_32 got = fx::mul(Q31_32::from_raw(sa), Q31_32::from_raw(sb), s);
+        namespace w = fx::wide;
+        const w::U128 exact = w::shr(w::add(w::mul_full(static_cast<std::uint64_t>(a), static_cast<std::uint64_t>(b)),
+                                            w::make_u128(std::uint64_t{1} << 31U)),
+                                     32U);
+        ASSERT_EQ(exact.hi, 0U);
+        const auto want = static_cast<std::int64_t>(exact.lo);
+        EXPECT_EQ(got.raw(), ((sa < 0) != (sb < 0)) ? -want : want) << sa << " * " << sb;
+        EXPECT_TRUE(s.ok());
+      }
+    }
+  }
+}
 
 TEST(FxMul, WorkedExamples) {
   fx::Status s;
