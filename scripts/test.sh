@@ -20,7 +20,7 @@ cmake --preset default >/dev/null
 cmake --build --preset default
 run_ctest host --preset default
 
-step "static analysis (gate): clang-tidy (MISRA C++:2023 approximation) and cppcheck over flight/ and fixedpoint/"
+step "static analysis (gate): clang-tidy (MISRA C++:2023 approximation) and cppcheck over flight/ and fixedpoint/; function size over ground/"
 bash scripts/assurance/tidy.sh build/default
 
 step "sanitizer build (clang++: address, undefined, float-cast-overflow, float-divide-by-zero)"
