@@ -3,11 +3,13 @@
 #include "sinkwatch/ground/campaign.hpp"
 
 #include "sinkwatch/fixedpoint/host_convert.hpp"
+#include "sinkwatch/ground/flight_table.hpp"
 #include "sinkwatch/ground/soil_presets.hpp"
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <exception>
 #include <mutex>
@@ -254,9 +256,16 @@ flight::ParameterTable table_at_stop_level(const flight::ParameterTable& table, 
   m.caution_sinkage_m = flight::SinkageM{fx::from_double<flight::LengthQ>(caution, st)};
   m.allowed_sinkage_m = flight::SinkageM{fx::from_double<flight::LengthQ>(allowed, st)};
   m.sinkage_hysteresis_m = flight::SinkageM{fx::from_double<flight::LengthQ>(hysteresis, st)};
-  if (!st.ok() || flight::validate(t) != flight::RejectReason::ok) {
-    throw std::invalid_argument("a stop level of " + std::to_string(stop_m * 1000.0) +
-                                " mm gives a table the flight code refuses");
+  // The escape's "freed" level must stay below the stop level (not used by
+  // the campaign, which never runs the escape, but part of a valid table).
+  const double freed = std::min(fx::to_double(t.escape.freed_sinkage_m.q()), 0.5 * stop_m);
+  t.escape.freed_sinkage_m = flight::SinkageM{fx::from_double<flight::LengthQ>(freed, st)};
+  const flight::RejectReason reason = flight::validate(t);
+  if (!st.ok() || reason != flight::RejectReason::ok) {
+    char level[32];
+    std::snprintf(level, sizeof level, "%.1f", stop_m * 1000.0);
+    throw std::invalid_argument(std::string("a stop level of ") + level + " mm gives a table the flight code refuses (" +
+                                (st.ok() ? reject_reason_name(reason) : std::string("out of range")) + ")");
   }
   return t;
 }

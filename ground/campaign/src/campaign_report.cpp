@@ -230,7 +230,8 @@ std::string campaign_summary(const CampaignResult& r, const std::string& command
         "open-loop rows per level; false-stop rate over the traverses that never embed):\n\n"
      << levels_table(r)
      << (plots ? "\nPlots: lead_by_family.svg, false_stop_vs_lead.svg.\n"
-               : "\ngnuplot was not found: leads.dat, levels.dat and the .gp scripts are here, no plots.\n");
+               : "\nNo plots (gnuplot not found, or it failed, e.g. with nothing to plot): leads.dat, levels.dat and "
+                 "campaign.gp are here.\n");
   return md.str();
 }
 
@@ -284,7 +285,7 @@ std::string plot_script(const CampaignResult& r, const std::string& leads, const
      << " title 'embedding'\n"
      << "set output " << quote_gnuplot_string(out_levels) << "\nset title 'False-stop rate vs median lead, stop level varied'\n"
      << "set xtics auto\nset autoscale x\nset xlabel 'median lead [m]'\nset ylabel 'false-stop rate'\n"
-     << "plot " << quote_gnuplot_string(levels) << " using 3:2:(sprintf('%.0f', $1)) with labels point lt "
+     << "plot " << quote_gnuplot_string(levels) << " using 3:2:(stringcolumn(1)) with labels point lt "
      << wheel_linetype(0) << " offset 1,0.5 title 'tuning families (label: stop level, mm)', '' using 5:4 "
      << "with points lt " << wheel_linetype(3) << " title 'held-out families'\n";
   return gp.str();
@@ -308,6 +309,7 @@ std::string find_campaign_gnuplot() {
 
 struct CampaignReport::Files {
   OutputFileSet set;
+  OutputFileSet plots;  // committed only when gnuplot drew them
   OutputFile* csv = nullptr;
   OutputFile* json = nullptr;
   OutputFile* summary = nullptr;
@@ -331,43 +333,45 @@ CampaignReport::CampaignReport(const std::string& dir, std::string gnuplot)
   files_->levels = add("levels.dat");
   files_->script = add("campaign.gp");
   if (!gnuplot_.empty()) {
-    files_->lead_svg = add("lead_by_family.svg");
-    files_->levels_svg = add("false_stop_vs_lead.svg");
+    files_->lead_svg = &files_->plots.add((base / "lead_by_family.svg").string());
+    files_->levels_svg = &files_->plots.add((base / "false_stop_vs_lead.svg").string());
   }
 }
 
 CampaignReport::~CampaignReport() = default;
 
+// gnuplot draws into the SVGs' temporaries from the data's temporaries;
+// true when it succeeded (then the SVGs are committed with the rest).
+bool CampaignReport::draw(const CampaignResult& r) {
+  Files& f = *files_;
+  f.leads->close();
+  f.levels->close();
+  f.lead_svg->close();
+  f.levels_svg->close();
+  const std::string script = plot_script(r, f.leads->temporary_path(), f.levels->temporary_path(),
+                                         f.lead_svg->temporary_path(), f.levels_svg->temporary_path());
+  const std::string command = shell_quote(gnuplot_) + " >/dev/null 2>&1 <<'SINKWATCH_GP'\n" + script + "SINKWATCH_GP\n";
+  const int status = std::system(command.c_str());
+  return status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
 std::vector<std::string> CampaignReport::write(const CampaignResult& r, const std::string& command_line) {
   Files& f = *files_;
-  f.csv->write(traverses_csv(r));
-  f.json->write(traverses_json(r));
-  f.summary->write(campaign_summary(r, command_line, !gnuplot_.empty()));
   f.leads->write(leads_dat(r));
   f.levels->write(levels_dat(r));
+  const bool plots = !gnuplot_.empty() && draw(r);
+  f.csv->write(traverses_csv(r));
+  f.json->write(traverses_json(r));
+  f.summary->write(campaign_summary(r, command_line, plots));
   f.script->write(plot_script(r, "leads.dat", "levels.dat", "lead_by_family.svg", "false_stop_vs_lead.svg"));
-  if (!gnuplot_.empty()) {
-    f.leads->close();
-    f.levels->close();
-    f.lead_svg->close();
-    f.levels_svg->close();
-    // gnuplot draws into the SVGs' temporaries from the data's temporaries.
-    const std::string script = plot_script(r, f.leads->temporary_path(), f.levels->temporary_path(),
-                                           f.lead_svg->temporary_path(), f.levels_svg->temporary_path());
-    const std::string command = shell_quote(gnuplot_) + " >/dev/null 2>&1 <<'SINKWATCH_GP'\n" + script + "SINKWATCH_GP\n";
-    const int status = std::system(command.c_str());
-    if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-      throw std::runtime_error(dir_ + ": gnuplot (" + gnuplot_ + ") failed drawing the plots; no report file was written");
-    }
-  }
+  if (plots) f.plots.commit();
   f.set.commit();
   std::vector<std::string> written;
   for (const char* name : {"summary.md", "traverses.csv", "traverses.json", "leads.dat", "levels.dat", "campaign.gp"}) {
     written.push_back((std::filesystem::path(dir_) / name).string());
   }
-  if (!gnuplot_.empty()) {
-    written.push_back((std::filesystem::path(dir_) / "lead_by_family.svg").string());
-    written.push_back((std::filesystem::path(dir_) / "false_stop_vs_lead.svg").string());
+  for (const char* name : {"lead_by_family.svg", "false_stop_vs_lead.svg"}) {
+    if (plots) written.push_back((std::filesystem::path(dir_) / name).string());
   }
   return written;
 }

@@ -26,7 +26,9 @@ std::optional<double> median(std::vector<double> values);
 
 /// The report folder: every file checked (and its temporary made) when this
 /// is constructed, before the campaign runs; written by write() through
-/// temporaries and renamed into place only when all are complete.
+/// temporaries and renamed into place only when all are complete. When
+/// gnuplot fails (e.g. nothing to plot), the plots are left out and
+/// summary.md says so; the data and scripts are still written.
 class CampaignReport {
  public:
   /// `gnuplot`: the program to draw with, empty for none (scripts only).
@@ -38,6 +40,7 @@ class CampaignReport {
   std::vector<std::string> write(const CampaignResult& r, const std::string& command_line);
 
  private:
+  bool draw(const CampaignResult& r);
   struct Files;
   std::string dir_;
   std::string gnuplot_;

@@ -1,0 +1,219 @@
+// The campaign (campaign.hpp, docs/campaign.md): its draws are a pure
+// function of the seed, its files do not depend on the thread count, every
+// outcome class is reachable by a constructed traverse, its files carry the
+// documented columns, and bad options are refused before any work.
+#include "sinkwatch/ground/campaign.hpp"
+#include "sinkwatch/ground/campaign_command.hpp"
+#include "sinkwatch/ground/campaign_report.hpp"
+#include "sinkwatch/ground/cli_conventions.hpp"
+
+#include "sinkwatch/fixedpoint/host_convert.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
+namespace {
+
+using namespace sinkwatch::ground;
+using sinkwatch::flight::default_parameter_table;
+
+// A campaign traverse's simulator settings on a hand-made path.
+ScenarioSpec constructed(const std::string& name, std::vector<TerrainKnot> terrain, double end_x_m) {
+  ScenarioSpec s = draw_traverse(CampaignFamily::gradual, 1, 0, end_x_m).spec;
+  s.name = name;
+  s.seed = 7;
+  s.mass_kg = 140.0;
+  s.noise = ScenarioNoise{};
+  s.terrain = std::move(terrain);
+  return s;
+}
+
+// Firm ground, then a soft ripple that embeds the wheels within 9 m.
+ScenarioSpec embedding_path() {
+  return constructed("embeds", {{0, 1, 0}, {1, 1, 0}, {3, 0.1, 0}, {6, 0.02, 0}, {9, 0.008, 0}}, 9.0);
+}
+
+// Firm and moderately soft ground: never embeds.
+ScenarioSpec ordinary_path() { return constructed("ordinary", {{0, 1, 0}, {2, 1, 2}, {4, 0.4, 3}, {6, 0.6, 0}}, 6.0); }
+
+class CampaignCases : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    embedding_ = std::make_unique<Scenario>(generate_open_loop_drive(embedding_path()));
+    ordinary_ = std::make_unique<Scenario>(generate_open_loop_drive(ordinary_path()));
+    ScenarioSpec no_tail = embedding_path();
+    no_tail.stuck_tail_s = 0.0;
+    no_tail_ = std::make_unique<Scenario>(generate_open_loop_drive(no_tail));
+  }
+  static void TearDownTestSuite() {
+    embedding_.reset();
+    ordinary_.reset();
+    no_tail_.reset();
+  }
+  static std::unique_ptr<Scenario> embedding_, ordinary_, no_tail_;
+};
+std::unique_ptr<Scenario> CampaignCases::embedding_, CampaignCases::ordinary_, CampaignCases::no_tail_;
+
+constexpr double kMoon = 1.62;
+
+TEST_F(CampaignCases, ConstructedPathsEmbedOrNot) {
+  EXPECT_TRUE(embedding_->truth.embedded);
+  EXPECT_FALSE(ordinary_->truth.embedded);
+  EXPECT_EQ(embedding_->cycle_loads.size(), embedding_->log.rows.size());
+}
+
+TEST_F(CampaignCases, DefaultTableStopsTheEmbeddingAhead) {
+  const FlightVerdict v = flight_verdict(*embedding_, default_parameter_table(), kMoon);
+  EXPECT_EQ(v.outcome, TraverseOutcome::stopped_ahead);
+  ASSERT_TRUE(v.lead_m && v.caution_time_s && v.stop_time_s);
+  EXPECT_GE(*v.lead_m, kCloseLeadM);
+  EXPECT_LE(*v.caution_time_s, *v.stop_time_s);
+  EXPECT_NE(v.stop_reason, sinkwatch::flight::StopReason::none);
+}
+
+TEST_F(CampaignCases, DisabledStopMissesTheEmbedding) {
+  // The stop level at the wheel radius: the sinkage never trips; without a
+  // stuck tail the slip rule has no rows to trip on either.
+  const auto table = table_at_stop_level(default_parameter_table(), 0.15);
+  EXPECT_EQ(flight_verdict(*no_tail_, table, kMoon).outcome, TraverseOutcome::missed);
+}
+
+TEST_F(CampaignCases, DisabledStopIsLateWhenTheWheelsSpin) {
+  // The same, with the stuck tail: the high-slip rule stops the rover after the embedding.
+  const auto table = table_at_stop_level(default_parameter_table(), 0.15);
+  const FlightVerdict v = flight_verdict(*embedding_, table, kMoon);
+  EXPECT_EQ(v.outcome, TraverseOutcome::late);
+  ASSERT_TRUE(v.lead_s);
+  EXPECT_LE(*v.lead_s, 0.0);
+}
+
+TEST_F(CampaignCases, AbsurdlyLowStopLevelStopsAnOrdinaryDrive) {
+  const auto table = table_at_stop_level(default_parameter_table(), 0.010);
+  EXPECT_EQ(flight_verdict(*ordinary_, table, kMoon).outcome, TraverseOutcome::false_stop);
+}
+
+TEST_F(CampaignCases, DefaultTableLetsAnOrdinaryDriveThrough) {
+  const FlightVerdict v = flight_verdict(*ordinary_, default_parameter_table(), kMoon);
+  EXPECT_EQ(v.outcome, TraverseOutcome::ok_no_stop);
+  EXPECT_FALSE(v.stop_time_s);
+}
+
+TEST_F(CampaignCases, IdealSensorCrossesTheStopLevelBeforeTheEmbedding) {
+  const IdealVerdict v = ideal_verdict(*embedding_, 0.045);
+  ASSERT_TRUE(v.lead_m && v.cross_time_s);
+  EXPECT_GT(*v.lead_m, 0.0);
+  EXPECT_LT(*v.cross_time_s, embedding_->truth.embed_time_s);
+  EXPECT_FALSE(ideal_verdict(*ordinary_, 0.045).cross_time_s);  // 45 mm is never reached there
+}
+
+TEST(CampaignDraws, AreAPureFunctionOfSeedFamilyAndIndex) {
+  const TraverseDraw a = draw_traverse(CampaignFamily::bumps, 5, 3);
+  const TraverseDraw b = draw_traverse(CampaignFamily::bumps, 5, 3);
+  const TraverseDraw c = draw_traverse(CampaignFamily::bumps, 6, 3);
+  EXPECT_EQ(a.seed, b.seed);
+  ASSERT_EQ(a.spec.terrain.size(), b.spec.terrain.size());
+  for (std::size_t i = 0; i < a.spec.terrain.size(); ++i) {
+    EXPECT_EQ(a.spec.terrain[i].x_m, b.spec.terrain[i].x_m);
+    EXPECT_EQ(a.spec.terrain[i].slope_deg, b.spec.terrain[i].slope_deg);
+  }
+  EXPECT_NE(a.seed, c.seed);
+  EXPECT_NE(a.mass_kg, c.mass_kg);
+}
+
+TEST(CampaignDraws, FamiliesShapeTheirPaths) {
+  for (std::size_t k = 0; k < 4; ++k) {
+    const TraverseDraw one_side = draw_traverse(CampaignFamily::one_side, 1, k);
+    const auto& t = one_side.spec.terrain;
+    EXPECT_TRUE(std::all_of(t.begin(), t.end(), [](const TerrainKnot& n) { return n.soil_scale == 1.0; }));
+    EXPECT_LT(t.back().right_soil_factor, 1.0);
+    const TraverseDraw slope = draw_traverse(CampaignFamily::slope, 1, k);
+    EXPECT_GE(slope.slope_deg, 0.0);
+    EXPECT_LE(slope.slope_deg, 12.0);
+    EXPECT_EQ(slope.spec.terrain.back().slope_deg, slope.slope_deg);
+    const TraverseDraw drawn = draw_traverse(CampaignFamily::drawn_soil, 1, k);
+    ASSERT_TRUE(drawn.spec.soil_parameters);
+    EXPECT_GE(drawn.spec.soil_parameters->n, 0.7);
+    EXPECT_LE(drawn.spec.soil_parameters->n, 1.2);
+    EXPECT_GE(draw_traverse(CampaignFamily::roll, 1, k).mass_kg, 120.0);
+    EXPECT_LE(draw_traverse(CampaignFamily::roll, 1, k).mass_kg, 160.0);
+  }
+}
+
+// Fields of a CSV line, quoted fields (with commas) counted once.
+std::size_t csv_field_count(const std::string& line) {
+  std::size_t fields = 1;
+  bool quoted = false;
+  for (const char c : line) {
+    if (c == '"') quoted = !quoted;
+    if (c == ',' && !quoted) ++fields;
+  }
+  return fields;
+}
+
+CampaignOptions small_campaign(unsigned threads) {
+  CampaignOptions o;
+  o.families = {CampaignFamily::abrupt, CampaignFamily::one_side};
+  o.traverses_per_family = 1;
+  o.seed = 3;
+  o.path_length_m = 7.0;
+  o.threads = threads;
+  o.sweep_stop_mm = {30, 45};
+  return o;
+}
+
+TEST(CampaignRun, SameSeedGivesTheSameFilesWhateverTheThreadCount) {
+  const CampaignResult one = run_campaign(small_campaign(1));
+  const CampaignResult two = run_campaign(small_campaign(2));
+  EXPECT_EQ(traverses_csv(one), traverses_csv(two));
+  EXPECT_EQ(traverses_json(one), traverses_json(two));
+  ASSERT_EQ(one.traverses.size(), 2U);
+  EXPECT_FALSE(one.traverses[0].held_out);
+  EXPECT_TRUE(one.traverses[1].held_out);  // one-side is held out by default
+  // The CSV: the documented header, and every row with as many fields.
+  std::istringstream csv(traverses_csv(one));
+  std::string line;
+  std::getline(csv, line);
+  std::string header;
+  for (const std::string& c : traverse_csv_columns()) header += (header.empty() ? "" : ",") + c;
+  EXPECT_EQ(line, header);
+  std::size_t rows = 0;
+  while (std::getline(csv, line)) {
+    ++rows;
+    EXPECT_EQ(csv_field_count(line), traverse_csv_columns().size()) << line;
+  }
+  EXPECT_EQ(rows, 2U);
+  const std::string json = traverses_json(one);
+  EXPECT_NE(json.find("\"outcome\": \""), std::string::npos);
+  EXPECT_EQ(std::count(json.begin(), json.end(), '{'), std::count(json.begin(), json.end(), '}'));
+  EXPECT_EQ(one.traverses[0].sweep.size(), 2U);
+}
+
+int campaign(const std::vector<std::string>& args, std::string* err_text = nullptr) {
+  std::ostringstream out, err;
+  const int rc = run_campaign_command(args, out, err);
+  if (err_text) *err_text = err.str();
+  return rc;
+}
+
+TEST(CampaignCommand, RefusesBadOptionsBeforeAnyWork) {
+  const std::string dir = (std::filesystem::temp_directory_path() / "sinkwatch_campaign_test_out").string();
+  std::string err;
+  EXPECT_EQ(campaign({"--traverses", "0", "--out", dir}, &err), exit_status(ExitCode::usage_error));
+  EXPECT_NE(err.find("sinkwatch campaign: "), std::string::npos) << err;
+  EXPECT_EQ(campaign({"--families", "gradual,nowhere", "--out", dir}, &err), exit_status(ExitCode::usage_error));
+  EXPECT_NE(err.find("nowhere"), std::string::npos) << err;
+  EXPECT_EQ(campaign({"--traverses", "1"}), exit_status(ExitCode::usage_error));  // --out is required
+  EXPECT_EQ(campaign({"--levels", "-5", "--out", dir}), exit_status(ExitCode::usage_error));
+  EXPECT_EQ(campaign({"--levels", "200", "--out", dir}), exit_status(ExitCode::usage_error));  // beyond the radius
+  EXPECT_EQ(campaign({"--jobs", "x", "--out", dir}), exit_status(ExitCode::usage_error));
+  EXPECT_EQ(campaign({"--table", "/nonexistent/table.bin", "--out", dir}, &err), exit_status(ExitCode::data_error));
+  EXPECT_NE(err.find("/nonexistent/table.bin"), std::string::npos) << err;
+  EXPECT_EQ(campaign({"--out", "/nonexistent/dir/report"}, &err), exit_status(ExitCode::data_error));
+  EXPECT_FALSE(std::filesystem::exists(dir));  // nothing ran, nothing was created
+}
+
+}  // namespace
