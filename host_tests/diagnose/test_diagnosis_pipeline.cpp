@@ -186,6 +186,15 @@ TEST(DiagnosisTwoCondition, BaseHeldFixedAndCandidatesFitOnlyTheirTerms) {
   EXPECT_NE(json.find("base_refit_on_data"), std::string::npos);
 }
 
+TEST(DiagnosisTwoCondition, ABaseConditionTooSmallToFitIsNotEnoughData) {
+  const std::vector<DiagnosisRow> base_rows = line_rows({50.0}, 3, nullptr, 0.0, 3);  // 3 rows, 2 parameters
+  const std::vector<DiagnosisRow> rows = line_rows({50.0}, 10, square, 1.0, 5);
+  const DiagnosisResult result = diagnose_against_base(LineModel(kLibrary), {base_rows, "tiny.csv"}, rows, "data.csv");
+  EXPECT_EQ(result.verdict, Verdict::not_enough_data);
+  EXPECT_NE(result.verdict_text.find("base condition (3 rows"), std::string::npos) << result.verdict_text;
+  EXPECT_TRUE(result.ranking.empty());
+}
+
 TEST(DiagnosisSmallData, OneLoadOfNineRowsIsHeldOutBySlipRange) {
   const std::vector<DiagnosisRow> rows = line_rows({50.0}, 9, square, 1.0);
   const DiagnosisResult result = diagnose(LineModel(kLibrary), rows, "generated");

@@ -733,6 +733,15 @@ DiagnosisResult diagnose_against_base(const DiagnosisModel& model, const BaseCon
   if (!enough_data(model, r, settings, 0)) {
     return r;
   }
+  const std::size_t base_parameters = model.base_parameters(base.rows).size();
+  if (base.rows.size() * r.channels.size() < base_parameters + 2) {
+    r.folds.clear();
+    r.verdict = Verdict::not_enough_data;
+    r.verdict_text = "not enough data in the base condition (" + std::to_string(base.rows.size()) + " rows for " +
+                     std::to_string(base_parameters) + " base parameters). " +
+                     campaign_suggestion(base.rows, settings.min_rows);
+    return r;
+  }
   // The base condition: every row of it trains, none is held out; its noise
   // is its own.
   DataSplit all;
