@@ -237,6 +237,9 @@ std::string campaign_summary(const CampaignResult& r, const std::string& command
 
 namespace {
 
+// A single-quoted gnuplot string taken literally.
+std::string q(std::string_view text) { return "'" + quote_gnuplot_string(text) + "'"; }
+
 std::string leads_dat(const CampaignResult& r) {
   std::ostringstream dat;
   dat << "# family_index lead_m ideal_lead_m (embeddings only; NaN: none)\n";
@@ -273,19 +276,19 @@ std::string plot_script(const CampaignResult& r, const std::string& leads, const
   std::ostringstream gp;
   gp << "# gnuplot script written by sinkwatch campaign; run: gnuplot campaign.gp\n"
      << gnuplot_linetypes() << "set datafile missing 'NaN'\nset terminal svg size 900,500\n"
-     << "set output " << quote_gnuplot_string(out_lead) << "\nset title 'Lead per family (embeddings)'\n"
+     << "set output " << q(out_lead) << "\nset title 'Lead per family (embeddings)'\n"
      << "set ylabel 'lead before the embedding [m]'\nset grid\nset xtics (";
   for (std::size_t i = 0; i < r.options.families.size(); ++i) {
-    gp << (i ? ", " : "") << quote_gnuplot_string(family_name(r.options.families[i])) << ' ' << i;
+    gp << (i ? ", " : "") << q(family_name(r.options.families[i])) << ' ' << i;
   }
   gp << ")\nset xrange [-0.5:" << r.options.families.size() - 0.5 << "]\n"
-     << "plot " << quote_gnuplot_string(leads) << " using 1:2 with points lt " << wheel_linetype(0)
+     << "plot " << q(leads) << " using 1:2 with points lt " << wheel_linetype(0)
      << " title 'flight code, table', '' using ($1+0.15):3 with points lt " << wheel_linetype(3)
      << " title 'ideal sinkage sensor, same stop level', 0 with lines lt " << level_linetype(PlotLevel::embedding)
      << " title 'embedding'\n"
-     << "set output " << quote_gnuplot_string(out_levels) << "\nset title 'False-stop rate vs median lead, stop level varied'\n"
+     << "set output " << q(out_levels) << "\nset title 'False-stop rate vs median lead, stop level varied'\n"
      << "set xtics auto\nset autoscale x\nset xlabel 'median lead [m]'\nset ylabel 'false-stop rate'\n"
-     << "plot " << quote_gnuplot_string(levels) << " using 3:2:(stringcolumn(1)) with labels point lt "
+     << "plot " << q(levels) << " using 3:2:(stringcolumn(1)) with labels point lt "
      << wheel_linetype(0) << " offset 1,0.5 title 'tuning families (label: stop level, mm)', '' using 5:4 "
      << "with points lt " << wheel_linetype(3) << " title 'held-out families'\n";
   return gp.str();
