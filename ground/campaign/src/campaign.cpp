@@ -23,6 +23,10 @@ namespace {
 
 constexpr double kDegRad = 3.14159265358979323846 / 180.0;
 
+// A row's time is the telemetry's (rounded through the CSV format); the
+// embedding time is the simulator's double. Within this they are one cycle.
+constexpr double kSameTimeS = 1e-3;
+
 // Portable draws: the engine is specified bit for bit, the conversion is ours.
 class Draws {
  public:
@@ -284,7 +288,7 @@ void classify(const ScenarioTruth& truth, FlightVerdict& v) {
   }
   v.lead_m = truth.embed_x_m - *v.stop_x_m;
   v.lead_s = truth.embed_time_s - *v.stop_time_s;
-  if (*v.stop_time_s >= truth.embed_time_s) {
+  if (*v.stop_time_s >= truth.embed_time_s - kSameTimeS) {
     v.outcome = TraverseOutcome::late;
   } else {
     v.outcome = *v.lead_m >= kCloseLeadM ? TraverseOutcome::stopped_ahead : TraverseOutcome::stopped_close;
@@ -343,7 +347,7 @@ void truth_statistics(const Scenario& drive, TraverseResult& out) {
   double rear_true = 0.0, rear_statics = 0.0, front_true = 0.0, front_statics = 0.0;
   for (std::size_t i = 0; i < drive.log.rows.size(); ++i) {
     const TelemetryRow& row = drive.log.rows[i];
-    if (drive.truth.embedded && row.time_s >= drive.truth.embed_time_s) break;
+    if (drive.truth.embedded && row.time_s >= drive.truth.embed_time_s - kSameTimeS) break;
     out.max_true_sinkage_mm = std::max(out.max_true_sinkage_mm, row.true_sinkage_mm.value_or(0.0));
     if (row.phase != "drive" || i >= drive.cycle_loads.size()) continue;
     const CycleLoads& l = drive.cycle_loads[i];
