@@ -11,6 +11,7 @@ PrepareStatus prepare(const ParameterTable& table, const RoverParams& rover, Pre
   }
   out.table_ = table;
   out.rover_ = rover;
+  out.table_crc_ = 0U;
   out.correction_divisors_ = make_correction_divisors(table.correction);
   out.motor_divisors_ = make_motor_divisors(table.motor);
   if (validate_rover_params(rover) != RoverParamStatus::ok) {
@@ -22,6 +23,16 @@ PrepareStatus prepare(const ParameterTable& table, const RoverParams& rover, Pre
     out.status_ = PrepareStatus::ok;
   }
   return out.status_;
+}
+
+void prepare_validated(const ParameterTable& table, const RoverParams& rover, std::uint32_t crc,
+                       PreparedParameters& out) noexcept {
+  out.table_ = table;
+  out.rover_ = rover;
+  out.table_crc_ = crc;
+  out.correction_divisors_ = make_correction_divisors(table.correction);
+  out.motor_divisors_ = make_motor_divisors(table.motor);
+  out.status_ = PrepareStatus::ok;
 }
 
 }  // namespace flight

@@ -4,6 +4,8 @@
 // same order so that a difference points at one line.
 #include "sinkwatch/flight/wheel_load.hpp"
 
+#include "sinkwatch/flight/rover_limits.hpp"
+
 #include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
@@ -15,20 +17,20 @@ namespace {
 
 using W = WideQ;
 
-constexpr MassKg kMaxMass{fx::constant<MassQ>(1000.0)};
-constexpr AccelMps2 kMaxGravity{fx::constant<AccelQ>(10.0)};
-constexpr LengthM kMinWheelRadius{fx::constant<LengthQ>(0.01)};
-constexpr LengthM kMaxWheelRadius{fx::constant<LengthQ>(1.0)};
-constexpr LengthM kMaxTrack{fx::constant<LengthQ>(4.0)};
-constexpr LengthM kMaxLink{fx::constant<LengthQ>(2.0)};
-constexpr AngleRad kMaxJointLimit{fx::constant<AngleQ>(0.8)};
-constexpr AngleRad kMaxAttitudeLimit{fx::constant<AngleQ>(1.05)};
+constexpr MassKg kMaxMass{fx::constant<MassQ>(limits::kMaxMassKg)};
+constexpr AccelMps2 kMaxGravity{fx::constant<AccelQ>(limits::kMaxGravityMps2)};
+constexpr LengthM kMinWheelRadius{fx::constant<LengthQ>(limits::kMinWheelRadiusM)};
+constexpr LengthM kMaxWheelRadius{fx::constant<LengthQ>(limits::kMaxWheelRadiusM)};
+constexpr LengthM kMaxTrack{fx::constant<LengthQ>(limits::kMaxTrackWidthM)};
+constexpr LengthM kMaxLink{fx::constant<LengthQ>(limits::kMaxLinkM)};
+constexpr AngleRad kMaxJointLimit{fx::constant<AngleQ>(limits::kMaxJointLimitRad)};
+constexpr AngleRad kMaxAttitudeLimit{fx::constant<AngleQ>(limits::kMaxAttitudeLimitRad)};
 /// A projected lever below 1 mm means the suspension has folded onto itself
 /// (never inside the validated envelope of a sane geometry): report it rather
 /// than divide by it.
 constexpr W kMinLever{fx::constant<W>(0.001)};
 constexpr W kHalf{fx::constant<W>(0.5)};
-constexpr Ratio kMaxHighSlip{fx::constant<RatioQ>(1.0)};
+constexpr Ratio kMaxHighSlip{fx::constant<RatioQ>(limits::kMaxHighSlip)};
 
 bool within(LengthM v, LengthM limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
 bool within(AngleRad v, AngleRad limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }

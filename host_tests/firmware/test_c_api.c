@@ -58,9 +58,29 @@ static void test_bad_table_keeps_default(void) {
   static const uint8_t garbage[32] = {0x53U, 0x57U, 0x50U, 0x54U, 9U, 0U};
   CHECK(sw_init(&g_ctx) == SW_OK);
   CHECK(sw_active_table_crc(&g_ctx) == 0U);
-  CHECK(sw_load_table(&g_ctx, garbage, sizeof garbage) != 0U);
-  CHECK(sw_load_table(&g_ctx, NULL, 0U) != 0U);
+  CHECK(sw_load_table(&g_ctx, garbage, sizeof garbage) == SW_REJECT_UNSUPPORTED_FORMAT_VERSION);
+  CHECK(sw_load_table(&g_ctx, NULL, 0U) == SW_REJECT_NULL_BUFFER);
   CHECK(sw_active_table_crc(&g_ctx) == 0U); /* the default is still in force */
+}
+
+/* Every reject reason has its own name, the enumerator's without the prefix;
+ * a value past the last reason has none. */
+static void test_reject_reason_names(void) {
+  unsigned i;
+  unsigned j;
+  CHECK(strcmp(sw_reject_reason_name(SW_REJECT_OK), "ok") == 0);
+  CHECK(strcmp(sw_reject_reason_name(SW_REJECT_CRC_MISMATCH), "crc_mismatch") == 0);
+  CHECK(strcmp(sw_reject_reason_name(SW_REJECT_EXTENSION_REJECTED), "extension_rejected") == 0);
+  CHECK(strcmp(sw_reject_reason_name(SW_REJECT_ROVER_RADIUS_MISMATCH), "rover_radius_mismatch") == 0);
+  CHECK(strcmp(sw_reject_reason_name((uint8_t)SW_REJECT_REASON_COUNT), "unknown") == 0);
+  CHECK(strcmp(sw_reject_reason_name(255U), "unknown") == 0);
+  for (i = 0U; i < (unsigned)SW_REJECT_REASON_COUNT; ++i) {
+    const char* name = sw_reject_reason_name((uint8_t)i);
+    CHECK(name != NULL && strcmp(name, "unknown") != 0);
+    for (j = 0U; j < i; ++j) {
+      CHECK(strcmp(name, sw_reject_reason_name((uint8_t)j)) != 0);
+    }
+  }
 }
 
 static void test_nominal_then_overcurrent(void) {
@@ -133,6 +153,7 @@ static void test_invalid_telemetry_is_reported(void) {
 int main(void) {
   test_arguments();
   test_bad_table_keeps_default();
+  test_reject_reason_names();
   test_nominal_then_overcurrent();
   test_invalid_telemetry_is_reported();
   printf("c_api: %d passed, %d failed\n", g_passed, g_failed);

@@ -9,6 +9,7 @@
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
+#include "sinkwatch/ground/from_flight.hpp"
 #include "sinkwatch/ground/rover_loads.hpp"
 
 namespace sinkwatch {
@@ -21,24 +22,7 @@ double d(Quantity q) {
 
 inline ground::SidePoint d(flight::SidePointM p) { return ground::SidePoint{d(p.x_m), d(p.z_m)}; }
 
-inline ground::RoverGeometry to_ground(const flight::RoverParams& p) {
-  ground::RoverGeometry g;
-  g.mass_kg = d(p.mass_kg);
-  g.gravity_mps2 = d(p.gravity_mps2);
-  g.com_x_m = d(p.com_x_m);
-  g.com_y_m = d(p.com_y_m);
-  g.com_z_m = d(p.com_z_m);
-  g.track_width_m = d(p.track_width_m);
-  g.wheel_radius_m = d(p.wheel_radius_m);
-  g.rocker_front_axle = d(p.rocker_front_axle);
-  g.rocker_bogie_pivot = d(p.rocker_bogie_pivot);
-  g.bogie_middle_axle = d(p.bogie_middle_axle);
-  g.bogie_rear_axle = d(p.bogie_rear_axle);
-  g.rocker_limit_rad = d(p.rocker_limit_rad);
-  g.bogie_limit_rad = d(p.bogie_limit_rad);
-  g.attitude_limit_rad = d(p.attitude_limit_rad);
-  return g;
-}
+inline ground::RoverGeometry to_ground(const flight::RoverParams& p) { return ground::from_flight(p); }
 
 /// Nearest Q value of a double (test inputs only); the conversion must fit.
 template <typename Quantity>

@@ -15,6 +15,7 @@
 #include <new>
 #include <type_traits>
 
+#include "sinkwatch/flight/load.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/prepared_params.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
@@ -26,11 +27,8 @@ using sinkwatch::flight::AccelMps2;
 using sinkwatch::flight::AngleRad;
 using sinkwatch::flight::CurrentA;
 using sinkwatch::flight::DriveDirection;
-using sinkwatch::flight::ParameterStore;
 using sinkwatch::flight::PreparedParameters;
 using sinkwatch::flight::RejectReason;
-using sinkwatch::flight::RoverParams;
-using sinkwatch::flight::RoverParamStatus;
 using sinkwatch::flight::RoverStep;
 using sinkwatch::flight::RoverStepOutput;
 using sinkwatch::flight::RoverTelemetry;
@@ -41,10 +39,8 @@ constexpr std::uint32_t kContextMagic = 0x53574358U;  // "SWCX"
 
 struct Context {
   std::uint32_t magic{0U};
-  ParameterStore store;
-  RoverParams rover;
-  /// store.active() and rover, checked once per load (prepare()): the step
-  /// does no validation per cycle.
+  /// The table in force and its rover, checked once per load (load()): the
+  /// step does no validation per cycle.
   PreparedParameters prepared;
   RoverStep step;
 };
@@ -53,6 +49,61 @@ static_assert(sizeof(Context) <= SW_CONTEXT_BYTES, "SW_CONTEXT_BYTES is too smal
 static_assert(alignof(Context) <= alignof(std::uint64_t), "sw_context's alignment is too weak");
 static_assert(std::is_trivially_destructible<Context>::value, "the context is never destroyed, only rebuilt");
 static_assert(SW_WHEELS == sinkwatch::flight::kWheelCount, "wheel count differs between C and C++");
+
+// Every sw_reject_reason is the RejectReason of the same name.
+static_assert(SW_REJECT_OK == static_cast<int>(RejectReason::ok), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_NULL_BUFFER == static_cast<int>(RejectReason::null_buffer), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_TOO_SHORT == static_cast<int>(RejectReason::too_short), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_TOO_LONG == static_cast<int>(RejectReason::too_long), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_BAD_MAGIC == static_cast<int>(RejectReason::bad_magic), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_UNSUPPORTED_FORMAT_VERSION == static_cast<int>(RejectReason::unsupported_format_version), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_LENGTH_MISMATCH == static_cast<int>(RejectReason::length_mismatch), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_RESERVED_NOT_ZERO == static_cast<int>(RejectReason::reserved_not_zero), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_CRC_MISMATCH == static_cast<int>(RejectReason::crc_mismatch), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_SECTION_TRUNCATED == static_cast<int>(RejectReason::section_truncated), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_SECTION_LENGTH_MISMATCH == static_cast<int>(RejectReason::section_length_mismatch), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_UNKNOWN_SECTION == static_cast<int>(RejectReason::unknown_section), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_DUPLICATE_SECTION == static_cast<int>(RejectReason::duplicate_section), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_MISSING_SECTION == static_cast<int>(RejectReason::missing_section), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_SECTION_COUNT_MISMATCH == static_cast<int>(RejectReason::section_count_mismatch), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_RADIUS_OUT_OF_RANGE == static_cast<int>(RejectReason::radius_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_GEAR_RATIO_OUT_OF_RANGE == static_cast<int>(RejectReason::gear_ratio_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_EFFICIENCY_OUT_OF_RANGE == static_cast<int>(RejectReason::efficiency_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_TORQUE_CONSTANT_OUT_OF_RANGE == static_cast<int>(RejectReason::torque_constant_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_NO_LOAD_CURRENT_OUT_OF_RANGE == static_cast<int>(RejectReason::no_load_current_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_CURRENT_RANGE_OUT_OF_RANGE == static_cast<int>(RejectReason::current_range_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_CORRECTION_COUNT_OUT_OF_RANGE == static_cast<int>(RejectReason::correction_count_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_LOAD_BREAKPOINT_OUT_OF_RANGE == static_cast<int>(RejectReason::load_breakpoint_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_LOAD_BREAKPOINTS_NOT_INCREASING == static_cast<int>(RejectReason::load_breakpoints_not_increasing), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_C1_OUT_OF_RANGE == static_cast<int>(RejectReason::c1_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_C2_OUT_OF_RANGE == static_cast<int>(RejectReason::c2_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_C3_OUT_OF_RANGE == static_cast<int>(RejectReason::c3_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_DP_MAX_OUT_OF_RANGE == static_cast<int>(RejectReason::dp_max_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_ALLOWED_SINKAGE_OUT_OF_RANGE == static_cast<int>(RejectReason::allowed_sinkage_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_CAUTION_SINKAGE_OUT_OF_RANGE == static_cast<int>(RejectReason::caution_sinkage_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_STOP_SINKAGE_OUT_OF_RANGE == static_cast<int>(RejectReason::stop_sinkage_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_SINKAGE_HYSTERESIS_OUT_OF_RANGE == static_cast<int>(RejectReason::sinkage_hysteresis_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_CURRENT_CAUTION_FRACTION_OUT_OF_RANGE == static_cast<int>(RejectReason::current_caution_fraction_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_CURRENT_HYSTERESIS_OUT_OF_RANGE == static_cast<int>(RejectReason::current_hysteresis_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_LOAD_ENVELOPE_OUT_OF_RANGE == static_cast<int>(RejectReason::load_envelope_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_STALE_TIMEOUT_OUT_OF_RANGE == static_cast<int>(RejectReason::stale_timeout_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_WINDOW_OUT_OF_RANGE == static_cast<int>(RejectReason::window_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_TRIP_COUNT_OUT_OF_RANGE == static_cast<int>(RejectReason::trip_count_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_CLEAR_COUNT_OUT_OF_RANGE == static_cast<int>(RejectReason::clear_count_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_INVALID_LIMIT_OUT_OF_RANGE == static_cast<int>(RejectReason::invalid_limit_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_WHEEL_COUNT_OUT_OF_RANGE == static_cast<int>(RejectReason::wheel_count_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_ROVER_STOP_K_OUT_OF_RANGE == static_cast<int>(RejectReason::rover_stop_k_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_ESCAPE_PHASE_OUT_OF_RANGE == static_cast<int>(RejectReason::escape_phase_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_ESCAPE_CYCLES_OUT_OF_RANGE == static_cast<int>(RejectReason::escape_cycles_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_ESCAPE_PATIENCE_OUT_OF_RANGE == static_cast<int>(RejectReason::escape_patience_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_ESCAPE_DECREASE_OUT_OF_RANGE == static_cast<int>(RejectReason::escape_decrease_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_ESCAPE_FREED_OUT_OF_RANGE == static_cast<int>(RejectReason::escape_freed_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_EXTENSION_TOO_LONG == static_cast<int>(RejectReason::extension_too_long), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_EXTENSION_REJECTED == static_cast<int>(RejectReason::extension_rejected), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_BUFFER_TOO_SMALL == static_cast<int>(RejectReason::buffer_too_small), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_ROVER_RADIUS_MISMATCH == static_cast<int>(RejectReason::rover_radius_mismatch), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_REASON_COUNT == sinkwatch::flight::kRejectReasonCount, "C and C++ reject reasons differ");
+
 
 Context* context_of(sw_context* ctx) noexcept {
   Context* const c = static_cast<Context*>(static_cast<void*>(&ctx->opaque));
@@ -117,15 +168,6 @@ void to_c(const RoverStepOutput& r, sw_cycle_result& out) noexcept {
   }
 }
 
-/// The rover parameters a table carries, or the Yutu-like default.
-RoverParamStatus rover_params_of(const sinkwatch::flight::ParameterTable& table, RoverParams& out) noexcept {
-  if (!table.rover_geometry.present) {
-    out = sinkwatch::flight::yutu_like_rover_params(sinkwatch::flight::kGravityMoon);
-    return RoverParamStatus::ok;
-  }
-  return sinkwatch::flight::decode_rover_section(table.rover_geometry, out);
-}
-
 }  // namespace
 
 extern "C" {
@@ -140,8 +182,7 @@ sw_status sw_init(sw_context* ctx) {
   // "::", which cppcheck 2.10 misparses).
   void* const storage = static_cast<void*>(&ctx->opaque);
   Context* const c = new (storage) Context;  // NOLINT(cppcoreguidelines-owning-memory) D-03
-  c->rover = sinkwatch::flight::yutu_like_rover_params(sinkwatch::flight::kGravityMoon);
-  static_cast<void>(sinkwatch::flight::prepare(c->store.active(), c->rover, c->prepared));
+  sinkwatch::flight::load_default(c->prepared);
   c->magic = kContextMagic;
   return SW_OK;
 }
@@ -154,15 +195,15 @@ uint8_t sw_load_table(sw_context* ctx, const uint8_t* bytes, size_t size) {
   if (c == nullptr) {
     return static_cast<std::uint8_t>(RejectReason::null_buffer);
   }
-  // The rover section's validator is a full decode, so a table the store
-  // accepts always yields rover parameters; a rejected table leaves both the
-  // table and the rover in force.
-  const RejectReason reason = c->store.load(bytes, size, &sinkwatch::flight::rover_section_valid);
-  if (reason == RejectReason::ok) {
-    static_cast<void>(rover_params_of(c->store.active(), c->rover));
-    static_cast<void>(sinkwatch::flight::prepare(c->store.active(), c->rover, c->prepared));
-  }
-  return static_cast<std::uint8_t>(reason);
+  // load() writes the parameters only when it accepts the bytes: a rejected
+  // table leaves the table and the rover in force.
+  return static_cast<std::uint8_t>(sinkwatch::flight::load(bytes, size, c->prepared));
+}
+
+const char* sw_reject_reason_name(uint8_t reason) {
+  return (reason < sinkwatch::flight::kRejectReasonCount)
+             ? sinkwatch::flight::reason_name(static_cast<RejectReason>(reason))
+             : "unknown";
 }
 
 uint32_t sw_active_table_crc(const sw_context* ctx) {
@@ -170,7 +211,7 @@ uint32_t sw_active_table_crc(const sw_context* ctx) {
     return 0U;
   }
   const Context* const c = context_of(ctx);
-  return (c == nullptr) ? 0U : c->store.active_crc();
+  return (c == nullptr) ? 0U : c->prepared.table_crc();
 }
 
 sw_status sw_step(sw_context* ctx, const sw_telemetry* telemetry, uint32_t now_ms, sw_cycle_result* out) {

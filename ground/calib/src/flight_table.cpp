@@ -107,6 +107,7 @@ constexpr std::array<NamedReason, flight::kRejectReasonCount> kRejectReasonNames
     {R::extension_too_long, "extension_too_long"},
     {R::extension_rejected, "extension_rejected"},
     {R::buffer_too_small, "buffer_too_small"},
+    {R::rover_radius_mismatch, "rover_radius_mismatch"},
 }};
 
 // Every entry sits at its enumerator's value and has a name, so a reason

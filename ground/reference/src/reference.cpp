@@ -5,6 +5,7 @@
 #include <string>
 
 #include "sinkwatch/fixedpoint/host_convert.hpp"
+#include "sinkwatch/flight/rover_limits.hpp"
 
 namespace sinkwatch {
 namespace ground {
@@ -23,14 +24,14 @@ double sign_of(flight::DriveDirection d) { return d == flight::DriveDirection::r
 }  // namespace
 
 double sinkage_m(const Coefficients& c, double r, double w, double t, double dp) {
-  require(r > 0.0, "wheel radius must be positive");
+  require(r >= flight::limits::kMinWheelRadiusM, "wheel radius must be at least 0.01 m");
   require(w > 0.0, "wheel load must be positive");
   require(c.c2 != 0.0, "C2 must not be zero");
   return (c.c1 * t / w - r * (c.c3 + dp / w)) / c.c2;
 }
 
 double drawbar_pull_n(const Coefficients& c, double r, double w, double t, double z) {
-  require(r > 0.0, "wheel radius must be positive");
+  require(r >= flight::limits::kMinWheelRadiusM, "wheel radius must be at least 0.01 m");
   require(w > 0.0, "wheel load must be positive");
   return c.c1 * t / r - w * (c.c2 * z / r + c.c3);
 }
@@ -72,7 +73,7 @@ Corrections corrections_at(const std::vector<CorrectionRow>& table, double w) {
 }
 
 double torque_limit_nm(const Coefficients& c, double dp_max_ratio, double r, double w, double z_max) {
-  require(r > 0.0, "wheel radius must be positive");
+  require(r >= flight::limits::kMinWheelRadiusM, "wheel radius must be at least 0.01 m");
   require(w > 0.0, "wheel load must be positive");
   require(c.c1 != 0.0, "C1 must not be zero");
   return (w / c.c1) * (r * (dp_max_ratio + c.c3) + c.c2 * z_max);

@@ -27,23 +27,65 @@ constexpr double k_min_lever_m = 1e-3;
 }  // namespace
 
 RoverGeometry yutu_like_geometry(double gravity_mps2) {
+  using Yutu = flight::limits::YutuLike;
   RoverGeometry g;
-  g.mass_kg = 140.0;
+  g.mass_kg = Yutu::kMassKg;
   g.gravity_mps2 = gravity_mps2;
-  g.com_x_m = 0.0;
-  g.com_y_m = 0.0;
-  g.com_z_m = 0.10;
-  g.track_width_m = 0.90;
-  g.wheel_radius_m = 0.15;
-  g.rocker_front_axle = SidePoint{0.50, -0.30};
-  g.rocker_bogie_pivot = SidePoint{-0.25, -0.15};
-  g.bogie_middle_axle = SidePoint{0.25, -0.15};
-  g.bogie_rear_axle = SidePoint{-0.25, -0.15};
-  g.rocker_limit_rad = 0.35;
-  g.bogie_limit_rad = 0.50;
-  g.attitude_limit_rad = 1.0;
+  g.com_x_m = Yutu::kComXM;
+  g.com_y_m = Yutu::kComYM;
+  g.com_z_m = Yutu::kComZM;
+  g.track_width_m = Yutu::kTrackWidthM;
+  g.wheel_radius_m = Yutu::kWheelRadiusM;
+  g.rocker_front_axle = SidePoint{Yutu::kRockerFrontAxleXM, Yutu::kRockerFrontAxleZM};
+  g.rocker_bogie_pivot = SidePoint{Yutu::kRockerBogiePivotXM, Yutu::kRockerBogiePivotZM};
+  g.bogie_middle_axle = SidePoint{Yutu::kBogieMiddleAxleXM, Yutu::kBogieMiddleAxleZM};
+  g.bogie_rear_axle = SidePoint{Yutu::kBogieRearAxleXM, Yutu::kBogieRearAxleZM};
+  g.rocker_limit_rad = Yutu::kRockerLimitRad;
+  g.bogie_limit_rad = Yutu::kBogieLimitRad;
+  g.attitude_limit_rad = Yutu::kAttitudeLimitRad;
   return g;
 }
+
+namespace {
+
+/// v in (0, limit]
+bool positive_at_most(double v, double limit) { return v > 0.0 && v <= limit; }
+
+/// Mass, gravity, wheel, track and centre of mass (the flight check's
+/// validate_body, same bounds from flight/rover_limits.hpp).
+std::string validate_body(const RoverGeometry& g) {
+  namespace lim = flight::limits;
+  if (!positive_at_most(g.mass_kg, lim::kMaxMassKg)) return "mass must be in (0, 1000] kg";
+  if (!positive_at_most(g.gravity_mps2, lim::kMaxGravityMps2)) return "gravity must be in (0, 10] m/s^2";
+  if (!(g.wheel_radius_m >= lim::kMinWheelRadiusM && g.wheel_radius_m <= lim::kMaxWheelRadiusM)) {
+    return "wheel radius must be in [0.01, 1] m";
+  }
+  if (!positive_at_most(g.track_width_m, lim::kMaxTrackWidthM)) return "track width must be in (0, 4] m";
+  if (!(std::fabs(g.com_y_m) < 0.5 * g.track_width_m)) return "centre of mass must lie between the wheel lines";
+  return {};
+}
+
+/// Link order and lengths, joint and attitude limits (validate_suspension).
+std::string validate_suspension(const RoverGeometry& g) {
+  namespace lim = flight::limits;
+  if (!(g.rocker_front_axle.x_m > 0.0)) return "front axle must be ahead of the rocker pivot";
+  if (!(g.rocker_bogie_pivot.x_m < 0.0)) return "bogie pivot must be behind the rocker pivot";
+  if (!(g.bogie_middle_axle.x_m > 0.0)) return "middle axle must be ahead of the bogie pivot";
+  if (!(g.bogie_rear_axle.x_m < 0.0)) return "rear axle must be behind the bogie pivot";
+  for (const double v : {g.com_x_m, g.com_z_m, g.rocker_front_axle.x_m, g.rocker_front_axle.z_m,
+                         g.rocker_bogie_pivot.x_m, g.rocker_bogie_pivot.z_m, g.bogie_middle_axle.x_m,
+                         g.bogie_middle_axle.z_m, g.bogie_rear_axle.x_m, g.bogie_rear_axle.z_m}) {
+    if (!(std::fabs(v) <= lim::kMaxLinkM)) return "a link length or the centre of mass is beyond 2 m";
+  }
+  if (!positive_at_most(g.rocker_limit_rad, lim::kMaxJointLimitRad)) return "rocker limit must be in (0, 0.8] rad";
+  if (!positive_at_most(g.bogie_limit_rad, lim::kMaxJointLimitRad)) return "bogie limit must be in (0, 0.8] rad";
+  if (!positive_at_most(g.attitude_limit_rad, lim::kMaxAttitudeLimitRad)) {
+    return "attitude limit must be in (0, 1.05] rad";
+  }
+  return {};
+}
+
+}  // namespace
 
 std::string validate(const RoverGeometry& g) {
   if (!finite_all({g.mass_kg, g.gravity_mps2, g.com_x_m, g.com_y_m, g.com_z_m, g.track_width_m, g.wheel_radius_m,
@@ -53,26 +95,8 @@ std::string validate(const RoverGeometry& g) {
                    g.attitude_limit_rad})) {
     return "a geometry value is not finite";
   }
-  if (!(g.mass_kg > 0.0 && g.mass_kg <= 1000.0)) return "mass must be in (0, 1000] kg";
-  if (!(g.gravity_mps2 > 0.0 && g.gravity_mps2 <= 10.0)) return "gravity must be in (0, 10] m/s^2";
-  if (!(g.wheel_radius_m > 0.0 && g.wheel_radius_m <= 1.0)) return "wheel radius must be in (0, 1] m";
-  if (!(g.track_width_m > 0.0 && g.track_width_m <= 4.0)) return "track width must be in (0, 4] m";
-  if (!(std::fabs(g.com_y_m) < 0.5 * g.track_width_m)) return "centre of mass must lie between the wheel lines";
-  if (!(g.rocker_front_axle.x_m > 0.0)) return "front axle must be ahead of the rocker pivot";
-  if (!(g.rocker_bogie_pivot.x_m < 0.0)) return "bogie pivot must be behind the rocker pivot";
-  if (!(g.bogie_middle_axle.x_m > 0.0)) return "middle axle must be ahead of the bogie pivot";
-  if (!(g.bogie_rear_axle.x_m < 0.0)) return "rear axle must be behind the bogie pivot";
-  for (const double v : {g.com_x_m, g.com_z_m, g.rocker_front_axle.x_m, g.rocker_front_axle.z_m,
-                         g.rocker_bogie_pivot.x_m, g.rocker_bogie_pivot.z_m, g.bogie_middle_axle.x_m,
-                         g.bogie_middle_axle.z_m, g.bogie_rear_axle.x_m, g.bogie_rear_axle.z_m}) {
-    if (!(std::fabs(v) <= 2.0)) return "a link length or the centre of mass is beyond 2 m";
-  }
-  if (!(g.rocker_limit_rad > 0.0 && g.rocker_limit_rad <= 0.8)) return "rocker limit must be in (0, 0.8] rad";
-  if (!(g.bogie_limit_rad > 0.0 && g.bogie_limit_rad <= 0.8)) return "bogie limit must be in (0, 0.8] rad";
-  if (!(g.attitude_limit_rad > 0.0 && g.attitude_limit_rad <= 1.05)) {
-    return "attitude limit must be in (0, 1.05] rad";
-  }
-  return {};
+  const std::string body = validate_body(g);
+  return body.empty() ? validate_suspension(g) : body;
 }
 
 const char* to_string(LoadStatus s) {

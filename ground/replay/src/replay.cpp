@@ -2,6 +2,7 @@
 #include "sinkwatch/ground/replay.hpp"
 
 #include "sinkwatch/fixedpoint/host_convert.hpp"
+#include "sinkwatch/flight/load.hpp"
 #include "sinkwatch/ground/flight_table.hpp"
 #include "sinkwatch/ground/text_input.hpp"
 
@@ -229,22 +230,19 @@ void load_parameter_table(const std::string& path, ReplayConfig& config) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot open the parameter table");
   const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  flight::ParameterTable table{};
-  const flight::RejectReason reason =
-      flight::decode(bytes.data(), bytes.size(), table, &flight::rover_section_valid);
+  // load(): the flight module's one path from bytes to prepared parameters
+  // (framing, CRC, the table's and the rover section's checks, each once).
+  flight::PreparedParameters loaded;
+  const flight::RejectReason reason = flight::load(bytes.data(), bytes.size(), loaded);
   if (reason != flight::RejectReason::ok) {
     throw std::runtime_error(path + ": the flight code rejects this parameter table: " +
                              reject_reason_name(reason));
   }
-  config.table = table;
+  config.table = loaded.table();
   config.table_source = path;
-  if (table.rover_geometry.present) {
-    flight::RoverParams rover{};
-    if (flight::decode_rover_section(table.rover_geometry, rover) != flight::RoverParamStatus::ok) {
-      throw std::runtime_error(path + ": the table's rover section (6) does not decode");
-    }
-    config.rover = rover;
-    config.gravity_mps2 = fx::to_double(rover.gravity_mps2.q());
+  if (loaded.table().rover_geometry.present) {
+    config.rover = loaded.rover();
+    config.gravity_mps2 = fx::to_double(loaded.rover().gravity_mps2.q());
   }
 }
 

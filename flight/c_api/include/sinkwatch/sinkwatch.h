@@ -51,6 +51,64 @@ typedef enum sw_status {
   SW_NOT_INITIALISED = 101
 } sw_status;
 
+/* Why sw_load_table refused a table: the values of RejectReason
+ * (flight/param_table.hpp), one per check, so the ground knows which number to
+ * fix. sw_reject_reason_name() gives each its name. */
+typedef enum sw_reject_reason {
+  SW_REJECT_OK = 0,
+  SW_REJECT_NULL_BUFFER = 1,
+  SW_REJECT_TOO_SHORT = 2,
+  SW_REJECT_TOO_LONG = 3,
+  SW_REJECT_BAD_MAGIC = 4,
+  SW_REJECT_UNSUPPORTED_FORMAT_VERSION = 5,
+  SW_REJECT_LENGTH_MISMATCH = 6,
+  SW_REJECT_RESERVED_NOT_ZERO = 7,
+  SW_REJECT_CRC_MISMATCH = 8,
+  SW_REJECT_SECTION_TRUNCATED = 9,
+  SW_REJECT_SECTION_LENGTH_MISMATCH = 10,
+  SW_REJECT_UNKNOWN_SECTION = 11,
+  SW_REJECT_DUPLICATE_SECTION = 12,
+  SW_REJECT_MISSING_SECTION = 13,
+  SW_REJECT_SECTION_COUNT_MISMATCH = 14,
+  SW_REJECT_RADIUS_OUT_OF_RANGE = 15,
+  SW_REJECT_GEAR_RATIO_OUT_OF_RANGE = 16,
+  SW_REJECT_EFFICIENCY_OUT_OF_RANGE = 17,
+  SW_REJECT_TORQUE_CONSTANT_OUT_OF_RANGE = 18,
+  SW_REJECT_NO_LOAD_CURRENT_OUT_OF_RANGE = 19,
+  SW_REJECT_CURRENT_RANGE_OUT_OF_RANGE = 20,
+  SW_REJECT_CORRECTION_COUNT_OUT_OF_RANGE = 21,
+  SW_REJECT_LOAD_BREAKPOINT_OUT_OF_RANGE = 22,
+  SW_REJECT_LOAD_BREAKPOINTS_NOT_INCREASING = 23,
+  SW_REJECT_C1_OUT_OF_RANGE = 24,
+  SW_REJECT_C2_OUT_OF_RANGE = 25,
+  SW_REJECT_C3_OUT_OF_RANGE = 26,
+  SW_REJECT_DP_MAX_OUT_OF_RANGE = 27,
+  SW_REJECT_ALLOWED_SINKAGE_OUT_OF_RANGE = 28,
+  SW_REJECT_CAUTION_SINKAGE_OUT_OF_RANGE = 29,
+  SW_REJECT_STOP_SINKAGE_OUT_OF_RANGE = 30,
+  SW_REJECT_SINKAGE_HYSTERESIS_OUT_OF_RANGE = 31,
+  SW_REJECT_CURRENT_CAUTION_FRACTION_OUT_OF_RANGE = 32,
+  SW_REJECT_CURRENT_HYSTERESIS_OUT_OF_RANGE = 33,
+  SW_REJECT_LOAD_ENVELOPE_OUT_OF_RANGE = 34,
+  SW_REJECT_STALE_TIMEOUT_OUT_OF_RANGE = 35,
+  SW_REJECT_WINDOW_OUT_OF_RANGE = 36,
+  SW_REJECT_TRIP_COUNT_OUT_OF_RANGE = 37,
+  SW_REJECT_CLEAR_COUNT_OUT_OF_RANGE = 38,
+  SW_REJECT_INVALID_LIMIT_OUT_OF_RANGE = 39,
+  SW_REJECT_WHEEL_COUNT_OUT_OF_RANGE = 40,
+  SW_REJECT_ROVER_STOP_K_OUT_OF_RANGE = 41,
+  SW_REJECT_ESCAPE_PHASE_OUT_OF_RANGE = 42,
+  SW_REJECT_ESCAPE_CYCLES_OUT_OF_RANGE = 43,
+  SW_REJECT_ESCAPE_PATIENCE_OUT_OF_RANGE = 44,
+  SW_REJECT_ESCAPE_DECREASE_OUT_OF_RANGE = 45,
+  SW_REJECT_ESCAPE_FREED_OUT_OF_RANGE = 46,
+  SW_REJECT_EXTENSION_TOO_LONG = 47,
+  SW_REJECT_EXTENSION_REJECTED = 48,
+  SW_REJECT_BUFFER_TOO_SMALL = 49,
+  SW_REJECT_ROVER_RADIUS_MISMATCH = 50,
+  SW_REJECT_REASON_COUNT = 51 /* not a reason: the number of reasons */
+} sw_reject_reason;
+
 enum { SW_DIRECTION_FORWARD = 0, SW_DIRECTION_REVERSE = 1 };
 enum { SW_WHEEL_NOMINAL = 0, SW_WHEEL_CAUTION = 1, SW_WHEEL_STOP = 2 };
 enum { SW_DECISION_CONTINUE = 0, SW_DECISION_STOP_AND_REPLAN = 1 };
@@ -115,10 +173,17 @@ typedef struct sw_event {
  * corrections) and the Yutu-like rover on the Moon. */
 sw_status sw_init(sw_context* ctx);
 
-/* Loads a parameter table from bytes. Returns 0 when it is in force, else the
- * RejectReason (flight/param_table.hpp) and the previous table stays in force.
- * A table with a rover-geometry section replaces the rover parameters too. */
+/* Loads a parameter table from bytes (flight/load.hpp: decoded, validated and
+ * prepared in one call). Returns SW_REJECT_OK when it is in force, else the
+ * sw_reject_reason and the previous table stays in force. A table with a
+ * rover-geometry section replaces the rover parameters too; one without it
+ * runs with the Yutu-like rover on the Moon. */
 uint8_t sw_load_table(sw_context* ctx, const uint8_t* bytes, size_t size);
+
+/* The name of a reject reason ("crc_mismatch"), the enumerator's name in
+ * lower case without the prefix; "unknown" for a value that is not a reason.
+ * Static storage: never freed. */
+const char* sw_reject_reason_name(uint8_t reason);
 
 /* CRC-32 of the table in force (0 for the built-in default). */
 uint32_t sw_active_table_crc(const sw_context* ctx);

@@ -18,6 +18,7 @@
 #define SINKWATCH_FLIGHT_ESTIMATOR_HPP
 
 #include "sinkwatch/fixedpoint/literal.hpp"
+#include "sinkwatch/flight/rover_limits.hpp"
 #include "sinkwatch/flight/units.hpp"
 
 namespace sinkwatch {
@@ -34,8 +35,8 @@ struct Coefficients {
 /// the same limits, so a validated table never produces invalid_coefficient.
 /// C1, C2 in [1/4, 4] keep the division by C2 from amplifying rounding by more
 /// than 4 (docs/flight.md); the paper's values are all 1.
-constexpr LengthM kMinRadiusM{fx::constant<LengthQ>(0.01)};
-constexpr LengthM kMaxRadiusM{fx::constant<LengthQ>(2.0)};
+constexpr LengthM kMinRadiusM{fx::constant<LengthQ>(limits::kMinWheelRadiusM)};
+constexpr LengthM kMaxRadiusM{fx::constant<LengthQ>(limits::kMaxEstimatorRadiusM)};
 constexpr Ratio kMinC12{fx::constant<RatioQ>(0.25)};
 constexpr Ratio kMaxC12{fx::constant<RatioQ>(4.0)};
 constexpr Ratio kMinC3{fx::constant<RatioQ>(-1.0)};

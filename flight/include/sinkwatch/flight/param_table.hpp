@@ -26,12 +26,13 @@
 
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/motor.hpp"
+#include "sinkwatch/flight/rover_limits.hpp"
 #include "sinkwatch/flight/units.hpp"
 
 namespace sinkwatch {
 namespace flight {
 
-constexpr std::uint8_t kMaxWheels = 6U;
+constexpr std::uint8_t kMaxWheels = limits::kWheelCount;
 /// Longest N-of-M window: the history is a 16-bit mask.
 constexpr std::uint8_t kMaxWindow = 16U;
 constexpr std::uint16_t kExtensionMaxBytes = 256U;
@@ -162,10 +163,17 @@ enum class RejectReason : std::uint8_t {
   extension_rejected,
   // encoder
   buffer_too_small,
+  // load(): the rover section's wheel radius is not the table's (the statics
+  // and Eq. 15 must describe the same wheel)
+  rover_radius_mismatch,
 };
 
 /// Number of RejectReason values (for tests and telemetry tables).
-constexpr std::uint8_t kRejectReasonCount = static_cast<std::uint8_t>(RejectReason::buffer_too_small) + 1U;
+constexpr std::uint8_t kRejectReasonCount = static_cast<std::uint8_t>(RejectReason::rover_radius_mismatch) + 1U;
+
+/// The enumerator's name ("crc_mismatch"); "unknown" for a value outside the
+/// enum. Static storage.
+[[nodiscard]] const char* reason_name(RejectReason reason) noexcept;
 
 /// A check of an extension section's contents by its owner; returns true when
 /// the bytes are acceptable. May be null (the section is then only framed).

@@ -60,22 +60,34 @@ class PreparedParameters {
   const CorrectionDivisors& correction_divisors() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
   [[nodiscard]] constexpr const MotorDivisors& motor_divisors() const& noexcept { return motor_divisors_; }
   const MotorDivisors& motor_divisors() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
+  /// CRC-32 of the bytes load() took the table from (0 for the built-in
+  /// default and for prepare()).
+  [[nodiscard]] constexpr std::uint32_t table_crc() const noexcept { return table_crc_; }
 
  private:
   friend PrepareStatus prepare(const ParameterTable& table, const RoverParams& rover,
                                PreparedParameters& out) noexcept;
+  friend void prepare_validated(const ParameterTable& table, const RoverParams& rover, std::uint32_t crc,
+                                PreparedParameters& out) noexcept;
 
   PrepareStatus status_{PrepareStatus::invalid_table};
   ParameterTable table_{};
   RoverParams rover_{};
   CorrectionDivisors correction_divisors_{};
   MotorDivisors motor_divisors_{};
+  std::uint32_t table_crc_{0U};
 };
 
 /// Checks the table and the rover parameters and copies them into `out`
 /// (also when only the rover parameters fail, so that the monitor still has
 /// its thresholds and counts the refused cycles). Returns out.status().
 PrepareStatus prepare(const ParameterTable& table, const RoverParams& rover, PreparedParameters& out) noexcept;
+
+/// For load(): the table, the rover parameters and their radii have already
+/// been checked (each once); copies them and prepares the reciprocals, status
+/// ok. Not for other callers: prepare() is the checking entry point.
+void prepare_validated(const ParameterTable& table, const RoverParams& rover, std::uint32_t crc,
+                       PreparedParameters& out) noexcept;
 
 }  // namespace flight
 }  // namespace sinkwatch

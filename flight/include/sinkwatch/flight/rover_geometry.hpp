@@ -23,6 +23,7 @@
 #include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/rover_limits.hpp"
 #include "sinkwatch/flight/units.hpp"
 
 namespace sinkwatch {
@@ -45,7 +46,7 @@ using SpeedMps = Quantity<SpeedTag, SpeedQ>;
 
 /// Wheels in the order used by every rover-level array: left front, middle,
 /// rear, then right front, middle, rear.
-constexpr std::uint32_t kWheelCount = 6U;
+constexpr std::uint32_t kWheelCount = limits::kWheelCount;
 constexpr std::uint32_t kSideCount = 2U;  ///< 0 = left, 1 = right
 
 /// A point in one side's plane (x forward, z up) relative to the link's pivot.
@@ -55,9 +56,9 @@ struct SidePointM {
 };
 
 /// Surface gravities.
-constexpr AccelMps2 kGravityMoon{fx::constant<AccelQ>(1.62)};
-constexpr AccelMps2 kGravityMars{fx::constant<AccelQ>(3.71)};
-constexpr AccelMps2 kGravityEarth{fx::constant<AccelQ>(9.81)};
+constexpr AccelMps2 kGravityMoon{fx::constant<AccelQ>(limits::kGravityMoonMps2)};
+constexpr AccelMps2 kGravityMars{fx::constant<AccelQ>(limits::kGravityMarsMps2)};
+constexpr AccelMps2 kGravityEarth{fx::constant<AccelQ>(limits::kGravityEarthMps2)};
 
 /// Mass and suspension of a six-wheel rocker-bogie rover with a differential.
 /// Body frame: x forward, y left, z up, origin midway between the rocker
@@ -88,7 +89,7 @@ enum class RoverParamStatus : std::uint8_t {
   ok = 0U,
   bad_mass = 1U,            ///< outside (0, 1000] kg
   bad_gravity = 2U,         ///< outside (0, 10] m/s^2
-  bad_wheel_radius = 3U,    ///< outside [0.01, 1] m
+  bad_wheel_radius = 3U,    ///< outside [0.01, 1] m (rover_limits.hpp for every bound)
   bad_track_width = 4U,     ///< outside (0, 4] m
   bad_com = 5U,             ///< |y| not inside the track, or |x|, |z| > 2 m
   bad_link_order = 6U,      ///< front axle not ahead of the rocker pivot, and so on
@@ -105,22 +106,25 @@ enum class RoverParamStatus : std::uint8_t {
 namespace detail {
 /// Built once at compile time (a variable, not a function body), so that no
 /// fx::constant is ever evaluated at run time, even in a -O0 build.
+using Yutu = limits::YutuLike;
+constexpr LengthM length_m(double v) noexcept { return LengthM{fx::constant<LengthQ>(v)}; }
+constexpr AngleRad angle_rad(double v) noexcept { return AngleRad{fx::constant<AngleQ>(v)}; }
 constexpr RoverParams kYutuLikeRoverParams{
-    MassKg{fx::constant<MassQ>(140.0)},
+    MassKg{fx::constant<MassQ>(Yutu::kMassKg)},
     kGravityMoon,
-    LengthM{fx::constant<LengthQ>(0.0)},
-    LengthM{fx::constant<LengthQ>(0.0)},
-    LengthM{fx::constant<LengthQ>(0.10)},
-    LengthM{fx::constant<LengthQ>(0.90)},
-    LengthM{fx::constant<LengthQ>(0.15)},
-    SidePointM{LengthM{fx::constant<LengthQ>(0.50)}, LengthM{fx::constant<LengthQ>(-0.30)}},
-    SidePointM{LengthM{fx::constant<LengthQ>(-0.25)}, LengthM{fx::constant<LengthQ>(-0.15)}},
-    SidePointM{LengthM{fx::constant<LengthQ>(0.25)}, LengthM{fx::constant<LengthQ>(-0.15)}},
-    SidePointM{LengthM{fx::constant<LengthQ>(-0.25)}, LengthM{fx::constant<LengthQ>(-0.15)}},
-    AngleRad{fx::constant<AngleQ>(0.35)},
-    AngleRad{fx::constant<AngleQ>(0.50)},
-    AngleRad{fx::constant<AngleQ>(1.0)},
-    Ratio{fx::constant<RatioQ>(0.6)},
+    length_m(Yutu::kComXM),
+    length_m(Yutu::kComYM),
+    length_m(Yutu::kComZM),
+    length_m(Yutu::kTrackWidthM),
+    length_m(Yutu::kWheelRadiusM),
+    SidePointM{length_m(Yutu::kRockerFrontAxleXM), length_m(Yutu::kRockerFrontAxleZM)},
+    SidePointM{length_m(Yutu::kRockerBogiePivotXM), length_m(Yutu::kRockerBogiePivotZM)},
+    SidePointM{length_m(Yutu::kBogieMiddleAxleXM), length_m(Yutu::kBogieMiddleAxleZM)},
+    SidePointM{length_m(Yutu::kBogieRearAxleXM), length_m(Yutu::kBogieRearAxleZM)},
+    angle_rad(Yutu::kRockerLimitRad),
+    angle_rad(Yutu::kBogieLimitRad),
+    angle_rad(Yutu::kAttitudeLimitRad),
+    Ratio{fx::constant<RatioQ>(Yutu::kHighSlip)},
 };
 }  // namespace detail
 

@@ -20,16 +20,19 @@
 #include <cstddef>
 #include <string>
 
+#include "sinkwatch/flight/rover_limits.hpp"
+
 namespace sinkwatch {
 namespace ground {
 
 /// Surface gravities [m/s^2] of the bodies the rover is used on.
-inline constexpr double k_gravity_moon_mps2 = 1.62;
-inline constexpr double k_gravity_mars_mps2 = 3.71;
-inline constexpr double k_gravity_earth_mps2 = 9.81;
+/// (flight/rover_limits.hpp: the flight code reads the same numbers.)
+inline constexpr double k_gravity_moon_mps2 = flight::limits::kGravityMoonMps2;
+inline constexpr double k_gravity_mars_mps2 = flight::limits::kGravityMarsMps2;
+inline constexpr double k_gravity_earth_mps2 = flight::limits::kGravityEarthMps2;
 
 /// Wheel order used everywhere: left front, middle, rear, then right.
-inline constexpr std::size_t k_wheel_count = 6U;
+inline constexpr std::size_t k_wheel_count = flight::limits::kWheelCount;
 enum class WheelPos : std::size_t { left_front = 0U, left_middle, left_rear, right_front, right_middle, right_rear };
 
 /// A point of one side's suspension in the side's plane, body frame:
