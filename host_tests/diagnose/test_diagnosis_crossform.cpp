@@ -57,14 +57,14 @@ struct CrossCase {
 // form, mid-range of Ding et al.'s 8-30), Lyasko's own ks = 1, Hegedus at
 // scale 1, a modulus exponent m = 0.5 (Janbu's typical value for sand), a
 // viscous drag of 0.3 N m at zero slip (the withheld check's gearbox drag).
-CrossCase lug_tip() { return {Effect::grouser, "lug_tip", {{"grouser.height_m", 0.02}}}; }
-CrossCase lug_face() {
+[[maybe_unused]] CrossCase lug_tip() { return {Effect::grouser, "lug_tip", {{"grouser.height_m", 0.02}}}; }
+[[maybe_unused]] CrossCase lug_face() {
   return {Effect::grouser, "lug_face", {{"grouser.height_m", 0.02}, {"grouser.lug_count", 15.0}}};
 }
-CrossCase lyasko() { return {Effect::slip_sinkage, "lyasko", {{"slip_sinkage.ks", 1.0}}}; }
-CrossCase hegedus() { return {Effect::bulldozing, "hegedus", {{"bulldozing.scale", 1.0}}}; }
-CrossCase stiffness() { return {Effect::load_dependence, "stiffness", {{"load_dependence.stiffening", 0.5}}}; }
-CrossCase speed() { return {Effect::drive_friction, "speed", {{"drive_friction.tv_nm", 0.3}}}; }
+[[maybe_unused]] CrossCase lyasko() { return {Effect::slip_sinkage, "lyasko", {{"slip_sinkage.ks", 1.0}}}; }
+[[maybe_unused]] CrossCase hegedus() { return {Effect::bulldozing, "hegedus", {{"bulldozing.scale", 1.0}}}; }
+[[maybe_unused]] CrossCase stiffness() { return {Effect::load_dependence, "stiffness", {{"load_dependence.stiffening", 0.5}}}; }
+[[maybe_unused]] CrossCase speed() { return {Effect::drive_friction, "speed", {{"drive_friction.tv_nm", 0.3}}}; }
 
 // The cases that reach the aim, or leave no significant gap to rank (the
 // base refit absorbs the form: lug_face, stiffness). The sanitizer build
