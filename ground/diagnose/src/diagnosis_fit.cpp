@@ -159,7 +159,13 @@ std::vector<double> unit_rms(const std::vector<std::vector<double>>& residuals, 
     }
   }
   for (double& v : rms) {
-    v = failures > 0 ? kInf : std::sqrt(v / static_cast<double>(idx.size()));
+    // No rows (the base condition of a two-condition run has no held-out
+    // rows): no RMS, NaN as the scaled figure gives, not 0/0.
+    if (failures > 0) {
+      v = kInf;
+    } else {
+      v = idx.empty() ? kNaN : std::sqrt(v / static_cast<double>(idx.size()));
+    }
   }
   return rms;
 }
