@@ -28,7 +28,7 @@
 // report an overflow. Comparisons, which cannot fail, are operators.
 //
 // The sign-magnitude helpers, the raw accessors and the comparisons are
-// [[gnu::always_inline]] for the -Os firmware builds (see wide.hpp).
+// for the -Os firmware builds (see wide.hpp).
 #ifndef SINKWATCH_FIXEDPOINT_Q_HPP
 #define SINKWATCH_FIXEDPOINT_Q_HPP
 
@@ -68,7 +68,7 @@ struct WideFor {
 
 /// |x| without overflow, also for the most negative value.
 template <typename Storage>
-[[gnu::always_inline]] constexpr std::uint64_t magnitude(Storage x) noexcept {
+constexpr std::uint64_t magnitude(Storage x) noexcept {
   if (x >= 0) {
     return static_cast<std::uint64_t>(x);
   }
@@ -78,14 +78,14 @@ template <typename Storage>
 
 /// Largest magnitude of a result with the given sign: 2^(N-1) - 1 or 2^(N-1).
 template <typename Storage>
-[[gnu::always_inline]] constexpr std::uint64_t magnitude_limit(bool negative) noexcept {
+constexpr std::uint64_t magnitude_limit(bool negative) noexcept {
   const std::uint64_t top = std::uint64_t{1U} << (StorageTraits<Storage>::bits - 1U);
   return negative ? top : (top - 1U);
 }
 
 /// Builds a raw value from sign and magnitude, saturating on overflow.
 template <typename Storage, typename W>
-[[gnu::always_inline]] constexpr Storage from_sign_magnitude(bool negative, const W& mag, Status& status) noexcept {
+constexpr Storage from_sign_magnitude(bool negative, const W& mag, Status& status) noexcept {
   const W limit = wide::from_u64<W>(magnitude_limit<Storage>(negative));
   if (wide::less(limit, mag)) {
     status.raise(Flag::overflow);
@@ -106,7 +106,7 @@ template <typename Storage, typename W>
 /// shift that would lose bits sets `overflowed` (the result is then beyond
 /// every format this library has).
 template <typename W>
-[[gnu::always_inline]] constexpr W scale_magnitude(const W& mag, std::int32_t shift, bool& overflowed) noexcept {
+constexpr W scale_magnitude(const W& mag, std::int32_t shift, bool& overflowed) noexcept {
   overflowed = false;
   if (shift > 0) {
     const std::uint32_t s = static_cast<std::uint32_t>(shift);
@@ -132,7 +132,7 @@ template <typename W>
 }
 
 template <typename Storage>
-[[gnu::always_inline]] constexpr bool is_negative(Storage x) noexcept {
+constexpr bool is_negative(Storage x) noexcept {
   return x < 0;
 }
 
@@ -156,12 +156,12 @@ class Q {
 
   constexpr Q() noexcept = default;
 
-  [[gnu::always_inline]] [[nodiscard]] static constexpr Q from_raw(Storage raw_bits) noexcept { return Q(raw_bits); }
-  [[gnu::always_inline]] [[nodiscard]] static constexpr Q zero() noexcept { return Q(0); }
+  [[nodiscard]] static constexpr Q from_raw(Storage raw_bits) noexcept { return Q(raw_bits); }
+  [[nodiscard]] static constexpr Q zero() noexcept { return Q(0); }
   [[nodiscard]] static constexpr Q max() noexcept { return Q(std::numeric_limits<Storage>::max()); }
   [[nodiscard]] static constexpr Q min() noexcept { return Q(std::numeric_limits<Storage>::min()); }
   /// The smallest positive value, 2^-F: one LSB.
-  [[gnu::always_inline]] [[nodiscard]] static constexpr Q lsb() noexcept { return Q(1); }
+  [[nodiscard]] static constexpr Q lsb() noexcept { return Q(1); }
   /// The value 1; raises overflow (and returns max) when F leaves no integer bit.
   [[nodiscard]] static constexpr Q one(Status& status) noexcept { return from_int(1, status); }
 
@@ -180,13 +180,13 @@ class Q {
     return Q(detail::from_sign_magnitude<Storage>(negative, mag, status));
   }
 
-  [[gnu::always_inline]] [[nodiscard]] constexpr Storage raw() const noexcept { return raw_; }
+  [[nodiscard]] constexpr Storage raw() const noexcept { return raw_; }
 
   friend constexpr bool operator==(Q a, Q b) noexcept { return a.raw_ == b.raw_; }
   friend constexpr bool operator!=(Q a, Q b) noexcept { return a.raw_ != b.raw_; }
-  [[gnu::always_inline]] friend constexpr bool operator<(Q a, Q b) noexcept { return a.raw_ < b.raw_; }
+  friend constexpr bool operator<(Q a, Q b) noexcept { return a.raw_ < b.raw_; }
   friend constexpr bool operator<=(Q a, Q b) noexcept { return a.raw_ <= b.raw_; }
-  [[gnu::always_inline]] friend constexpr bool operator>(Q a, Q b) noexcept { return a.raw_ > b.raw_; }
+  friend constexpr bool operator>(Q a, Q b) noexcept { return a.raw_ > b.raw_; }
   friend constexpr bool operator>=(Q a, Q b) noexcept { return a.raw_ >= b.raw_; }
 
  private:
