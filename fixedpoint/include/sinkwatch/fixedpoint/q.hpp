@@ -26,9 +26,6 @@
 //
 // There are deliberately no arithmetic operators: an operator has nowhere to
 // report an overflow. Comparisons, which cannot fail, are operators.
-//
-// The sign-magnitude helpers, the raw accessors and the comparisons are
-// for the -Os firmware builds (see wide.hpp).
 #ifndef SINKWATCH_FIXEDPOINT_Q_HPP
 #define SINKWATCH_FIXEDPOINT_Q_HPP
 
