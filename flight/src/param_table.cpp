@@ -6,6 +6,7 @@
 #include "sinkwatch/flight/byte_view.hpp"
 #include "sinkwatch/flight/crc32.hpp"
 #include "sinkwatch/flight/estimator.hpp"
+#include "sinkwatch/flight/rover_limits.hpp"
 
 namespace sinkwatch {
 namespace flight {
@@ -376,11 +377,12 @@ constexpr ParameterTable make_default_table() noexcept {
   t.motor.no_load_current_a = CurrentA(fx::constant<CurrentQ>(0.1));
   t.motor.current_abs_max_a = CurrentA(fx::constant<CurrentQ>(10.0));
 
-  // Table 2: soil-bin masses times 9.81 N/kg; C1 = C2 = 1. These doubles
+  // Table 2: soil-bin masses times Earth's gravity (the soil bin's, from
+  // rover_limits.hpp); C1 = C2 = 1. These doubles
   // exist only while the compiler evaluates kDefaultTable (below), a
   // constexpr object: deviation D-01 (docs/misra.md). The firmware symbol
   // check proves no floating point is left in the object code.
-  constexpr double kG = 9.81;
+  constexpr double kG = limits::kGravityEarthMps2;
   constexpr double kMassKg[5] = {3.0, 7.0, 10.0, 15.0, 20.0};
   constexpr double kC3[5] = {0.20, 0.15, 0.13, 0.13, 0.13};
   t.correction.count = 5U;
