@@ -8,7 +8,9 @@
 // the twin's). The flight code turns the doubles into its Q formats at
 // compile time through fx::constant (rover_geometry.hpp, wheel_load.cpp); the
 // twin (ground/reference) reads them as they are. No code here, only
-// constexpr values: nothing of it reaches the step at run time.
+// constexpr values: nothing of it reaches the step at run time (deviation
+// D-01, docs/misra.md: doubles only in constant evaluation; the firmware
+// symbol check proves no floating point is left in the object code).
 //
 // A bound that is not a dyadic fraction (0.01 m, 0.8 rad, 1.05 rad) is given
 // as its nearest value in the flight field's Q format (raw / 2^fraction bits,
