@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -124,9 +125,64 @@ TEST(TelemetryLog, WrongCellCount) {
 }
 
 TEST(TelemetryLog, EmptyRequiredCell) {
-  const std::string msg = error_of(kHeader + "0.2,0.5,0.5,0.5,0.5,0.5,0.5,,0,0,0,0,0,0.01\n");
-  EXPECT_NE(msg.find("log.csv:2:"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("pitch_deg"), std::string::npos) << msg;
+  // The time has no "missing": every row is a cycle at a time.
+  const std::string msg = error_of(kHeader + ",0.5,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01\n");
+  EXPECT_NE(msg.find("log.csv:2:1:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("time_s"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("empty cell where a number is required"), std::string::npos) << msg;
+}
+
+TEST(TelemetryLog, EmptyCurrentCellIsADropoutOfThatSensorOnly) {
+  const sg::TelemetryLog log = sg::parse_telemetry_text(kHeader + "0.2,0.5,,0.5,0.5,0.5,0.7,1,0,0,0,0,0,0.01\n", "x");
+  const sg::TelemetryRow& r = log.rows[0];
+  EXPECT_EQ(r.current_missing, (std::array<bool, 6>{false, true, false, false, false, false}));
+  EXPECT_EQ(r.current_a[1], 0.0);
+  EXPECT_EQ(r.current_a[5], 0.7);
+  EXPECT_FALSE(r.attitude_missing);
+  EXPECT_FALSE(r.joints_missing);
+}
+
+TEST(TelemetryLog, AnEmptyAttitudeOrJointCellMarksItsWholeGroupMissing) {
+  const sg::TelemetryLog log = sg::parse_telemetry_text(
+      kHeader + "0.2,0.5,0.5,0.5,0.5,0.5,0.5,,2,1,1,1,1,0.01\n0.4,0.5,0.5,0.5,0.5,0.5,0.5,1,2,1,,1,1,0.01\n", "x");
+  const sg::TelemetryRow& a = log.rows[0];
+  EXPECT_TRUE(a.attitude_missing);
+  EXPECT_EQ(a.pitch_deg, 0.0);
+  EXPECT_EQ(a.roll_deg, 0.0);  // roll was 2, but pitch and roll are one sensor
+  EXPECT_FALSE(a.joints_missing);
+  EXPECT_EQ(a.bogie_deg[1], 1.0);
+  const sg::TelemetryRow& j = log.rows[1];
+  EXPECT_FALSE(j.attitude_missing);
+  EXPECT_EQ(j.roll_deg, 2.0);
+  EXPECT_TRUE(j.joints_missing);
+  EXPECT_EQ(j.rocker_deg, (std::array<double, 2>{0.0, 0.0}));
+  EXPECT_EQ(j.bogie_deg, (std::array<double, 2>{0.0, 0.0}));
+}
+
+TEST(TelemetryLog, MissingSensorsRoundTripAsEmptyCells) {
+  sg::TelemetryRow r;
+  r.time_s = 3.0;
+  r.current_a = {0.1, 0.0, 0.3, 0.4, 0.0, 0.6};
+  r.current_missing = {false, true, false, false, true, false};
+  r.attitude_missing = true;
+  r.joints_missing = true;
+  r.accel_mps2 = 0.0;
+  const std::string text = sg::format_telemetry_row(r);
+  EXPECT_EQ(text.substr(0, 40), "3.000,1,0.10000,,0.30000,0.40000,,0.6000") << text;
+  EXPECT_NE(text.find(",F,,,,,,,"), std::string::npos) << text;
+  const sg::TelemetryRow back = sg::parse_telemetry_row(text);
+  EXPECT_EQ(back.current_missing, r.current_missing);
+  EXPECT_EQ(back.current_a, r.current_a);
+  EXPECT_TRUE(back.attitude_missing);
+  EXPECT_TRUE(back.joints_missing);
+}
+
+TEST(TelemetryLog, AMissingSensorsCellStillHasToBeANumberWhenGiven) {
+  EXPECT_NE(error_of(kHeader + "0.2,0.5,x,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01\n").find("log.csv:2:9:"), std::string::npos);
+  EXPECT_NE(error_of(kHeader + "0.2,0.5,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,0,0.01\n0.4,0.5,0.5,0.5,0.5,0.5,0.5,1,0,0,0,0,"
+                               "99,0.01\n")
+                .find("log.csv:3:"),
+            std::string::npos);
 }
 
 TEST(TelemetryLog, BadFlagsAndDirections) {

@@ -161,9 +161,7 @@ class RowParser {
         throw TelemetryError(source_, line, c.column, "column 'valid': expected 0 or 1, got " + text_input::quoted(c.text));
       }
     }
-    for (std::size_t w = 0; w < kTelemetryWheels; ++w) {
-      r.current_a[w] = required(cells, kI0 + static_cast<int>(w), line);
-    }
+    read_currents(cells, line, r);
     if (has(kDirection)) {
       const Cell& c = cell(cells, kDirection);
       if (c.text == "F") {
@@ -175,10 +173,7 @@ class RowParser {
                              "column 'direction': expected F or R, got " + text_input::quoted(c.text));
       }
     }
-    r.pitch_deg = required(cells, kPitch, line);
-    r.roll_deg = required(cells, kRoll, line);
-    r.rocker_deg = {required(cells, kRockerL, line), required(cells, kRockerR, line)};
-    r.bogie_deg = {required(cells, kBogieL, line), required(cells, kBogieR, line)};
+    read_attitude_and_joints(cells, line, r);
     r.accel_mps2 = optional(cells, kAccel, line);
     r.speed_mps = optional(cells, kSpeed, line);
     r.rim_speed_mps = optional(cells, kRimSpeed, line);
@@ -224,6 +219,37 @@ class RowParser {
   }
   double required(const std::vector<Cell>& cells, int col, std::size_t line) const {
     return number(cell(cells, col), col, line);
+  }
+  // A sensor's value, or nothing for an empty cell: a dropout (docs/replay.md).
+  std::optional<double> measured(const std::vector<Cell>& cells, int col, std::size_t line) const {
+    if (cell(cells, col).text.empty()) return std::nullopt;
+    return number(cell(cells, col), col, line);
+  }
+  void read_currents(const std::vector<Cell>& cells, std::size_t line, TelemetryRow& r) const {
+    for (std::size_t w = 0; w < kTelemetryWheels; ++w) {
+      const std::optional<double> i = measured(cells, kI0 + static_cast<int>(w), line);
+      r.current_missing[w] = !i.has_value();
+      r.current_a[w] = i.value_or(0.0);
+    }
+  }
+  // Pitch and roll, and the four joints, are each one sensor to the flight
+  // code (one presence flag): a group with an empty cell is missing as a
+  // whole, every value of it 0, so that writing the row back gives the same row.
+  void read_attitude_and_joints(const std::vector<Cell>& cells, std::size_t line, TelemetryRow& r) const {
+    const std::optional<double> pitch = measured(cells, kPitch, line);
+    const std::optional<double> roll = measured(cells, kRoll, line);
+    r.attitude_missing = !pitch || !roll;
+    r.pitch_deg = r.attitude_missing ? 0.0 : *pitch;
+    r.roll_deg = r.attitude_missing ? 0.0 : *roll;
+    std::array<std::optional<double>, 4> joint{};
+    bool all = true;
+    for (std::size_t j = 0; j < joint.size(); ++j) {
+      joint[j] = measured(cells, kRockerL + static_cast<int>(j), line);
+      all = all && joint[j].has_value();
+    }
+    r.joints_missing = !all;
+    r.rocker_deg = {all ? *joint[0] : 0.0, all ? *joint[1] : 0.0};
+    r.bogie_deg = {all ? *joint[2] : 0.0, all ? *joint[3] : 0.0};
   }
   std::optional<double> optional(const std::vector<Cell>& cells, int col, std::size_t line) const {
     if (!has(col) || cell(cells, col).text.empty()) return std::nullopt;
@@ -370,10 +396,15 @@ TelemetryLog parse_telemetry_text(const std::string& text, const std::string& so
 std::string format_telemetry_row(const TelemetryRow& r) {
   std::string s = fmt("%.3f", r.time_s);
   s += r.valid ? ",1" : ",0";
-  for (double i : r.current_a) s += "," + fmt("%.5f", i);
+  // A missing sensor is an empty cell (its group's every cell for the attitude
+  // and the joints).
+  for (std::size_t w = 0; w < kTelemetryWheels; ++w) {
+    s += "," + (r.current_missing[w] ? std::string() : fmt("%.5f", r.current_a[w]));
+  }
   s += r.reverse ? ",R" : ",F";
-  for (double a : {r.pitch_deg, r.roll_deg, r.rocker_deg[0], r.rocker_deg[1], r.bogie_deg[0], r.bogie_deg[1]}) {
-    s += "," + fmt("%.4f", a);
+  for (double a : {r.pitch_deg, r.roll_deg}) s += "," + (r.attitude_missing ? std::string() : fmt("%.4f", a));
+  for (double a : {r.rocker_deg[0], r.rocker_deg[1], r.bogie_deg[0], r.bogie_deg[1]}) {
+    s += "," + (r.joints_missing ? std::string() : fmt("%.4f", a));
   }
   s += "," + opt("%.5f", r.accel_mps2);
   s += "," + opt("%.5f", r.speed_mps);

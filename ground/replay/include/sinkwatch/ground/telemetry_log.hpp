@@ -37,11 +37,20 @@ struct TelemetryRow {
   double time_s = 0.0;
   bool valid = true;
   std::array<double, kTelemetryWheels> current_a{};  // signed: positive drives forward
+  // A dropout: the sensor delivered nothing this cycle (an empty cell in the
+  // CSV). The value beside a missing flag is 0 and means nothing; the flight
+  // code gets the flag (RoverTelemetry::presence), never the 0 as a reading.
+  std::array<bool, kTelemetryWheels> current_missing{};
   bool reverse = false;                              // commanded direction of all six wheels
   double pitch_deg = 0.0;
   double roll_deg = 0.0;
   std::array<double, 2> rocker_deg{};  // left, right
   std::array<double, 2> bogie_deg{};
+  // One flag for pitch and roll, one for the four joint angles, as the flight
+  // code has (SensorPresence): an empty cell in either group marks its whole
+  // group missing, all its values 0.
+  bool attitude_missing = false;
+  bool joints_missing = false;
   std::optional<double> accel_mps2;     // along the path (IMU); empty: not measured
   std::optional<double> speed_mps;      // over the ground (VO / odometry)
   std::optional<double> rim_speed_mps;  // mean r*omega of the driven wheels
