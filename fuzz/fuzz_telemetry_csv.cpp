@@ -6,8 +6,9 @@
 //     escapes and libFuzzer reports it as a crash;
 //   * a TelemetryError's line is 0 or within the text;
 //   * an accepted log has rows, in non-decreasing time on the flight clock's
-//     range (0 .. 4294967.295 s), every measured number finite, and the
-//     metadata's numbers either parse or throw TelemetryError.
+//     range (0 .. 4294967.295 s), every measured number finite, a missing
+//     sensor's values 0 (an empty cell is a dropout, never a reading), and
+//     the metadata's numbers either parse or throw TelemetryError.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -42,9 +43,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       check(std::isfinite(row.time_s) && row.time_s >= 0.0 && row.time_s <= 4294967.295);
       check(row.time_s >= previous_time);
       previous_time = row.time_s;
-      for (double i : row.current_a) {
-        check(std::isfinite(i));
+      for (std::size_t w = 0U; w < row.current_a.size(); ++w) {
+        check(std::isfinite(row.current_a[w]));
+        check(!row.current_missing[w] || row.current_a[w] == 0.0);
       }
+      check(!row.attitude_missing || (row.pitch_deg == 0.0 && row.roll_deg == 0.0));
+      check(!row.joints_missing || (row.rocker_deg[0] == 0.0 && row.rocker_deg[1] == 0.0 &&
+                                    row.bogie_deg[0] == 0.0 && row.bogie_deg[1] == 0.0));
       check(std::isfinite(row.pitch_deg) && std::isfinite(row.roll_deg));
       for (std::size_t s = 0U; s < 2U; ++s) {
         check(std::isfinite(row.rocker_deg[s]) && std::isfinite(row.bogie_deg[s]));
