@@ -52,6 +52,9 @@ SampleStatus classify_sample(const WheelInput& input, TimeMs now, bool have_last
   if ((input.direction != DriveDirection::forward) && (input.direction != DriveDirection::reverse)) {
     return SampleStatus::direction_invalid;
   }
+  if (input.sensor_fault) {
+    return SampleStatus::sensor_fault;
+  }
   fx::Status range_status;
   const CurrentQ magnitude = fx::abs(input.current_a.q(), range_status);
   if ((!range_status.ok()) || (magnitude > table.motor.current_abs_max_a.q())) {
@@ -162,6 +165,13 @@ void WheelMonitor::clear_stop() noexcept {
   have_max_estimate_ = false;
 }
 
+void WheelMonitor::hold_in_caution() noexcept {
+  if (state_ == WheelState::nominal) {
+    state_ = WheelState::caution;
+    clear_history_ = 0U;
+  }
+}
+
 void WheelMonitor::track_episode(CurrentA directed, WheelLoadN load_n, SinkageM sinkage_m) noexcept {
   if ((!have_peak_) || (directed > peak_current_a_)) {
     have_peak_ = true;
@@ -266,8 +276,12 @@ WheelOutput WheelMonitor::step_with(const WheelInput& input, TimeMs now, const P
 
   // 3. Evidence for the state machine.
   Evidence e{};
+  // A blind wheel under continue_degraded is held in CAUTION by its
+  // unusable evidence but does not trip invalid_to_stop (monitor.hpp).
+  const bool tolerated_blind =
+      (status == SampleStatus::sensor_fault) && (table.health.policy == LossPolicy::continue_degraded);
   if (status != SampleStatus::ok) {
-    if (consecutive_unusable_ < 0xFFU) {
+    if ((consecutive_unusable_ < 0xFFU) && !tolerated_blind) {
       ++consecutive_unusable_;
     }
   } else {
@@ -331,9 +345,30 @@ RoverOutput RoverMonitor::step_all(const WheelInput (&inputs)[kMaxWheels], TimeM
       // nominal, or not monitored
     }
   }
-  const std::uint8_t k = (table.monitor.rover_stop_k == 0U) ? 1U : table.monitor.rover_stop_k;
-  out.decision = (out.wheels_in_stop >= k) ? RoverDecision::stop_and_replan : RoverDecision::continue_drive;
+  rover_rules(table, out);
   return out;
+}
+
+void RoverMonitor::rover_rules(const ParameterTable& table, RoverOutput& out) noexcept {
+  const std::uint8_t count = (table.monitor.wheel_count < kMaxWheels) ? table.monitor.wheel_count : kMaxWheels;
+  const bool embedding_seen = (out.wheels_in_stop + out.wheels_in_caution) > 0U;
+  for (std::uint8_t i = 0U; i < count; ++i) {
+    WheelOutput& w = out.wheels[i];
+    if (w.sample_status == SampleStatus::sensor_fault) {
+      ++out.wheels_blind;
+    }
+    if (embedding_seen && (w.sample_status != SampleStatus::ok) && (w.state == WheelState::nominal)) {
+      wheels_[i].hold_in_caution();
+      w.state = WheelState::caution;
+      ++out.wheels_in_caution;
+    }
+  }
+  const std::uint8_t k = (table.monitor.rover_stop_k == 0U) ? 1U : table.monitor.rover_stop_k;
+  const bool degraded_policy = table.health.policy == LossPolicy::continue_degraded;
+  const bool too_blind = degraded_policy && (out.wheels_blind > table.health.max_blind_wheels);
+  out.decision =
+      ((out.wheels_in_stop >= k) || too_blind) ? RoverDecision::stop_and_replan : RoverDecision::continue_drive;
+  out.degraded = degraded_policy && (out.wheels_blind > 0U) && !too_blind;
 }
 
 RoverOutput RoverMonitor::step(const WheelInput (&inputs)[kMaxWheels], TimeMs now,

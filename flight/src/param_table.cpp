@@ -19,6 +19,7 @@ constexpr std::uint16_t kCorrectionHeaderBytes = 4U;
 constexpr std::uint16_t kCorrectionRowBytes = 20U;
 constexpr std::uint16_t kMonitorBytes = 44U;
 constexpr std::uint16_t kEscapeBytes = 20U;
+constexpr std::uint16_t kHealthBytes = 24U;
 constexpr std::size_t kSectionHeaderBytes = 4U;
 constexpr std::uint16_t kCoreSections = 5U;
 // Capacity of ExtensionSection::bytes, a compile-time bound for its copy loop.
@@ -203,6 +204,28 @@ void read_monitor(Reader& r, MonitorParams& m) noexcept {
   m.rover_stop_k = r.u8();
 }
 
+/// Section 7: a table whose health checks are all zero (off) leaves it out,
+/// so that tables written before it existed keep their bytes.
+bool health_present(const HealthParams& h) noexcept {
+  return (h.policy != LossPolicy::stop) || (h.stuck_cycles != 0U) || (h.implausible_cycles != 0U) ||
+         (h.recover_cycles != 0U) || (h.max_blind_wheels != 0U) || (h.bridge_ms != 0U) ||
+         (h.current_step_a.raw() != 0) || (h.attitude_step_rad.raw() != 0) || (h.joint_step_rad.raw() != 0);
+}
+
+void write_health(Writer& w, const HealthParams& h) noexcept {
+  w.u8(static_cast<std::uint8_t>(h.policy));
+  w.u8(h.stuck_cycles);
+  w.u8(h.implausible_cycles);
+  w.u8(h.recover_cycles);
+  w.u8(h.max_blind_wheels);
+  w.u8(0U);
+  w.u16(0U);
+  w.u32(h.bridge_ms);
+  w.i32(h.current_step_a.raw());
+  w.i32(h.attitude_step_rad.raw());
+  w.i32(h.joint_step_rad.raw());
+}
+
 void write_escape(Writer& w, const EscapeParams& e) noexcept {
   w.u32(e.forward_phase_ms);
   w.u32(e.reverse_phase_ms);
@@ -358,6 +381,30 @@ RejectReason validate_escape(const EscapeParams& e, const MonitorParams& m) noex
   return RejectReason::ok;
 }
 
+
+constexpr std::uint32_t kMaxBridgeMs = 60000U;
+// A quarter turn in one sample is beyond any attitude or joint change.
+constexpr AngleRad kMaxHealthStepRad{fx::constant<AngleQ>(1.5707963267948966)};
+
+RejectReason validate_health(const HealthParams& h, const MotorParams& motor, const MonitorParams& m) noexcept {
+  if ((h.policy != LossPolicy::stop) && (h.policy != LossPolicy::continue_degraded)) {
+    return RejectReason::health_policy_out_of_range;
+  }
+  // Every wheel blind would be a drive with no evidence at all.
+  if (h.max_blind_wheels >= m.wheel_count) {
+    return RejectReason::health_blind_wheels_out_of_range;
+  }
+  if ((h.current_step_a < CurrentA::zero()) || (h.current_step_a > motor.current_abs_max_a) ||
+      (h.attitude_step_rad < AngleRad::zero()) || (h.attitude_step_rad > kMaxHealthStepRad) ||
+      (h.joint_step_rad < AngleRad::zero()) || (h.joint_step_rad > kMaxHealthStepRad)) {
+    return RejectReason::health_step_out_of_range;
+  }
+  if (h.bridge_ms > kMaxBridgeMs) {
+    return RejectReason::health_bridge_out_of_range;
+  }
+  return RejectReason::ok;
+}
+
 }  // namespace
 
 // ---- defaults --------------------------------------------------------------
@@ -417,6 +464,21 @@ constexpr ParameterTable make_default_table() noexcept {
 
   t.rover_geometry.present = false;
   t.rover_geometry.length = 0U;
+
+  // Section 7 (docs/fault-tolerance.md): at 5 Hz, stuck after 2 s of
+  // identical samples, a free-wheeling motor after 1 s, recovered after 1 s;
+  // an IMU or joint fault bridged for 2 s; spikes beyond 1 A, 2 deg, 3 deg
+  // in one sample (Yutu's currents stay below 1 A; the soil changes them by
+  // tenths of an ampere per sample).
+  t.health.policy = LossPolicy::stop;
+  t.health.stuck_cycles = 10U;
+  t.health.implausible_cycles = 5U;
+  t.health.recover_cycles = 5U;
+  t.health.max_blind_wheels = 1U;
+  t.health.bridge_ms = 2000U;
+  t.health.current_step_a = CurrentA(fx::constant<CurrentQ>(1.0));
+  t.health.attitude_step_rad = AngleRad(fx::constant<AngleQ>(0.034906585039886591));
+  t.health.joint_step_rad = AngleRad(fx::constant<AngleQ>(0.052359877559829883));
   return t;
 }
 
@@ -457,6 +519,10 @@ RejectReason validate(const ParameterTable& t) noexcept {
   if (r != RejectReason::ok) {
     return r;
   }
+  r = validate_health(t.health, t.motor, t.monitor);
+  if (r != RejectReason::ok) {
+    return r;
+  }
   if (t.rover_geometry.present && (t.rover_geometry.length > kExtensionMaxBytes)) {
     return RejectReason::extension_too_long;
   }
@@ -471,11 +537,16 @@ EncodeResult encode(const ParameterTable& t, std::uint8_t* out, std::size_t capa
     return EncodeResult{0U, RejectReason::extension_too_long};
   }
   const std::uint8_t rows = (t.correction.count > kMaxCorrectionRows) ? kMaxCorrectionRows : t.correction.count;
-  const std::uint16_t sections = static_cast<std::uint16_t>(kCoreSections + (t.rover_geometry.present ? 1U : 0U));
+  const bool with_health = health_present(t.health);
+  const std::uint16_t sections =
+      static_cast<std::uint16_t>(kCoreSections + (t.rover_geometry.present ? 1U : 0U) + (with_health ? 1U : 0U));
   std::size_t total = kTableHeaderBytes + (kCoreSections * kSectionHeaderBytes) + kEstimatorBytes + kMotorBytes +
                       correction_bytes(rows) + kMonitorBytes + kEscapeBytes + kTableCrcBytes;
   if (t.rover_geometry.present) {
     total += kSectionHeaderBytes + t.rover_geometry.length;
+  }
+  if (with_health) {
+    total += kSectionHeaderBytes + kHealthBytes;
   }
   if (total > capacity) {
     return EncodeResult{0U, RejectReason::buffer_too_small};
@@ -506,6 +577,10 @@ EncodeResult encode(const ParameterTable& t, std::uint8_t* out, std::size_t capa
       w.u8(t.rover_geometry.bytes[i]);
     }
   }
+  if (with_health) {
+    write_section_header(w, SectionId::health, kHealthBytes);
+    write_health(w, t.health);
+  }
   const std::uint32_t crc = crc32(out, w.pos());
   w.u32(crc);
   if (w.full() || (w.pos() != total)) {
@@ -523,7 +598,7 @@ constexpr std::uint32_t kTableMagicWord =
     static_cast<std::uint32_t>(kTableMagic[0]) | (static_cast<std::uint32_t>(kTableMagic[1]) << 8U) |
     (static_cast<std::uint32_t>(kTableMagic[2]) << 16U) | (static_cast<std::uint32_t>(kTableMagic[3]) << 24U);
 
-constexpr std::uint16_t kMaxSectionId = 6U;
+constexpr std::uint16_t kMaxSectionId = 7U;
 // Bit id of a section set, ids 1..kCoreSections: the sections every table has.
 constexpr std::uint32_t kCoreSectionBits = (1U << (kCoreSections + 1U)) - 2U;
 
@@ -640,6 +715,31 @@ RejectReason read_extension_section(Reader& r, std::uint16_t length, ExtensionSe
   return RejectReason::ok;
 }
 
+RejectReason read_health_section(Reader& r, std::uint16_t length, HealthParams& h) noexcept {
+  if (length != kHealthBytes) {
+    return RejectReason::section_length_mismatch;
+  }
+  const std::uint8_t policy = r.u8();
+  h.stuck_cycles = r.u8();
+  h.implausible_cycles = r.u8();
+  h.recover_cycles = r.u8();
+  h.max_blind_wheels = r.u8();
+  const std::uint8_t reserved8 = r.u8();
+  const std::uint16_t reserved16 = r.u16();
+  h.bridge_ms = r.u32();
+  h.current_step_a = read_q<CurrentA>(r);
+  h.attitude_step_rad = read_q<AngleRad>(r);
+  h.joint_step_rad = read_q<AngleRad>(r);
+  if (policy > static_cast<std::uint8_t>(LossPolicy::continue_degraded)) {
+    return RejectReason::health_policy_out_of_range;
+  }
+  h.policy = static_cast<LossPolicy>(policy);
+  if ((reserved8 != 0U) || (reserved16 != 0U)) {
+    return RejectReason::reserved_not_zero;
+  }
+  return RejectReason::ok;
+}
+
 RejectReason read_section_payload(Reader& r, SectionId id, std::uint16_t length, ParameterTable& t) noexcept {
   switch (id) {
     case SectionId::estimator:
@@ -654,6 +754,8 @@ RejectReason read_section_payload(Reader& r, SectionId id, std::uint16_t length,
       return read_escape_section(r, length, t.escape);
     case SectionId::rover_geometry:
       return read_extension_section(r, length, t.rover_geometry);
+    case SectionId::health:
+      return read_health_section(r, length, t.health);
     // GCOVR_EXCL_START MISRA 16.4.1's default; read_section() refuses other ids first (docs/coverage.md)
     default:
       return RejectReason::unknown_section;
@@ -695,7 +797,7 @@ RejectReason read_section(Reader& r, std::size_t crc_at, ParameterTable& t, std:
 
 // Every section up to the CRC, then the count and the core sections.
 RejectReason read_sections(Reader& r, std::size_t crc_at, std::uint16_t section_count, ParameterTable& t) noexcept {
-  // At most one section per id, ids 1..6, so at most 6 iterations do work;
+  // At most one section per id, ids 1..7, so at most 7 iterations do work;
   // the loop bound also covers a corrupt count that passed the CRC.
   std::uint32_t seen = 0U;
   std::uint16_t parsed = 0U;

@@ -61,6 +61,10 @@ constexpr const char* kReasonNames[kRejectReasonCount] = {
     "extension_rejected",
     "buffer_too_small",
     "rover_radius_mismatch",
+    "health_policy_out_of_range",
+    "health_blind_wheels_out_of_range",
+    "health_step_out_of_range",
+    "health_bridge_out_of_range",
 };
 
 }  // namespace

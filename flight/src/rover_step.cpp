@@ -181,6 +181,30 @@ RoverStepStatus RoverStep::admit(const RoverTelemetry& t, TimeMs now, const Prep
   return RoverStepStatus::ok;
 }
 
+void RoverStep::assess(const RoverTelemetry& t, const PreparedParameters& prepared, bool clock_jump,
+                       RoverStepOutput& out) noexcept {
+  const HealthParams& hp = prepared.table().health;
+  constexpr std::uint8_t kClock = static_cast<std::uint8_t>(SensorChannel::clock);
+  if ((out.status == RoverStepStatus::telemetry_repeated) || (out.status == RoverStepStatus::telemetry_stale)) {
+    last_health_.channel[kClock] = health_.clock_refused(out.status == RoverStepStatus::telemetry_repeated, hp);
+  } else if (out.status == RoverStepStatus::ok) {
+    HealthSample s{};
+    s.time = t.time;
+    s.current_a = t.current_a;
+    s.direction = t.direction;
+    s.attitude = t.attitude;
+    s.joints = t.joints;
+    s.presence = t.presence;
+    s.driving = t.rim_speed_valid && !within(t.rim_speed_mps, kMinRimSpeedForSlip);
+    s.clock_jump = clock_jump;
+    last_health_ = health_.update(s, hp, prepared.table().motor.no_load_current_a,
+                                  prepared.table().motor.current_abs_max_a);
+  } else {
+    // Flagged invalid or refused parameters: nothing new about the sensors.
+  }
+  out.health = last_health_;
+}
+
 RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParameters& prepared,
                                    CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept {
   // 2. Wheel loads.
@@ -218,6 +242,7 @@ void RoverStep::monitor_stage(const RoverTelemetry& t, TimeMs now, const Prepare
     inputs[i].drawbar_pull_n = usable_sample ? out.drawbar_pull_n[i] : DrawbarPullN::zero();
     inputs[i].corrections = usable_sample ? &corr[i] : nullptr;
     inputs[i].drawbar_assumed = usable_sample && (out.drawbar_status == DrawbarStatus::saturated);
+    inputs[i].sensor_fault = usable_sample && !out.health.current_usable[i];
   }
   out.monitor = monitor_.step(inputs, now, prepared);
   out.decision = out.monitor.decision;
@@ -237,11 +262,22 @@ RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const Prepa
     out.decision = RoverDecision::stop_and_replan;
     return out;
   }
-  // 1. Telemetry and parameters; 2..4. loads, motion, drawbar pulls.
+  // 1. Telemetry and parameters; 1b. sensor health; 2..4. loads, motion,
+  //    drawbar pulls on the health monitor's attitude and joints (measured
+  //    or bridged).
+  const bool clock_jump =
+      have_time_ && (elapsed_ms(last_time_, t.time) > prepared.table().monitor.stale_timeout_ms);
   out.status = admit(t, now, prepared);
+  assess(t, prepared, clock_jump, out);
   CorrectionResult corr[kWheelCount]{};
+  if ((out.status == RoverStepStatus::ok) && !(out.health.attitude_usable && out.health.joints_usable)) {
+    out.status = RoverStepStatus::sensor_lost;
+  }
   if (out.status == RoverStepStatus::ok) {
-    out.status = compute(t, prepared, corr, out);
+    RoverTelemetry measured = t;
+    measured.attitude = out.health.attitude;
+    measured.joints = out.health.joints;
+    out.status = compute(measured, prepared, corr, out);
   }
   // 5. The monitor.
   monitor_stage(t, now, prepared, corr, out);

@@ -22,15 +22,25 @@ static int g_failed = 0;
 static sw_context g_ctx; /* static storage, as on a rover: no heap */
 
 /* Level ground, every wheel driving forward at `current_q20`. */
+/* Level ground at 5.5 cm/s. A live sensor's noise moves its last bits: a
+ * dither of 0..2 LSB keeps the sensor health checks from calling a channel
+ * stuck (flight/sensor_health.hpp). */
 static sw_telemetry level_sample(uint32_t time_ms, int32_t current_q20) {
   sw_telemetry t;
+  const int32_t dither = (int32_t)((time_ms / 100U) % 3U);
   memset(&t, 0, sizeof t);
   t.time_ms = time_ms;
   t.valid = 1U;
   for (unsigned i = 0U; i < SW_WHEELS; ++i) {
     t.direction[i] = SW_DIRECTION_FORWARD;
-    t.current_a_q20[i] = current_q20;
+    t.current_a_q20[i] = current_q20 + dither;
   }
+  t.pitch_rad_q28 = dither;
+  t.roll_rad_q28 = dither;
+  t.rocker_rad_q28[0] = dither;
+  t.rocker_rad_q28[1] = dither;
+  t.bogie_rad_q28[0] = dither;
+  t.bogie_rad_q28[1] = dither;
   t.accel_valid = 1U;
   t.accel_mps2_q24 = 0;
   t.speed_valid = 1U;
@@ -81,6 +91,37 @@ static void test_reject_reason_names(void) {
       CHECK(strcmp(name, sw_reject_reason_name((uint8_t)j)) != 0);
     }
   }
+}
+
+/* A current dropout is reported per channel; a whole side gone stops the
+ * rover under the default table's stop policy. */
+static void test_sensor_health(void) {
+  sw_cycle_result out;
+  uint32_t time_ms = 1000U;
+  int stopped_at = -1;
+  CHECK(sw_init(&g_ctx) == SW_OK);
+  for (int k = 0; k < 3; ++k) {
+    sw_telemetry t = level_sample(time_ms, (int32_t)(0.2 * (1 << 20)));
+    time_ms += 100U;
+    CHECK(sw_step(&g_ctx, &t, t.time_ms, &out) == SW_OK);
+    CHECK(out.sensor_health[SW_CHANNEL_CURRENT_LF + 1U] == SW_HEALTH_OK);
+  }
+  for (int k = 0; k < 20 && stopped_at < 0; ++k) {
+    sw_telemetry t = level_sample(time_ms, (int32_t)(0.2 * (1 << 20)));
+    time_ms += 100U;
+    t.current_missing[0] = 1U;
+    t.current_missing[1] = 1U;
+    t.current_missing[2] = 1U;
+    CHECK(sw_step(&g_ctx, &t, t.time_ms, &out) == SW_OK);
+    CHECK(out.sensor_health[SW_CHANNEL_CURRENT_LF + 1U] == SW_HEALTH_MISSING);
+    CHECK(out.sensor_health[SW_CHANNEL_CURRENT_LF + 3U] == SW_HEALTH_OK);
+    CHECK(out.wheels_blind == 3U);
+    CHECK(out.wheel[1].estimate_valid == 0U);
+    if (out.decision == SW_DECISION_STOP_AND_REPLAN) {
+      stopped_at = k;
+    }
+  }
+  CHECK(stopped_at == 9); /* invalid_to_stop = 10 unusable samples */
 }
 
 static void test_nominal_then_overcurrent(void) {
@@ -155,6 +196,7 @@ int main(void) {
   test_bad_table_keeps_default();
   test_reject_reason_names();
   test_nominal_then_overcurrent();
+  test_sensor_health();
   test_invalid_telemetry_is_reported();
   printf("c_api: %d passed, %d failed\n", g_passed, g_failed);
   return (g_failed == 0) ? 0 : 1;

@@ -264,6 +264,9 @@ TEST_F(MonitorTest, EverySampleStatus) {
   const WheelOutput o = feed(in);
   EXPECT_EQ(o.sample_status, SampleStatus::estimate_failed);
   EXPECT_FALSE(o.estimate_valid);
+  in = sample(1.0, 0.01);
+  in.sensor_fault = true;
+  EXPECT_EQ(feed(in).sample_status, SampleStatus::sensor_fault);
   const WheelCounters& c = wheel.counters();
   for (int s = 0; s < kSampleStatusCount; ++s) {
     if (s == static_cast<int>(SampleStatus::flagged_invalid)) continue;

@@ -47,13 +47,51 @@ TEST(ParamTable, DefaultIsValidAndRoundTrips) {
   const ParameterTable t = default_parameter_table();
   EXPECT_EQ(validate(t), RejectReason::ok);
   const Bytes b = encode_table(t);
-  EXPECT_EQ(b.size(), 16U + (4 + 4) + (4 + 20) + (4 + 4 + 5 * 20) + (4 + 44) + (4 + 20) + 4U);
+  // Sections 1..5, then section 7 (sensor health, 24 bytes), then the CRC.
+  EXPECT_EQ(b.size(), 16U + (4 + 4) + (4 + 20) + (4 + 4 + 5 * 20) + (4 + 44) + (4 + 20) + (4 + 24) + 4U);
   ParameterTable back{};
   ASSERT_EQ(decode(b.data(), b.size(), back), RejectReason::ok);
   EXPECT_EQ(encode_table(back), b);
   EXPECT_EQ(back.correction.rows[4].c3, t.correction.rows[4].c3);
   EXPECT_EQ(back.monitor.window_m, t.monitor.window_m);
   EXPECT_EQ(back.escape.freed_sinkage_m, t.escape.freed_sinkage_m);
+  EXPECT_EQ(back.health.current_step_a, t.health.current_step_a);
+  EXPECT_EQ(back.health.bridge_ms, t.health.bridge_ms);
+}
+
+TEST(ParamTable, ATableWithoutTheHealthSectionHasEveryCheckOff) {
+  ParameterTable t = default_parameter_table();
+  t.health = HealthParams{};
+  const Bytes b = encode_table(t);
+  EXPECT_EQ(b[12], 5U);  // section 7 left out: a table written before it existed
+  ParameterTable back{};
+  ASSERT_EQ(decode(b.data(), b.size(), back), RejectReason::ok);
+  EXPECT_EQ(back.health.policy, LossPolicy::stop);
+  EXPECT_EQ(back.health.stuck_cycles, 0U);
+  EXPECT_EQ(back.health.current_step_a, CurrentA::zero());
+  EXPECT_EQ(encode_table(back), b);
+}
+
+TEST(ParamTable, HealthSectionReservedBytesAndPolicyAreChecked) {
+  const Bytes good = encode_table(default_parameter_table());
+  std::vector<Section> secs = sections_of(good);
+  ASSERT_EQ(secs.back().id, 7U);
+  ParameterTable out{};
+  Section bad_policy = secs.back();
+  bad_policy.payload[0] = 2U;
+  std::vector<Section> with_policy = secs;
+  with_policy.back() = bad_policy;
+  EXPECT_EQ(decode(frame(with_policy).data(), frame(with_policy).size(), out), RejectReason::health_policy_out_of_range);
+  Section bad_reserved = secs.back();
+  bad_reserved.payload[6] = 1U;
+  std::vector<Section> with_reserved = secs;
+  with_reserved.back() = bad_reserved;
+  EXPECT_EQ(decode(frame(with_reserved).data(), frame(with_reserved).size(), out), RejectReason::reserved_not_zero);
+  Section short_section = secs.back();
+  short_section.payload.pop_back();
+  std::vector<Section> with_short = secs;
+  with_short.back() = short_section;
+  EXPECT_EQ(decode(frame(with_short).data(), frame(with_short).size(), out), RejectReason::section_length_mismatch);
 }
 
 TEST(ParamTable, ByteLayoutIsLittleEndianAsDocumented) {
@@ -62,7 +100,7 @@ TEST(ParamTable, ByteLayoutIsLittleEndianAsDocumented) {
   EXPECT_EQ(b[4], 1U);  // format version 1, little-endian
   EXPECT_EQ(b[5], 0U);
   EXPECT_EQ(b[8] | (b[9] << 8), static_cast<int>(b.size()));
-  EXPECT_EQ(b[12], 5U);  // five sections
+  EXPECT_EQ(b[12], 6U);  // five sections and section 7 (sensor health)
   // Section 1 at offset 16: id 1, length 4, radius 0.15 m in Q7.24 = 2516582 = 0x00266666.
   EXPECT_EQ(Bytes(b.begin() + 16, b.begin() + 24), (Bytes{1, 0, 4, 0, 0x66, 0x66, 0x26, 0x00}));
 }
@@ -149,6 +187,13 @@ std::vector<Mutation> mutations() {
       {"decrease < 0", [](ParameterTable& t) { t.escape.min_decrease_m = q<SinkageM>(-0.001); }, RejectReason::escape_decrease_out_of_range},
       {"freed 0", [](ParameterTable& t) { t.escape.freed_sinkage_m = SinkageM::zero(); }, RejectReason::escape_freed_out_of_range},
       {"freed >= stop", [](ParameterTable& t) { t.escape.freed_sinkage_m = t.monitor.stop_sinkage_m; }, RejectReason::escape_freed_out_of_range},
+      {"health policy 2", [](ParameterTable& t) { t.health.policy = static_cast<LossPolicy>(2U); }, RejectReason::health_policy_out_of_range},
+      {"blind wheels = wheels", [](ParameterTable& t) { t.health.max_blind_wheels = t.monitor.wheel_count; }, RejectReason::health_blind_wheels_out_of_range},
+      {"current step < 0", [](ParameterTable& t) { t.health.current_step_a = q<CurrentA>(-0.1); }, RejectReason::health_step_out_of_range},
+      {"current step > range", [](ParameterTable& t) { t.health.current_step_a = q<CurrentA>(11.0); }, RejectReason::health_step_out_of_range},
+      {"attitude step 2 rad", [](ParameterTable& t) { t.health.attitude_step_rad = q<AngleRad>(2.0); }, RejectReason::health_step_out_of_range},
+      {"joint step < 0", [](ParameterTable& t) { t.health.joint_step_rad = q<AngleRad>(-0.01); }, RejectReason::health_step_out_of_range},
+      {"bridge 61 s", [](ParameterTable& t) { t.health.bridge_ms = 61000U; }, RejectReason::health_bridge_out_of_range},
       {"extension 300 bytes", [](ParameterTable& t) { t.rover_geometry.present = true; t.rover_geometry.length = 300; }, RejectReason::extension_too_long},
   };
 }
@@ -176,13 +221,13 @@ TEST(ParamTable, EveryRangeCheckRejectsWithItsReasonAndTheStoreKeepsItsTable) {
     EXPECT_EQ(encode_table(store.active()), encode_table(before)) << m.name;
     covered.insert(m.expected);
   }
-  EXPECT_EQ(covered.size(), 33U);  // every validate() reason
+  EXPECT_EQ(covered.size(), 37U);  // every validate() reason
 }
 
 TEST(ParamTable, FramingRejections) {
   const Bytes good = encode_table(default_parameter_table());
   const std::vector<Section> secs = sections_of(good);
-  ASSERT_EQ(secs.size(), 5U);
+  ASSERT_EQ(secs.size(), 6U);  // sections 1..5 and 7
   ASSERT_EQ(frame(secs), good);  // the test's framer agrees with encode()
 
   ParameterTable out{};
@@ -233,7 +278,7 @@ TEST(ParamTable, FramingRejections) {
   s.push_back(secs[0]);
   EXPECT_EQ(decode_bytes(frame(s)), RejectReason::duplicate_section);
   s = secs;
-  s.pop_back();  // no escape section
+  s.erase(s.begin() + 4);  // no escape section (section 7 is optional)
   EXPECT_EQ(decode_bytes(frame(s)), RejectReason::missing_section);
   EXPECT_EQ(decode_bytes(frame(secs, 4)), RejectReason::section_count_mismatch);
   s = secs;

@@ -36,6 +36,20 @@ ParameterTable gen_valid_table() {
   t.monitor.clear_n = static_cast<std::uint8_t>(*rc::gen::inRange(1, t.monitor.window_m + 1));
   t.monitor.wheel_count = static_cast<std::uint8_t>(*rc::gen::inRange(1, 7));
   t.monitor.rover_stop_k = static_cast<std::uint8_t>(*rc::gen::inRange(1, t.monitor.wheel_count + 1));
+  // Section 7: sometimes left out (all zero), else anywhere in its ranges.
+  if (*rc::gen::arbitrary<bool>()) {
+    t.health = HealthParams{};
+  } else {
+    t.health.policy = *rc::gen::element(LossPolicy::stop, LossPolicy::continue_degraded);
+    t.health.stuck_cycles = *rc::gen::arbitrary<std::uint8_t>();
+    t.health.implausible_cycles = *rc::gen::arbitrary<std::uint8_t>();
+    t.health.recover_cycles = *rc::gen::arbitrary<std::uint8_t>();
+    t.health.max_blind_wheels = static_cast<std::uint8_t>(*rc::gen::inRange(0, static_cast<int>(t.monitor.wheel_count)));
+    t.health.bridge_ms = *rc::gen::inRange<std::uint32_t>(0U, 60001U);
+    t.health.current_step_a = CurrentA::from_raw(*rc::gen::inRange<std::int32_t>(0, t.motor.current_abs_max_a.raw() + 1));
+    t.health.attitude_step_rad = AngleRad::from_raw(*rc::gen::inRange<std::int32_t>(0, 421657428 + 1));
+    t.health.joint_step_rad = AngleRad::from_raw(*rc::gen::inRange<std::int32_t>(0, 421657428 + 1));
+  }
   if (*rc::gen::arbitrary<bool>()) {
     t.rover_geometry.present = true;
     t.rover_geometry.length = static_cast<std::uint16_t>(*rc::gen::inRange(0, 257));

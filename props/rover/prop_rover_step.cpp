@@ -87,9 +87,24 @@ RC_GTEST_PROP(RoverStepProp, NeverANumberFromInvalidInputAndAlwaysConsistent, ()
     if (ok) {
       RC_ASSERT(out.loads_valid && out.drawbar_valid && out.accel_valid);
     }
+    // The loads rest on the health stage's attitude: this sample's, or the
+    // last good one while a spike or a fault is bridged.
+    if (out.loads_valid && !out.health.attitude_bridged) {
+      RC_ASSERT(out.health.attitude.pitch_rad == t.attitude.pitch_rad);
+      RC_ASSERT(out.health.attitude.roll_rad == t.attitude.roll_rad);
+    }
+    // A wheel whose current channel is unusable has no estimate.
+    for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+      if (ok && !out.health.current_usable[i]) {
+        // sensor_fault, or a reason the monitor checks first (a bad direction)
+        RC_ASSERT(out.monitor.wheels[i].sample_status != flight::SampleStatus::ok);
+        RC_ASSERT(!out.monitor.wheels[i].estimate_valid);
+      }
+    }
     if (out.loads_valid) {
+      const flight::RoverAttitude& a = out.health.attitude;
       const double mg = d(rover.mass_kg) * d(rover.gravity_mps2);
-      const double normal = mg * std::cos(d(t.attitude.pitch_rad)) * std::cos(d(t.attitude.roll_rad));
+      const double normal = mg * std::cos(d(a.pitch_rad)) * std::cos(d(a.roll_rad));
       double sum = 0.0;
       for (const flight::WheelLoadN w : out.load_n) {
         RC_ASSERT(w.raw() >= 0);

@@ -102,6 +102,14 @@ static_assert(SW_REJECT_EXTENSION_TOO_LONG == static_cast<int>(RejectReason::ext
 static_assert(SW_REJECT_EXTENSION_REJECTED == static_cast<int>(RejectReason::extension_rejected), "C and C++ reject reasons differ");
 static_assert(SW_REJECT_BUFFER_TOO_SMALL == static_cast<int>(RejectReason::buffer_too_small), "C and C++ reject reasons differ");
 static_assert(SW_REJECT_ROVER_RADIUS_MISMATCH == static_cast<int>(RejectReason::rover_radius_mismatch), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_HEALTH_POLICY_OUT_OF_RANGE == static_cast<int>(RejectReason::health_policy_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_HEALTH_BLIND_WHEELS_OUT_OF_RANGE == static_cast<int>(RejectReason::health_blind_wheels_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_HEALTH_STEP_OUT_OF_RANGE == static_cast<int>(RejectReason::health_step_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_HEALTH_BRIDGE_OUT_OF_RANGE == static_cast<int>(RejectReason::health_bridge_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_SENSOR_CHANNELS == sinkwatch::flight::kSensorChannelCount, "C and C++ sensor channels differ");
+static_assert(SW_CHANNEL_CLOCK == static_cast<int>(sinkwatch::flight::SensorChannel::clock), "C and C++ sensor channels differ");
+static_assert(SW_HEALTH_RECOVERING == static_cast<int>(sinkwatch::flight::SensorHealth::recovering), "C and C++ sensor health differs");
+static_assert(SW_SENSOR_LOST == static_cast<int>(sinkwatch::flight::RoverStepStatus::sensor_lost), "C and C++ step status differs");
 static_assert(SW_REJECT_REASON_COUNT == sinkwatch::flight::kRejectReasonCount, "C and C++ reject reasons differ");
 
 
@@ -141,6 +149,11 @@ RoverTelemetry from_c(const sw_telemetry& in) noexcept {
   t.speed_mps = SpeedMps::from_raw(in.speed_mps_q24);
   t.rim_speed_valid = in.rim_speed_valid != 0U;
   t.rim_speed_mps = SpeedMps::from_raw(in.rim_speed_mps_q24);
+  for (std::uint32_t i = 0U; i < SW_WHEELS; ++i) {
+    t.presence.current_missing[i] = in.current_missing[i] != 0U;
+  }
+  t.presence.attitude_missing = in.attitude_missing != 0U;
+  t.presence.joints_missing = in.joints_missing != 0U;
   return t;
 }
 
@@ -151,6 +164,13 @@ void to_c(const RoverStepOutput& r, sw_cycle_result& out) noexcept {
   out.drawbar_valid = flag(r.drawbar_valid);
   out.wheels_in_stop = r.monitor.wheels_in_stop;
   out.wheels_in_caution = r.monitor.wheels_in_caution;
+  out.wheels_blind = r.monitor.wheels_blind;
+  out.degraded = flag(r.monitor.degraded);
+  out.attitude_bridged = flag(r.health.attitude_bridged);
+  out.joints_bridged = flag(r.health.joints_bridged);
+  for (std::uint32_t c = 0U; c < SW_SENSOR_CHANNELS; ++c) {
+    out.sensor_health[c] = static_cast<std::uint8_t>(r.health.channel[c]);
+  }
   for (std::uint32_t i = 0U; i < SW_WHEELS; ++i) {
     const sinkwatch::flight::WheelOutput& w = r.monitor.wheels[i];
     sw_wheel_result& o = out.wheel[i];

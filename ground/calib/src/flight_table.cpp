@@ -51,85 +51,12 @@ std::string describe_rows(const flight::CorrectionTable& c) {
   return out.str();
 }
 
-// The name of every RejectReason, in the enum's order (checked below), as
-// the flight code's enumerators are spelled: a table rather than a switch
-// keeps the function one screen long.
-using NamedReason = std::pair<flight::RejectReason, const char*>;
-using R = flight::RejectReason;
-constexpr std::array<NamedReason, flight::kRejectReasonCount> kRejectReasonNames = {{
-    {R::ok, "ok"},
-    {R::null_buffer, "null_buffer"},
-    {R::too_short, "too_short"},
-    {R::too_long, "too_long"},
-    {R::bad_magic, "bad_magic"},
-    {R::unsupported_format_version, "unsupported_format_version"},
-    {R::length_mismatch, "length_mismatch"},
-    {R::reserved_not_zero, "reserved_not_zero"},
-    {R::crc_mismatch, "crc_mismatch"},
-    {R::section_truncated, "section_truncated"},
-    {R::section_length_mismatch, "section_length_mismatch"},
-    {R::unknown_section, "unknown_section"},
-    {R::duplicate_section, "duplicate_section"},
-    {R::missing_section, "missing_section"},
-    {R::section_count_mismatch, "section_count_mismatch"},
-    {R::radius_out_of_range, "radius_out_of_range"},
-    {R::gear_ratio_out_of_range, "gear_ratio_out_of_range"},
-    {R::efficiency_out_of_range, "efficiency_out_of_range"},
-    {R::torque_constant_out_of_range, "torque_constant_out_of_range"},
-    {R::no_load_current_out_of_range, "no_load_current_out_of_range"},
-    {R::current_range_out_of_range, "current_range_out_of_range"},
-    {R::correction_count_out_of_range, "correction_count_out_of_range"},
-    {R::load_breakpoint_out_of_range, "load_breakpoint_out_of_range"},
-    {R::load_breakpoints_not_increasing, "load_breakpoints_not_increasing"},
-    {R::c1_out_of_range, "c1_out_of_range"},
-    {R::c2_out_of_range, "c2_out_of_range"},
-    {R::c3_out_of_range, "c3_out_of_range"},
-    {R::dp_max_out_of_range, "dp_max_out_of_range"},
-    {R::allowed_sinkage_out_of_range, "allowed_sinkage_out_of_range"},
-    {R::caution_sinkage_out_of_range, "caution_sinkage_out_of_range"},
-    {R::stop_sinkage_out_of_range, "stop_sinkage_out_of_range"},
-    {R::sinkage_hysteresis_out_of_range, "sinkage_hysteresis_out_of_range"},
-    {R::current_caution_fraction_out_of_range, "current_caution_fraction_out_of_range"},
-    {R::current_hysteresis_out_of_range, "current_hysteresis_out_of_range"},
-    {R::load_envelope_out_of_range, "load_envelope_out_of_range"},
-    {R::stale_timeout_out_of_range, "stale_timeout_out_of_range"},
-    {R::window_out_of_range, "window_out_of_range"},
-    {R::trip_count_out_of_range, "trip_count_out_of_range"},
-    {R::clear_count_out_of_range, "clear_count_out_of_range"},
-    {R::invalid_limit_out_of_range, "invalid_limit_out_of_range"},
-    {R::wheel_count_out_of_range, "wheel_count_out_of_range"},
-    {R::rover_stop_k_out_of_range, "rover_stop_k_out_of_range"},
-    {R::escape_phase_out_of_range, "escape_phase_out_of_range"},
-    {R::escape_cycles_out_of_range, "escape_cycles_out_of_range"},
-    {R::escape_patience_out_of_range, "escape_patience_out_of_range"},
-    {R::escape_decrease_out_of_range, "escape_decrease_out_of_range"},
-    {R::escape_freed_out_of_range, "escape_freed_out_of_range"},
-    {R::extension_too_long, "extension_too_long"},
-    {R::extension_rejected, "extension_rejected"},
-    {R::buffer_too_small, "buffer_too_small"},
-    {R::rover_radius_mismatch, "rover_radius_mismatch"},
-}};
-
-// Every entry sits at its enumerator's value and has a name, so a reason
-// added to the flight enum (kRejectReasonCount grows) without a name here
-// fails the build: an entry the initialiser leaves out is {ok, nullptr}.
-constexpr bool names_in_enum_order() {
-  for (std::size_t i = 0; i < kRejectReasonNames.size(); ++i) {
-    if (static_cast<std::size_t>(kRejectReasonNames[i].first) != i ||
-        kRejectReasonNames[i].second == nullptr) {
-      return false;
-    }
-  }
-  return true;
-}
-static_assert(names_in_enum_order(), "kRejectReasonNames must name every RejectReason in order");
-
 }  // namespace
 
 std::string reject_reason_name(flight::RejectReason reason) {
-  const auto index = static_cast<std::size_t>(reason);
-  if (index < kRejectReasonNames.size()) {
-    return kRejectReasonNames[index].second;
+  // One name table, the flight module's (flight/src/reject_reason.cpp).
+  if (static_cast<std::size_t>(reason) < flight::kRejectReasonCount) {
+    return flight::reason_name(reason);
   }
   return "reason " + std::to_string(static_cast<unsigned>(reason));
 }

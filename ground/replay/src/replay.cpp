@@ -311,6 +311,7 @@ const char* to_string(flight::RoverStepStatus s) {
     case S::no_acceleration: return "no acceleration";
     case S::drawbar_failed: return "drawbar pull failed";
     case S::radius_mismatch: return "wheel radius differs between rover and table";
+    case S::sensor_lost: return "IMU or joint sensor lost";
   }
   return "?";
 }
@@ -358,6 +359,7 @@ const char* to_string(flight::SampleStatus s) {
     case S::load_out_of_range: return "load out of range";
     case S::direction_invalid: return "direction invalid";
     case S::estimate_failed: return "estimate failed";
+    case S::sensor_fault: return "sensor fault";
   }
   return "?";
 }

@@ -47,6 +47,7 @@ typedef enum sw_status {
   SW_NO_ACCELERATION = 9,
   SW_DRAWBAR_FAILED = 10,
   SW_RADIUS_MISMATCH = 11,
+  SW_SENSOR_LOST = 12,
   SW_NULL_ARGUMENT = 100,
   SW_NOT_INITIALISED = 101
 } sw_status;
@@ -106,12 +107,28 @@ typedef enum sw_reject_reason {
   SW_REJECT_EXTENSION_REJECTED = 48,
   SW_REJECT_BUFFER_TOO_SMALL = 49,
   SW_REJECT_ROVER_RADIUS_MISMATCH = 50,
-  SW_REJECT_REASON_COUNT = 51 /* not a reason: the number of reasons */
+  SW_REJECT_HEALTH_POLICY_OUT_OF_RANGE = 51,
+  SW_REJECT_HEALTH_BLIND_WHEELS_OUT_OF_RANGE = 52,
+  SW_REJECT_HEALTH_STEP_OUT_OF_RANGE = 53,
+  SW_REJECT_HEALTH_BRIDGE_OUT_OF_RANGE = 54,
+  SW_REJECT_REASON_COUNT = 55 /* not a reason: the number of reasons */
 } sw_reject_reason;
 
 enum { SW_DIRECTION_FORWARD = 0, SW_DIRECTION_REVERSE = 1 };
 enum { SW_WHEEL_NOMINAL = 0, SW_WHEEL_CAUTION = 1, SW_WHEEL_STOP = 2 };
 enum { SW_DECISION_CONTINUE = 0, SW_DECISION_STOP_AND_REPLAN = 1 };
+/* Sensor channels and their health (flight/sensor_health.hpp). */
+#define SW_SENSOR_CHANNELS 9U
+enum { SW_CHANNEL_CURRENT_LF = 0, SW_CHANNEL_IMU = 6, SW_CHANNEL_JOINTS = 7, SW_CHANNEL_CLOCK = 8 };
+enum {
+  SW_HEALTH_OK = 0,
+  SW_HEALTH_MISSING = 1,
+  SW_HEALTH_STUCK = 2,
+  SW_HEALTH_SPIKE = 3,
+  SW_HEALTH_NOISY = 4,
+  SW_HEALTH_IMPLAUSIBLE = 5,
+  SW_HEALTH_RECOVERING = 6
+};
 
 /* One cycle's raw telemetry. Wheel order: left front, left middle, left rear,
  * right front, right middle, right rear (flight/rover_geometry.hpp). */
@@ -130,6 +147,11 @@ typedef struct sw_telemetry {
   int32_t speed_mps_q24;             /* over the ground, m/s, Q7.24 */
   uint8_t rim_speed_valid;
   int32_t rim_speed_mps_q24;         /* mean r*omega of the driven wheels, m/s, Q7.24 */
+  /* Per-sensor dropouts (flight/sensor_health.hpp): non-zero marks the value
+   * absent. Zero, as a zeroed struct has it, means present. */
+  uint8_t current_missing[SW_WHEELS];
+  uint8_t attitude_missing;
+  uint8_t joints_missing;
 } sw_telemetry;
 
 typedef struct sw_wheel_result {
@@ -153,6 +175,11 @@ typedef struct sw_cycle_result {
   uint8_t drawbar_valid;
   uint8_t wheels_in_stop;
   uint8_t wheels_in_caution;
+  uint8_t wheels_blind;   /* wheels whose current sensor is faulty this cycle */
+  uint8_t degraded;       /* driving on with blind wheels (the table's loss policy) */
+  uint8_t attitude_bridged;  /* the IMU's last good attitude stands in this cycle */
+  uint8_t joints_bridged;    /* the joints' last good angles stand in this cycle */
+  uint8_t sensor_health[SW_SENSOR_CHANNELS];  /* SW_HEALTH_* per SW_CHANNEL_* */
   sw_wheel_result wheel[SW_WHEELS];
 } sw_cycle_result;
 

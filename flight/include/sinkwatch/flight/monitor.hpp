@@ -52,8 +52,9 @@ enum class SampleStatus : std::uint8_t {
   load_out_of_range = 5U,     ///< W outside [load_min, load_max]
   direction_invalid = 6U,     ///< direction is not forward/reverse
   estimate_failed = 7U,       ///< an intermediate overflowed: no number
+  sensor_fault = 8U,          ///< the wheel's current sensor is faulty (sensor_health.hpp)
 };
-constexpr std::uint8_t kSampleStatusCount = 8U;
+constexpr std::uint8_t kSampleStatusCount = 9U;
 
 /// Why a wheel entered STOP. `slip`: its samples came at or above the rover's
 /// high-slip level, where the drawbar pull is assumed (DP_max), not measured.
@@ -79,6 +80,12 @@ struct WheelInput {
   /// reads it instead of evaluating the table again. Must be for this load_n
   /// and live for the duration of the step() call.
   const CorrectionResult* corrections{nullptr};
+  /// The sensor health monitor named this wheel's current channel faulty
+  /// (missing, stuck, spiking, implausible): the sample is unusable. Under
+  /// LossPolicy::continue_degraded such samples hold the wheel in CAUTION
+  /// but do not count towards invalid_to_stop (the wheel is blind, not the
+  /// rover); under LossPolicy::stop they count like any unusable sample.
+  bool sensor_fault{false};
 };
 
 /// One wheel's result for one cycle.
@@ -130,6 +137,11 @@ class WheelMonitor {
   /// Back to NOMINAL with empty histories and peaks (counters are kept).
   void clear_stop() noexcept;
 
+  /// NOMINAL -> CAUTION without evidence of its own: the rover monitor's
+  /// rule for a wheel without usable evidence while another wheel points to
+  /// embedding. No effect in CAUTION or STOP.
+  void hold_in_caution() noexcept;
+
   [[nodiscard]] WheelState state() const noexcept { return state_; }
   [[nodiscard]] bool has_event() const noexcept { return has_event_; }
   [[nodiscard]] const EventRecord& last_event() const& noexcept { return event_; }
@@ -179,6 +191,10 @@ struct RoverOutput {
   RoverDecision decision{RoverDecision::continue_drive};
   std::uint8_t wheels_in_stop{0U};
   std::uint8_t wheels_in_caution{0U};
+  std::uint8_t wheels_blind{0U};  ///< wheels whose sample was a sensor fault this cycle
+  /// Driving on with blind wheels (LossPolicy::continue_degraded, at most
+  /// max_blind_wheels of them): the decision rests on the other wheels.
+  bool degraded{false};
   WheelOutput wheels[kMaxWheels];  ///< the first monitor.wheel_count are meaningful
 };
 
@@ -188,7 +204,9 @@ class RoverMonitor {
 
   /// One cycle for every wheel; inputs beyond monitor.wheel_count are ignored.
   /// The decision is stop_and_replan when at least rover_stop_k wheels are in
-  /// STOP.
+  /// STOP, or (LossPolicy::continue_degraded) more than max_blind_wheels are
+  /// blind. A wheel without usable evidence is held in CAUTION while any
+  /// other wheel is in CAUTION or STOP: never NOMINAL beside embedding.
   RoverOutput step(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const ParameterTable& table) noexcept;
 
   /// The same on prepared parameters (WheelMonitor::step); without a valid
@@ -203,6 +221,8 @@ class RoverMonitor {
 
  private:
   /// Every monitored wheel on `params` (the table itself or prepared ones).
+  /// The blind-wheel and unusable-evidence rules after every wheel's step.
+  void rover_rules(const ParameterTable& table, RoverOutput& out) noexcept;
   template <typename Params>
   RoverOutput step_all(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const ParameterTable& table,
                        const Params& params) noexcept;

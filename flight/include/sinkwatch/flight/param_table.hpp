@@ -51,6 +51,7 @@ enum class SectionId : std::uint16_t {
   monitor = 4U,         ///< MonitorParams
   escape = 5U,          ///< EscapeParams
   rover_geometry = 6U,  ///< issue 4: opaque here, decoded by its owner
+  health = 7U,          ///< HealthParams; optional: absent means every check off
 };
 
 // Every field of the parameter structs defaults to zero: a zero count,
@@ -86,6 +87,27 @@ struct EscapeParams {
   SinkageM freed_sinkage_m{};          ///< at or below: the wheel is free
 };
 
+/// What the rover does when evidence is lost for good (section 7 of the table).
+enum class LossPolicy : std::uint8_t {
+  stop = 0U,               ///< a blind wheel stops after invalid_to_stop samples (fail-safe)
+  continue_degraded = 1U,  ///< blind wheels held in CAUTION; stop when more than max_blind_wheels
+};
+
+/// Section 7: the sensor health checks (sensor_health.hpp). A zero cycle count or step switches that
+/// check off (a sensor known to quantise coarsely); a table without section 7
+/// has every check off and LossPolicy::stop, the behaviour before it existed.
+struct HealthParams {
+  LossPolicy policy{LossPolicy::stop};
+  std::uint8_t stuck_cycles{0U};      ///< identical raw samples while driving: stuck (0: off)
+  std::uint8_t implausible_cycles{0U};  ///< free-wheel or stall samples in a row (0: off)
+  std::uint8_t recover_cycles{0U};    ///< good samples before `recovering` becomes `ok`
+  std::uint8_t max_blind_wheels{0U};  ///< with continue_degraded: blind wheels tolerated
+  std::uint32_t bridge_ms{0U};        ///< an IMU or joint fault bridged by the last good value
+  CurrentA current_step_a{};          ///< |I - I_prev| beyond it: a spike (0: off)
+  AngleRad attitude_step_rad{};       ///< |pitch or roll change| beyond it: a spike (0: off)
+  AngleRad joint_step_rad{};          ///< |joint change| beyond it: a spike (0: off)
+};
+
 /// Bytes of a section this module carries but does not interpret.
 struct ExtensionSection {
   bool present{false};
@@ -101,6 +123,7 @@ struct ParameterTable {
   MonitorParams monitor{};
   EscapeParams escape{};
   ExtensionSection rover_geometry{};
+  HealthParams health{};  ///< section 7, written only when not all zero
 };
 
 /// Why a table was refused. One reason per check, so the ground knows which
@@ -166,10 +189,15 @@ enum class RejectReason : std::uint8_t {
   // load(): the rover section's wheel radius is not the table's (the statics
   // and Eq. 15 must describe the same wheel)
   rover_radius_mismatch,
+  // sensor health (section 7); appended, so that no value changes
+  health_policy_out_of_range,
+  health_blind_wheels_out_of_range,
+  health_step_out_of_range,
+  health_bridge_out_of_range,
 };
 
 /// Number of RejectReason values (for tests and telemetry tables).
-constexpr std::uint8_t kRejectReasonCount = static_cast<std::uint8_t>(RejectReason::rover_radius_mismatch) + 1U;
+constexpr std::uint8_t kRejectReasonCount = static_cast<std::uint8_t>(RejectReason::health_bridge_out_of_range) + 1U;
 
 /// The enumerator's name ("crc_mismatch"); "unknown" for a value outside the
 /// enum. Static storage.

@@ -29,17 +29,14 @@
 namespace sinkwatch {
 namespace flight {
 
-using AngleQ = fx::Q<std::int32_t, 28>;  ///< Q3.28, radians
 using MassQ = fx::Q<std::int32_t, 16>;   ///< Q15.16, kilograms
 using AccelQ = fx::Q<std::int32_t, 24>;  ///< Q7.24, m/s^2
 using SpeedQ = fx::Q<std::int32_t, 24>;  ///< Q7.24, m/s
 
-struct AngleTag;
 struct MassTag;
 struct AccelTag;
 struct SpeedTag;
 
-using AngleRad = Quantity<AngleTag, AngleQ>;
 using MassKg = Quantity<MassTag, MassQ>;
 using AccelMps2 = Quantity<AccelTag, AccelQ>;
 using SpeedMps = Quantity<SpeedTag, SpeedQ>;

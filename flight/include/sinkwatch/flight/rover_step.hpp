@@ -17,6 +17,10 @@
 // counts it and, after invalid_to_stop such cycles, stops the rover: blind
 // never means "continue". Attitudes beyond the stability limit stop the rover
 // in the same cycle. docs/rover-loads.md, section 8, gives the details.
+// Between stages 1 and 2 the sensor health monitor (sensor_health.hpp)
+// judges every channel: a faulty current makes its wheel's sample unusable,
+// a faulty IMU or joint sensor is bridged by its last good value and then
+// leaves the rover without loads (docs/fault-tolerance.md).
 //
 // Sign convention: drawbar pulls are along body +x, the convention of the
 // torque (positive drives the rover forward).
@@ -31,6 +35,7 @@
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/prepared_params.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
+#include "sinkwatch/flight/sensor_health.hpp"
 #include "sinkwatch/flight/units.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
 
@@ -57,6 +62,7 @@ struct RoverTelemetry {
   SpeedMps speed_mps;                       ///< over the ground (odometry / VO), signed
   bool rim_speed_valid{false};              ///< rim_speed_mps holds a value
   SpeedMps rim_speed_mps;                   ///< mean r w of the driven wheels, signed
+  SensorPresence presence{};                ///< per-sensor dropouts (all present by default)
 };
 
 enum class RoverStepStatus : std::uint8_t {
@@ -72,6 +78,7 @@ enum class RoverStepStatus : std::uint8_t {
   no_acceleration = 9U,        ///< no measured acceleration and no previous speed
   drawbar_failed = 10U,        ///< drawbar_pulls() or DP_max/W gave no number
   radius_mismatch = 11U,       ///< RoverParams and the table disagree on the wheel radius
+  sensor_lost = 12U,           ///< the IMU or the joints unusable beyond bridge_ms: no loads
 };
 
 struct RoverStepOutput {
@@ -87,6 +94,7 @@ struct RoverStepOutput {
   bool slip_known{false};
   Ratio slip;                              ///< limited to [-1, 1]
   std::uint32_t lifting_wheel{kWheelCount};  ///< with tip_over: the wheel that lifts
+  SensorHealthReport health{};             ///< every channel's health (sensor_health.hpp)
   RoverOutput monitor{};                   ///< per wheel: torque, sinkage, I_max, state
   RoverDecision decision{RoverDecision::stop_and_replan};  ///< the monitor's, or stop on tip_over / bad table
 };
@@ -132,7 +140,14 @@ class RoverStep {
   void monitor_stage(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared,
                      const CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept;
 
+  /// Stage 1b: the channels' health for an admitted sample, or the clock's
+  /// for a refused one (the other channels as last assessed).
+  void assess(const RoverTelemetry& t, const PreparedParameters& prepared, bool clock_jump,
+              RoverStepOutput& out) noexcept;
+
   RoverMonitor monitor_;
+  SensorHealthMonitor health_;
+  SensorHealthReport last_health_{};
   bool have_time_{false};
   TimeMs last_time_{0U};
   bool have_speed_{false};

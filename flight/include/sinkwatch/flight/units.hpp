@@ -68,6 +68,7 @@ using GearQ = fx::Q<std::int32_t, 16>;        ///< Q15.16, dimensionless
 using EfficiencyQ = fx::Q<std::int32_t, 30>;  ///< Q1.30, dimensionless
 using KtQ = fx::Q<std::int32_t, 28>;          ///< Q3.28, N m / A
 using WideQ = fx::Q<std::int64_t, 32>;        ///< Q31.32, intermediates only
+using AngleQ = fx::Q<std::int32_t, 28>;       ///< Q3.28, radians (rover_geometry.hpp)
 
 struct WheelLoadTag;
 struct TorqueTag;
@@ -79,6 +80,7 @@ struct RatioTag;
 struct GearRatioTag;
 struct EfficiencyTag;
 struct TorqueConstantTag;
+struct AngleTag;
 
 using WheelLoadN = Quantity<WheelLoadTag, LoadQ>;
 using TorqueNm = Quantity<TorqueTag, LoadQ>;
@@ -90,6 +92,7 @@ using Ratio = Quantity<RatioTag, RatioQ>;
 using GearRatio = Quantity<GearRatioTag, GearQ>;
 using Efficiency = Quantity<EfficiencyTag, EfficiencyQ>;
 using TorqueConstantNmPerA = Quantity<TorqueConstantTag, KtQ>;
+using AngleRad = Quantity<AngleTag, AngleQ>;
 
 /// Time of a telemetry sample, milliseconds of the on-board clock. Wraps
 /// after 49.7 days; every comparison uses the wrapping difference.

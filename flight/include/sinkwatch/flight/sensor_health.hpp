@@ -1,0 +1,170 @@
+// sensor_health.hpp: the health of each telemetry channel over time, so that
+// a faulty sensor is named as such and its numbers never become evidence
+// (docs/fault-tolerance.md; not in the paper, whose soil bin had no faults).
+//
+// Channels: the six motor currents, the IMU attitude, the suspension joint
+// angles and the time stamp. Each fresh sample moves every channel through:
+//
+//   missing      the source marks the value absent (a dropout)
+//   stuck        the raw value identical for stuck_cycles samples while the
+//                rover drives (a live sensor's noise moves its last bit);
+//                the clock: stuck_cycles repeated time stamps
+//   spike        a jump beyond the channel's step limit from the previous raw
+//                value: this sample is not used. A lasting level change
+//                (an IMU bias step) is one spike, then the new level
+//   noisy        spikes in two or more samples in a row (a noise burst)
+//   implausible  a driven wheel's current below the motor's no-load current
+//                while the other wheels draw more than twice it (a free-
+//                wheeling motor or a broken gear: no torque reaches the soil);
+//                a current at the sensor's range (a stalled motor)
+//   recovering   good again, for fewer than recover_cycles samples
+//   ok
+//
+// A current channel that is not ok or recovering makes its wheel's sample
+// unusable (SampleStatus::sensor_fault); an IMU or joint channel that is not
+// usable is bridged with its last good value for up to bridge_ms (reported),
+// after which no wheel has loads. What a lasting loss leads to is the table's
+// LossPolicy (param_table.hpp, section 7): stop, or continue on the wheels
+// that still have evidence while at most max_blind_wheels are blind.
+//
+// Bounded per call: three loops over the six wheels and four joints; no
+// allocation, no division.
+#ifndef SINKWATCH_FLIGHT_SENSOR_HEALTH_HPP
+#define SINKWATCH_FLIGHT_SENSOR_HEALTH_HPP
+
+#include <cstdint>
+
+#include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/rover_geometry.hpp"
+#include "sinkwatch/flight/units.hpp"
+#include "sinkwatch/flight/wheel_load.hpp"
+
+namespace sinkwatch {
+namespace flight {
+
+/// Telemetry channels, in this order in SensorHealthReport::channel.
+enum class SensorChannel : std::uint8_t {
+  current_lf = 0U,
+  current_lm = 1U,
+  current_lr = 2U,
+  current_rf = 3U,
+  current_rm = 4U,
+  current_rr = 5U,
+  imu = 6U,
+  joints = 7U,
+  clock = 8U,
+};
+constexpr std::uint8_t kSensorChannelCount = 9U;
+
+enum class SensorHealth : std::uint8_t {
+  ok = 0U,
+  missing = 1U,
+  stuck = 2U,
+  spike = 3U,
+  noisy = 4U,
+  implausible = 5U,
+  recovering = 6U,
+};
+constexpr std::uint8_t kSensorHealthCount = 7U;
+
+/// The telemetry's per-sensor absence flags (RoverTelemetry): false is present.
+struct SensorPresence {
+  bool current_missing[kWheelCount]{};
+  bool attitude_missing{false};
+  bool joints_missing{false};
+};
+
+/// Saturating count of samples per channel and health.
+struct SensorHealthCounters {
+  std::uint32_t by_health[kSensorChannelCount][kSensorHealthCount]{};
+};
+
+/// This cycle's health of every channel, and what the step may use.
+struct SensorHealthReport {
+  SensorHealth channel[kSensorChannelCount]{};
+  bool current_usable[kWheelCount]{};  ///< the wheel's current is evidence this cycle
+  bool attitude_usable{false};         ///< `attitude` holds a measured or bridged value
+  bool attitude_bridged{false};        ///< ... the last good one, not this sample's
+  RoverAttitude attitude{};
+  bool joints_usable{false};
+  bool joints_bridged{false};
+  JointAnglesRad joints{};
+};
+
+/// One fresh sample's inputs to the health checks.
+struct HealthSample {
+  TimeMs time{0U};
+  const CurrentA* current_a{nullptr};          ///< kWheelCount values
+  const DriveDirection* direction{nullptr};    ///< kWheelCount values
+  RoverAttitude attitude{};
+  JointAnglesRad joints{};
+  SensorPresence presence{};
+  bool driving{false};     ///< the rim speed is known and at least kMinRimSpeedForSlip
+  bool clock_jump{false};  ///< more than the stale timeout since the last fresh sample, or backwards
+};
+
+class SensorHealthMonitor {
+ public:
+  SensorHealthMonitor() noexcept = default;
+
+  /// One fresh sample (admitted by the step's clock checks). `no_load_a` and
+  /// `current_range_a` are the motor's (MotorParams).
+  SensorHealthReport update(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
+                            CurrentA current_range_a) noexcept;
+
+  /// A sample the step refused on its time stamp: `repeated` counts towards
+  /// the clock being stuck; otherwise a jump or stale stamp is a clock spike.
+  SensorHealth clock_refused(bool repeated, const HealthParams& p) noexcept;
+
+  [[nodiscard]] const SensorHealthCounters& counters() const& noexcept { return counters_; }
+  const SensorHealthCounters& counters() const&& = delete;  // MISRA C++:2023 6.8.4
+
+ private:
+  struct Track {
+    SensorHealth health{SensorHealth::ok};
+    bool have_last{false};
+    std::uint8_t same_run{0U};     ///< samples identical to the previous raw value
+    std::uint8_t spike_run{0U};    ///< consecutive spikes
+    std::uint8_t bad_run{0U};      ///< consecutive implausible samples
+    std::uint8_t good_run{0U};     ///< good samples since the last fault
+    bool faulted{false};           ///< a fault since the channel was last ok
+  };
+
+  void count(SensorChannel c, SensorHealth h) noexcept;
+  SensorHealth current_channel(std::uint32_t wheel, const HealthSample& s, const HealthParams& p,
+                               CurrentA no_load_a, CurrentA current_range_a, bool others_draw) noexcept;
+  SensorHealth imu_channel(const HealthSample& s, const HealthParams& p) noexcept;
+  SensorHealth joints_channel(const HealthSample& s, const HealthParams& p) noexcept;
+  SensorHealth settle(Track& t, SensorHealth raw_verdict, const HealthParams& p) noexcept;
+  void bridge(const HealthSample& s, const HealthParams& p, SensorHealthReport& r) noexcept;
+
+  Track track_[kSensorChannelCount]{};
+  std::int64_t last_current_raw_[kWheelCount]{};  ///< the previous sample, raw, along the direction
+  std::int64_t good_current_raw_[kWheelCount]{};  ///< the last one not a spike
+  RoverAttitude last_attitude_{};
+  RoverAttitude step_attitude_{};  ///< the last attitude not a spike
+  JointAnglesRad last_joints_{};
+  JointAnglesRad step_joints_{};
+  bool have_good_attitude_{false};
+  TimeMs good_attitude_time_{0U};
+  RoverAttitude good_attitude_{};
+  bool have_good_joints_{false};
+  TimeMs good_joints_time_{0U};
+  JointAnglesRad good_joints_{};
+  std::uint8_t repeated_run_{0U};
+  SensorHealthCounters counters_{};
+};
+
+/// Whether a channel's sample counts: ok or recovering.
+[[nodiscard]] constexpr bool usable(SensorHealth h) noexcept {
+  return (h == SensorHealth::ok) || (h == SensorHealth::recovering);
+}
+
+/// The channel's and the health's names for reports ("LM_current", "stuck").
+[[nodiscard]] const char* channel_name(SensorChannel c) noexcept;
+[[nodiscard]] const char* health_name(SensorHealth h) noexcept;
+
+}  // namespace flight
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_FLIGHT_SENSOR_HEALTH_HPP
