@@ -108,6 +108,11 @@ flight::RoverTelemetry telemetry_of(const TelemetryRow& row, const std::string& 
   }
   t.time = TimeMs{static_cast<std::uint32_t>(ms)};
   t.valid = row.valid;
+  // Dropouts reach the flight code as absence flags; the 0 beside each is
+  // never a reading (the health monitor calls the channel missing).
+  for (std::size_t i = 0; i < kTelemetryWheels; ++i) t.presence.current_missing[i] = row.current_missing[i];
+  t.presence.attitude_missing = row.attitude_missing;
+  t.presence.joints_missing = row.joints_missing;
   for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
     t.current_a[i] = CurrentA{to_q<CurrentQ>(row.current_a[i], row, source, "motor current")};
     t.direction[i] = row.reverse ? DriveDirection::reverse : DriveDirection::forward;
@@ -140,6 +145,9 @@ CycleRecord record_of(const flight::RoverStepOutput& out, const TelemetryRow& ro
   if (out.slip_known) rec.slip = to_d(out.slip);
   if (out.accel_valid) rec.accel_mps2 = to_d(out.accel_mps2);
   rec.drawbar_saturated = out.drawbar_status == DrawbarStatus::saturated;
+  for (std::size_t c = 0; c < kSensorChannelCount; ++c) rec.health[c] = out.health.channel[c];
+  rec.wheels_blind = out.monitor.wheels_blind;
+  rec.degraded = out.monitor.degraded;
   for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
     const WheelOutput& w = out.monitor.wheels[i];
     WheelCycle& c = rec.wheels[i];

@@ -3,6 +3,7 @@
 
 #include "sinkwatch/ground/cli_conventions.hpp"
 
+#include "sinkwatch/ground/fault_injection.hpp"
 #include "sinkwatch/ground/output_file.hpp"
 #include "sinkwatch/ground/replay.hpp"
 #include "sinkwatch/ground/replay_report.hpp"
@@ -31,6 +32,8 @@ struct ReplayArgs {
   double gravity = 0.0;  // 0: from the log
   bool no_escape = false;
   std::string table;
+  std::string inject;             // fault specs (fault_injection.hpp); empty: none
+  std::uint64_t inject_seed = 18;  // the noise of noise and freewheel faults
 };
 
 // A bar on stderr, only when a person is watching it.
@@ -95,6 +98,33 @@ ReplayConfig replay_config(const ReplayArgs& a, const TelemetryLog& log, std::os
   return config;
 }
 
+// --inject: the faults applied to the log before the replay (validated when
+// the command line was parsed); a fault whose window misses the log is a note.
+void inject_faults(const ReplayArgs& a, TelemetryLog& log, std::ostream& err) {
+  if (a.inject.empty()) return;
+  const std::vector<AppliedFault> applied = apply_faults(log, parse_faults(a.inject), a.inject_seed);
+  for (const AppliedFault& f : applied) {
+    if (f.rows == 0 && a.verbosity.inform()) {
+      err << error_prefix("replay") << "note: fault '" << f.spec.text()
+          << "' changes no row: its window lies outside the log\n";
+    }
+  }
+}
+
+// CLI11's check for --inject: the message of the first spec that cannot be read.
+CLI::Validator fault_specs() {
+  return CLI::Validator(
+      [](const std::string& value) {
+        try {
+          (void)parse_faults(value);
+        } catch (const FaultSpecError& e) {
+          return std::string(e.what());
+        }
+        return std::string();
+      },
+      "KIND:TARGET@START[+DURATION][=VALUE],...", "fault specs");
+}
+
 // The CSV goes through a temporary (output_file.hpp), renamed once the plot
 // is drawn too, so an error leaves neither half-written; "-" writes it to
 // `out`. Each output written gets a line in the report.
@@ -127,11 +157,12 @@ int run(const ReplayArgs& a, std::ostream& out, std::ostream& err) {
   // Every output is checked before the replay (docs/output-files.md).
   if (!a.csv.empty()) (void)check_output_path(a.csv);
   if (!a.plot.empty()) check_plot_path(a.plot);
-  const std::optional<LoadedLog> loaded = load_log(a, err);
+  std::optional<LoadedLog> loaded = load_log(a, err);
   if (!loaded) {
     return exit_status(ExitCode::data_error);
   }
-  const TelemetryLog& log = loaded->log;
+  TelemetryLog& log = loaded->log;
+  inject_faults(a, log, err);
   const ReplayConfig config = replay_config(a, log, err);
   ReplayResult result;
   {
@@ -172,6 +203,15 @@ CLI::App* add(CLI::App& app, std::shared_ptr<ReplayArgs> args, std::ostream& out
       "--table", args->table,
       "replay with this uploaded flight parameter table (binary, e.g. from sinkwatch calibrate --table)"));
   sub->add_flag("--no-escape", args->no_escape, "do not run the escape sequencer after a stop");
+  CLI::Option* inject =
+      sub->add_option("--inject", args->inject,
+                      "inject sensor faults before the replay, e.g. stuck:LM_current@120s+30s,dropout:imu@200s+5s "
+                      "(docs/fault-injection.md)")
+          ->check(fault_specs());
+  sub->add_option("--inject-seed", args->inject_seed, "seed of the injected noise (noise, freewheel)")
+      ->transform(non_negative_integer())
+      ->capture_default_str()
+      ->needs(inject);
   add_verbosity_flags(*sub, args->verbosity);  // -v: print every cycle
   sub->callback([args, &out, &err]() {
     int rc = exit_status(ExitCode::data_error);

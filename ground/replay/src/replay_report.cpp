@@ -7,6 +7,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -16,6 +17,7 @@
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 namespace sinkwatch::ground {
 namespace {
@@ -324,7 +326,105 @@ void print_escape_summary(std::ostream& out, const TelemetryLog& log, const Repl
   }
 }
 
+// "stuck at 62.0 s (1250 cycles), recovering at ..." for one channel.
+std::string channel_health_text(const ChannelHealthSummary& h) {
+  // The healths in the order they were first reported.
+  std::vector<std::size_t> order;
+  for (std::size_t k = 1; k < flight::kSensorHealthCount; ++k) {
+    if (h.first_s[k]) order.push_back(k);
+  }
+  std::stable_sort(order.begin(), order.end(), [&h](std::size_t a, std::size_t b) { return *h.first_s[a] < *h.first_s[b]; });
+  std::string text;
+  for (const std::size_t k : order) {
+    text += strf("%s%s at %.1f s (%zu cycle%s)", text.empty() ? "" : ", ",
+                 flight::health_name(static_cast<flight::SensorHealth>(k)), *h.first_s[k], h.cycles[k],
+                 h.cycles[k] == 1 ? "" : "s");
+  }
+  if (h.episodes > 1) text += strf("; %zu episodes", h.episodes);
+  if (!h.ok_at_end) {
+    text += "; not ok at the end";
+  } else if (h.back_to_ok_s) {
+    text += strf("; ok again at %.1f s", *h.back_to_ok_s);
+  }
+  return text;
+}
+
+// Cycles driven degraded and with blind wheels, and since when.
+void print_degraded(std::ostream& out, const ReplayConfig& config, const ReplayResult& r) {
+  std::size_t degraded = 0, blind = 0;
+  unsigned most_blind = 0;
+  std::optional<double> first_degraded, first_blind;
+  for (const CycleRecord& c : r.cycles) {
+    if (c.degraded && ++degraded == 1) first_degraded = c.time_s;
+    if (c.wheels_blind > 0 && ++blind == 1) first_blind = c.time_s;
+    most_blind = std::max(most_blind, static_cast<unsigned>(c.wheels_blind));
+  }
+  const bool continue_policy = config.table.health.policy == flight::LossPolicy::continue_degraded;
+  out << "  policy     " << (continue_policy ? "continue degraded" : "stop") << " on lost evidence (table section 7";
+  if (continue_policy) out << strf(", at most %u blind wheel(s)", static_cast<unsigned>(config.table.health.max_blind_wheels));
+  out << ")\n";
+  out << (blind == 0 ? std::string("  blind      no wheel was ever blind\n")
+                     : strf("  blind      %zu cycle(s) with blind wheels, the first at %.1f s, up to %u at once\n",
+                            blind, *first_blind, most_blind));
+  out << (degraded == 0 ? std::string("  degraded   never: the rover never drove on without evidence\n")
+                        : strf("  degraded   %zu cycle(s) driven degraded, the first at %.1f s\n", degraded,
+                               *first_degraded));
+}
+
+// The section "Sensor health": what was injected, each channel's health as
+// the flight code reported it, the decision, blind wheels and degraded driving.
+void print_sensor_health(std::ostream& out, const TelemetryLog& log, const ReplayConfig& config,
+                         const ReplayResult& r) {
+  out << "\nSensor health\n";
+  const std::string prefix = "injected fault ";
+  for (const std::string& c : log.comments) {
+    if (c.compare(0, prefix.size(), prefix) == 0) out << "  injected   " << c.substr(prefix.size()) << '\n';
+  }
+  const auto health = channel_health(r);
+  std::size_t quiet = 0;
+  for (std::size_t ch = 0; ch < health.size(); ++ch) {
+    if (health[ch].episodes == 0) {
+      ++quiet;
+      continue;
+    }
+    out << strf("  %-10s %s\n", flight::channel_name(static_cast<flight::SensorChannel>(ch)),
+                channel_health_text(health[ch]).c_str());
+  }
+  out << (quiet == health.size() ? "  channels   every channel ok throughout\n"
+                                 : quiet > 0 ? "  channels   the others ok throughout\n" : "");
+  if (r.first_stop) {
+    const CycleRecord& s = r.cycles[*r.first_stop];
+    out << strf("  decision   STOP AND RE-PLAN at %.1f s", s.time_s)
+        << (r.events.empty() ? std::string()
+                             : strf(" (first event: %s, %s)", kWheelNames[r.events.front().wheel],
+                                    to_string(r.events.front().reason)))
+        << '\n';
+  } else {
+    out << "  decision   continue throughout: the rover was never stopped\n";
+  }
+  print_degraded(out, config, r);
+}
+
 }  // namespace
+
+std::array<ChannelHealthSummary, flight::kSensorChannelCount> channel_health(const ReplayResult& r) {
+  std::array<ChannelHealthSummary, flight::kSensorChannelCount> out{};
+  for (std::size_t ch = 0; ch < out.size(); ++ch) {
+    ChannelHealthSummary& h = out[ch];
+    bool ok_before = true;
+    for (const CycleRecord& c : r.cycles) {
+      const std::size_t k = static_cast<std::size_t>(c.health[ch]);
+      const bool ok = c.health[ch] == flight::SensorHealth::ok;
+      ++h.cycles[k];
+      if (!h.first_s[k]) h.first_s[k] = c.time_s;
+      if (ok_before && !ok) ++h.episodes;
+      if (!ok_before && ok) h.back_to_ok_s = c.time_s;
+      ok_before = ok;
+    }
+    h.ok_at_end = ok_before;
+  }
+  return out;
+}
 
 void print_report(std::ostream& out, const TelemetryLog& log, const ReplayConfig& config, const ReplayResult& r,
                   const ReportOptions& options) {
@@ -335,6 +435,7 @@ void print_report(std::ostream& out, const TelemetryLog& log, const ReplayConfig
   print_cycles_and_stops(out, r, duration);
   print_embedding_and_events(out, log, r);
   print_escape_summary(out, log, config, r);
+  print_sensor_health(out, log, config, r);
 }
 
 void write_series_csv(std::ostream& out, const TelemetryLog& log, const ReplayResult& r) {
@@ -343,7 +444,11 @@ void write_series_csv(std::ostream& out, const TelemetryLog& log, const ReplayRe
     out << ",W_" << w << "_n,DP_" << w << "_n,I_" << w << "_a,Imax_" << w << "_a,T_" << w << "_nm,z_" << w
         << "_mm,state_" << w;
   }
-  out << ",escape_state,escape_command,escape_input_mm,true_slip,true_sinkage_mm\n";
+  out << ",escape_state,escape_command,escape_input_mm,true_slip,true_sinkage_mm";
+  for (std::uint8_t ch = 0; ch < flight::kSensorChannelCount; ++ch) {
+    out << ",health_" << flight::channel_name(static_cast<flight::SensorChannel>(ch));
+  }
+  out << ",wheels_blind,degraded\n";
   const auto opt = [](const std::optional<double>& v, const char* f) { return v ? strf(f, *v) : std::string(); };
   for (const CycleRecord& c : r.cycles) {
     out << strf("%.3f,%.4f,", c.time_s, c.x_m) << to_string(c.status) << ','
@@ -358,7 +463,9 @@ void write_series_csv(std::ostream& out, const TelemetryLog& log, const ReplayRe
     const TelemetryRow& row = log.rows[c.row];
     out << ',' << to_string(c.escape_state) << ',' << to_string(c.escape_command) << ','
         << (c.escape_input_m ? strf("%.3f", *c.escape_input_m * 1000.0) : "") << ',' << opt(row.true_slip, "%.4f")
-        << ',' << opt(row.true_sinkage_mm, "%.3f") << '\n';
+        << ',' << opt(row.true_sinkage_mm, "%.3f");
+    for (const flight::SensorHealth h : c.health) out << ',' << flight::health_name(h);
+    out << ',' << static_cast<unsigned>(c.wheels_blind) << ',' << (c.degraded ? 1 : 0) << '\n';
   }
 }
 

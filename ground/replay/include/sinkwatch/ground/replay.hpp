@@ -27,6 +27,7 @@
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/rover_step.hpp"
+#include "sinkwatch/flight/sensor_health.hpp"
 #include "sinkwatch/ground/telemetry_log.hpp"
 
 #include <array>
@@ -103,6 +104,12 @@ struct CycleRecord {
   bool escape_started = false;           // started in this cycle
   bool escape_finished_now = false;      // reached its outcome in this cycle
   bool direction_mismatch = false;       // the log's direction differs from the sequencer's command
+  // The flight code's sensor health (sensor_health.hpp): each channel's
+  // health this cycle, the wheels whose current was not evidence, and
+  // whether the rover drove on without them (LossPolicy::continue_degraded).
+  std::array<flight::SensorHealth, flight::kSensorChannelCount> health{};
+  std::uint8_t wheels_blind = 0;
+  bool degraded = false;
 
   /// Deepest valid sinkage estimate of the cycle.
   std::optional<double> max_sinkage_m() const;

@@ -5,6 +5,7 @@
 #include "sinkwatch/ground/replay.hpp"
 #include "sinkwatch/ground/telemetry_log.hpp"
 
+#include <array>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -32,11 +33,23 @@ struct Lead {
 };
 std::optional<Lead> stop_lead(const TelemetryLog& log, const ReplayResult& result);
 
+/// One telemetry channel's health over a replay (the flight code's own
+/// verdicts, sensor_health.hpp).
+struct ChannelHealthSummary {
+  std::array<std::size_t, flight::kSensorHealthCount> cycles{};  // by SensorHealth
+  std::array<std::optional<double>, flight::kSensorHealthCount> first_s{};  // first report of each health
+  std::size_t episodes = 0;             // ok (or the start) -> not ok
+  std::optional<double> back_to_ok_s;   // the last return to ok after a fault
+  bool ok_at_end = true;
+};
+std::array<ChannelHealthSummary, flight::kSensorChannelCount> channel_health(const ReplayResult& result);
+
 void print_report(std::ostream& out, const TelemetryLog& log, const ReplayConfig& config,
                   const ReplayResult& result, const ReportOptions& options);
 
 /// Every cycle: time, position, status, decision, slip, and per wheel W, DP,
-/// I, I_max, T, z and state, the escape and the simulator's truth.
+/// I, I_max, T, z and state, the escape and the simulator's truth, then each
+/// channel's health (health_<channel>), wheels_blind and degraded.
 void write_series_csv(std::ostream& out, const TelemetryLog& log, const ReplayResult& result);
 
 /// The gnuplot script that draws currents against limits, sinkage and the
