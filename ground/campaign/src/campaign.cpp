@@ -207,6 +207,112 @@ const char* outcome_name(TraverseOutcome o) {
   return "unknown";
 }
 
+namespace {
+
+constexpr std::array<const char*, kFaultClasses> kFaultClassNames{
+    "stuck-current", "zero-current", "dropout-current", "dropout-side",  "dropout-imu",       "dropout-joints",
+    "spike-current", "bias-pitch",   "noise-imu",       "freeze-joints", "stall-current",     "freewheel-current",
+    "repeat-clock",  "jump-clock"};
+
+// A fault class's kind, its fixed duration (0: to the end) and value (0: the
+// kind's default), and what its target is drawn from.
+enum class TargetDraw { wheel, side, imu, pitch, joints, clock };
+struct FaultClassRule {
+  FaultKind kind;
+  TargetDraw target;
+  double duration_s;
+  double value;
+};
+constexpr std::array<FaultClassRule, kFaultClasses> kFaultClassRules{{
+    {FaultKind::stuck, TargetDraw::wheel, 0.0, 0.0},
+    {FaultKind::zero, TargetDraw::wheel, 0.0, 0.0},
+    {FaultKind::dropout, TargetDraw::wheel, 5.0, 0.0},
+    {FaultKind::dropout, TargetDraw::side, 5.0, 0.0},
+    {FaultKind::dropout, TargetDraw::imu, 5.0, 0.0},
+    {FaultKind::dropout, TargetDraw::joints, 5.0, 0.0},
+    {FaultKind::spike, TargetDraw::wheel, 0.0, 0.0},
+    {FaultKind::bias, TargetDraw::pitch, 0.0, 5.0},  // the sign drawn
+    {FaultKind::noise, TargetDraw::imu, 5.0, 3.0},
+    {FaultKind::freeze, TargetDraw::joints, 0.0, 0.0},
+    {FaultKind::stall, TargetDraw::wheel, 0.0, 0.0},
+    {FaultKind::freewheel, TargetDraw::wheel, 0.0, 0.0},
+    {FaultKind::repeat, TargetDraw::clock, 2.0, 0.0},
+    {FaultKind::jump, TargetDraw::clock, 0.0, 10.0},
+}};
+
+FaultTarget drawn_target(TargetDraw t, Draws& r) {
+  switch (t) {
+    case TargetDraw::wheel: return static_cast<FaultTarget>(r.pick(kTelemetryWheels));
+    case TargetDraw::side: return r.chance(0.5) ? FaultTarget::left : FaultTarget::right;
+    case TargetDraw::imu: return FaultTarget::imu;
+    case TargetDraw::pitch: return FaultTarget::pitch;
+    case TargetDraw::joints: return FaultTarget::joints;
+    case TargetDraw::clock: return FaultTarget::clock;
+  }
+  return FaultTarget::clock;
+}
+
+// The flight code's health channels a fault target feeds (one bit each).
+unsigned watched_channels(FaultTarget t) {
+  const auto bit = [](flight::SensorChannel c) { return 1U << static_cast<unsigned>(c); };
+  switch (t) {
+    case FaultTarget::left: return 0x07U;
+    case FaultTarget::right: return 0x38U;
+    case FaultTarget::imu:
+    case FaultTarget::pitch:
+    case FaultTarget::roll: return bit(flight::SensorChannel::imu);
+    case FaultTarget::joints: return bit(flight::SensorChannel::joints);
+    case FaultTarget::clock: return bit(flight::SensorChannel::clock);
+    default: return 1U << static_cast<unsigned>(t);  // the six currents, in the same order
+  }
+}
+
+}  // namespace
+
+const char* fault_class_name(FaultClass c) { return kFaultClassNames.at(static_cast<std::size_t>(c)); }
+
+FaultClass fault_class_from_name(const std::string& name) {
+  std::string known;
+  for (std::size_t i = 0; i < kFaultClasses; ++i) {
+    if (name == kFaultClassNames[i]) return static_cast<FaultClass>(i);
+    known += std::string(" ") + kFaultClassNames[i];
+  }
+  throw std::invalid_argument("unknown fault class '" + name + "'; known:" + known + " (or all)");
+}
+
+std::vector<FaultClass> all_fault_classes() {
+  std::vector<FaultClass> all;
+  for (std::size_t i = 0; i < kFaultClasses; ++i) all.push_back(static_cast<FaultClass>(i));
+  return all;
+}
+
+FaultSpec draw_fault(FaultClass c, std::uint64_t traverse_seed, double window_end_s) {
+  const FaultClassRule& rule = kFaultClassRules.at(static_cast<std::size_t>(c));
+  Draws r(mix(traverse_seed ^ ((static_cast<std::uint64_t>(c) + 1U) << 40U)));
+  FaultSpec f;
+  f.kind = rule.kind;
+  f.target = drawn_target(rule.target, r);
+  f.start_s = std::round(10.0 * r.uniform(0.1, 0.9) * window_end_s) / 10.0;
+  if (rule.duration_s > 0.0) f.duration_s = rule.duration_s;
+  if (rule.value > 0.0) f.value = (f.kind == FaultKind::bias && r.chance(0.5)) ? -rule.value : rule.value;
+  return f;
+}
+
+FaultVerdict fault_verdict(FaultClass c, const TraverseDraw& draw, const Scenario& drive,
+                           const flight::ParameterTable& table) {
+  FaultVerdict v;
+  v.fault_class = c;
+  const double window_end_s = drive.truth.embedded ? drive.truth.embed_time_s
+                                                   : (drive.log.rows.empty() ? 0.0 : drive.log.rows.back().time_s);
+  v.spec = draw_fault(c, draw.seed, window_end_s);
+  v.seed = mix(draw.seed ^ 0xFA17ULL);
+  TelemetryLog seen = drive.log;
+  (void)apply_faults(seen, {v.spec}, v.seed);
+  v.flight = flight_verdict_of(seen, drive, table, draw.spec.gravity_mps2, watched_channels(v.spec.target),
+                               &v.detected_time_s);
+  return v;
+}
+
 TraverseDraw draw_traverse(CampaignFamily family, std::uint64_t seed, std::size_t index, double path_length_m) {
   TraverseDraw d;
   d.family = family;
@@ -297,30 +403,43 @@ void classify(const ScenarioTruth& truth, FlightVerdict& v) {
 
 }  // namespace
 
-FlightVerdict flight_verdict(const Scenario& drive, const flight::ParameterTable& table, double gravity_mps2) {
+FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive, const flight::ParameterTable& table,
+                                double gravity_mps2, unsigned watch, std::optional<double>* detected_time_s) {
   ReplayConfig config;
   config.table = table;
   config.gravity_mps2 = gravity_mps2;
   config.run_escape = false;
   OnboardLoop loop(config);
   FlightVerdict v;
-  for (const TelemetryRow& row : drive.log.rows) {
-    const CycleRecord rec = loop.step(row, drive.log.source, row.x_m.value_or(0.0));
+  const std::size_t rows = std::min(seen.rows.size(), drive.log.rows.size());
+  for (std::size_t i = 0; i < rows; ++i) {
+    const TelemetryRow& clean = drive.log.rows[i];
+    const CycleRecord rec = loop.step(seen.rows[i], seen.source, clean.x_m.value_or(0.0));
+    for (std::size_t ch = 0; ch < flight::kSensorChannelCount; ++ch) {
+      const bool watched = ((watch >> ch) & 1U) != 0U;
+      if (watched && detected_time_s && !*detected_time_s && rec.health[ch] != flight::SensorHealth::ok) {
+        *detected_time_s = clean.time_s;
+      }
+    }
     if (!v.caution_time_s && rec.worst_state() != flight::WheelState::nominal) {
-      v.caution_time_s = row.time_s;
+      v.caution_time_s = clean.time_s;
       v.caution_x_m = rec.x_m;
     }
     if (v.stop_reason == flight::StopReason::none && !rec.new_events.empty()) {
       v.stop_reason = rec.new_events.front().reason;
     }
     if (rec.decision == flight::RoverDecision::stop_and_replan) {
-      v.stop_time_s = row.time_s;
+      v.stop_time_s = clean.time_s;
       v.stop_x_m = rec.x_m;
       break;
     }
   }
   classify(drive.truth, v);
   return v;
+}
+
+FlightVerdict flight_verdict(const Scenario& drive, const flight::ParameterTable& table, double gravity_mps2) {
+  return flight_verdict_of(drive.log, drive, table, gravity_mps2);
 }
 
 IdealVerdict ideal_verdict(const Scenario& drive, double level_m) {
@@ -380,6 +499,7 @@ TraverseResult evaluate_traverse(const TraverseDraw& draw, const CampaignOptions
     out.sweep.push_back(flight_verdict(drive, table_at_stop_level(options.table, level_mm / 1000.0), gravity));
     out.sweep_ideal.push_back(ideal_verdict(drive, level_mm / 1000.0));
   }
+  for (const FaultClass c : options.faults) out.faults.push_back(fault_verdict(c, draw, drive, options.table));
   return out;
 }
 

@@ -11,6 +11,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <iostream>
 #include <memory>
 
@@ -26,6 +27,7 @@ struct CampaignArgs {
   unsigned jobs = 0;
   std::string out_dir;
   std::vector<double> levels_mm;
+  std::vector<std::string> faults;
   double path_length_m = 16.0;
   Verbosity verbosity;
   std::string command_line = "sinkwatch campaign";
@@ -44,6 +46,22 @@ std::vector<CampaignFamily> families_of(const std::vector<std::string>& names) {
   return out;
 }
 
+// --faults: class names, or "all" for every class.
+std::vector<FaultClass> fault_classes_of(const std::vector<std::string>& names) {
+  std::vector<FaultClass> out;
+  for (const std::string& n : names) {
+    try {
+      const std::vector<FaultClass> add = n == "all" ? all_fault_classes() : std::vector<FaultClass>{fault_class_from_name(n)};
+      for (const FaultClass c : add) {
+        if (std::find(out.begin(), out.end(), c) == out.end()) out.push_back(c);
+      }
+    } catch (const std::invalid_argument& e) {
+      throw_usage_error(std::string("--faults: ") + e.what());
+    }
+  }
+  return out;
+}
+
 CampaignOptions options_of(const CampaignArgs& a) {
   CampaignOptions o;
   if (a.traverses == 0) throw_usage_error("--traverses must be at least 1");
@@ -53,6 +71,7 @@ CampaignOptions options_of(const CampaignArgs& a) {
   if (o.families.empty()) throw_usage_error("--families names no family");
   if (!a.held_out.empty()) o.held_out = families_of(a.held_out);
   if (!a.levels_mm.empty()) o.sweep_stop_mm = a.levels_mm;
+  o.faults = fault_classes_of(a.faults);
   o.threads = a.jobs;
   o.path_length_m = a.path_length_m;
   if (!a.table.empty()) {
@@ -85,7 +104,7 @@ std::function<void(std::size_t, std::size_t)> progress_bar(std::ostream& err, bo
 int run(const CampaignArgs& a, std::ostream& out, std::ostream& err) {
   CampaignOptions options = options_of(a);
   // Every output is checked before the campaign runs (docs/output-files.md).
-  CampaignReport report(a.out_dir, find_campaign_gnuplot());
+  CampaignReport report(a.out_dir, find_campaign_gnuplot(), !options.faults.empty());
   options.progress = progress_bar(err, a.verbosity.inform());
   if (a.verbosity.verbose) {
     err << "sinkwatch campaign: " << options.families.size() * options.traverses_per_family << " traverses\n";
@@ -118,6 +137,12 @@ void add_options(CLI::App* sub, CampaignArgs& a) {
       ->check(positive_finite_number("m"))
       ->check(CLI::Range(4.0, 200.0))
       ->capture_default_str();
+  non_empty_list(sub->add_option("--faults", a.faults,
+                                 "sensor-fault classes, one of each injected per traverse (docs/fault-injection.md): "
+                                 "stuck-current zero-current dropout-current dropout-side dropout-imu dropout-joints "
+                                 "spike-current bias-pitch noise-imu freeze-joints stall-current freewheel-current "
+                                 "repeat-clock jump-clock, or all")
+                     ->delimiter(','));
   add_verbosity_flags(*sub, a.verbosity);
 }
 

@@ -216,6 +216,95 @@ std::string levels_table(const CampaignResult& r) {
 
 }  // namespace
 
+const std::vector<std::string>& fault_csv_columns() {
+  static const std::vector<std::string> columns = {
+      "family", "held_out", "index", "seed", "embedded", "embed_time_s", "fault_class", "fault", "fault_seed",
+      "clean_outcome", "outcome", "clean_stop_time_s", "stop_time_s", "stop_reason", "lead_m", "detected_time_s"};
+  return columns;
+}
+
+std::string faults_csv(const CampaignResult& r) {
+  std::ostringstream out;
+  const std::vector<std::string>& columns = fault_csv_columns();
+  for (std::size_t i = 0; i < columns.size(); ++i) out << (i ? "," : "") << columns[i];
+  out << '\n';
+  for (const TraverseResult& t : r.traverses) {
+    for (const FaultVerdict& f : t.faults) {
+      const std::vector<std::string> fields = {
+          family_name(t.draw.family), t.held_out ? "1" : "0", std::to_string(t.draw.index),
+          std::to_string(t.draw.seed), t.embedded ? "1" : "0", t.embedded ? fixed(t.embed_time_s, 1) : "",
+          fault_class_name(f.fault_class), f.spec.text(), std::to_string(f.seed), outcome_name(t.flight.outcome),
+          outcome_name(f.flight.outcome), opt(t.flight.stop_time_s, 1), opt(f.flight.stop_time_s, 1),
+          f.flight.stop_time_s ? to_string(f.flight.stop_reason) : "", opt(f.flight.lead_m, 3),
+          opt(f.detected_time_s, 1)};
+      for (std::size_t i = 0; i < fields.size(); ++i) out << (i ? "," : "") << csv_field(fields[i]);
+      out << '\n';
+    }
+  }
+  return out.str();
+}
+
+namespace {
+
+// One fault class over every traverse: outcomes without and with the fault,
+// how the stop moved, and whether the flight code named the faulty channel.
+struct FaultStats {
+  std::size_t traverses = 0, embeddings = 0, earlier = 0, later = 0, detected = 0;
+  std::size_t seen = 0;  // runs where the fault began before the stop (or there was none)
+  std::array<std::size_t, kTraverseOutcomes> clean{}, faulty{};
+  std::vector<double> detection_delays_s;
+};
+
+FaultStats fault_stats(const CampaignResult& r, std::size_t k) {
+  FaultStats g;
+  for (const TraverseResult& t : r.traverses) {
+    const FaultVerdict& f = t.faults.at(k);
+    ++g.traverses;
+    g.embeddings += t.embedded ? 1U : 0U;
+    ++g.clean[static_cast<std::size_t>(t.flight.outcome)];
+    ++g.faulty[static_cast<std::size_t>(f.flight.outcome)];
+    const std::optional<double>& a = t.flight.stop_time_s;
+    const std::optional<double>& b = f.flight.stop_time_s;
+    if (b && (!a || *b < *a - 1e-6)) ++g.earlier;
+    if (a && (!b || *b > *a + 1e-6)) ++g.later;
+    if (!b || f.spec.start_s <= *b + 1e-6) ++g.seen;
+    if (f.detected_time_s) {
+      ++g.detected;
+      g.detection_delays_s.push_back(*f.detected_time_s - f.spec.start_s);
+    }
+  }
+  return g;
+}
+
+std::string clean_to_faulty(const FaultStats& g, std::initializer_list<TraverseOutcome> outcomes) {
+  std::size_t a = 0, b = 0;
+  for (const TraverseOutcome o : outcomes) {
+    a += g.clean[static_cast<std::size_t>(o)];
+    b += g.faulty[static_cast<std::size_t>(o)];
+  }
+  return std::to_string(a) + " → " + std::to_string(b);
+}
+
+}  // namespace
+
+std::string fault_table(const CampaignResult& r) {
+  std::ostringstream md;
+  md << "| fault class | traverses | embeddings | stopped before the embedding | late | missed | false stops "
+        "| stop earlier | stop later or never | faulty channel named before the stop (of the runs that reached the "
+        "fault) | median time to name it [s] |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|\n";
+  using O = TraverseOutcome;
+  for (std::size_t k = 0; k < r.options.faults.size(); ++k) {
+    const FaultStats g = fault_stats(r, k);
+    md << "| " << fault_class_name(r.options.faults[k]) << " | " << g.traverses << " | " << g.embeddings << " | "
+       << clean_to_faulty(g, {O::stopped_ahead, O::stopped_close}) << " | " << clean_to_faulty(g, {O::late}) << " | "
+       << clean_to_faulty(g, {O::missed}) << " | " << clean_to_faulty(g, {O::false_stop}) << " (of "
+       << g.traverses - g.embeddings << ") | " << g.earlier << " | " << g.later << " | "
+       << g.detected << " of " << g.seen << " | " << opt(median(g.detection_delays_s), 1, "–") << " |\n";
+  }
+  return md.str();
+}
+
 std::string campaign_summary(const CampaignResult& r, const std::string& command_line, bool plots) {
   std::ostringstream md;
   md << "# sinkwatch campaign\n\n`" << command_line << "`\n\n"
@@ -229,6 +318,13 @@ std::string campaign_summary(const CampaignResult& r, const std::string& command
      << "\nStop-level sweep (caution, stop and allowed sinkage scaled together; the flight code re-run on the same "
         "open-loop rows per level; false-stop rate over the traverses that never embed):\n\n"
      << levels_table(r)
+     << (r.options.faults.empty()
+             ? std::string()
+             : "\nSensor faults (docs/fault-injection.md): one fault of each class per traverse, at the table's "
+               "levels; each count is without the fault → with it, over the same traverses (tuning and held-out "
+               "together); stop earlier / later: the first stop moved by the fault; named: the flight code's "
+               "sensor health called a faulty channel not ok before its stop:\n\n" +
+                   fault_table(r))
      << (plots ? "\nPlots: lead_by_family.svg, false_stop_vs_lead.svg.\n"
                : "\nNo plots (gnuplot not found, or it failed, e.g. with nothing to plot): leads.dat, levels.dat and "
                  "campaign.gp are here.\n");
@@ -321,9 +417,10 @@ struct CampaignReport::Files {
   OutputFile* script = nullptr;
   OutputFile* lead_svg = nullptr;
   OutputFile* levels_svg = nullptr;
+  OutputFile* faults = nullptr;  // with --faults only
 };
 
-CampaignReport::CampaignReport(const std::string& dir, std::string gnuplot)
+CampaignReport::CampaignReport(const std::string& dir, std::string gnuplot, bool faults)
     : dir_(dir), gnuplot_(std::move(gnuplot)), files_(std::make_unique<Files>()) {
   check_output_directory(dir);
   create_output_directory(dir);
@@ -335,6 +432,7 @@ CampaignReport::CampaignReport(const std::string& dir, std::string gnuplot)
   files_->leads = add("leads.dat");
   files_->levels = add("levels.dat");
   files_->script = add("campaign.gp");
+  if (faults) files_->faults = add("faults.csv");
   if (!gnuplot_.empty()) {
     files_->lead_svg = &files_->plots.add((base / "lead_by_family.svg").string());
     files_->levels_svg = &files_->plots.add((base / "false_stop_vs_lead.svg").string());
@@ -367,12 +465,14 @@ std::vector<std::string> CampaignReport::write(const CampaignResult& r, const st
   f.json->write(traverses_json(r));
   f.summary->write(campaign_summary(r, command_line, plots));
   f.script->write(plot_script(r, "leads.dat", "levels.dat", "lead_by_family.svg", "false_stop_vs_lead.svg"));
+  if (f.faults) f.faults->write(faults_csv(r));
   if (plots) f.plots.commit();
   f.set.commit();
   std::vector<std::string> written;
   for (const char* name : {"summary.md", "traverses.csv", "traverses.json", "leads.dat", "levels.dat", "campaign.gp"}) {
     written.push_back((std::filesystem::path(dir_) / name).string());
   }
+  if (f.faults) written.push_back((std::filesystem::path(dir_) / "faults.csv").string());
   for (const char* name : {"lead_by_family.svg", "false_stop_vs_lead.svg"}) {
     if (plots) written.push_back((std::filesystem::path(dir_) / name).string());
   }

@@ -19,6 +19,7 @@
 #pragma once
 
 #include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/ground/fault_injection.hpp"
 #include "sinkwatch/ground/scenario.hpp"
 
 #include <array>
@@ -66,6 +67,36 @@ const char* outcome_name(TraverseOutcome o);
 
 inline constexpr double kCloseLeadM = 1.0;  // stopped_ahead vs stopped_close
 
+/// Sensor-fault classes of `--faults` (docs/fault-injection.md): each a
+/// fault kind on a kind of channel with a fixed duration and value; the
+/// wheel or side, the sign and the start are drawn per traverse.
+enum class FaultClass {
+  stuck_current,      // stuck:<wheel>_current, to the end
+  zero_current,       // zero:<wheel>_current, to the end
+  dropout_current,    // dropout:<wheel>_current, 5 s
+  dropout_side,       // dropout:left|right, 5 s
+  dropout_imu,        // dropout:imu, 5 s
+  dropout_joints,     // dropout:joints, 5 s
+  spike_current,      // spike:<wheel>_current, the default value
+  bias_pitch,         // bias:pitch, +-5 deg, to the end
+  noise_imu,          // noise:imu, sd 3 deg, 5 s
+  freeze_joints,      // freeze:joints, to the end
+  stall_current,      // stall:<wheel>_current, the default value, to the end
+  freewheel_current,  // freewheel:<wheel>_current, to the end
+  repeat_clock,       // repeat:clock, 2 s
+  jump_clock,         // jump:clock, +10 s
+};
+inline constexpr std::size_t kFaultClasses = 14;
+const char* fault_class_name(FaultClass c);
+/// Throws std::invalid_argument naming the classes when `name` is unknown.
+FaultClass fault_class_from_name(const std::string& name);
+std::vector<FaultClass> all_fault_classes();
+
+/// The fault of class `c` for the traverse of seed `traverse_seed`: a pure
+/// function of the two and of `window_end_s` (the embedding's time, else the
+/// drive's end): it starts uniformly within 10-90 % of the window, on 0.1 s.
+FaultSpec draw_fault(FaultClass c, std::uint64_t traverse_seed, double window_end_s);
+
 /// What was drawn for one traverse, with the spec the simulator runs.
 struct TraverseDraw {
   CampaignFamily family = CampaignFamily::gradual;
@@ -94,6 +125,17 @@ struct FlightVerdict {
   TraverseOutcome outcome = TraverseOutcome::ok_no_stop;
 };
 
+/// One injected fault's effect on a traverse (the campaign's table).
+struct FaultVerdict {
+  FaultClass fault_class = FaultClass::stuck_current;
+  FaultSpec spec;
+  std::uint64_t seed = 0;  // of the fault's own noise
+  FlightVerdict flight;    // on the faulty rows, timed and placed by the clean ones
+  /// The first cycle, up to the stop, where the flight code's health named a
+  /// faulted channel not ok; empty: never (before the stop).
+  std::optional<double> detected_time_s;
+};
+
 /// The ideal sensor: the first row whose true deepest-wheel sinkage reaches the level.
 struct IdealVerdict {
   std::optional<double> cross_time_s, cross_x_m;
@@ -114,6 +156,7 @@ struct TraverseResult {
   double rear_load_excess = 0.0, front_load_excess = 0.0;
   std::vector<FlightVerdict> sweep;  // one per CampaignOptions::sweep_stop_mm
   std::vector<IdealVerdict> sweep_ideal;
+  std::vector<FaultVerdict> faults;  // one per CampaignOptions::faults
   std::size_t rows = 0;
 };
 
@@ -129,6 +172,8 @@ struct CampaignOptions {
   /// Stop levels of the sweep [mm]: caution, stop and allowed (z_max) levels
   /// scaled together from the table's (docs/campaign.md).
   std::vector<double> sweep_stop_mm{25, 30, 35, 40, 45, 50, 55, 60, 70};
+  /// Per traverse, one run with one fault of each class (at the table's levels).
+  std::vector<FaultClass> faults;
   /// Called from worker threads (serialised) with (done, total).
   std::function<void(std::size_t, std::size_t)> progress;
 };
@@ -141,6 +186,17 @@ flight::ParameterTable table_at_stop_level(const flight::ParameterTable& table, 
 
 /// The flight code's verdict on an open-loop traverse's rows.
 FlightVerdict flight_verdict(const Scenario& drive, const flight::ParameterTable& table, double gravity_mps2);
+/// The flight code's verdict on `seen` (the drive's rows with faults; row k
+/// for row k), with the stop's time and place taken from the clean rows so
+/// that a clock fault does not move them. `watch` (one bit per
+/// flight::SensorChannel) selects the channels whose first non-ok health
+/// up to the stop is reported in `detected_time_s`.
+FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive, const flight::ParameterTable& table,
+                                double gravity_mps2, unsigned watch = 0U,
+                                std::optional<double>* detected_time_s = nullptr);
+/// The verdict with one fault injected (draw_fault, apply_faults).
+FaultVerdict fault_verdict(FaultClass c, const TraverseDraw& draw, const Scenario& drive,
+                           const flight::ParameterTable& table);
 /// The ideal sensor's verdict at `level_m` on the same rows.
 IdealVerdict ideal_verdict(const Scenario& drive, double level_m);
 

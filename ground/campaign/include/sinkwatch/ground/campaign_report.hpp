@@ -3,7 +3,8 @@
 // traverse), summary.md (per family: outcomes, median lead, the ideal
 // sensor's lead; tuning and held-out families apart; the stop-level sweep),
 // leads.dat/levels.dat with their gnuplot scripts, and, when gnuplot is
-// installed, lead_by_family.svg and false_stop_vs_lead.svg.
+// installed, lead_by_family.svg and false_stop_vs_lead.svg; with --faults,
+// faults.csv and a table per fault class in summary.md.
 #pragma once
 
 #include "sinkwatch/ground/campaign.hpp"
@@ -20,6 +21,11 @@ const std::vector<std::string>& traverse_csv_columns();
 std::string traverses_csv(const CampaignResult& r);
 std::string traverses_json(const CampaignResult& r);
 std::string campaign_summary(const CampaignResult& r, const std::string& command_line, bool plots);
+/// faults.csv: one line per traverse and fault class (docs/fault-injection.md).
+const std::vector<std::string>& fault_csv_columns();
+std::string faults_csv(const CampaignResult& r);
+/// summary.md's table of the fault classes against the same traverses without faults.
+std::string fault_table(const CampaignResult& r);
 
 /// Median of the values (nothing when empty).
 std::optional<double> median(std::vector<double> values);
@@ -31,8 +37,9 @@ std::optional<double> median(std::vector<double> values);
 /// summary.md says so; the data and scripts are still written.
 class CampaignReport {
  public:
-  /// `gnuplot`: the program to draw with, empty for none (scripts only).
-  CampaignReport(const std::string& dir, std::string gnuplot);
+  /// `gnuplot`: the program to draw with, empty for none (scripts only);
+  /// `faults`: the campaign injects faults (faults.csv is written too).
+  CampaignReport(const std::string& dir, std::string gnuplot, bool faults = false);
   CampaignReport(const CampaignReport&) = delete;
   CampaignReport& operator=(const CampaignReport&) = delete;
   ~CampaignReport();
