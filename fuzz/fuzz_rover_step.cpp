@@ -5,10 +5,12 @@
 // 1..2: gravity Moon, Mars, Earth, Moon), then one 75-byte record per cycle
 // (a short last record is dropped):
 //   u8 flags   bit 0 valid, 1 accel_valid, 2 speed_valid, 3 rim_speed_valid,
-//              4 clear_stop() before the step, 5 physical mode
+//              4 clear_stop() before the step, 5 physical mode,
+//              6 attitude missing, 7 joints missing
 //   u32 dt_ms  sample time = previous sample time + dt (wraps)
 //   u32 lag_ms now = sample time + lag (wraps: a sample "from the future")
-//   6 x i32 current (raw Q11.20), 6 x u8 direction (any byte),
+//   6 x i32 current (raw Q11.20), 6 x u8 direction (any byte; bit 7 also
+//              marks that wheel's current missing, a dropout),
 //   6 x i32 angle (raw Q3.28: pitch, roll, rocker L/R, bogie L/R),
 //   3 x i32 acceleration, speed, rim speed (raw Q7.24).
 // Raw mode passes every number as it is, so the range checks are fuzzed;
@@ -23,9 +25,13 @@
 // pulls within +-DP_max <= 2 W when valid; slip in [-1, 1]; acceleration
 // within kMaxAbsAccel; an unusable cycle reaches the monitor as an unusable
 // sample; STOP latched until clear_stop(); the wheel counts and the decision
-// agree with the wheel states.
+// agree with the wheel states (and the blind wheels, under the table's loss
+// policy); every health value is an enumerator; a wheel whose current channel
+// is unusable has no estimate; no wheel without usable evidence is NOMINAL
+// while another is in CAUTION or STOP.
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 
 #include "sinkwatch/flight/drawbar_pull.hpp"
@@ -42,8 +48,10 @@ namespace {
 constexpr std::size_t kRecordBytes = 1U + 4U + 4U + (6U * 4U) + 6U + (6U * 4U) + (3U * 4U);
 constexpr std::size_t kMaxCycles = 512U;  // keeps one input under a few ms
 
-void check(bool condition) {
+/// Aborts (a finding) naming the harness line whose assertion failed.
+void check(bool condition, int line = __builtin_LINE()) {
   if (!condition) {
+    std::fprintf(stderr, "fuzz_rover_step.cpp:%d: assertion failed\n", line);
     std::abort();
   }
 }
@@ -117,10 +125,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (sf::CurrentA& i : t.current_a) {
       i = sf::CurrentA::from_raw(r.i32(physical, 8));  // +-8 A (sensor range 10 A)
     }
-    for (sf::DriveDirection& d : t.direction) {
+    for (std::uint32_t i = 0U; i < sf::kWheelCount; ++i) {
       const std::uint8_t b = r.u8();
-      d = static_cast<sf::DriveDirection>(physical ? (b & 1U) : b);
+      t.direction[i] = static_cast<sf::DriveDirection>(physical ? (b & 1U) : b);
+      t.presence.current_missing[i] = (b & 0x80U) != 0U;
     }
+    t.presence.attitude_missing = (flags & 64U) != 0U;
+    t.presence.joints_missing = (flags & 128U) != 0U;
     t.attitude.pitch_rad = sf::AngleRad::from_raw(r.i32(physical, 4));  // +-0.5 rad
     t.attitude.roll_rad = sf::AngleRad::from_raw(r.i32(physical, 4));
     for (std::uint32_t s = 0U; s < sf::kSideCount; ++s) {
@@ -142,7 +153,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const sf::RoverStepOutput o = step.step(t, now, prepared);
 
     // Enumerations hold enumerators.
-    check(u(o.status) <= u(sf::RoverStepStatus::radius_mismatch));
+    check(u(o.status) <= u(sf::RoverStepStatus::sensor_lost));
+    for (std::uint32_t c = 0U; c < sf::kSensorChannelCount; ++c) {
+      check(u(o.health.channel[c]) < sf::kSensorHealthCount);
+    }
+    for (std::uint32_t i = 0U; i < sf::kWheelCount; ++i) {
+      check(o.health.current_usable[i] == sf::usable(o.health.channel[i]));
+    }
     check(u(o.load_status) <= u(sf::WheelLoadStatus::overflow));
     check(u(o.drawbar_status) <= u(sf::DrawbarStatus::overflow));
     check(u(o.decision) <= u(sf::RoverDecision::stop_and_replan));
@@ -203,6 +220,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       if (!w.estimate_valid) {
         check(w.sinkage_m.raw() == 0 && w.torque_nm.raw() == 0);
       }
+      // A wheel without a usable current has no number of its own.
+      if ((o.status == sf::RoverStepStatus::ok) && !o.health.current_usable[i]) {
+        check(!sample_ok);
+      }
       // A cycle the step could not use reaches the monitor as unusable.
       if (o.status == sf::RoverStepStatus::telemetry_stale) {
         check(w.sample_status == sf::SampleStatus::stale);
@@ -224,7 +245,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     check(o.monitor.wheels_in_stop == in_stop);
     check(o.monitor.wheels_in_caution == in_caution);
-    check((o.monitor.decision == sf::RoverDecision::stop_and_replan) == (in_stop >= stop_k));
+    std::uint8_t blind = 0U;
+    for (std::uint8_t i = 0U; i < wheel_count; ++i) {
+      const sf::WheelOutput& w = o.monitor.wheels[i];
+      blind = static_cast<std::uint8_t>(blind + ((w.sample_status == sf::SampleStatus::sensor_fault) ? 1U : 0U));
+      if ((in_stop + in_caution) > 0U) {
+        check((w.sample_status == sf::SampleStatus::ok) || (w.state != sf::WheelState::nominal));
+      }
+    }
+    check(o.monitor.wheels_blind == blind);
+    const bool too_blind =
+        (table.health.policy == sf::LossPolicy::continue_degraded) && (blind > table.health.max_blind_wheels);
+    check((o.monitor.decision == sf::RoverDecision::stop_and_replan) == ((in_stop >= stop_k) || too_blind));
     if (o.status != sf::RoverStepStatus::tip_over) {
       check(o.decision == o.monitor.decision);
     }

@@ -208,6 +208,10 @@ void draw_monitor(Reader& r, std::int32_t radius_raw, sf::MonitorParams& m) {
 /// The table: each section the default or drawn (selector byte bits 0..2).
 sf::ParameterTable draw_table(Reader& r, sf::LengthM radius) {
   sf::ParameterTable t = sf::default_parameter_table();
+  // The twin has no sensor health stage, and the step repeats one sample
+  // trip_n times (a stuck sensor by the health checks' rules): checks off
+  // here. fuzz_rover_step and the props drive the health stage.
+  t.health = sf::HealthParams{};
   t.wheel_radius_m = radius;
   const std::uint8_t drawn = r.u8();
   if ((drawn & 1U) != 0U) {

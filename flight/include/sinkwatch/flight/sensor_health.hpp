@@ -81,7 +81,10 @@ struct SensorHealthCounters {
 
 /// This cycle's health of every channel, and what the step may use.
 struct SensorHealthReport {
-  SensorHealth channel[kSensorChannelCount]{};
+  /// Before the first fresh sample nothing has been measured: missing.
+  SensorHealth channel[kSensorChannelCount]{SensorHealth::missing, SensorHealth::missing, SensorHealth::missing,
+                                            SensorHealth::missing, SensorHealth::missing, SensorHealth::missing,
+                                            SensorHealth::missing, SensorHealth::missing, SensorHealth::missing};
   bool current_usable[kWheelCount]{};  ///< the wheel's current is evidence this cycle
   bool attitude_usable{false};         ///< `attitude` holds a measured or bridged value
   bool attitude_bridged{false};        ///< ... the last good one, not this sample's
