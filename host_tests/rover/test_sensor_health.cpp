@@ -479,5 +479,82 @@ TEST_F(SensorFaults, HealthyDriveReportsEveryChannelOk) {
   EXPECT_EQ(not_ok, 0U);
 }
 
+TEST_F(SensorFaults, ImuAndJointDropoutsAreBridgedThenFailSafeAndRecover) {
+  for (const bool imu : {true, false}) {
+    const Fault gone = [imu](std::uint32_t k, flight::RoverTelemetry& t) {
+      if ((k >= 10U) && (k < 40U)) {
+        (imu ? t.presence.attitude_missing : t.presence.joints_missing) = true;
+      }
+    };
+    const std::uint32_t c = static_cast<std::uint32_t>(imu ? SensorChannel::imu : SensorChannel::joints);
+    std::uint32_t bridged = 0U;
+    std::uint32_t lost_at = 0U;
+    std::uint32_t stopped_at = 0U;
+    std::uint32_t ok_again_at = 0U;
+    run(Drive{}, gone, Handling::on, 60U, [&](std::uint32_t k, const RoverStepOutput& out) {
+      if ((k >= 10U) && (k < 40U)) {
+        EXPECT_EQ(channel(out, c), SensorHealth::missing) << k;
+      }
+      bridged += (imu ? out.health.attitude_bridged : out.health.joints_bridged) ? 1U : 0U;
+      lost_at = ((lost_at == 0U) && (out.status == RoverStepStatus::sensor_lost)) ? k : lost_at;
+      stopped_at = ((stopped_at == 0U) && (out.decision == flight::RoverDecision::stop_and_replan)) ? k : stopped_at;
+      ok_again_at = ((k >= 40U) && (ok_again_at == 0U) && (channel(out, c) == SensorHealth::ok)) ? k : ok_again_at;
+    });
+    // The last good sample is cycle 9: bridged while at most bridge_ms old
+    // (cycles 10..19), then lost.
+    EXPECT_EQ(bridged, table.health.bridge_ms / kPeriodMs) << imu;
+    EXPECT_EQ(lost_at, 10U + table.health.bridge_ms / kPeriodMs) << imu;
+    EXPECT_EQ(stopped_at, lost_at + table.monitor.invalid_to_stop - 1U) << imu;
+    EXPECT_EQ(ok_again_at, 40U + table.health.recover_cycles - 1U) << imu;
+  }
+}
+
+TEST(SensorHealthMonitor, WithoutCurrentsEveryChannelIsMissing) {
+  flight::SensorHealthMonitor m;
+  const flight::HealthParams p = flight::default_parameter_table().health;
+  const flight::SensorHealthReport r = m.update(flight::HealthSample{}, p, flight::CurrentA::zero(),
+                                                flight::CurrentA::zero());
+  for (const SensorHealth h : r.channel) {
+    EXPECT_EQ(h, SensorHealth::missing);
+  }
+  EXPECT_FALSE(r.attitude_usable);
+  EXPECT_FALSE(r.joints_usable);
+}
+
+TEST(SensorHealthMonitor, CountersSaturateAndCountEveryHealth) {
+  flight::SensorHealthMonitor m;
+  flight::HealthParams p{};
+  p.stuck_cycles = 2U;
+  for (int k = 0; k < 5; ++k) {
+    static_cast<void>(m.clock_refused(true, p));
+  }
+  static_cast<void>(m.clock_refused(false, p));
+  const flight::SensorHealthCounters& c = m.counters();
+  constexpr std::uint32_t kClock = static_cast<std::uint32_t>(SensorChannel::clock);
+  EXPECT_EQ(c.by_health[kClock][static_cast<std::uint32_t>(SensorHealth::stuck)], 4U);
+  EXPECT_EQ(c.by_health[kClock][static_cast<std::uint32_t>(SensorHealth::spike)], 1U);
+}
+
+TEST(SensorHealthNames, EveryChannelAndHealthHasItsNameAndNothingElseDoes) {
+  EXPECT_STREQ(flight::channel_name(SensorChannel::current_lf), "LF_current");
+  EXPECT_STREQ(flight::channel_name(SensorChannel::current_lm), "LM_current");
+  EXPECT_STREQ(flight::channel_name(SensorChannel::current_lr), "LR_current");
+  EXPECT_STREQ(flight::channel_name(SensorChannel::current_rf), "RF_current");
+  EXPECT_STREQ(flight::channel_name(SensorChannel::current_rm), "RM_current");
+  EXPECT_STREQ(flight::channel_name(SensorChannel::current_rr), "RR_current");
+  EXPECT_STREQ(flight::channel_name(SensorChannel::imu), "imu");
+  EXPECT_STREQ(flight::channel_name(SensorChannel::joints), "joints");
+  EXPECT_STREQ(flight::channel_name(SensorChannel::clock), "clock");
+  EXPECT_STREQ(flight::channel_name(static_cast<SensorChannel>(flight::kSensorChannelCount)), "unknown");
+  EXPECT_STREQ(flight::health_name(SensorHealth::ok), "ok");
+  EXPECT_STREQ(flight::health_name(SensorHealth::missing), "missing");
+  EXPECT_STREQ(flight::health_name(SensorHealth::stuck), "stuck");
+  EXPECT_STREQ(flight::health_name(SensorHealth::spike), "spike");
+  EXPECT_STREQ(flight::health_name(SensorHealth::noisy), "noisy");
+  EXPECT_STREQ(flight::health_name(SensorHealth::implausible), "implausible");
+  EXPECT_STREQ(flight::health_name(SensorHealth::recovering), "recovering");
+  EXPECT_STREQ(flight::health_name(static_cast<SensorHealth>(flight::kSensorHealthCount)), "unknown");
+}
+
 }  // namespace
 }  // namespace sinkwatch
