@@ -10,6 +10,16 @@ constexpr std::uint8_t kRunMax = 0xFFU;
 
 std::uint8_t bump(std::uint8_t run) noexcept { return (run < kRunMax) ? static_cast<std::uint8_t>(run + 1U) : run; }
 
+/// Samples identical to the previous one while driving. A change ends the
+/// run; a parked rover's samples neither lengthen nor end it (a live sensor
+/// on a parked rover may repeat itself, a stuck one stays stuck).
+std::uint8_t repeat_run(std::uint8_t run, bool same, bool driving) noexcept {
+  if (!same) {
+    return 0U;
+  }
+  return driving ? bump(run) : run;
+}
+
 /// |a - b| > limit, in 64 bits so that no difference of two raw values
 /// overflows. A zero limit switches the check off.
 bool beyond(std::int64_t a, std::int64_t b, std::int32_t limit) noexcept {
@@ -125,15 +135,19 @@ SensorHealth SensorHealthMonitor::current_channel(std::uint32_t wheel, const Hea
   }
   // Compared along the commanded direction, so that a reversal (the escape)
   // is no jump.
+  // Stuck compares the register as read (a held value stays held when the
+  // direction reverses).
   const std::int64_t raw = directed_raw(s.current_a[wheel], s.direction[wheel]);
+  const std::int32_t reading = s.current_a[wheel].raw();
   bool spike = false;
   if (t.have_last) {
-    t.same_run = (s.driving && (raw == last_current_raw_[wheel])) ? bump(t.same_run) : 0U;
+    t.same_run = repeat_run(t.same_run, reading == last_reading_[wheel], s.driving);
     spike = is_spike(raw, last_current_raw_[wheel], good_current_raw_[wheel], p.current_step_a.raw());
   }
   t.spike_run = spike ? bump(t.spike_run) : 0U;
   t.have_last = true;
   last_current_raw_[wheel] = raw;
+  last_reading_[wheel] = reading;
   if (spike) {
     return spike_verdict(t.spike_run);
   }
@@ -161,7 +175,7 @@ SensorHealth SensorHealthMonitor::imu_channel(const HealthSample& s, const Healt
   }
   bool spike = false;
   if (t.have_last) {
-    t.same_run = (s.driving && attitude_equal(s.attitude, last_attitude_)) ? bump(t.same_run) : 0U;
+    t.same_run = repeat_run(t.same_run, attitude_equal(s.attitude, last_attitude_), s.driving);
     spike = attitude_spike(s.attitude, last_attitude_, step_attitude_, p.attitude_step_rad);
   }
   t.spike_run = spike ? bump(t.spike_run) : 0U;
@@ -184,7 +198,7 @@ SensorHealth SensorHealthMonitor::joints_channel(const HealthSample& s, const He
   }
   bool spike = false;
   if (t.have_last) {
-    t.same_run = (s.driving && any_joint_equal(s.joints, last_joints_)) ? bump(t.same_run) : 0U;
+    t.same_run = repeat_run(t.same_run, any_joint_equal(s.joints, last_joints_), s.driving);
     spike = joints_spike(s.joints, last_joints_, step_joints_, p.joint_step_rad);
   }
   t.spike_run = spike ? bump(t.spike_run) : 0U;

@@ -144,6 +144,7 @@ class SensorHealthMonitor {
   Track track_[kSensorChannelCount]{};
   std::int64_t last_current_raw_[kWheelCount]{};  ///< the previous sample, raw, along the direction
   std::int64_t good_current_raw_[kWheelCount]{};  ///< the last one not a spike
+  std::int32_t last_reading_[kWheelCount]{};      ///< the previous raw register value, signed
   RoverAttitude last_attitude_{};
   RoverAttitude step_attitude_{};  ///< the last attitude not a spike
   JointAnglesRad last_joints_{};
