@@ -109,7 +109,10 @@ RoverStepStatus drawbar_stage(const PreparedParameters& prepared, const RoverTel
 
 RoverStep::RoverStep() noexcept = default;
 
-void RoverStep::clear_stop() noexcept { monitor_.clear_stop(); }
+void RoverStep::clear_stop() noexcept {
+  monitor_.clear_stop();
+  health_.accept_levels();
+}
 
 RoverStepStatus RoverStep::classify(const RoverTelemetry& t, TimeMs now, const ParameterTable& table) noexcept {
   if (!t.valid) {

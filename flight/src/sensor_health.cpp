@@ -44,6 +44,12 @@ bool attitude_equal(const RoverAttitude& a, const RoverAttitude& b) noexcept {
   return (a.pitch_rad == b.pitch_rad) && (a.roll_rad == b.roll_rad);
 }
 
+/// Pitch or roll more than `limit` from `reference`.
+bool attitude_beyond(const RoverAttitude& a, const RoverAttitude& reference, AngleRad limit) noexcept {
+  return beyond(a.pitch_rad.raw(), reference.pitch_rad.raw(), limit.raw()) ||
+         beyond(a.roll_rad.raw(), reference.roll_rad.raw(), limit.raw());
+}
+
 bool attitude_spike(const RoverAttitude& a, const RoverAttitude& previous, const RoverAttitude& good,
                     AngleRad limit) noexcept {
   return is_spike(a.pitch_rad.raw(), previous.pitch_rad.raw(), good.pitch_rad.raw(), limit.raw()) ||
@@ -174,15 +180,24 @@ SensorHealth SensorHealthMonitor::imu_channel(const HealthSample& s, const Healt
     return SensorHealth::missing;
   }
   bool spike = false;
+  bool off_good = false;
   if (t.have_last) {
     t.same_run = repeat_run(t.same_run, attitude_equal(s.attitude, last_attitude_), s.driving);
     spike = attitude_spike(s.attitude, last_attitude_, step_attitude_, p.attitude_step_rad);
+    off_good = attitude_beyond(s.attitude, step_attitude_, p.attitude_step_rad);
   }
   t.spike_run = spike ? bump(t.spike_run) : 0U;
   t.have_last = true;
   last_attitude_ = s.attitude;
   if (spike) {
     return spike_verdict(t.spike_run);
+  }
+  // Unlike a current, the attitude of a rover at walking pace cannot settle
+  // at a new level one step limit away within a sample: a level that stays
+  // there is a bias step. It is not believed until the IMU comes back to
+  // the last good attitude, or the ground's clear_stop() accepts it.
+  if (off_good) {
+    return SensorHealth::implausible;
   }
   step_attitude_ = s.attitude;
   return ((p.stuck_cycles > 0U) && (t.same_run >= p.stuck_cycles)) ? SensorHealth::stuck : SensorHealth::ok;
@@ -267,6 +282,14 @@ SensorHealthReport SensorHealthMonitor::update(const HealthSample& s, const Heal
     count(static_cast<SensorChannel>(c), r.channel[c]);
   }
   return r;
+}
+
+void SensorHealthMonitor::accept_levels() noexcept {
+  // The next sample of every channel is its own reference: no comparison
+  // with the values from before the ground's acknowledgement.
+  for (Track& t : track_) {
+    t.have_last = false;
+  }
 }
 
 SensorHealth SensorHealthMonitor::clock_refused(bool repeated, const HealthParams& p) noexcept {

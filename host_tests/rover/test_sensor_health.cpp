@@ -361,19 +361,63 @@ TEST_F(SensorFaults, ImuNoiseBurstIsBridgedThenLeavesTheRoverWithoutLoads) {
   EXPECT_GT(jump_off, 1.0) << "without the handling the noise reaches the loads";
 }
 
-TEST_F(SensorFaults, ImuBiasStepIsReportedOnceAndTheNewLevelAccepted) {
+TEST_F(SensorFaults, ImuBiasStepIsNamedBridgedThenFailsSafeUntilTheGroundAcceptsIt) {
+  // Pitch 0.1 rad (5.7 deg) high from cycle 10 on: a spike, then a level the
+  // rover cannot have reached in a sample (implausible), bridged for
+  // bridge_ms, then no loads and STOP.
   const Fault bias = [](std::uint32_t k, flight::RoverTelemetry& t) {
     if (k >= 10U) {
       t.attitude.pitch_rad = q<flight::AngleRad>(rover_test::d(t.attitude.pitch_rad) + 0.1);
     }
   };
-  std::uint32_t flagged = 0U;
-  std::uint32_t lost = 0U;
-  static_cast<void>(largest_load_jump(*this, bias, Handling::on, flagged, lost));
-  EXPECT_EQ(flagged, 1U);
-  EXPECT_EQ(lost, 0U);
-  static_cast<void>(largest_load_jump(*this, bias, Handling::off, flagged, lost));
-  EXPECT_EQ(flagged, 0U) << "without the handling the step goes unreported";
+  constexpr std::uint32_t kImu = static_cast<std::uint32_t>(SensorChannel::imu);
+  std::uint32_t implausible_at = 0U;
+  std::uint32_t lost_at = 0U;
+  std::uint32_t stopped_at = 0U;
+  run(Drive{}, bias, Handling::on, 40U, [&](std::uint32_t k, const RoverStepOutput& out) {
+    if (k == 10U) {
+      EXPECT_EQ(channel(out, kImu), SensorHealth::spike);
+    }
+    implausible_at = ((implausible_at == 0U) && (channel(out, kImu) == SensorHealth::implausible)) ? k : implausible_at;
+    lost_at = ((lost_at == 0U) && (out.status == RoverStepStatus::sensor_lost)) ? k : lost_at;
+    stopped_at = ((stopped_at == 0U) && (out.decision == flight::RoverDecision::stop_and_replan)) ? k : stopped_at;
+  });
+  EXPECT_EQ(implausible_at, 11U);
+  EXPECT_EQ(lost_at, 10U + table.health.bridge_ms / kPeriodMs);
+  EXPECT_EQ(stopped_at, lost_at + table.monitor.invalid_to_stop - 1U);
+  // Off: the biased attitude goes into the loads unnoticed.
+  std::uint32_t named_off = 0U;
+  bool stopped_off = false;
+  run(Drive{}, bias, Handling::off, 40U, [&](std::uint32_t, const RoverStepOutput& out) {
+    named_off += (channel(out, kImu) != SensorHealth::ok) ? 1U : 0U;
+    stopped_off = stopped_off || (out.decision == flight::RoverDecision::stop_and_replan);
+  });
+  EXPECT_EQ(named_off, 0U);
+  EXPECT_FALSE(stopped_off);
+}
+
+TEST_F(SensorFaults, TheGroundsClearStopAcceptsABiasedAttitude) {
+  flight::PreparedParameters prepared{};
+  ASSERT_EQ(flight::prepare(table, rover, prepared), flight::PrepareStatus::ok);
+  flight::RoverStep step;
+  const Drive drive{};
+  constexpr std::uint32_t kImu = static_cast<std::uint32_t>(SensorChannel::imu);
+  RoverStepOutput out{};
+  for (std::uint32_t k = 0U; k < 40U; ++k) {
+    flight::RoverTelemetry t = drive.at(k);
+    if (k >= 10U) {
+      t.attitude.pitch_rad = q<flight::AngleRad>(rover_test::d(t.attitude.pitch_rad) + 0.1);
+    }
+    if (k == 30U) {
+      step.clear_stop();  // the ground looked and accepts the new attitude
+    }
+    out = step.step(t, t.time, prepared);
+    if (k >= 31U) {
+      EXPECT_TRUE(flight::usable(channel(out, kImu))) << k;
+      EXPECT_EQ(out.status, RoverStepStatus::ok) << k;
+    }
+  }
+  EXPECT_EQ(out.decision, flight::RoverDecision::continue_drive);
 }
 
 TEST_F(SensorFaults, FrozenJointSensorIsStuckThenBridgedThenFailsSafe) {

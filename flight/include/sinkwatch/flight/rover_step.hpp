@@ -117,7 +117,9 @@ class RoverStep {
   RoverStepOutput step(const RoverTelemetry& telemetry, TimeMs now, const ParameterTable& table,
                        const RoverParams& rover) noexcept;
 
-  /// The ground's acknowledgement after a re-plan (RoverMonitor::clear_stop).
+  /// The ground's acknowledgement after a re-plan (RoverMonitor::clear_stop);
+  /// the sensor health takes the next sample as every channel's reference
+  /// (SensorHealthMonitor::accept_levels).
   void clear_stop() noexcept;
 
 

@@ -10,13 +10,16 @@
 //                rover drives (a live sensor's noise moves its last bit);
 //                the clock: stuck_cycles repeated time stamps
 //   spike        a jump beyond the channel's step limit from the previous raw
-//                value: this sample is not used. A lasting level change
-//                (an IMU bias step) is one spike, then the new level
+//                value: this sample is not used. A lasting level change of a
+//                current or a joint is one spike, then the new level
 //   noisy        spikes in two or more samples in a row (a noise burst)
 //   implausible  a driven wheel's current below the motor's no-load current
 //                while the other wheels draw more than twice it (a free-
 //                wheeling motor or a broken gear: no torque reaches the soil);
-//                a current at the sensor's range (a stalled motor)
+//                a current at the sensor's range (a stalled motor); an
+//                attitude that stays a step limit away from the last good one
+//                (an IMU bias step), until it returns or the ground's
+//                clear_stop() accepts it
 //   recovering   good again, for fewer than recover_cycles samples
 //   ok
 //
@@ -114,6 +117,11 @@ class SensorHealthMonitor {
   /// `current_range_a` are the motor's (MotorParams).
   SensorHealthReport update(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
                             CurrentA current_range_a) noexcept;
+
+  /// The ground's acknowledgement (RoverStep::clear_stop): every channel's
+  /// next sample is taken as its new reference, so an IMU bias the ground
+  /// has accepted is no longer implausible. Health histories are kept.
+  void accept_levels() noexcept;
 
   /// A sample the step refused on its time stamp: `repeated` counts towards
   /// the clock being stuck; otherwise a jump or stale stamp is a clock spike.
