@@ -190,15 +190,20 @@ SensorHealth SensorHealthMonitor::imu_channel(const HealthSample& s, const Healt
   t.have_last = true;
   last_attitude_ = s.attitude;
   if (spike) {
-    return spike_verdict(t.spike_run);
+    const SensorHealth verdict = spike_verdict(t.spike_run);
+    imu_after_noise_ = imu_after_noise_ || (verdict == SensorHealth::noisy);
+    return verdict;
   }
   // Unlike a current, the attitude of a rover at walking pace cannot settle
   // at a new level one step limit away within a sample: a level that stays
-  // there is a bias step. It is not believed until the IMU comes back to
-  // the last good attitude, or the ground's clear_stop() accepts it.
-  if (off_good) {
+  // there after one clean jump is a bias step. It is not believed until the
+  // IMU comes back to the last good attitude, or the ground's clear_stop()
+  // accepts it. After a noise burst the last good attitude is old (the rover
+  // drove on meanwhile): two calm samples in a row make the new reference.
+  if (off_good && !imu_after_noise_) {
     return SensorHealth::implausible;
   }
+  imu_after_noise_ = false;
   step_attitude_ = s.attitude;
   return ((p.stuck_cycles > 0U) && (t.same_run >= p.stuck_cycles)) ? SensorHealth::stuck : SensorHealth::ok;
 }
@@ -290,6 +295,7 @@ void SensorHealthMonitor::accept_levels() noexcept {
   for (Track& t : track_) {
     t.have_last = false;
   }
+  imu_after_noise_ = false;
 }
 
 SensorHealth SensorHealthMonitor::clock_refused(bool repeated, const HealthParams& p) noexcept {

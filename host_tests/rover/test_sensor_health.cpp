@@ -361,6 +361,28 @@ TEST_F(SensorFaults, ImuNoiseBurstIsBridgedThenLeavesTheRoverWithoutLoads) {
   EXPECT_GT(jump_off, 1.0) << "without the handling the noise reaches the loads";
 }
 
+TEST_F(SensorFaults, AfterANoiseBurstTheImuIsBelievedAgainWhereverTheRoverNowStands) {
+  // During a 4 s burst the rover pitches 3 deg nose-up (it climbs on); after
+  // the burst the attitude is calm but 3 deg from the last good one. Not a
+  // bias step: two calm samples make the new reference.
+  const Fault burst_and_climb = [](std::uint32_t k, flight::RoverTelemetry& t) {
+    const double climb = (k >= 10U) ? std::fmin(0.0026 * static_cast<double>(k - 10U), 0.0524) : 0.0;
+    t.attitude.pitch_rad = q<flight::AngleRad>(rover_test::d(t.attitude.pitch_rad) + climb);
+    if ((k >= 10U) && (k < 30U)) {
+      const double sign = ((k % 2U) == 0U) ? 1.0 : -1.0;
+      t.attitude.pitch_rad = q<flight::AngleRad>(climb + sign * 0.14);
+    }
+  };
+  constexpr std::uint32_t kImu = static_cast<std::uint32_t>(SensorChannel::imu);
+  std::uint32_t usable_again_at = 0U;
+  run(Drive{}, burst_and_climb, Handling::on, 50U, [&](std::uint32_t k, const RoverStepOutput& out) {
+    if ((k >= 30U) && (usable_again_at == 0U) && flight::usable(channel(out, kImu))) {
+      usable_again_at = k;
+    }
+  });
+  EXPECT_EQ(usable_again_at, 31U) << "the first calm sample is a jump from the last noisy one";
+}
+
 TEST_F(SensorFaults, ImuBiasStepIsNamedBridgedThenFailsSafeUntilTheGroundAcceptsIt) {
   // Pitch 0.1 rad (5.7 deg) high from cycle 10 on: a spike, then a level the
   // rover cannot have reached in a sample (implausible), bridged for

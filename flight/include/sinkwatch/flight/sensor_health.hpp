@@ -18,8 +18,9 @@
 //                wheeling motor or a broken gear: no torque reaches the soil);
 //                a current at the sensor's range (a stalled motor); an
 //                attitude that stays a step limit away from the last good one
-//                (an IMU bias step), until it returns or the ground's
-//                clear_stop() accepts it
+//                after one clean jump (an IMU bias step), until it returns or
+//                the ground's clear_stop() accepts it (after a noise burst
+//                two calm samples make the new reference instead)
 //   recovering   good again, for fewer than recover_cycles samples
 //   ok
 //
@@ -154,7 +155,8 @@ class SensorHealthMonitor {
   std::int64_t good_current_raw_[kWheelCount]{};  ///< the last one not a spike
   std::int32_t last_reading_[kWheelCount]{};      ///< the previous raw register value, signed
   RoverAttitude last_attitude_{};
-  RoverAttitude step_attitude_{};  ///< the last attitude not a spike
+  RoverAttitude step_attitude_{};  ///< the last good attitude: the bias check's reference
+  bool imu_after_noise_{false};     ///< a noise burst since: the reference is old
   JointAnglesRad last_joints_{};
   JointAnglesRad step_joints_{};
   bool have_good_attitude_{false};
