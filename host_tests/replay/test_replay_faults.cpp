@@ -148,3 +148,18 @@ TEST(ReplayFaults, TheSameSeedGivesTheSameReport) {
   const std::vector<std::string> args{"--inject", "noise:imu@150s+5s=3,freewheel:RM_current@200s", "--inject-seed", "5"};
   EXPECT_EQ(run(args).out, run(args).out);
 }
+
+TEST(ReplayFaults, TheContinuePolicyDrivesOnABlindWheelThatTheStopPolicyStopsFor) {
+  // A 5 s LM dropout: under the default stop policy the rover stops 2 s in
+  // (invalid_to_stop samples); under continue-degraded it drives on blind
+  // and stops where the clean run does.
+  const CommandRun stop = run({"--inject", "dropout:LM_current@120s+5s"});
+  ASSERT_EQ(stop.code, 0) << stop.err;
+  EXPECT_NE(stop.out.find("  decision   STOP AND RE-PLAN at 121.8 s"), std::string::npos) << stop.out;
+  const CommandRun go = run({"--inject", "dropout:LM_current@120s+5s", "--loss-policy", "continue-degraded"});
+  ASSERT_EQ(go.code, 0) << go.err;
+  EXPECT_NE(go.out.find("  decision   STOP AND RE-PLAN at 297.0 s"), std::string::npos) << go.out;
+  EXPECT_EQ(go.out.find("  degraded   never"), std::string::npos) << go.out;
+  const CommandRun bad = run({"--loss-policy", "carry-on"});
+  EXPECT_NE(bad.code, 0);
+}

@@ -28,6 +28,7 @@ struct CampaignArgs {
   std::string out_dir;
   std::vector<double> levels_mm;
   std::vector<std::string> faults;
+  std::string loss_policy;
   double path_length_m = 16.0;
   Verbosity verbosity;
   std::string command_line = "sinkwatch campaign";
@@ -79,6 +80,13 @@ CampaignOptions options_of(const CampaignArgs& a) {
     load_parameter_table(a.table, config);
     o.table = config.table;
     o.table_source = a.table;
+  }
+  if (!a.loss_policy.empty()) {
+    try {
+      set_loss_policy(a.loss_policy, o.table, o.table_source);
+    } catch (const std::invalid_argument& e) {
+      throw_usage_error(e.what());
+    }
   }
   for (const double level : o.sweep_stop_mm) {
     try {
@@ -143,6 +151,9 @@ void add_options(CLI::App* sub, CampaignArgs& a) {
                                  "spike-current bias-pitch noise-imu freeze-joints stall-current freewheel-current "
                                  "repeat-clock jump-clock, or all")
                      ->delimiter(','));
+  sub->add_option("--loss-policy", a.loss_policy,
+                  "what a lasting loss of sensor evidence leads to (the table's section 7, docs/fault-tolerance.md)")
+      ->check(CLI::IsMember({"stop", "continue-degraded"}));
   add_verbosity_flags(*sub, a.verbosity);
 }
 

@@ -234,6 +234,22 @@ CycleRecord OnboardLoop::step(const TelemetryRow& row, const std::string& source
   return rec;
 }
 
+void set_loss_policy(const std::string& name, flight::ParameterTable& table, std::string& table_source) {
+  if (name == "stop") {
+    table.health.policy = flight::LossPolicy::stop;
+  } else if (name == "continue-degraded") {
+    table.health.policy = flight::LossPolicy::continue_degraded;
+  } else {
+    throw std::invalid_argument("--loss-policy: '" + name + "' is not stop or continue-degraded");
+  }
+  const flight::RejectReason reason = flight::validate(table);
+  if (reason != flight::RejectReason::ok) {
+    throw std::invalid_argument("--loss-policy " + name + ": the flight code refuses the table (" +
+                                reject_reason_name(reason) + ")");
+  }
+  table_source += ", loss policy " + name;
+}
+
 void load_parameter_table(const std::string& path, ReplayConfig& config) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path + ": cannot open the parameter table");

@@ -32,6 +32,7 @@ struct ReplayArgs {
   double gravity = 0.0;  // 0: from the log
   bool no_escape = false;
   std::string table;
+  std::string loss_policy;
   std::string inject;             // fault specs (fault_injection.hpp); empty: none
   std::uint64_t inject_seed = 18;  // the noise of noise and freewheel faults
 };
@@ -93,6 +94,13 @@ ReplayConfig replay_config(const ReplayArgs& a, const TelemetryLog& log, std::os
     load_parameter_table(a.table, config);
     if (a.gravity > 0.0 && config.rover && a.verbosity.inform()) {
       err << error_prefix("replay") << "note: --gravity is ignored: the table's rover section sets the gravity\n";
+    }
+  }
+  if (!a.loss_policy.empty()) {
+    try {
+      set_loss_policy(a.loss_policy, config.table, config.table_source);
+    } catch (const std::invalid_argument& e) {
+      throw_usage_error(e.what());
     }
   }
   return config;
@@ -203,6 +211,9 @@ CLI::App* add(CLI::App& app, std::shared_ptr<ReplayArgs> args, std::ostream& out
       "--table", args->table,
       "replay with this uploaded flight parameter table (binary, e.g. from sinkwatch calibrate --table)"));
   sub->add_flag("--no-escape", args->no_escape, "do not run the escape sequencer after a stop");
+  sub->add_option("--loss-policy", args->loss_policy,
+                  "what a lasting loss of sensor evidence leads to (the table's section 7, docs/fault-tolerance.md)")
+      ->check(CLI::IsMember({"stop", "continue-degraded"}));
   CLI::Option* inject =
       sub->add_option("--inject", args->inject,
                       "inject sensor faults before the replay, e.g. stuck:LM_current@120s+30s,dropout:imu@200s+5s "

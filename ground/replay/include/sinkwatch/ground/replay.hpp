@@ -56,6 +56,12 @@ struct ReplayConfig {
 /// std::runtime_error naming the file and the flight code's reject reason.
 void load_parameter_table(const std::string& path, ReplayConfig& config);
 
+/// --loss-policy: the table's section-7 loss policy (docs/fault-tolerance.md)
+/// by name, "stop" or "continue-degraded"; `table_source` says so. Throws
+/// std::invalid_argument for another name or a table the flight code would
+/// then refuse (its reject reason named).
+void set_loss_policy(const std::string& name, flight::ParameterTable& table, std::string& table_source);
+
 /// One wheel's flight outputs for one cycle, converted to double for display.
 struct WheelCycle {
   double current_a = 0.0;  // the telemetry's current
