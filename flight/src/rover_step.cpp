@@ -193,8 +193,10 @@ void RoverStep::assess(const RoverTelemetry& t, const PreparedParameters& prepar
   } else if (out.status == RoverStepStatus::ok) {
     HealthSample s{};
     s.time = t.time;
-    s.current_a = t.current_a;
-    s.direction = t.direction;
+    for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+      s.current_a[i] = t.current_a[i];
+      s.direction[i] = t.direction[i];
+    }
     s.attitude = t.attitude;
     s.joints = t.joints;
     s.presence = t.presence;

@@ -263,13 +263,6 @@ void SensorHealthMonitor::bridge(const HealthSample& s, const HealthParams& p, S
 SensorHealthReport SensorHealthMonitor::update(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
                                                CurrentA current_range_a) noexcept {
   SensorHealthReport r{};
-  if ((s.current_a == nullptr) || (s.direction == nullptr)) {
-    // No currents to judge: every channel unusable (a caller's error).
-    for (SensorHealth& h : r.channel) {
-      h = SensorHealth::missing;
-    }
-    return r;
-  }
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     const SensorHealth raw = current_channel(i, s, p, no_load_a, current_range_a, others_draw(s, i, no_load_a));
     r.channel[i] = settle(track_[i], raw, p);

@@ -575,13 +575,13 @@ TEST_F(SensorFaults, ImuAndJointDropoutsAreBridgedThenFailSafeAndRecover) {
   }
 }
 
-TEST(SensorHealthMonitor, WithoutCurrentsEveryChannelIsMissing) {
-  flight::SensorHealthMonitor m;
-  const flight::HealthParams p = flight::default_parameter_table().health;
-  const flight::SensorHealthReport r = m.update(flight::HealthSample{}, p, flight::CurrentA::zero(),
-                                                flight::CurrentA::zero());
+TEST(SensorHealthMonitor, BeforeTheFirstSampleEveryChannelIsMissing) {
+  const flight::SensorHealthReport r{};
   for (const SensorHealth h : r.channel) {
     EXPECT_EQ(h, SensorHealth::missing);
+  }
+  for (const bool usable : r.current_usable) {
+    EXPECT_FALSE(usable);
   }
   EXPECT_FALSE(r.attitude_usable);
   EXPECT_FALSE(r.joints_usable);

@@ -75,17 +75,17 @@ struct WheelInput {
   /// the sample is STOP evidence (StopReason::slip), as a MER-style slip check
   /// would have it (docs/flight.md, docs/scenarios.md finding 3).
   bool drawbar_assumed{false};
-  /// corrections_at(table.correction, load_n) when the caller has already
-  /// evaluated it (RoverStep does, for DP_max/W), else null: the monitor then
-  /// reads it instead of evaluating the table again. Must be for this load_n
-  /// and live for the duration of the step() call.
-  const CorrectionResult* corrections{nullptr};
   /// The sensor health monitor named this wheel's current channel faulty
   /// (missing, stuck, spiking, implausible): the sample is unusable. Under
   /// LossPolicy::continue_degraded such samples hold the wheel in CAUTION
   /// but do not count towards invalid_to_stop (the wheel is blind, not the
   /// rover); under LossPolicy::stop they count like any unusable sample.
   bool sensor_fault{false};
+  /// corrections_at(table.correction, load_n) when the caller has already
+  /// evaluated it (RoverStep does, for DP_max/W), else null: the monitor then
+  /// reads it instead of evaluating the table again. Must be for this load_n
+  /// and live for the duration of the step() call.
+  const CorrectionResult* corrections{nullptr};
 };
 
 /// One wheel's result for one cycle.

@@ -101,8 +101,8 @@ struct SensorHealthReport {
 /// One fresh sample's inputs to the health checks.
 struct HealthSample {
   TimeMs time{0U};
-  const CurrentA* current_a{nullptr};          ///< kWheelCount values
-  const DriveDirection* direction{nullptr};    ///< kWheelCount values
+  CurrentA current_a[kWheelCount]{};
+  DriveDirection direction[kWheelCount]{};
   RoverAttitude attitude{};
   JointAnglesRad joints{};
   SensorPresence presence{};
@@ -144,7 +144,7 @@ class SensorHealthMonitor {
 
   void count(SensorChannel c, SensorHealth h) noexcept;
   SensorHealth current_channel(std::uint32_t wheel, const HealthSample& s, const HealthParams& p,
-                               CurrentA no_load_a, CurrentA current_range_a, bool others_draw) noexcept;
+                               CurrentA no_load_a, CurrentA current_range_a, bool pulling) noexcept;
   SensorHealth imu_channel(const HealthSample& s, const HealthParams& p) noexcept;
   SensorHealth joints_channel(const HealthSample& s, const HealthParams& p) noexcept;
   SensorHealth settle(Track& t, SensorHealth raw_verdict, const HealthParams& p) noexcept;
