@@ -232,32 +232,12 @@ SensorHealth SensorHealthMonitor::joints_channel(const HealthSample& s, const He
 }
 
 void SensorHealthMonitor::bridge(const HealthSample& s, const HealthParams& p, SensorHealthReport& r) noexcept {
-  // A usable sample becomes the last good value; an unusable one is bridged
-  // by it while it is at most bridge_ms old.
-  if (usable(r.channel[static_cast<std::uint8_t>(SensorChannel::imu)])) {
-    have_good_attitude_ = true;
-    good_attitude_time_ = s.time;
-    good_attitude_ = s.attitude;
-    r.attitude_usable = true;
-  } else if (have_good_attitude_ && (elapsed_ms(good_attitude_time_, s.time) <= p.bridge_ms)) {
-    r.attitude_usable = true;
-    r.attitude_bridged = true;
-  } else {
-    r.attitude_usable = false;
-  }
-  r.attitude = good_attitude_;
-  if (usable(r.channel[static_cast<std::uint8_t>(SensorChannel::joints)])) {
-    have_good_joints_ = true;
-    good_joints_time_ = s.time;
-    good_joints_ = s.joints;
-    r.joints_usable = true;
-  } else if (have_good_joints_ && (elapsed_ms(good_joints_time_, s.time) <= p.bridge_ms)) {
-    r.joints_usable = true;
-    r.joints_bridged = true;
-  } else {
-    r.joints_usable = false;
-  }
-  r.joints = good_joints_;
+  r.attitude_usable = good_attitude_.take(usable(r.channel[static_cast<std::uint8_t>(SensorChannel::imu)]),
+                                          s.attitude, s.time, p.bridge_ms, r.attitude_bridged);
+  r.attitude = good_attitude_.value;
+  r.joints_usable = good_joints_.take(usable(r.channel[static_cast<std::uint8_t>(SensorChannel::joints)]), s.joints,
+                                      s.time, p.bridge_ms, r.joints_bridged);
+  r.joints = good_joints_.value;
 }
 
 SensorHealthReport SensorHealthMonitor::update(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,

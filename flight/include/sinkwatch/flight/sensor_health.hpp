@@ -159,12 +159,31 @@ class SensorHealthMonitor {
   bool imu_after_noise_{false};     ///< a noise burst since: the reference is old
   JointAnglesRad last_joints_{};
   JointAnglesRad step_joints_{};
-  bool have_good_attitude_{false};
-  TimeMs good_attitude_time_{0U};
-  RoverAttitude good_attitude_{};
-  bool have_good_joints_{false};
-  TimeMs good_joints_time_{0U};
-  JointAnglesRad good_joints_{};
+  /// A channel's last usable value and when it was read: what bridges a
+  /// fault of the IMU or the joints.
+  template <typename Value>
+  struct LastGood {
+    bool have{false};
+    TimeMs time{0U};
+    Value value{};
+
+    /// Keeps `sample` when it is usable; otherwise the last good value may
+    /// stand in while at most `bridge_ms` old (`bridged` is then set).
+    /// Returns whether `value` may be used now.
+    bool take(bool usable_now, const Value& sample, TimeMs now, std::uint32_t bridge_ms, bool& bridged) noexcept {
+      if (usable_now) {
+        have = true;
+        time = now;
+        value = sample;
+        return true;
+      }
+      bridged = have && (elapsed_ms(time, now) <= bridge_ms);
+      return bridged;
+    }
+  };
+
+  LastGood<RoverAttitude> good_attitude_{};
+  LastGood<JointAnglesRad> good_joints_{};
   std::uint8_t repeated_run_{0U};
   SensorHealthCounters counters_{};
 };
