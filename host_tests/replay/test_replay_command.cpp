@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "replay_command_run.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -20,18 +22,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct CommandRun {
-  int code;
-  std::string out;
-  std::string err;
-};
-
-CommandRun run(const std::vector<std::string>& args) {
-  std::ostringstream out;
-  std::ostringstream err;
-  const int code = sg::run_replay_command(args, out, err);
-  return CommandRun{code, out.str(), err.str()};
-}
+using sinkwatch::ground::test::CommandRun;
+using sinkwatch::ground::test::run;
 
 fs::path temp_dir(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("sinkwatch_replay_test_" + name);

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "replay_command_run.hpp"
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -19,18 +21,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct CommandRun {
-  int code;
-  std::string out;
-  std::string err;
-};
-
-CommandRun run(const std::vector<std::string>& args) {
-  std::ostringstream out;
-  std::ostringstream err;
-  const int code = sg::run_replay_command(args, out, err);
-  return CommandRun{code, out.str(), err.str()};
-}
+using sinkwatch::ground::test::CommandRun;
+using sinkwatch::ground::test::run;
 
 // The embedded default's control period.
 constexpr double kCycleS = 0.2;
