@@ -104,6 +104,9 @@ namespace detail {
 /// Built once at compile time (a variable, not a function body), so that no
 /// fx::constant is ever evaluated at run time, even in a -O0 build.
 using Yutu = limits::YutuLike;
+// Deviation D-01 (docs/misra.md): these two take a double and exist only for
+// kYutuLikeRoverParams' constant initialiser below; a run-time call would
+// link a soft-float routine, which the firmware symbol check refuses.
 constexpr LengthM length_m(double v) noexcept { return LengthM{fx::constant<LengthQ>(v)}; }
 constexpr AngleRad angle_rad(double v) noexcept { return AngleRad{fx::constant<AngleQ>(v)}; }
 constexpr RoverParams kYutuLikeRoverParams{
