@@ -82,6 +82,11 @@ class CountingModel final : public sg::DiagnosisModel {
     ++count_;
     return inner_.predict(candidate, params, row, out);
   }
+  bool predict_warm(const sg::Candidate* candidate, const std::vector<double>& params, const sg::DiagnosisRow& row,
+                    std::vector<double>& out, std::vector<double>& warm) const override {
+    ++count_;
+    return inner_.predict_warm(candidate, params, row, out, warm);
+  }
   std::size_t count() const { return count_.load(); }
 
  private:

@@ -111,7 +111,7 @@ class RowResidual {
     // problem, solved on one thread.
     if (!cache_.valid || p != cache_.parameters) {
       cache_.parameters = p;
-      cache_.ok = model_.predict(candidate_, p, row_, cache_.predicted);
+      cache_.ok = model_.predict_warm(candidate_, p, row_, cache_.predicted, cache_.warm);
       cache_.valid = true;
     }
     if (!cache_.ok) {
@@ -139,6 +139,7 @@ class RowResidual {
     bool ok = false;
     std::vector<double> parameters;
     std::vector<double> predicted;
+    std::vector<double> warm;  // the model's start for the next prediction (predict_warm)
   };
   mutable Cache cache_;  // the last prediction, by its (clamped) parameters
 };

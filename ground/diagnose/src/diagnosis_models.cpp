@@ -374,6 +374,12 @@ void apply_candidate(const Candidate& candidate, const std::vector<double>& valu
 
 bool WongReeceModel::predict(const Candidate* candidate, const std::vector<double>& params, const DiagnosisRow& row,
                              std::vector<double>& out) const {
+  std::vector<double> cold;
+  return predict_warm(candidate, params, row, out, cold);
+}
+
+bool WongReeceModel::predict_warm(const Candidate* candidate, const std::vector<double>& params,
+                                  const DiagnosisRow& row, std::vector<double>& out, std::vector<double>& warm) const {
   SimParameters p = start_;
   p.wheel.radius_m = row.radius_m;
   p.wheel.width_m = row.width_m;
@@ -387,10 +393,16 @@ bool WongReeceModel::predict(const Candidate* candidate, const std::vector<doubl
   } catch (const std::invalid_argument&) {
     return false;
   }
-  const Evaluation e = evaluate(p, row.load_n, row.slip);
+  SinkageHint hint;
+  if (warm.size() == 2) {
+    hint.sinkage_m = warm[0];
+    hint.log_slope = warm[1];
+  }
+  const Evaluation e = evaluate(p, row.load_n, row.slip, hint);
   if (!e.ok()) {
     return false;
   }
+  warm = {e.state.sinkage_m, e.state.sinkage_log_slope};
   out = {e.state.sinkage_m, e.state.torque_nm, e.state.drawbar_pull_n};
   return true;
 }

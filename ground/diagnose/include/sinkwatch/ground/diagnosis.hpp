@@ -106,6 +106,17 @@ class DiagnosisModel {
   /// (e.g. the wheel sinks past its axle). `candidate` is null for the base.
   [[nodiscard]] virtual bool predict(const Candidate* candidate, const std::vector<double>& params,
                                      const DiagnosisRow& row, std::vector<double>& out) const = 0;
+  /// predict() for a caller that calls it again and again for the same row
+  /// with nearby parameters (a fit): `warm` is the model's scratch for that
+  /// row, empty at first and kept by the caller between the calls; a model
+  /// may start from it (the simulator from the last sinkage). The answer is
+  /// predict()'s to the model's numerical tolerance. The default ignores it.
+  [[nodiscard]] virtual bool predict_warm(const Candidate* candidate, const std::vector<double>& params,
+                                          const DiagnosisRow& row, std::vector<double>& out,
+                                          std::vector<double>& warm) const {
+    (void)warm;
+    return predict(candidate, params, row, out);
+  }
   /// Parts of the gap that are not model effects, computed with the fitted
   /// base parameters; `sigma` is the noise per channel. None by default.
   [[nodiscard]] virtual std::vector<GapComponent> gap_components(const std::vector<DiagnosisRow>& rows,

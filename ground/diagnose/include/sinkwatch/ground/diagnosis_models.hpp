@@ -72,6 +72,11 @@ class WongReeceModel final : public DiagnosisModel {
   [[nodiscard]] std::vector<Candidate> candidates(const std::vector<DiagnosisRow>& train) const override;
   [[nodiscard]] bool predict(const Candidate* candidate, const std::vector<double>& params, const DiagnosisRow& row,
                              std::vector<double>& out) const override;
+  /// `warm` holds the row's last sinkage and log-log slope: the sinkage
+  /// search starts there (evaluate() with a SinkageHint).
+  [[nodiscard]] bool predict_warm(const Candidate* candidate, const std::vector<double>& params,
+                                  const DiagnosisRow& row, std::vector<double>& out,
+                                  std::vector<double>& warm) const override;
 
   /// The candidate of one effect form, as candidates() builds it; without a
   /// form, the effect's default form.
