@@ -86,6 +86,9 @@ OnboardLoop::OnboardLoop(ReplayConfig config) : config_(config) {
     throw std::invalid_argument("gravity " + text_input::format_number(config_.gravity_mps2) +
                                 " m/s^2 is outside the rover model's range (0, 10]");
   }
+  // Once, as the rover does at a table load; a table or rover the flight code
+  // refuses is reported by every step's status, as on board.
+  static_cast<void>(flight::prepare(config_.table, rover_, prepared_));
 }
 
 double OnboardLoop::escape_best_sinkage_m() const { return to_d(escape_.best_sinkage_m()); }
@@ -207,7 +210,7 @@ flight::EscapeInput escape_input(flight::TimeMs now, const TelemetryRow& row, Cy
 CycleRecord OnboardLoop::step(const TelemetryRow& row, const std::string& source, double x_m) {
   using namespace flight;
   const RoverTelemetry t = telemetry_of(row, source);
-  const RoverStepOutput out = step_.step(t, t.time, config_.table, rover_);
+  const RoverStepOutput out = step_.step(t, t.time, prepared_);
   CycleRecord rec = record_of(out, row, x_m, step_);
 
   // The escape: started on the first stop, then fed forward-driving estimates.
