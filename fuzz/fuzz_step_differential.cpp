@@ -510,9 +510,10 @@ void check_wheel(const Context& c, const sf::CorrectionResult& corr, std::uint32
 
 void check_completed(const Context& c) {
   sf::CorrectionResult corr[sf::kWheelCount];
+  const sf::CorrectionDivisors divisors = sf::make_correction_divisors(c.table.correction);
   for (std::uint32_t i = 0U; i < sf::kWheelCount; ++i) {
-    // The same C(W) the step used (the prepared path is bit-identical).
-    corr[i] = sf::corrections_at(c.table.correction, c.out.load_n[i]);
+    // The same C(W) the step used, on the divisors prepare() made.
+    corr[i] = sf::corrections_at(c.table.correction, divisors, c.out.load_n[i]);
   }
   check_slip(c);
   check_drawbar(c, corr);

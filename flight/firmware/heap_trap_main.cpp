@@ -63,12 +63,15 @@ void exercise_fixedpoint() {
 
 void exercise_estimator(const fl::ParameterTable& table) {
   const fl::WheelLoadN load = fl::WheelLoadN::from_raw(g_raw_in[5]);
-  const fl::CorrectionResult c = fl::corrections_at(table.correction, load);
+  // The divisors are prepared once per table load (prepared_params.hpp).
+  const fl::CorrectionDivisors cd = fl::make_correction_divisors(table.correction);
+  const fl::MotorDivisors md = fl::make_motor_divisors(table.motor);
+  const fl::CorrectionResult c = fl::corrections_at(table.correction, cd, load);
   keep(c.coefficients.c3.raw());
   const fl::TorqueResult t = fl::torque_from_current(table.motor, fl::CurrentA::from_raw(g_raw_in[4]),
                                                      fl::DriveDirection::forward);
   keep(t.torque_nm.raw());
-  keep(fl::current_from_torque(table.motor, t.torque_nm, fl::DriveDirection::reverse).current_a.raw());
+  keep(fl::current_from_torque(table.motor, md, t.torque_nm, fl::DriveDirection::reverse).current_a.raw());
   keep(static_cast<std::int64_t>(fl::check_motor(table.motor)));
   const fl::SinkageResult z = fl::sinkage_from_pull(c.coefficients, table.wheel_radius_m, load, t.torque_nm,
                                                     fl::DrawbarPullN::from_raw(g_raw_in[0]));
@@ -77,15 +80,6 @@ void exercise_estimator(const fl::ParameterTable& table) {
   keep(static_cast<std::int64_t>(fl::check_estimator_inputs(c.coefficients, table.wheel_radius_m, load)));
   keep(fl::torque_limit(c.coefficients, c.dp_max_ratio, table.wheel_radius_m, load,
                         table.monitor.allowed_sinkage_m).torque_nm.raw());
-  keep(fl::current_limit(table.correction, table.motor, table.wheel_radius_m, load,
-                         table.monitor.allowed_sinkage_m).current_limit_a.raw());
-  keep(fl::current_limit(c, table.motor, table.wheel_radius_m, load, table.monitor.allowed_sinkage_m)
-           .current_limit_a.raw());
-  // The forms with divisors prepared once per table load.
-  const fl::CorrectionDivisors cd = fl::make_correction_divisors(table.correction);
-  keep(fl::corrections_at(table.correction, cd, load).coefficients.c3.raw());
-  const fl::MotorDivisors md = fl::make_motor_divisors(table.motor);
-  keep(fl::current_from_torque(table.motor, md, t.torque_nm, fl::DriveDirection::forward).current_a.raw());
   keep(fl::current_limit(c, table.motor, md, table.wheel_radius_m, load, table.monitor.allowed_sinkage_m)
            .current_limit_a.raw());
 }
@@ -97,19 +91,16 @@ fl::RoverStep g_step;
 fl::RoverMonitor g_monitor;
 fl::WheelMonitor g_wheel(1U);
 
-void exercise_step(const fl::ParameterTable& table, const fl::RoverParams& rover,
-                   const fl::PreparedParameters& prepared) {
+void exercise_step(const fl::PreparedParameters& prepared) {
   fl::RoverTelemetry t{};
   t.time = fl::TimeMs{static_cast<std::uint32_t>(g_raw_in[7])};
   t.valid = true;
-  keep(g_step.step(t, t.time, table, rover).monitor.wheels[0].sinkage_m.raw());
+  keep(g_step.step(t, t.time, prepared).monitor.wheels[0].sinkage_m.raw());
   fl::WheelInput inputs[fl::kMaxWheels]{};
   inputs[0].current_a = fl::CurrentA::from_raw(g_raw_in[4]);
   inputs[0].load_n = fl::WheelLoadN::from_raw(g_raw_in[5]);
   inputs[0].valid = true;
-  keep(static_cast<std::int64_t>(g_monitor.step(inputs, t.time, table).decision));
   keep(static_cast<std::int64_t>(g_monitor.step(inputs, t.time, prepared).decision));
-  keep(g_wheel.step(inputs[0], t.time, table).current_limit_a.raw());
   keep(g_wheel.step(inputs[0], t.time, prepared).current_limit_a.raw());
 }
 
@@ -131,7 +122,7 @@ void exercise_rover(const fl::ParameterTable& table) {
   const fl::WheelLoadResult prepared_loads = fl::wheel_loads(prepared, attitude, joints);
   keep(prepared_loads.load_n[1].raw());
   keep(fl::drawbar_pulls(prepared, prepared_loads, in).total_n.raw());
-  exercise_step(table, rover, prepared);
+  exercise_step(prepared);
   fl::ExtensionSection section{};
   fl::encode_rover_section(rover, section);
   fl::RoverParams decoded{};

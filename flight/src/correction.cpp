@@ -43,9 +43,10 @@ CorrectionResult from_row(const CorrectionRow& row, LoadClamp clamp) noexcept {
   return CorrectionResult{Coefficients{row.c1, row.c2, row.c3}, row.dp_max_ratio, clamp, EstimateStatus::ok};
 }
 
-/// The widths of the segments, or null for plain division.
-CorrectionResult corrections_with(const CorrectionTable& table, const CorrectionDivisors* divisors,
-                                  WheelLoadN load_n) noexcept {
+}  // namespace
+
+CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDivisors& divisors,
+                                WheelLoadN load_n) noexcept {
   const CorrectionResult failed{Coefficients{Ratio::zero(), Ratio::zero(), Ratio::zero()}, Ratio::zero(),
                                 LoadClamp::none, EstimateStatus::invalid_coefficient};
   if ((table.count == 0U) || (table.count > kMaxCorrectionRows)) {
@@ -81,9 +82,7 @@ CorrectionResult corrections_with(const CorrectionTable& table, const Correction
   const CorrectionRow& hi = table.rows[seg + 1U];
   fx::Status st;
   const LoadQ offset = fx::sub(load_n.q(), lo.load_n.q(), st);
-  const WideQ fraction = (divisors != nullptr)
-                             ? div_by_constant<WideQ>(offset, divisors->width[seg], st)
-                             : fx::div<WideQ>(offset, fx::sub(hi.load_n.q(), lo.load_n.q(), st), st);
+  const WideQ fraction = div_by_constant<WideQ>(offset, divisors.width[seg], st);
   const Coefficients c{lerp(lo.c1, hi.c1, fraction, st), lerp(lo.c2, hi.c2, fraction, st),
                        lerp(lo.c3, hi.c3, fraction, st)};
   const Ratio dp = lerp(lo.dp_max_ratio, hi.dp_max_ratio, fraction, st);
@@ -91,17 +90,6 @@ CorrectionResult corrections_with(const CorrectionTable& table, const Correction
     return failed;
   }
   return CorrectionResult{c, dp, LoadClamp::none, EstimateStatus::ok};
-}
-
-}  // namespace
-
-CorrectionResult corrections_at(const CorrectionTable& table, WheelLoadN load_n) noexcept {
-  return corrections_with(table, nullptr, load_n);
-}
-
-CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDivisors& divisors,
-                                WheelLoadN load_n) noexcept {
-  return corrections_with(table, &divisors, load_n);
 }
 
 CorrectionDivisors make_correction_divisors(const CorrectionTable& table) noexcept {

@@ -24,16 +24,9 @@ TorqueLimitResult torque_limit(const Coefficients& c, Ratio dp_max_ratio, Length
   return TorqueLimitResult{TorqueNm(t_max), EstimateStatus::ok};
 }
 
-CurrentLimitResult current_limit(const CorrectionTable& table, const MotorParams& motor, LengthM radius_m,
-                                 WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
-  return current_limit(corrections_at(table, load_n), motor, radius_m, load_n, allowed_sinkage_m);
-}
-
-namespace {
-
-/// The limit with the motor's divisions through `divisors`, or fx::div when null.
-CurrentLimitResult limit_with(const CorrectionResult& corr, const MotorParams& motor, const MotorDivisors* divisors,
-                              LengthM radius_m, WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
+CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams& motor,
+                                 const MotorDivisors& divisors, LengthM radius_m, WheelLoadN load_n,
+                                 SinkageM allowed_sinkage_m) noexcept {
   CurrentLimitResult result{CurrentA::zero(), TorqueNm::zero(), LoadClamp::none, EstimateStatus::ok};
   result.clamp = corr.clamp;
   if (corr.status != EstimateStatus::ok) {
@@ -46,9 +39,7 @@ CurrentLimitResult limit_with(const CorrectionResult& corr, const MotorParams& m
     return result;
   }
   // The limit is a magnitude in the direction of motion: forward, I0 adds.
-  const CurrentResult i = (divisors != nullptr)
-                              ? current_from_torque(motor, *divisors, t.torque_nm, DriveDirection::forward)
-                              : current_from_torque(motor, t.torque_nm, DriveDirection::forward);
+  const CurrentResult i = current_from_torque(motor, divisors, t.torque_nm, DriveDirection::forward);
   if (i.status != EstimateStatus::ok) {
     result.status = i.status;
     return result;
@@ -56,19 +47,6 @@ CurrentLimitResult limit_with(const CorrectionResult& corr, const MotorParams& m
   result.current_limit_a = i.current_a;
   result.torque_limit_nm = t.torque_nm;
   return result;
-}
-
-}  // namespace
-
-CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams& motor, LengthM radius_m,
-                                 WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
-  return limit_with(corr, motor, nullptr, radius_m, load_n, allowed_sinkage_m);
-}
-
-CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams& motor,
-                                 const MotorDivisors& divisors, LengthM radius_m, WheelLoadN load_n,
-                                 SinkageM allowed_sinkage_m) noexcept {
-  return limit_with(corr, motor, &divisors, radius_m, load_n, allowed_sinkage_m);
 }
 
 }  // namespace flight

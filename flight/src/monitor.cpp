@@ -66,29 +66,22 @@ SampleStatus classify_sample(const WheelInput& input, TimeMs now, bool have_last
   return SampleStatus::ok;
 }
 
-/// C(W) through the prepared divisors when there are any.
-CorrectionResult corrections_for(const CorrectionTable& table, const CorrectionDivisors* divisors,
-                                 WheelLoadN load_n) noexcept {
-  return (divisors != nullptr) ? corrections_at(table, *divisors, load_n) : corrections_at(table, load_n);
-}
-
 /// Stage 2: T, z and I_max of a usable sample into `out`; false when one of
 /// them has no number.
-bool estimate(const WheelInput& input, const ParameterTable& table, const CorrectionDivisors* corr_divisors,
-              const MotorDivisors* motor_divisors, WheelOutput& out) noexcept {
+bool estimate(const WheelInput& input, const PreparedParameters& prepared, WheelOutput& out) noexcept {
+  const ParameterTable& table = prepared.table();
   const TorqueResult torque = torque_from_current(table.motor, input.current_a, input.direction);
-  const CorrectionResult corr = (input.corrections != nullptr)
-                                    ? *input.corrections
-                                    : corrections_for(table.correction, corr_divisors, input.load_n);
+  const CorrectionResult corr =
+      (input.corrections != nullptr)
+          ? *input.corrections
+          : corrections_at(table.correction, prepared.correction_divisors(), input.load_n);
   const SinkageResult sink = ((torque.status == EstimateStatus::ok) && (corr.status == EstimateStatus::ok))
                                  ? sinkage_from_pull(corr.coefficients, table.wheel_radius_m, input.load_n,
                                                      torque.torque_nm, input.drawbar_pull_n)
                                  : SinkageResult{SinkageM::zero(), EstimateStatus::overflow};
   const SinkageM allowed = table.monitor.allowed_sinkage_m;
   const CurrentLimitResult limit =
-      (motor_divisors != nullptr)
-          ? current_limit(corr, table.motor, *motor_divisors, table.wheel_radius_m, input.load_n, allowed)
-          : current_limit(corr, table.motor, table.wheel_radius_m, input.load_n, allowed);
+      current_limit(corr, table.motor, prepared.motor_divisors(), table.wheel_radius_m, input.load_n, allowed);
   out.clamp = corr.clamp;
   if ((torque.status != EstimateStatus::ok) || (sink.status != EstimateStatus::ok) ||
       (limit.status != EstimateStatus::ok)) {
@@ -184,8 +177,9 @@ void WheelMonitor::track_episode(CurrentA directed, WheelLoadN load_n, SinkageM 
   }
 }
 
-EventRecord WheelMonitor::stop_event(TimeMs now, StopReason reason, const ParameterTable& table,
-                                     const CorrectionDivisors* corr_divisors) const noexcept {
+EventRecord WheelMonitor::stop_event(TimeMs now, StopReason reason,
+                                     const PreparedParameters& prepared) const noexcept {
+  const ParameterTable& table = prepared.table();
   EventRecord e{};
   e.wheel = wheel_;
   e.time = now;
@@ -197,7 +191,7 @@ EventRecord WheelMonitor::stop_event(TimeMs now, StopReason reason, const Parame
   if (have_peak_) {
     // Section 7: the sinkage the peak current implies at DP = DP_max.
     const TorqueResult t = torque_from_current(table.motor, peak_current_a_, DriveDirection::forward);
-    const CorrectionResult c = corrections_for(table.correction, corr_divisors, load_at_peak_n_);
+    const CorrectionResult c = corrections_at(table.correction, prepared.correction_divisors(), load_at_peak_n_);
     fx::Status st;
     const DrawbarPullN dp_max(fx::mul<LoadQ>(c.dp_max_ratio.q(), load_at_peak_n_.q(), st));
     if ((t.status == EstimateStatus::ok) && (c.status == EstimateStatus::ok) && st.ok()) {
@@ -214,9 +208,9 @@ EventRecord WheelMonitor::stop_event(TimeMs now, StopReason reason, const Parame
   return e;
 }
 
-void WheelMonitor::transition(StopReason sample_reason, TimeMs now, const ParameterTable& table,
-                              const CorrectionDivisors* corr_divisors, WheelOutput& out) noexcept {
-  const MonitorParams& mp = table.monitor;
+void WheelMonitor::transition(StopReason sample_reason, TimeMs now, const PreparedParameters& prepared,
+                              WheelOutput& out) noexcept {
+  const MonitorParams& mp = prepared.table().monitor;
   if (state_ == WheelState::stop) {
     return;  // STOP is latched until clear_stop()
   }
@@ -227,7 +221,7 @@ void WheelMonitor::transition(StopReason sample_reason, TimeMs now, const Parame
     state_ = WheelState::stop;
     stop_reason_ = reason;
     out.stop_tripped = true;
-    event_ = stop_event(now, reason, table, corr_divisors);
+    event_ = stop_event(now, reason, prepared);
     has_event_ = true;
   } else if ((state_ == WheelState::nominal) && (count_bits(caution_history_, mp.window_m) >= mp.trip_n)) {
     state_ = WheelState::caution;
@@ -243,9 +237,8 @@ void WheelMonitor::transition(StopReason sample_reason, TimeMs now, const Parame
   }
 }
 
-WheelOutput WheelMonitor::step_with(const WheelInput& input, TimeMs now, const ParameterTable& table,
-                                    const CorrectionDivisors* corr_divisors,
-                                    const MotorDivisors* motor_divisors) noexcept {
+WheelOutput WheelMonitor::evaluate(const WheelInput& input, TimeMs now, const PreparedParameters& prepared) noexcept {
+  const ParameterTable& table = prepared.table();
   WheelOutput out{};
   out.clamp = LoadClamp::none;
 
@@ -262,7 +255,7 @@ WheelOutput WheelMonitor::step_with(const WheelInput& input, TimeMs now, const P
   if (status == SampleStatus::ok) {
     fx::Status dir_status;
     directed = directional(input.current_a, input.direction, dir_status);
-    if (!estimate(input, table, corr_divisors, motor_divisors, out) || !dir_status.ok()) {
+    if (!estimate(input, prepared, out) || !dir_status.ok()) {
       out.estimate_valid = false;
       out.limit_valid = false;
       out.torque_nm = TorqueNm::zero();
@@ -302,14 +295,10 @@ WheelOutput WheelMonitor::step_with(const WheelInput& input, TimeMs now, const P
   // 4. Transitions (STOP is latched).
   const StopReason sample_reason =
       e.current_stop ? StopReason::current : (e.slip_stop ? StopReason::slip : StopReason::sinkage);
-  transition(sample_reason, now, table, corr_divisors, out);
+  transition(sample_reason, now, prepared, out);
   out.state = state_;
   out.stop_reason = stop_reason_;
   return out;
-}
-
-WheelOutput WheelMonitor::step(const WheelInput& input, TimeMs now, const ParameterTable& table) noexcept {
-  return step_with(input, now, table, nullptr, nullptr);
 }
 
 WheelOutput WheelMonitor::step(const WheelInput& input, TimeMs now, const PreparedParameters& prepared) noexcept {
@@ -318,24 +307,24 @@ WheelOutput WheelMonitor::step(const WheelInput& input, TimeMs now, const Prepar
     // into STOP (fail-safe). RoverStep never gets here.
     WheelInput blind = input;
     blind.valid = false;
-    return step_with(blind, now, prepared.table(), nullptr, nullptr);
+    return evaluate(blind, now, prepared);
   }
-  return step_with(input, now, prepared.table(), &prepared.correction_divisors(), &prepared.motor_divisors());
+  return evaluate(input, now, prepared);
 }
 
 RoverMonitor::RoverMonitor() noexcept
     : wheels_{WheelMonitor(0U), WheelMonitor(1U), WheelMonitor(2U), WheelMonitor(3U), WheelMonitor(4U),
               WheelMonitor(5U)} {}
 
-template <typename Params>
-RoverOutput RoverMonitor::step_all(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const ParameterTable& table,
-                                   const Params& params) noexcept {
+RoverOutput RoverMonitor::step_all(const WheelInput (&inputs)[kMaxWheels], TimeMs now,
+                                   const PreparedParameters& prepared) noexcept {
+  const ParameterTable& table = prepared.table();
   RoverOutput out{};
   // Wheels beyond wheel_count are not monitored: their outputs stay default.
   for (std::uint8_t i = 0U; i < kMaxWheels; ++i) {
     const bool monitored = i < table.monitor.wheel_count;
     if (monitored) {
-      out.wheels[i] = wheels_[i].step(inputs[i], now, params);
+      out.wheels[i] = wheels_[i].step(inputs[i], now, prepared);
     }
     if (monitored && (out.wheels[i].state == WheelState::stop)) {
       ++out.wheels_in_stop;
@@ -372,15 +361,10 @@ void RoverMonitor::rover_rules(const ParameterTable& table, RoverOutput& out) no
 }
 
 RoverOutput RoverMonitor::step(const WheelInput (&inputs)[kMaxWheels], TimeMs now,
-                               const ParameterTable& table) noexcept {
-  return step_all(inputs, now, table, table);
-}
-
-RoverOutput RoverMonitor::step(const WheelInput (&inputs)[kMaxWheels], TimeMs now,
                                const PreparedParameters& prepared) noexcept {
   // Both returns are prvalues, built in the caller's storage (no copy of the
   // six wheels' outputs on this frame).
-  return prepared.table_valid() ? step_all(inputs, now, prepared.table(), prepared) : blind_output();
+  return prepared.table_valid() ? step_all(inputs, now, prepared) : blind_output();
 }
 
 void RoverMonitor::clear_stop() noexcept {

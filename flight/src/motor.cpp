@@ -54,23 +54,17 @@ TorqueResult torque_from_current(const MotorParams& motor, CurrentA current_a, D
 namespace {
 
 /// T / (N eta Kt), one division at a time (each rounding relative to the
-/// quantity it produces), through `divisors` or fx::div when it is null.
-WideQ driving_current(const MotorParams& motor, const MotorDivisors* divisors, TorqueNm torque_nm,
-                      fx::Status& st) noexcept {
-  if (divisors != nullptr) {
-    const WideQ per_gear = div_by_constant<WideQ>(torque_nm.q(), divisors->gear_ratio, st);
-    const WideQ before_loss = div_by_constant<WideQ>(per_gear, divisors->efficiency, st);
-    return div_by_constant<WideQ>(before_loss, divisors->kt, st);
-  }
-  const WideQ per_gear = fx::div<WideQ>(torque_nm.q(), motor.gear_ratio.q(), st);
-  const WideQ before_loss = fx::div<WideQ>(per_gear, motor.efficiency.q(), st);
-  return fx::div<WideQ>(before_loss, motor.kt_nm_per_a.q(), st);
+/// quantity it produces).
+WideQ driving_current(const MotorDivisors& divisors, TorqueNm torque_nm, fx::Status& st) noexcept {
+  const WideQ per_gear = div_by_constant<WideQ>(torque_nm.q(), divisors.gear_ratio, st);
+  const WideQ before_loss = div_by_constant<WideQ>(per_gear, divisors.efficiency, st);
+  return div_by_constant<WideQ>(before_loss, divisors.kt, st);
 }
 
-/// current_from_torque with the divisions through `divisors`, or through
-/// fx::div when it is null.
-CurrentResult current_with(const MotorParams& motor, const MotorDivisors* divisors, TorqueNm torque_nm,
-                           DriveDirection direction) noexcept {
+}  // namespace
+
+CurrentResult current_from_torque(const MotorParams& motor, const MotorDivisors& divisors, TorqueNm torque_nm,
+                                  DriveDirection direction) noexcept {
   const EstimateStatus motor_status = check_motor(motor);
   if (motor_status != EstimateStatus::ok) {
     return CurrentResult{CurrentA::zero(), motor_status};
@@ -79,7 +73,7 @@ CurrentResult current_with(const MotorParams& motor, const MotorDivisors* diviso
     return CurrentResult{CurrentA::zero(), EstimateStatus::invalid_direction};
   }
   fx::Status st;
-  const WideQ driving = driving_current(motor, divisors, torque_nm, st);
+  const WideQ driving = driving_current(divisors, torque_nm, st);
   const WideQ i0 = fx::rescale<WideQ>(motor.no_load_current_a.q(), st);
   const WideQ total =
       (direction == DriveDirection::forward) ? fx::add(driving, i0, st) : fx::sub(driving, i0, st);
@@ -88,17 +82,6 @@ CurrentResult current_with(const MotorParams& motor, const MotorDivisors* diviso
     return CurrentResult{CurrentA::zero(), EstimateStatus::overflow};
   }
   return CurrentResult{CurrentA(current), EstimateStatus::ok};
-}
-
-}  // namespace
-
-CurrentResult current_from_torque(const MotorParams& motor, TorqueNm torque_nm, DriveDirection direction) noexcept {
-  return current_with(motor, nullptr, torque_nm, direction);
-}
-
-CurrentResult current_from_torque(const MotorParams& motor, const MotorDivisors& divisors, TorqueNm torque_nm,
-                                  DriveDirection direction) noexcept {
-  return current_with(motor, &divisors, torque_nm, direction);
 }
 
 MotorDivisors make_motor_divisors(const MotorParams& motor) noexcept {

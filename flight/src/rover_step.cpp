@@ -161,13 +161,6 @@ void RoverStep::motion(const RoverTelemetry& t, const ParameterTable& table, Rov
   }
 }
 
-RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const ParameterTable& table,
-                                const RoverParams& rover) noexcept {
-  PreparedParameters prepared{};
-  static_cast<void>(prepare(table, rover, prepared));
-  return step(t, now, prepared);
-}
-
 RoverStepStatus RoverStep::admit(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared) noexcept {
   // The telemetry itself, by the monitor's own rules, then the parameters
   // (checked by prepare(), reported only for a fresh sample).

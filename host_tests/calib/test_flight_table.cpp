@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "prepared_support.hpp"
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/crc32.hpp"
@@ -60,7 +61,7 @@ QType to_q(double value) {
 double check_estimates(const flight::ParameterTable& table, const std::vector<Observation>& data,
                        double load_n, double radius_m, const Coefficients& ground_c) {
   const flight::WheelLoadN load(to_q<flight::LoadQ>(load_n));
-  const flight::CorrectionResult corrections = flight::corrections_at(table.correction, load);
+  const flight::CorrectionResult corrections = test::corrections_of(table.correction, load);
   EXPECT_EQ(corrections.status, flight::EstimateStatus::ok);
   EXPECT_EQ(corrections.clamp, flight::LoadClamp::none);
 

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "prepared_support.hpp"
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/crc32.hpp"
 #include "sinkwatch/flight/current_limit.hpp"
@@ -90,14 +91,14 @@ void evaluate(Row& r) {
       break;
     }
     case Kind::current: {
-      const CurrentResult i = current_from_torque(motor(r), TorqueNm::from_raw(i32(r.in[5])), direction(r.in[6]));
+      const CurrentResult i = test::current_of(motor(r), TorqueNm::from_raw(i32(r.in[5])), direction(r.in[6]));
       r.out[0] = i.current_a.raw();
       r.status = static_cast<std::int64_t>(i.status);
       break;
     }
     case Kind::corrections: {
       const ParameterTable table = default_parameter_table();
-      const CorrectionResult c = corrections_at(table.correction, WheelLoadN::from_raw(i32(r.in[0])));
+      const CorrectionResult c = test::corrections_of(table.correction, WheelLoadN::from_raw(i32(r.in[0])));
       r.out[0] = c.coefficients.c1.raw();
       r.out[1] = c.coefficients.c2.raw();
       r.out[2] = c.coefficients.c3.raw();
@@ -109,7 +110,7 @@ void evaluate(Row& r) {
     case Kind::limit: {
       const ParameterTable table = default_parameter_table();
       const CurrentLimitResult l =
-          current_limit(table.correction, motor(r), LengthM::from_raw(i32(r.in[5])),
+          test::current_limit_of(table.correction, motor(r), LengthM::from_raw(i32(r.in[5])),
                         WheelLoadN::from_raw(i32(r.in[6])), SinkageM::from_raw(i32(r.in[7])));
       r.out[0] = l.current_limit_a.raw();
       r.out[1] = l.torque_limit_nm.raw();

@@ -11,6 +11,7 @@
 #include <limits>
 #include <random>
 
+#include "dividing_oracle.hpp"
 #include "sinkwatch/flight/constant_divisor.hpp"
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/current_limit.hpp"
@@ -130,12 +131,12 @@ TEST(ConstantDivisor, ZeroDivisorFallsBackToFxDiv) {
   EXPECT_TRUE(st.has(fx::Flag::div_by_zero));
 }
 
-TEST(ConstantDivisor, PreparedCorrectionsAndMotorEqualThePlainForms) {
+TEST(ConstantDivisor, PreparedCorrectionsAndMotorEqualTheDividingOracle) {
   for (const flight::ParameterTable& table : {flight::default_parameter_table(), flight::eq15_parameter_table()}) {
     const flight::CorrectionDivisors cd = flight::make_correction_divisors(table.correction);
     for (std::int32_t raw = -5; raw < (260 << 16); raw += 997) {
       const flight::WheelLoadN w = flight::WheelLoadN::from_raw(raw);
-      const flight::CorrectionResult a = flight::corrections_at(table.correction, w);
+      const flight::CorrectionResult a = oracle::corrections_at(table.correction, w);
       const flight::CorrectionResult b = flight::corrections_at(table.correction, cd, w);
       ASSERT_EQ(a.status, b.status) << raw;
       ASSERT_EQ(a.clamp, b.clamp) << raw;
@@ -150,13 +151,13 @@ TEST(ConstantDivisor, PreparedCorrectionsAndMotorEqualThePlainForms) {
       const flight::TorqueNm t = flight::TorqueNm::from_raw(random_raw<std::int32_t>(rng));
       const flight::DriveDirection dir = ((i & 1) != 0) ? flight::DriveDirection::reverse
                                                         : flight::DriveDirection::forward;
-      const flight::CurrentResult a = flight::current_from_torque(table.motor, t, dir);
+      const flight::CurrentResult a = oracle::current_from_torque(table.motor, t, dir);
       const flight::CurrentResult b = flight::current_from_torque(table.motor, md, t, dir);
       ASSERT_EQ(a.status, b.status) << t.raw();
       ASSERT_EQ(a.current_a, b.current_a) << t.raw();
     }
-    const flight::CorrectionResult c = flight::corrections_at(table.correction, flight::WheelLoadN::from_raw(90 << 16));
-    const flight::CurrentLimitResult plain = flight::current_limit(
+    const flight::CorrectionResult c = flight::corrections_at(table.correction, cd, flight::WheelLoadN::from_raw(90 << 16));
+    const flight::CurrentLimitResult plain = oracle::current_limit(
         c, table.motor, table.wheel_radius_m, flight::WheelLoadN::from_raw(90 << 16), table.monitor.allowed_sinkage_m);
     const flight::CurrentLimitResult prepared =
         flight::current_limit(c, table.motor, md, table.wheel_radius_m, flight::WheelLoadN::from_raw(90 << 16),
@@ -166,7 +167,7 @@ TEST(ConstantDivisor, PreparedCorrectionsAndMotorEqualThePlainForms) {
   }
 }
 
-TEST(ConstantDivisor, MotorDivisorsOfOtherMotorsEqualThePlainForm) {
+TEST(ConstantDivisor, MotorDivisorsOfOtherMotorsEqualTheDividingOracle) {
   // Random valid motors over the validated ranges (gear, eta, Kt).
   std::mt19937_64 rng(12U);
   flight::MotorParams m = flight::default_parameter_table().motor;
@@ -177,7 +178,7 @@ TEST(ConstantDivisor, MotorDivisorsOfOtherMotorsEqualThePlainForm) {
     const flight::MotorDivisors md = flight::make_motor_divisors(m);
     for (int j = 0; j < 100; ++j) {
       const flight::TorqueNm t = flight::TorqueNm::from_raw(random_raw<std::int32_t>(rng));
-      const flight::CurrentResult a = flight::current_from_torque(m, t, flight::DriveDirection::forward);
+      const flight::CurrentResult a = oracle::current_from_torque(m, t, flight::DriveDirection::forward);
       const flight::CurrentResult b = flight::current_from_torque(m, md, t, flight::DriveDirection::forward);
       ASSERT_EQ(a.status, b.status) << i << " " << t.raw();
       ASSERT_EQ(a.current_a, b.current_a) << i << " " << t.raw();

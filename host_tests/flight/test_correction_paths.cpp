@@ -1,13 +1,15 @@
 // corrections_at against the Q31.32 chain it was written as before issue 10
-// (kept here as the oracle): the interpolation's 64-bit form and the
-// prepared divisors must give the same bits and statuses on random tables
-// over the whole Q7.24 range of the coefficients (not only the validated
-// one) and random loads, and on the shipped tables over every load step.
+// (oracle::corrections_at, dividing_oracle.hpp): the interpolation's 64-bit
+// form and the prepared divisors must give the same bits and statuses on
+// random tables over the whole Q7.24 range of the coefficients (not only the
+// validated one) and random loads, and on the shipped tables over every load
+// step.
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <random>
 
+#include "dividing_oracle.hpp"
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 
@@ -17,35 +19,7 @@ namespace {
 using flight::CorrectionResult;
 using flight::CorrectionTable;
 using flight::Ratio;
-using flight::RatioQ;
 using flight::WheelLoadN;
-using flight::WideQ;
-
-Ratio oracle_lerp(Ratio a, Ratio b, WideQ fraction, fx::Status& st) {
-  const WideQ span = fx::sub(fx::rescale<WideQ>(b.q(), st), fx::rescale<WideQ>(a.q(), st), st);
-  const WideQ step = fx::mul<WideQ>(fraction, span, st);
-  const WideQ value = fx::add(fx::rescale<WideQ>(a.q(), st), step, st);
-  return Ratio(fx::rescale<RatioQ>(value, st));
-}
-
-/// The segment case of corrections_at as it was: fx::div, four fx lerps.
-bool oracle_segment(const CorrectionTable& t, WheelLoadN w, CorrectionResult& out) {
-  for (std::uint8_t i = 0U; (i + 1U) < t.count; ++i) {
-    const flight::CorrectionRow& lo = t.rows[i];
-    const flight::CorrectionRow& hi = t.rows[i + 1U];
-    if ((w >= lo.load_n) && (w < hi.load_n)) {
-      fx::Status st;
-      const WideQ f = fx::div<WideQ>(fx::sub(w.q(), lo.load_n.q(), st), fx::sub(hi.load_n.q(), lo.load_n.q(), st), st);
-      out.coefficients.c1 = oracle_lerp(lo.c1, hi.c1, f, st);
-      out.coefficients.c2 = oracle_lerp(lo.c2, hi.c2, f, st);
-      out.coefficients.c3 = oracle_lerp(lo.c3, hi.c3, f, st);
-      out.dp_max_ratio = oracle_lerp(lo.dp_max_ratio, hi.dp_max_ratio, f, st);
-      out.status = st.ok() ? flight::EstimateStatus::ok : flight::EstimateStatus::invalid_coefficient;
-      return true;
-    }
-  }
-  return false;
-}
 
 void expect_same(const CorrectionResult& a, const CorrectionResult& b) {
   ASSERT_EQ(a.status, b.status);
@@ -78,10 +52,9 @@ TEST(CorrectionPaths, RandomTablesOverTheWholeFormatMatchTheQ3132Chain) {
     const std::int32_t span = t.rows[t.count - 1U].load_n.raw() - first;
     for (int j = 0; j < 20; ++j) {
       const WheelLoadN w = WheelLoadN::from_raw(first + static_cast<std::int32_t>(rng() % static_cast<std::uint64_t>(span)));
-      CorrectionResult expected{};
-      ASSERT_TRUE(oracle_segment(t, w, expected));
+      const CorrectionResult expected = oracle::corrections_at(t, w);
+      ASSERT_EQ(expected.clamp, flight::LoadClamp::none);  // inside a segment
       ++segments;
-      expect_same(flight::corrections_at(t, w), expected);
       expect_same(flight::corrections_at(t, divisors, w), expected);
     }
   }
@@ -93,9 +66,8 @@ TEST(CorrectionPaths, ShippedTablesAtEveryLoadStepMatchTheQ3132Chain) {
     const CorrectionTable& t = table.correction;
     const flight::CorrectionDivisors divisors = flight::make_correction_divisors(t);
     for (std::int32_t raw = t.rows[0].load_n.raw(); raw < t.rows[t.count - 1U].load_n.raw(); raw += 61) {
-      CorrectionResult expected{};
-      ASSERT_TRUE(oracle_segment(t, WheelLoadN::from_raw(raw), expected));
-      expect_same(flight::corrections_at(t, WheelLoadN::from_raw(raw)), expected);
+      const CorrectionResult expected = oracle::corrections_at(t, WheelLoadN::from_raw(raw));
+      ASSERT_EQ(expected.clamp, flight::LoadClamp::none);
       expect_same(flight::corrections_at(t, divisors, WheelLoadN::from_raw(raw)), expected);
     }
   }

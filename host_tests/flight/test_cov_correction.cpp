@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include "quantity_support.hpp"
+#include "dividing_oracle.hpp"
+#include "prepared_support.hpp"
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/param_table.hpp"
@@ -12,6 +14,8 @@
 namespace {
 
 using namespace sinkwatch::flight;
+namespace test = sinkwatch::test;
+namespace oracle = sinkwatch::oracle;
 using sinkwatch::test::d;
 using sinkwatch::test::q;
 
@@ -22,7 +26,7 @@ CorrectionRow row(double load_n, double c3) {
 TEST(CorrectionsAt, RowCountPastTheArrayIsAMalformedTable) {
   CorrectionTable t = default_parameter_table().correction;
   t.count = kMaxCorrectionRows + 1U;
-  const CorrectionResult r = corrections_at(t, q<WheelLoadN>(50.0));
+  const CorrectionResult r = test::corrections_of(t, q<WheelLoadN>(50.0));
   EXPECT_EQ(r.status, EstimateStatus::invalid_coefficient);
   EXPECT_EQ(r.coefficients.c3, Ratio::zero());
 }
@@ -33,7 +37,7 @@ TEST(CorrectionsAt, BreakpointSpacingBeyondTheLoadFormatFailsInsteadOfInterpolat
   t.count = 2U;
   t.rows[0] = row(-30000.0, 0.2);
   t.rows[1] = row(30000.0, 0.1);
-  const CorrectionResult r = corrections_at(t, q<WheelLoadN>(100.0));
+  const CorrectionResult r = test::corrections_of(t, q<WheelLoadN>(100.0));
   EXPECT_EQ(r.status, EstimateStatus::invalid_coefficient);
   EXPECT_EQ(r.dp_max_ratio, Ratio::zero());
 }
@@ -44,7 +48,7 @@ TEST(CorrectionsAt, SameBreakpointsWithinTheFormatInterpolate) {
   t.count = 2U;
   t.rows[0] = row(-10000.0, 0.2);
   t.rows[1] = row(10000.0, 0.1);
-  const CorrectionResult r = corrections_at(t, q<WheelLoadN>(0.5));
+  const CorrectionResult r = test::corrections_of(t, q<WheelLoadN>(0.5));
   ASSERT_EQ(r.status, EstimateStatus::ok);
   EXPECT_EQ(r.clamp, LoadClamp::none);
   const double fraction = (0.5 + 10000.0) / 20000.0;
@@ -71,7 +75,7 @@ TEST(CorrectionsAtPrepared, MalformedTablesGiveThePlainAnswerAtEveryLoad) {
   for (const CorrectionTable* t : {&overflowing, &falling, &too_many}) {
     const CorrectionDivisors divisors = make_correction_divisors(*t);
     for (const double load : {0.5, 30.0, 45.0, 100.0, 150.0, 30200.0, 31000.0}) {
-      const CorrectionResult plain = corrections_at(*t, q<WheelLoadN>(load));
+      const CorrectionResult plain = oracle::corrections_at(*t, q<WheelLoadN>(load));
       const CorrectionResult prepared = corrections_at(*t, divisors, q<WheelLoadN>(load));
       EXPECT_EQ(prepared.status, plain.status) << load;
       EXPECT_EQ(prepared.clamp, plain.clamp) << load;

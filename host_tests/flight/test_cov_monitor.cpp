@@ -11,6 +11,7 @@
 #include <cstdint>
 
 #include "quantity_support.hpp"
+#include "prepared_support.hpp"
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/monitor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
@@ -18,6 +19,7 @@
 namespace {
 
 using namespace sinkwatch::flight;
+namespace test = sinkwatch::test;
 using sinkwatch::test::d;
 using sinkwatch::test::q;
 
@@ -41,7 +43,7 @@ class MonitorCov : public ::testing::Test {
     return WheelInput{TimeMs{t_ms}, q<CurrentA>(current_a), q<WheelLoadN>(load_n), q<DrawbarPullN>(dp),
                       DriveDirection::forward, true};
   }
-  WheelOutput feed(const WheelInput& in) { return wheel.step(in, TimeMs{t_ms}, table); }
+  WheelOutput feed(const WheelInput& in) { return wheel.step(in, TimeMs{t_ms}, test::prepared_of(table)); }
   WheelOutput invalid() {
     WheelInput in = sample(1.0, 0.01);
     in.valid = false;
@@ -71,7 +73,7 @@ TEST_F(MonitorCov, UnusableRunLongerThan255SamplesStaysInStopAndIsCountedInFull)
 TEST_F(MonitorCov, CorrectionsHandedInAreUsedInsteadOfTheTable) {
   // C3 = 0.20 instead of the table's 0.13 at this load: Eq. 11 gives a
   // sinkage lower by r * 0.07 = 10.5 mm for the same torque and pull.
-  CorrectionResult corr = corrections_at(table.correction, q<WheelLoadN>(kW));
+  CorrectionResult corr = test::corrections_of(table.correction, q<WheelLoadN>(kW));
   ASSERT_EQ(corr.status, EstimateStatus::ok);
   const WheelOutput from_table = feed(sample(1.0, 0.02));
   corr.coefficients.c3 = q<Ratio>(0.20);
@@ -85,7 +87,7 @@ TEST_F(MonitorCov, CorrectionsHandedInAreUsedInsteadOfTheTable) {
 }
 
 TEST_F(MonitorCov, FailedCorrectionsHandedInMakeTheSampleUnusable) {
-  CorrectionResult corr = corrections_at(table.correction, q<WheelLoadN>(kW));
+  CorrectionResult corr = test::corrections_of(table.correction, q<WheelLoadN>(kW));
   corr.status = EstimateStatus::invalid_coefficient;
   WheelInput in = sample(1.0, 0.01);
   in.corrections = &corr;
@@ -200,50 +202,6 @@ TEST_F(MonitorCov, EventSinkageBeyondItsFormatIsMarkedInvalid) {
   EXPECT_NEAR(d(e.peak_current_a), 10.0, 1e-5);
   EXPECT_FALSE(e.peak_sinkage_valid);
   EXPECT_EQ(e.peak_sinkage_m, SinkageM::zero());
-}
-
-TEST_F(MonitorCov, WindowLongerThanTheHistoryBehavesAsSixteenSamples) {
-  table.monitor.window_m = 20U;  // validate() refuses this; the monitor must not misbehave
-  ASSERT_EQ(validate(table), RejectReason::window_out_of_range);
-  feed(sample(1.0, 0.035));
-  EXPECT_EQ(feed(sample(1.0, 0.035)).state, WheelState::nominal);
-  EXPECT_EQ(feed(sample(1.0, 0.035)).state, WheelState::caution);  // trip_n = 3
-}
-
-TEST_F(MonitorCov, ClearThresholdThatSaturatesNeverLeavesCaution) {
-  // caution - hysteresis = 100 m - (-100 m) does not fit Q7.24 (validate()
-  // refuses both values); a threshold that cannot be computed never clears.
-  table.monitor.caution_sinkage_m = q<SinkageM>(100.0);
-  table.monitor.stop_sinkage_m = q<SinkageM>(120.0);
-  table.monitor.sinkage_hysteresis_m = q<SinkageM>(-100.0);
-  for (int i = 0; i < 3; ++i) {
-    feed(sample(2.2, 0.01));  // current caution: 2.2 A >= 0.9 * 2.38 A
-  }
-  ASSERT_EQ(wheel.state(), WheelState::caution);
-  for (int i = 0; i < 20; ++i) {
-    EXPECT_EQ(feed(sample(1.0, 0.01)).state, WheelState::caution) << i;
-  }
-}
-
-TEST(RoverMonitorCov, StopCountZeroInAnUnvalidatedTableMeansAnyWheel) {
-  ParameterTable table = default_parameter_table();
-  table.monitor.rover_stop_k = 0U;
-  ASSERT_EQ(validate(table), RejectReason::rover_stop_k_out_of_range);
-  RoverMonitor rover;
-  std::uint32_t t = 1000U;
-  RoverOutput out{};
-  for (int k = 0; k < 10; ++k) {
-    t += 100U;
-    WheelInput inputs[kMaxWheels]{};
-    for (std::size_t i = 0; i < kMaxWheels; ++i) {
-      const double dp = kW * ((torque_nm(1.0) / kW - 0.01) / 0.15 - 0.13);
-      inputs[i] = WheelInput{TimeMs{t}, q<CurrentA>(1.0), q<WheelLoadN>(kW), q<DrawbarPullN>(dp),
-                             DriveDirection::forward, i != 3U};  // wheel 3 blind
-    }
-    out = rover.step(inputs, TimeMs{t}, table);
-  }
-  EXPECT_EQ(out.wheels_in_stop, 1U);
-  EXPECT_EQ(out.decision, RoverDecision::stop_and_replan);
 }
 
 }  // namespace

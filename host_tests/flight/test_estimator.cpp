@@ -14,6 +14,7 @@
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/ground/reference.hpp"
+#include "prepared_support.hpp"
 #include "quantity_support.hpp"
 
 namespace {
@@ -141,7 +142,7 @@ TEST(Table2, DefaultTableGivesThePublishedC3AtEachLoad) {
     if (line.empty() || line[0] == '#' || line.rfind("load", 0) == 0) continue;
     double kg = 0.0, c3 = 0.0;
     ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf", &kg, &c3), 2);
-    const CorrectionResult c = corrections_at(table.correction, q<WheelLoadN>(kg * 9.81));
+    const CorrectionResult c = test::corrections_of(table.correction, q<WheelLoadN>(kg * 9.81));
     ASSERT_EQ(c.status, EstimateStatus::ok);
     EXPECT_EQ(c.clamp, LoadClamp::none);
     EXPECT_NEAR(d(c.coefficients.c1), 1.0, 1e-7);
@@ -155,7 +156,7 @@ TEST(Table2, DefaultTableGivesThePublishedC3AtEachLoad) {
 TEST(Table2, BetweenLoadsTheCorrectionIsInterpolated) {
   const ParameterTable table = default_parameter_table();
   // Halfway between 3 kg (0.20) and 7 kg (0.15): 0.175.
-  const CorrectionResult c = corrections_at(table.correction, q<WheelLoadN>(5.0 * 9.81));
+  const CorrectionResult c = test::corrections_of(table.correction, q<WheelLoadN>(5.0 * 9.81));
   ASSERT_EQ(c.status, EstimateStatus::ok);
   EXPECT_NEAR(d(c.coefficients.c3), 0.175, 1e-6);
   EXPECT_EQ(c.clamp, LoadClamp::none);
@@ -163,32 +164,32 @@ TEST(Table2, BetweenLoadsTheCorrectionIsInterpolated) {
 
 TEST(Table2, LoadsBeyondTheBreakpointsAreHeldAndReported) {
   const ParameterTable table = default_parameter_table();
-  const CorrectionResult below = corrections_at(table.correction, q<WheelLoadN>(10.0));
+  const CorrectionResult below = test::corrections_of(table.correction, q<WheelLoadN>(10.0));
   EXPECT_EQ(below.status, EstimateStatus::ok);
   EXPECT_EQ(below.clamp, LoadClamp::below_first);
   EXPECT_NEAR(d(below.coefficients.c3), 0.20, 1e-7);
-  const CorrectionResult above = corrections_at(table.correction, q<WheelLoadN>(500.0));
+  const CorrectionResult above = test::corrections_of(table.correction, q<WheelLoadN>(500.0));
   EXPECT_EQ(above.clamp, LoadClamp::above_last);
   EXPECT_NEAR(d(above.coefficients.c3), 0.13, 1e-7);
-  const CorrectionResult zero = corrections_at(table.correction, WheelLoadN::zero());
+  const CorrectionResult zero = test::corrections_of(table.correction, WheelLoadN::zero());
   EXPECT_EQ(zero.status, EstimateStatus::invalid_load);
   CorrectionTable empty = table.correction;
   empty.count = 0U;
-  EXPECT_EQ(corrections_at(empty, q<WheelLoadN>(50.0)).status, EstimateStatus::invalid_coefficient);
+  EXPECT_EQ(test::corrections_of(empty, q<WheelLoadN>(50.0)).status, EstimateStatus::invalid_coefficient);
   // An unvalidated, non-increasing table still never divides by zero: a
   // segment [a, b) with a >= b holds no load, and every load between the
   // first and the last breakpoint lies in some segment.
   CorrectionTable unsorted = table.correction;
   unsorted.rows[2].load_n = unsorted.rows[1].load_n;
   for (double w : {30.0, 68.67, 80.0, 150.0}) {
-    EXPECT_EQ(corrections_at(unsorted, q<WheelLoadN>(w)).status, EstimateStatus::ok) << w;
+    EXPECT_EQ(test::corrections_of(unsorted, q<WheelLoadN>(w)).status, EstimateStatus::ok) << w;
   }
 }
 
 TEST(Table2, Eq15TableIsConstant013) {
   const ParameterTable t = eq15_parameter_table();
   for (double w : {10.0, 29.43, 60.0, 196.2, 400.0}) {
-    EXPECT_NEAR(d(corrections_at(t.correction, q<WheelLoadN>(w)).coefficients.c3), 0.13, 1e-7);
+    EXPECT_NEAR(d(test::corrections_of(t.correction, q<WheelLoadN>(w)).coefficients.c3), 0.13, 1e-7);
   }
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 
+#include "prepared_support.hpp"
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/flight/monitor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
@@ -42,7 +43,7 @@ class MonitorTest : public ::testing::Test {
     t_ms += 100U;
     return WheelInput{TimeMs{t_ms}, q<CurrentA>(signed_i), q<WheelLoadN>(kW), q<DrawbarPullN>(dp), dir, true};
   }
-  WheelOutput feed(const WheelInput& in) { return wheel.step(in, TimeMs{t_ms}, table); }
+  WheelOutput feed(const WheelInput& in) { return wheel.step(in, TimeMs{t_ms}, test::prepared_of(table)); }
   WheelOutput nominal() { return feed(sample(1.0, 0.01)); }
   WheelOutput sink_caution() { return feed(sample(1.0, 0.035)); }
   WheelOutput sink_stop() { return feed(sample(1.0, 0.05)); }
@@ -242,7 +243,7 @@ TEST_F(MonitorTest, EverySampleStatus) {
   EXPECT_EQ(feed(in).sample_status, SampleStatus::stale);
   in = sample(1.0, 0.01);
   EXPECT_EQ(feed(in).sample_status, SampleStatus::ok);
-  EXPECT_EQ(wheel.step(in, TimeMs{t_ms}, table).sample_status, SampleStatus::repeated_time);
+  EXPECT_EQ(wheel.step(in, TimeMs{t_ms}, test::prepared_of(table)).sample_status, SampleStatus::repeated_time);
   in = sample(1.0, 0.01);
   in.direction = static_cast<DriveDirection>(3);
   EXPECT_EQ(feed(in).sample_status, SampleStatus::direction_invalid);
@@ -303,7 +304,7 @@ TEST(RoverMonitor, AnyWheelStopsTheRoverWhenKIsOne) {
     const auto a = inputs(n);
     WheelInput raw[kMaxWheels];
     std::copy(a.begin(), a.end(), raw);
-    return rover.step(raw, TimeMs{t}, table);
+    return rover.step(raw, TimeMs{t}, test::prepared_of(table));
   };
   for (int i = 0; i < 5; ++i) EXPECT_EQ(step(0).decision, RoverDecision::continue_drive);
   step(1);
@@ -336,7 +337,7 @@ TEST(RoverMonitor, AnyWheelStopsTheRoverWhenKIsOne) {
   for (int i = 0; i < 12; ++i) {
     t += 100U;
     for (WheelInput& w : raw) w.time = TimeMs{t};
-    o = rover.step(raw, TimeMs{t}, table);
+    o = rover.step(raw, TimeMs{t}, test::prepared_of(table));
   }
   EXPECT_EQ(o.decision, RoverDecision::continue_drive);
   EXPECT_EQ(rover.wheel(5).counters().samples, wheel5_samples);

@@ -1,6 +1,7 @@
 // The motor model and the section 7 current limit.
 #include <gtest/gtest.h>
 
+#include "prepared_support.hpp"
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/flight/current_limit.hpp"
 #include "sinkwatch/flight/motor.hpp"
@@ -59,7 +60,7 @@ TEST(Motor, InvalidMotorAndDirectionHaveTheirStatus) {
   MotorParams m = motor();
   m.efficiency = Efficiency::zero();
   EXPECT_EQ(torque_from_current(m, q<CurrentA>(1.0), DriveDirection::forward).status, EstimateStatus::invalid_motor);
-  EXPECT_EQ(current_from_torque(m, q<TorqueNm>(1.0), DriveDirection::forward).status, EstimateStatus::invalid_motor);
+  EXPECT_EQ(test::current_of(m, q<TorqueNm>(1.0), DriveDirection::forward).status, EstimateStatus::invalid_motor);
   m = motor();
   m.gear_ratio = q<GearRatio>(-1.0);
   EXPECT_EQ(check_motor(m), EstimateStatus::invalid_motor);
@@ -77,7 +78,7 @@ TEST(Motor, InvalidMotorAndDirectionHaveTheirStatus) {
   EXPECT_EQ(check_motor(m), EstimateStatus::invalid_motor);
   const auto bad = static_cast<DriveDirection>(7);
   EXPECT_EQ(torque_from_current(motor(), q<CurrentA>(1.0), bad).status, EstimateStatus::invalid_direction);
-  EXPECT_EQ(current_from_torque(motor(), q<TorqueNm>(1.0), bad).status, EstimateStatus::invalid_direction);
+  EXPECT_EQ(test::current_of(motor(), q<TorqueNm>(1.0), bad).status, EstimateStatus::invalid_direction);
 }
 
 TEST(Motor, OverflowIsAStatus) {
@@ -93,7 +94,7 @@ TEST(Motor, OverflowIsAStatus) {
   weak.kt_nm_per_a = q<TorqueConstantNmPerA>(0.0001);
   weak.efficiency = q<Efficiency>(0.01);
   // 30000 N m / 1e-6 N m/A: beyond Q11.20.
-  EXPECT_EQ(current_from_torque(weak, q<TorqueNm>(30000.0), DriveDirection::forward).status,
+  EXPECT_EQ(test::current_of(weak, q<TorqueNm>(30000.0), DriveDirection::forward).status,
             EstimateStatus::overflow);
 }
 
@@ -102,7 +103,7 @@ TEST(Motor, CurrentFromTorqueInvertsTorqueFromCurrent) {
     for (DriveDirection dir : {DriveDirection::forward, DriveDirection::reverse}) {
       const TorqueResult t = torque_from_current(motor(), q<CurrentA>(i), dir);
       ASSERT_EQ(t.status, EstimateStatus::ok);
-      const CurrentResult back = current_from_torque(motor(), t.torque_nm, dir);
+      const CurrentResult back = test::current_of(motor(), t.torque_nm, dir);
       ASSERT_EQ(back.status, EstimateStatus::ok);
       // T is rounded to 2^-17 N m; divided by the 6 N m/A gain: < 2e-6 A.
       EXPECT_NEAR(d(back.current_a), i, 2e-6);
@@ -116,7 +117,7 @@ TEST(CurrentLimit, HandComputedAt10kg) {
   // I_max = 13.68495 / 6 + 0.1 = 2.380825 A.
   const ParameterTable t = default_parameter_table();
   const CurrentLimitResult l =
-      current_limit(t.correction, t.motor, t.wheel_radius_m, q<WheelLoadN>(98.1), q<SinkageM>(0.045));
+      test::current_limit_of(t.correction, t.motor, t.wheel_radius_m, q<WheelLoadN>(98.1), q<SinkageM>(0.045));
   ASSERT_EQ(l.status, EstimateStatus::ok);
   EXPECT_EQ(l.clamp, LoadClamp::none);
   EXPECT_NEAR(d(l.torque_limit_nm), 13.68495, 2e-5);
@@ -128,7 +129,7 @@ TEST(CurrentLimit, RisesWithTheLoad) {
   double previous = 0.0;
   for (double w = 20.0; w <= 300.0; w += 10.0) {
     const CurrentLimitResult l =
-        current_limit(t.correction, t.motor, t.wheel_radius_m, q<WheelLoadN>(w), t.monitor.allowed_sinkage_m);
+        test::current_limit_of(t.correction, t.motor, t.wheel_radius_m, q<WheelLoadN>(w), t.monitor.allowed_sinkage_m);
     ASSERT_EQ(l.status, EstimateStatus::ok);
     EXPECT_GT(d(l.current_limit_a), previous) << w;
     previous = d(l.current_limit_a);
@@ -137,17 +138,17 @@ TEST(CurrentLimit, RisesWithTheLoad) {
 
 TEST(CurrentLimit, ReportsTheClampAndInvalidInputs) {
   const ParameterTable t = default_parameter_table();
-  EXPECT_EQ(current_limit(t.correction, t.motor, t.wheel_radius_m, q<WheelLoadN>(5.0), t.monitor.allowed_sinkage_m).clamp,
+  EXPECT_EQ(test::current_limit_of(t.correction, t.motor, t.wheel_radius_m, q<WheelLoadN>(5.0), t.monitor.allowed_sinkage_m).clamp,
             LoadClamp::below_first);
-  EXPECT_EQ(current_limit(t.correction, t.motor, t.wheel_radius_m, q<WheelLoadN>(500.0), t.monitor.allowed_sinkage_m).clamp,
+  EXPECT_EQ(test::current_limit_of(t.correction, t.motor, t.wheel_radius_m, q<WheelLoadN>(500.0), t.monitor.allowed_sinkage_m).clamp,
             LoadClamp::above_last);
-  EXPECT_EQ(current_limit(t.correction, t.motor, t.wheel_radius_m, WheelLoadN::zero(), t.monitor.allowed_sinkage_m).status,
+  EXPECT_EQ(test::current_limit_of(t.correction, t.motor, t.wheel_radius_m, WheelLoadN::zero(), t.monitor.allowed_sinkage_m).status,
             EstimateStatus::invalid_load);
-  EXPECT_EQ(current_limit(t.correction, t.motor, LengthM::zero(), q<WheelLoadN>(50.0), t.monitor.allowed_sinkage_m).status,
+  EXPECT_EQ(test::current_limit_of(t.correction, t.motor, LengthM::zero(), q<WheelLoadN>(50.0), t.monitor.allowed_sinkage_m).status,
             EstimateStatus::invalid_radius);
   MotorParams m = t.motor;
   m.kt_nm_per_a = TorqueConstantNmPerA::zero();
-  EXPECT_EQ(current_limit(t.correction, m, t.wheel_radius_m, q<WheelLoadN>(50.0), t.monitor.allowed_sinkage_m).status,
+  EXPECT_EQ(test::current_limit_of(t.correction, m, t.wheel_radius_m, q<WheelLoadN>(50.0), t.monitor.allowed_sinkage_m).status,
             EstimateStatus::invalid_motor);
   // T_max beyond Q15.16.
   EXPECT_EQ(torque_limit(Coefficients{q<Ratio>(0.25), q<Ratio>(4.0), q<Ratio>(1.0)}, q<Ratio>(2.0), q<LengthM>(2.0),
@@ -161,7 +162,7 @@ TEST(CurrentLimit, AgreesWithTheReferenceTwin) {
   const ref::Parameters p = ref::from_flight(t);
   for (double w = 5.0; w <= 400.0; w += 7.3) {
     const CurrentLimitResult l =
-        current_limit(t.correction, t.motor, t.wheel_radius_m, q<WheelLoadN>(w), t.monitor.allowed_sinkage_m);
+        test::current_limit_of(t.correction, t.motor, t.wheel_radius_m, q<WheelLoadN>(w), t.monitor.allowed_sinkage_m);
     ASSERT_EQ(l.status, EstimateStatus::ok);
     const double expected = ref::current_limit_a(p.correction, p.motor, p.wheel_radius_m,
                                                  d(q<WheelLoadN>(w)), p.allowed_sinkage_m);

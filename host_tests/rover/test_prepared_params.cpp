@@ -8,6 +8,8 @@
 #include <random>
 
 #include "rover_test_support.hpp"
+#include "dividing_oracle.hpp"
+#include "prepared_support.hpp"
 #include "sinkwatch/fixedpoint/trig.hpp"
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/current_limit.hpp"
@@ -97,15 +99,16 @@ TEST_F(PreparedTest, PreparedParametersAreACopy) {
   EXPECT_NE(p.rover().mass_kg, rover.mass_kg);
 }
 
-TEST_F(PreparedTest, CurrentLimitFromSharedCorrectionsEqualsTheTableForm) {
+TEST_F(PreparedTest, CurrentLimitOnPreparedDivisorsEqualsTheDividingOracle) {
   // Loads below, inside (on and between breakpoints) and above Table 2.
+  const flight::CorrectionDivisors cd = flight::make_correction_divisors(table.correction);
+  const flight::MotorDivisors md = flight::make_motor_divisors(table.motor);
   for (std::int32_t raw = 1; raw < (250 << 16); raw += 104729) {
     const flight::WheelLoadN w = flight::WheelLoadN::from_raw(raw);
-    const flight::CurrentLimitResult a = flight::current_limit(table.correction, table.motor, table.wheel_radius_m,
-                                                               w, table.monitor.allowed_sinkage_m);
+    const flight::CurrentLimitResult a = oracle::current_limit(table, w);
     const flight::CurrentLimitResult b =
-        flight::current_limit(flight::corrections_at(table.correction, w), table.motor, table.wheel_radius_m, w,
-                              table.monitor.allowed_sinkage_m);
+        flight::current_limit(flight::corrections_at(table.correction, cd, w), table.motor, md,
+                              table.wheel_radius_m, w, table.monitor.allowed_sinkage_m);
     ASSERT_EQ(a.status, b.status) << raw;
     ASSERT_EQ(a.clamp, b.clamp) << raw;
     ASSERT_EQ(a.current_limit_a, b.current_limit_a) << raw;
@@ -146,14 +149,14 @@ void expect_same_wheel(const flight::WheelOutput& a, const flight::WheelOutput& 
   EXPECT_EQ(a.clamp, b.clamp) << k << " " << i;
 }
 
-TEST_F(PreparedTest, StepOnPreparedParametersEqualsTheUnpreparedChain) {
+TEST_F(PreparedTest, StepEqualsItsStagesChainedByHand) {
   // The chain below has no sensor health stage: its checks off (this
   // telemetry's attitude and current jumps would be spikes).
   table.health = flight::HealthParams{};
   flight::PreparedParameters p;
   ASSERT_EQ(flight::prepare(table, rover, p), PrepareStatus::ok);
   flight::RoverStep step;
-  flight::RoverMonitor reference;  // fed by the chain, evaluating C(W) itself
+  flight::RoverMonitor reference;  // fed by the chain, evaluating C(W) itself (no WheelInput::corrections)
   std::uint32_t stops = 0U;
   std::uint32_t cautions = 0U;
   for (std::uint32_t k = 0U; k < 240U; ++k) {
@@ -167,7 +170,7 @@ TEST_F(PreparedTest, StepOnPreparedParametersEqualsTheUnpreparedChain) {
     in.accel_mps2 = t.accel_mps2;
     in.pitch_rad = t.attitude.pitch_rad;
     for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
-      in.dp_max_ratio[i] = flight::corrections_at(table.correction, loads.load_n[i]).dp_max_ratio;
+      in.dp_max_ratio[i] = test::corrections_of(table.correction, loads.load_n[i]).dp_max_ratio;
     }
     const flight::DrawbarResult dp = flight::drawbar_pulls(rover, loads, in);
     ASSERT_TRUE(flight::usable(dp.status)) << k;
@@ -177,7 +180,7 @@ TEST_F(PreparedTest, StepOnPreparedParametersEqualsTheUnpreparedChain) {
       ASSERT_EQ(out.load_n[i], loads.load_n[i]) << k;
       ASSERT_EQ(out.drawbar_pull_n[i], dp.dp_n[i]) << k;
     }
-    const flight::RoverOutput ref = reference.step(inputs, t.time, table);
+    const flight::RoverOutput ref = reference.step(inputs, t.time, p);
     EXPECT_EQ(out.decision, ref.decision) << k;
     for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
       expect_same_wheel(out.monitor.wheels[i], ref.wheels[i], k, i);
@@ -270,15 +273,16 @@ TEST_F(PreparedTest, DrawbarSharesEqualTheQ3132DivisionOfTheLoads) {
 TEST_F(PreparedTest, MonitorWithKnownCorrectionsEqualsTheMonitorEvaluatingThem) {
   flight::WheelMonitor own(0U);
   flight::WheelMonitor shared(0U);
+  const flight::PreparedParameters p = test::prepared_of(table);
   for (std::uint32_t k = 0U; k < 120U; ++k) {
     const flight::WheelLoadN w = q<flight::WheelLoadN>(20.0 + (1.7 * static_cast<double>(k)));
     const flight::CurrentA i = q<flight::CurrentA>(0.2 + (0.015 * static_cast<double>(k % 50U)));
     flight::WheelInput in{flight::TimeMs{100U * (k + 1U)}, i, w, q<flight::DrawbarPullN>(-1.0),
                           flight::DriveDirection::forward, true};
-    const flight::WheelOutput a = own.step(in, in.time, table);
-    const flight::CorrectionResult corr = flight::corrections_at(table.correction, w);
+    const flight::WheelOutput a = own.step(in, in.time, p);
+    const flight::CorrectionResult corr = test::corrections_of(table.correction, w);
     in.corrections = &corr;
-    const flight::WheelOutput b = shared.step(in, in.time, table);
+    const flight::WheelOutput b = shared.step(in, in.time, p);
     expect_same_wheel(a, b, k, 0U);
   }
 }

@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "rover_test_support.hpp"
+#include "prepared_support.hpp"
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/motor.hpp"
@@ -50,7 +51,7 @@ TEST_F(RoverStepTest, NominalCycleGivesEveryNumberAndMatchesTheChain) {
   t.attitude = rover_test::attitude(0.12, -0.05);
   t.joints = rover_test::joints(0.08, -0.08, 0.1, -0.02);
   t.accel_mps2 = q<flight::AccelMps2>(0.01);
-  const flight::RoverStepOutput out = step.step(t, flight::TimeMs{1010U}, table, rover);
+  const flight::RoverStepOutput out = step.step(t, flight::TimeMs{1010U}, test::prepared_of(table, rover));
   ASSERT_EQ(out.status, RoverStepStatus::ok);
   ASSERT_TRUE(out.loads_valid);
   ASSERT_TRUE(out.drawbar_valid);
@@ -63,7 +64,7 @@ TEST_F(RoverStepTest, NominalCycleGivesEveryNumberAndMatchesTheChain) {
   in.accel_mps2 = t.accel_mps2;
   in.pitch_rad = t.attitude.pitch_rad;
   for (std::size_t i = 0; i < flight::kWheelCount; ++i) {
-    in.dp_max_ratio[i] = flight::corrections_at(table.correction, loads.load_n[i]).dp_max_ratio;
+    in.dp_max_ratio[i] = test::corrections_of(table.correction, loads.load_n[i]).dp_max_ratio;
   }
   const flight::DrawbarResult dp = flight::drawbar_pulls(rover, loads, in);
   ASSERT_TRUE(flight::usable(dp.status));
@@ -77,7 +78,7 @@ TEST_F(RoverStepTest, NominalCycleGivesEveryNumberAndMatchesTheChain) {
     EXPECT_EQ(w.state, flight::WheelState::nominal) << i;
     const flight::TorqueResult torque =
         flight::torque_from_current(table.motor, t.current_a[i], flight::DriveDirection::forward);
-    const flight::CorrectionResult corr = flight::corrections_at(table.correction, loads.load_n[i]);
+    const flight::CorrectionResult corr = test::corrections_of(table.correction, loads.load_n[i]);
     const flight::SinkageResult z = flight::sinkage_from_pull(corr.coefficients, table.wheel_radius_m,
                                                               loads.load_n[i], torque.torque_nm, dp.dp_n[i]);
     EXPECT_EQ(w.torque_nm, torque.torque_nm) << i;
@@ -94,7 +95,7 @@ TEST_F(RoverStepTest, AccelerationFromTheSpeedDifference) {
   t.accel_valid = false;
   t.speed_valid = true;
   t.speed_mps = q<flight::SpeedMps>(0.05);
-  const flight::RoverStepOutput first = step.step(t, flight::TimeMs{2000U}, table, rover);
+  const flight::RoverStepOutput first = step.step(t, flight::TimeMs{2000U}, test::prepared_of(table, rover));
   EXPECT_EQ(first.status, RoverStepStatus::no_acceleration);
   EXPECT_TRUE(first.loads_valid);  // the loads exist, the pulls do not
   EXPECT_FALSE(first.drawbar_valid);
@@ -102,7 +103,7 @@ TEST_F(RoverStepTest, AccelerationFromTheSpeedDifference) {
 
   t.time = flight::TimeMs{2100U};
   t.speed_mps = q<flight::SpeedMps>(0.06);
-  const flight::RoverStepOutput second = step.step(t, flight::TimeMs{2100U}, table, rover);
+  const flight::RoverStepOutput second = step.step(t, flight::TimeMs{2100U}, test::prepared_of(table, rover));
   ASSERT_EQ(second.status, RoverStepStatus::ok);
   ASSERT_TRUE(second.accel_valid);
   EXPECT_NEAR(d(second.accel_mps2), 0.1, 1e-6);
@@ -117,7 +118,7 @@ TEST_F(RoverStepTest, SlipFromGroundAndRimSpeedAndHighSlipSaturates) {
   t.speed_mps = q<flight::SpeedMps>(0.04);
   t.rim_speed_valid = true;
   t.rim_speed_mps = q<flight::SpeedMps>(0.05);
-  const flight::RoverStepOutput low = step.step(t, flight::TimeMs{3000U}, table, rover);
+  const flight::RoverStepOutput low = step.step(t, flight::TimeMs{3000U}, test::prepared_of(table, rover));
   ASSERT_EQ(low.status, RoverStepStatus::ok);
   ASSERT_TRUE(low.slip_known);
   EXPECT_NEAR(d(low.slip), 0.2, 1e-6);
@@ -125,7 +126,7 @@ TEST_F(RoverStepTest, SlipFromGroundAndRimSpeedAndHighSlipSaturates) {
 
   t.time = flight::TimeMs{3100U};
   t.speed_mps = q<flight::SpeedMps>(0.01);  // slip 0.8 >= high_slip 0.6
-  const flight::RoverStepOutput high = step.step(t, flight::TimeMs{3100U}, table, rover);
+  const flight::RoverStepOutput high = step.step(t, flight::TimeMs{3100U}, test::prepared_of(table, rover));
   ASSERT_EQ(high.status, RoverStepStatus::ok);
   EXPECT_NEAR(d(high.slip), 0.8, 1e-6);
   EXPECT_EQ(high.drawbar_status, flight::DrawbarStatus::saturated);
@@ -135,35 +136,35 @@ TEST_F(RoverStepTest, SlipFromGroundAndRimSpeedAndHighSlipSaturates) {
 
   t.time = flight::TimeMs{3200U};
   t.speed_mps = q<flight::SpeedMps>(-0.05);  // moving against the wheels: limited to 1
-  const flight::RoverStepOutput against = step.step(t, flight::TimeMs{3200U}, table, rover);
+  const flight::RoverStepOutput against = step.step(t, flight::TimeMs{3200U}, test::prepared_of(table, rover));
   EXPECT_EQ(d(against.slip), 1.0);
   t.time = flight::TimeMs{3300U};
   t.rim_speed_mps = q<flight::SpeedMps>(0.0005);  // below 1 mm/s: slip undefined
-  const flight::RoverStepOutput idle = step.step(t, flight::TimeMs{3300U}, table, rover);
+  const flight::RoverStepOutput idle = step.step(t, flight::TimeMs{3300U}, test::prepared_of(table, rover));
   EXPECT_FALSE(idle.slip_known);
 }
 
 TEST_F(RoverStepTest, FlaggedStaleAndRepeatedTelemetryAreRefusedAndCounted) {
   flight::RoverTelemetry t = telemetry(5000U);
   t.valid = false;
-  flight::RoverStepOutput out = step.step(t, flight::TimeMs{5000U}, table, rover);
+  flight::RoverStepOutput out = step.step(t, flight::TimeMs{5000U}, test::prepared_of(table, rover));
   EXPECT_EQ(out.status, RoverStepStatus::telemetry_invalid);
   EXPECT_FALSE(out.loads_valid);
   EXPECT_EQ(out.monitor.wheels[0].sample_status, flight::SampleStatus::flagged_invalid);
 
   t.valid = true;
-  out = step.step(t, flight::TimeMs{5000U + table.monitor.stale_timeout_ms + 1U}, table, rover);
+  out = step.step(t, flight::TimeMs{5000U + table.monitor.stale_timeout_ms + 1U}, test::prepared_of(table, rover));
   EXPECT_EQ(out.status, RoverStepStatus::telemetry_stale);
   EXPECT_EQ(out.monitor.wheels[3].sample_status, flight::SampleStatus::stale);
   EXPECT_FALSE(out.loads_valid);
 
   // From the future: stale as well (the wrapping age is huge).
-  out = step.step(t, flight::TimeMs{4000U}, table, rover);
+  out = step.step(t, flight::TimeMs{4000U}, test::prepared_of(table, rover));
   EXPECT_EQ(out.status, RoverStepStatus::telemetry_stale);
 
-  out = step.step(t, flight::TimeMs{5010U}, table, rover);
+  out = step.step(t, flight::TimeMs{5010U}, test::prepared_of(table, rover));
   EXPECT_EQ(out.status, RoverStepStatus::ok);
-  out = step.step(t, flight::TimeMs{5020U}, table, rover);  // same stamp again
+  out = step.step(t, flight::TimeMs{5020U}, test::prepared_of(table, rover));  // same stamp again
   EXPECT_EQ(out.status, RoverStepStatus::telemetry_repeated);
   EXPECT_NE(out.monitor.wheels[0].sample_status, flight::SampleStatus::ok);
   EXPECT_FALSE(out.monitor.wheels[0].estimate_valid);
@@ -176,23 +177,23 @@ TEST_F(RoverStepTest, FlaggedStaleAndRepeatedTelemetryAreRefusedAndCounted) {
 TEST_F(RoverStepTest, MotionOutOfRangeIsRefused) {
   flight::RoverTelemetry t = telemetry(6000U);
   t.accel_mps2 = q<flight::AccelMps2>(12.0);
-  EXPECT_EQ(step.step(t, flight::TimeMs{6000U}, table, rover).status, RoverStepStatus::motion_out_of_range);
+  EXPECT_EQ(step.step(t, flight::TimeMs{6000U}, test::prepared_of(table, rover)).status, RoverStepStatus::motion_out_of_range);
   t.time = flight::TimeMs{6100U};
   t.accel_mps2 = flight::AccelMps2::zero();
   t.speed_valid = true;
   t.speed_mps = q<flight::SpeedMps>(6.0);
-  EXPECT_EQ(step.step(t, flight::TimeMs{6100U}, table, rover).status, RoverStepStatus::motion_out_of_range);
+  EXPECT_EQ(step.step(t, flight::TimeMs{6100U}, test::prepared_of(table, rover)).status, RoverStepStatus::motion_out_of_range);
   t.time = flight::TimeMs{6200U};
   t.speed_valid = false;
   t.rim_speed_valid = true;
   t.rim_speed_mps = q<flight::SpeedMps>(-5.5);
-  EXPECT_EQ(step.step(t, flight::TimeMs{6200U}, table, rover).status, RoverStepStatus::motion_out_of_range);
+  EXPECT_EQ(step.step(t, flight::TimeMs{6200U}, test::prepared_of(table, rover)).status, RoverStepStatus::motion_out_of_range);
 }
 
 TEST_F(RoverStepTest, TipOverStopsTheRoverInTheSameCycle) {
   flight::RoverTelemetry t = telemetry(7000U);
   t.attitude = rover_test::attitude(0.0, 0.75);  // beyond the 39.3 deg roll limit
-  const flight::RoverStepOutput out = step.step(t, flight::TimeMs{7000U}, table, rover);
+  const flight::RoverStepOutput out = step.step(t, flight::TimeMs{7000U}, test::prepared_of(table, rover));
   EXPECT_EQ(out.status, RoverStepStatus::tip_over);
   EXPECT_EQ(out.load_status, flight::WheelLoadStatus::tip_over);
   EXPECT_EQ(out.decision, flight::RoverDecision::stop_and_replan);
@@ -208,7 +209,7 @@ TEST_F(RoverStepTest, PersistentlyUnusableTelemetryStopsTheRover) {
   flight::RoverStepOutput out{};
   for (std::uint32_t k = 0U; k < table.monitor.invalid_to_stop; ++k) {
     t.time = flight::TimeMs{8000U + 100U * k};
-    out = step.step(t, t.time, table, rover);
+    out = step.step(t, t.time, test::prepared_of(table, rover));
     EXPECT_EQ(out.status, RoverStepStatus::loads_failed);
     EXPECT_EQ(out.load_status, flight::WheelLoadStatus::attitude_out_of_range);
     if (k + 1U < table.monitor.invalid_to_stop) {
@@ -223,13 +224,13 @@ TEST_F(RoverStepTest, PersistentlyUnusableTelemetryStopsTheRover) {
 TEST_F(RoverStepTest, BadParametersFailSafe) {
   flight::ParameterTable bad_table = table;
   bad_table.wheel_radius_m = flight::LengthM::zero();
-  const flight::RoverStepOutput no_table = step.step(telemetry(9000U), flight::TimeMs{9000U}, bad_table, rover);
+  const flight::RoverStepOutput no_table = step.step(telemetry(9000U), flight::TimeMs{9000U}, test::prepared_of(bad_table, rover));
   EXPECT_EQ(no_table.status, RoverStepStatus::invalid_table);
   EXPECT_EQ(no_table.decision, flight::RoverDecision::stop_and_replan);
 
   flight::RoverParams bad_rover = rover;
   bad_rover.gravity_mps2 = flight::AccelMps2::zero();
-  const flight::RoverStepOutput out = step.step(telemetry(9100U), flight::TimeMs{9100U}, table, bad_rover);
+  const flight::RoverStepOutput out = step.step(telemetry(9100U), flight::TimeMs{9100U}, test::prepared_of(table, bad_rover));
   EXPECT_EQ(out.status, RoverStepStatus::invalid_rover_params);
   EXPECT_FALSE(out.loads_valid);
   EXPECT_EQ(out.monitor.wheels[5].sample_status, flight::SampleStatus::flagged_invalid);
@@ -237,7 +238,7 @@ TEST_F(RoverStepTest, BadParametersFailSafe) {
   flight::RoverParams other_wheel = rover;
   other_wheel.wheel_radius_m = q<flight::LengthM>(0.16);
   ASSERT_EQ(flight::validate_rover_params(other_wheel), flight::RoverParamStatus::ok);
-  const flight::RoverStepOutput mismatch = step.step(telemetry(9200U), flight::TimeMs{9200U}, table, other_wheel);
+  const flight::RoverStepOutput mismatch = step.step(telemetry(9200U), flight::TimeMs{9200U}, test::prepared_of(table, other_wheel));
   EXPECT_EQ(mismatch.status, RoverStepStatus::radius_mismatch);
   EXPECT_FALSE(mismatch.loads_valid);
   EXPECT_EQ(mismatch.monitor.wheels[0].sample_status, flight::SampleStatus::flagged_invalid);
@@ -249,14 +250,14 @@ TEST_F(RoverStepTest, HighCurrentTripsStopThroughTheMonitor) {
   for (std::uint32_t k = 0U; k < table.monitor.trip_n; ++k) {
     flight::RoverTelemetry t = telemetry(10000U + 100U * k);
     t.current_a[2] = q<flight::CurrentA>(5.0);
-    out = step.step(t, t.time, table, rover);
+    out = step.step(t, t.time, test::prepared_of(table, rover));
     ASSERT_EQ(out.status, RoverStepStatus::ok);
   }
   EXPECT_EQ(out.monitor.wheels[2].state, flight::WheelState::stop);
   EXPECT_EQ(out.monitor.wheels[0].state, flight::WheelState::nominal);
   EXPECT_EQ(out.decision, flight::RoverDecision::stop_and_replan);
   step.clear_stop();
-  const flight::RoverStepOutput after = step.step(telemetry(11000U), flight::TimeMs{11000U}, table, rover);
+  const flight::RoverStepOutput after = step.step(telemetry(11000U), flight::TimeMs{11000U}, test::prepared_of(table, rover));
   EXPECT_EQ(after.monitor.wheels[2].state, flight::WheelState::nominal);
 }
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "prepared_support.hpp"
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/current_limit.hpp"
@@ -167,7 +168,7 @@ RC_GTEST_PROP(FlightVsReference, CurrentFromTorqueWithinBound, ()) {
   const MotorParams m = gen_motor();
   const TorqueNm t = gen_torque();
   const DriveDirection dir = *rc::gen::arbitrary<bool>() ? DriveDirection::forward : DriveDirection::reverse;
-  const CurrentResult got = current_from_torque(m, t, dir);
+  const CurrentResult got = test::current_of(m, t, dir);
   const ref::Motor rm = ref::from_flight(m);
   const double expected = ref::current_a(rm, d(t), dir);
   const double driving = d(t) / (rm.gear_ratio * rm.efficiency * rm.kt_nm_per_a);
@@ -187,7 +188,7 @@ RC_GTEST_PROP(FlightVsReference, CurrentFromTorqueWithinBound, ()) {
 RC_GTEST_PROP(FlightVsReference, CorrectionsWithinBoundAndClampReported, ()) {
   const ParameterTable table = default_parameter_table();
   const WheelLoadN w = WheelLoadN::from_raw(raw_in(1, raw_of<LoadQ>(30000.0)));
-  const CorrectionResult got = corrections_at(table.correction, w);
+  const CorrectionResult got = test::corrections_of(table.correction, w);
   const ref::Corrections expected = ref::corrections_at(ref::from_flight(table.correction), d(w));
   RC_ASSERT(got.status == EstimateStatus::ok);
   RC_ASSERT(static_cast<int>(got.clamp) == static_cast<int>(expected.clamp));
@@ -205,7 +206,7 @@ RC_GTEST_PROP(FlightVsReference, CurrentLimitWithinBound, ()) {
   table.wheel_radius_m = LengthM::from_raw(raw_in(raw_of<LengthQ>(0.05), raw_of<LengthQ>(1.0)));
   const WheelLoadN w = WheelLoadN::from_raw(raw_in(raw_of<LoadQ>(1.0), raw_of<LoadQ>(2000.0)));
   const SinkageM zmax = SinkageM::from_raw(raw_in(1, table.wheel_radius_m.raw()));
-  const CurrentLimitResult got = current_limit(table.correction, table.motor, table.wheel_radius_m, w, zmax);
+  const CurrentLimitResult got = test::current_limit_of(table.correction, table.motor, table.wheel_radius_m, w, zmax);
   const ref::Parameters p = ref::from_flight(table);
   const ref::Corrections corr = ref::corrections_at(p.correction, d(w));
   const double t_max = ref::torque_limit_nm(corr.coefficients, corr.dp_max_ratio, p.wheel_radius_m, d(w), d(zmax));

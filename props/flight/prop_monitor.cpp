@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "prepared_support.hpp"
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/flight/escape.hpp"
 #include "sinkwatch/flight/monitor.hpp"
@@ -54,7 +55,7 @@ RC_GTEST_PROP(MonitorProps, OnlyAllowedTransitionsAndUnusableNeverEstimated, ())
     const double dp = 98.1 * ((torque / 98.1 - kind.sinkage) / p.wheel_radius_m - 0.13);
     const WheelInput in{TimeMs{t}, q<CurrentA>(kind.current), q<WheelLoadN>(98.1), q<DrawbarPullN>(dp),
                         DriveDirection::forward, kind.valid};
-    const WheelOutput o = wheel.step(in, TimeMs{t}, table);
+    const WheelOutput o = wheel.step(in, TimeMs{t}, test::prepared_of(table));
     if (!kind.valid) {
       RC_ASSERT(!o.estimate_valid);
       RC_ASSERT(o.sinkage_m == SinkageM::zero());

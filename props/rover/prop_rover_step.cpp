@@ -10,6 +10,7 @@
 #include <cstdint>
 
 #include "rover_test_support.hpp"
+#include "prepared_support.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/rover_step.hpp"
 
@@ -63,7 +64,7 @@ RC_GTEST_PROP(RoverStepProp, NeverANumberFromInvalidInputAndAlwaysConsistent, ()
     t.rim_speed_valid = *rc::gen::arbitrary<bool>();
     t.rim_speed_mps = plausible<flight::SpeedMps>(0.2);
 
-    const flight::RoverStepOutput out = step.step(t, flight::TimeMs{now}, table, rover);
+    const flight::RoverStepOutput out = step.step(t, flight::TimeMs{now}, test::prepared_of(table, rover));
 
     const bool ok = out.status == flight::RoverStepStatus::ok;
     RC_CLASSIFY(ok, "full chain");

@@ -93,6 +93,9 @@ OnboardLoop::OnboardLoop(ReplayConfig config) : config_(config) {
                                   " kg is outside the flight code's range (0, 1000] kg");
     }
   }
+  // Once, as the rover does at a table load; a table or rover the flight code
+  // refuses is reported by every step's status, as on board.
+  static_cast<void>(flight::prepare(config_.table, rover_, prepared_));
 }
 
 void resolve_rover_mass(const TelemetryLog& log, std::optional<double> option_kg, ReplayConfig& config) {
@@ -249,7 +252,7 @@ flight::EscapeInput escape_input(flight::TimeMs now, const TelemetryRow& row, Cy
 CycleRecord OnboardLoop::step(const TelemetryRow& row, const std::string& source, double x_m) {
   using namespace flight;
   const RoverTelemetry t = telemetry_of(row, source);
-  const RoverStepOutput out = step_.step(t, t.time, config_.table, rover_);
+  const RoverStepOutput out = step_.step(t, t.time, prepared_);
   CycleRecord rec = record_of(out, row, x_m, step_);
 
   // The escape: started on the first stop, then fed forward-driving estimates.

@@ -53,22 +53,24 @@ struct CorrectionResult {
   EstimateStatus status{EstimateStatus::ok};  ///< invalid_load for W <= 0, invalid_coefficient for a malformed table
 };
 
-/// C1..C3 and DP_max/W at the load `load_n`. A table that passed
-/// validate() never gives a status other than ok or invalid_load.
-[[nodiscard]] CorrectionResult corrections_at(const CorrectionTable& table, WheelLoadN load_n) noexcept;
-
 /// The segment widths W_k+1 - W_k of a table as prepared divisors
 /// (constant_divisor.hpp): the interpolation fraction without a division.
 struct CorrectionDivisors {
-  ConstantDivisor<LoadQ> width[kMaxCorrectionRows];  ///< [k]: rows k..k+1; unused entries divide by fx::div
+  ConstantDivisor<LoadQ> width[kMaxCorrectionRows];  ///< [k]: rows k..k+1; unused entries: zero (division reported)
 };
 
 /// Once per table load. Widths that are not positive (a table validate()
-/// refuses) keep reciprocal 0, so corrections_at below stays correct.
+/// refuses) stay a zero divisor: div_by_constant reports the division by
+/// zero, so corrections_at below fails with a status, never a number.
 [[nodiscard]] CorrectionDivisors make_correction_divisors(const CorrectionTable& table) noexcept;
 
-/// corrections_at(table, load_n), bit for bit, with the fraction's division
-/// by the segment width done through `divisors` (made from this table).
+/// C1..C3 and DP_max/W at the load `load_n`, the interpolation fraction's
+/// division by the segment width done through `divisors` (made from this
+/// table). A table that passed validate() never gives a status other than ok
+/// or invalid_load. The per-cycle step is the only user; its parameters come
+/// prepared (prepared_params.hpp). host_tests/flight/dividing_oracle.hpp keeps
+/// the same function with a plain fx::div as the oracle it is checked
+/// against bit for bit.
 [[nodiscard]] CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDivisors& divisors,
                                               WheelLoadN load_n) noexcept;
 

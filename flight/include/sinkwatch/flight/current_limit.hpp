@@ -43,22 +43,13 @@ struct CurrentLimitResult {
 [[nodiscard]] TorqueLimitResult torque_limit(const Coefficients& c, Ratio dp_max_ratio, LengthM radius_m,
                                              WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept;
 
-/// I_max for one wheel: corrections at the load, T_max, then the motor model
-/// in the forward direction (the limit is a magnitude; it is the same for
-/// both directions because I0 always adds to the current needed).
-[[nodiscard]] CurrentLimitResult current_limit(const CorrectionTable& table, const MotorParams& motor,
-                                               LengthM radius_m, WheelLoadN load_n,
-                                               SinkageM allowed_sinkage_m) noexcept;
-
-/// The same from the corrections already evaluated at `load_n`
-/// (corrections_at(table, load_n)): the per-cycle step evaluates them once
-/// per wheel and shares them between DP_max/W, Eq. 15 and this limit.
-[[nodiscard]] CurrentLimitResult current_limit(const CorrectionResult& corrections, const MotorParams& motor,
-                                               LengthM radius_m, WheelLoadN load_n,
-                                               SinkageM allowed_sinkage_m) noexcept;
-
-/// The same, bit for bit, with the motor's divisions through the divisors
-/// prepared once per load (motor.hpp, make_motor_divisors(motor)).
+/// I_max for one wheel from the corrections already evaluated at `load_n`
+/// (corrections_at(table, divisors, load_n): the per-cycle step evaluates
+/// them once per wheel and shares them between DP_max/W, Eq. 15 and this
+/// limit): T_max, then the motor model in the forward direction, its
+/// divisions through the divisors prepared once per load
+/// (make_motor_divisors(motor)). The limit is a magnitude; it is the same for
+/// both directions because I0 always adds to the current needed.
 [[nodiscard]] CurrentLimitResult current_limit(const CorrectionResult& corrections, const MotorParams& motor,
                                                const MotorDivisors& divisors, LengthM radius_m,
                                                WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept;

@@ -125,13 +125,11 @@ class WheelMonitor {
  public:
   explicit WheelMonitor(std::uint8_t wheel_index = 0U) noexcept;
 
-  /// One cycle. `now` is the monitor's clock, used for staleness.
-  WheelOutput step(const WheelInput& input, TimeMs now, const ParameterTable& table) noexcept;
-
-  /// The same, bit for bit, on parameters prepared once per load
-  /// (prepared_params.hpp): the corrections' and the motor model's divisions
-  /// by table constants go through their prepared reciprocals. Parameters
-  /// without a valid table make the sample unusable (fail-safe).
+  /// One cycle. `now` is the monitor's clock, used for staleness. The
+  /// parameters are prepared once per load (prepared_params.hpp): the
+  /// corrections' and the motor model's divisions by table constants go
+  /// through their prepared reciprocals. Parameters without a valid table
+  /// make the sample unusable (fail-safe).
   WheelOutput step(const WheelInput& input, TimeMs now, const PreparedParameters& prepared) noexcept;
 
   /// Back to NOMINAL with empty histories and peaks (counters are kept).
@@ -150,9 +148,8 @@ class WheelMonitor {
   const WheelCounters& counters() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
 
  private:
-  /// The divisors are null for plain fx::div.
-  WheelOutput step_with(const WheelInput& input, TimeMs now, const ParameterTable& table,
-                        const CorrectionDivisors* corr_divisors, const MotorDivisors* motor_divisors) noexcept;
+  /// step() on parameters whose table is valid.
+  WheelOutput evaluate(const WheelInput& input, TimeMs now, const PreparedParameters& prepared) noexcept;
   void count(SampleStatus status) noexcept;
   void push_history(bool caution, bool stop, bool clear) noexcept;
   /// The episode's peak current (and its load) and largest estimate.
@@ -160,11 +157,11 @@ class WheelMonitor {
   /// Stage 4: NOMINAL -> CAUTION -> STOP and back (STOP latched).
   /// `sample_reason`: what the last usable sample was stop evidence of
   /// (current, slip, else sinkage); it names a STOP the window trips.
-  void transition(StopReason sample_reason, TimeMs now, const ParameterTable& table,
-                  const CorrectionDivisors* corr_divisors, WheelOutput& out) noexcept;
+  void transition(StopReason sample_reason, TimeMs now, const PreparedParameters& prepared,
+                  WheelOutput& out) noexcept;
   /// The record written on entering STOP.
-  [[nodiscard]] EventRecord stop_event(TimeMs now, StopReason reason, const ParameterTable& table,
-                                       const CorrectionDivisors* corr_divisors) const noexcept;
+  [[nodiscard]] EventRecord stop_event(TimeMs now, StopReason reason,
+                                       const PreparedParameters& prepared) const noexcept;
 
   std::uint8_t wheel_{0U};
   WheelState state_{WheelState::nominal};
@@ -207,10 +204,8 @@ class RoverMonitor {
   /// STOP, or (LossPolicy::continue_degraded) more than max_blind_wheels are
   /// blind. A wheel without usable evidence is held in CAUTION while any
   /// other wheel is in CAUTION or STOP: never NOMINAL beside embedding.
-  RoverOutput step(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const ParameterTable& table) noexcept;
-
-  /// The same on prepared parameters (WheelMonitor::step); without a valid
-  /// table the decision is stop_and_replan and no wheel is stepped.
+  /// Without a valid table the decision is stop_and_replan and no wheel is
+  /// stepped.
   RoverOutput step(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const PreparedParameters& prepared) noexcept;
 
   /// The ground's acknowledgement after a re-plan: every wheel back to NOMINAL.
@@ -220,12 +215,11 @@ class RoverMonitor {
   const WheelMonitor& wheel(std::uint8_t index) const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
 
  private:
-  /// Every monitored wheel on `params` (the table itself or prepared ones).
   /// The blind-wheel and unusable-evidence rules after every wheel's step.
   void rover_rules(const ParameterTable& table, RoverOutput& out) noexcept;
-  template <typename Params>
-  RoverOutput step_all(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const ParameterTable& table,
-                       const Params& params) noexcept;
+  /// Every monitored wheel on parameters whose table is valid.
+  RoverOutput step_all(const WheelInput (&inputs)[kMaxWheels], TimeMs now,
+                       const PreparedParameters& prepared) noexcept;
 
   WheelMonitor wheels_[kMaxWheels];
 };

@@ -47,14 +47,6 @@ struct CurrentResult {
 [[nodiscard]] TorqueResult torque_from_current(const MotorParams& motor, CurrentA current_a,
                                                DriveDirection direction) noexcept;
 
-/// The inverse: the current that produces `torque_nm` in `direction`,
-///     I = T / (N eta Kt) + d * I0.
-/// Not checked against the sensor's range: a limit beyond it is a limit the
-/// current cannot reach, which the caller may want to know (status overflow
-/// only when the result leaves Q11.20).
-[[nodiscard]] CurrentResult current_from_torque(const MotorParams& motor, TorqueNm torque_nm,
-                                                DriveDirection direction) noexcept;
-
 /// N, eta and Kt as prepared divisors (constant_divisor.hpp), made once per
 /// parameter load: current_from_torque without a division.
 struct MotorDivisors {
@@ -65,8 +57,14 @@ struct MotorDivisors {
 
 [[nodiscard]] MotorDivisors make_motor_divisors(const MotorParams& motor) noexcept;
 
-/// current_from_torque(motor, torque_nm, direction), bit for bit, with the
-/// divisions by N, eta and Kt done through `divisors` (made from `motor`).
+/// The inverse of torque_from_current: the current that produces `torque_nm`
+/// in `direction`,
+///     I = T / (N eta Kt) + d * I0,
+/// the divisions by N, eta and Kt done through `divisors` (made from `motor`),
+/// bit for bit fx::div's (host_tests/flight/dividing_oracle.hpp checks it).
+/// Not checked against the sensor's range: a limit beyond it is a limit the
+/// current cannot reach, which the caller may want to know (status overflow
+/// only when the result leaves Q11.20).
 [[nodiscard]] CurrentResult current_from_torque(const MotorParams& motor, const MotorDivisors& divisors,
                                                 TorqueNm torque_nm, DriveDirection direction) noexcept;
 

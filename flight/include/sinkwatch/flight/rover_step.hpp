@@ -109,14 +109,6 @@ class RoverStep {
   /// by prepare(): the step does no validation of its own.
   RoverStepOutput step(const RoverTelemetry& telemetry, TimeMs now, const PreparedParameters& prepared) noexcept;
 
-  /// The same for callers that keep no prepared parameters (tests, ground
-  /// tools): prepares `table` and `rover` on every call, so it pays the
-  /// validation each cycle and holds a copy of the table on its stack. The
-  /// rover's wheel radius must equal the table's (the statics and Eq. 15
-  /// must describe the same wheel).
-  RoverStepOutput step(const RoverTelemetry& telemetry, TimeMs now, const ParameterTable& table,
-                       const RoverParams& rover) noexcept;
-
   /// The ground's acknowledgement after a re-plan (RoverMonitor::clear_stop);
   /// the sensor health takes the next sample as every channel's reference
   /// (SensorHealthMonitor::accept_levels).

@@ -25,6 +25,7 @@
 #include "sinkwatch/flight/escape.hpp"
 #include "sinkwatch/flight/monitor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/prepared_params.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/rover_step.hpp"
 #include "sinkwatch/flight/sensor_health.hpp"
@@ -171,6 +172,7 @@ class OnboardLoop {
  private:
   ReplayConfig config_;
   flight::RoverParams rover_;
+  flight::PreparedParameters prepared_;  // config_.table and rover_, prepared once
   flight::RoverStep step_;
   flight::EscapeSequencer escape_;
   bool stopped_ = false;

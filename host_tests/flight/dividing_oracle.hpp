@@ -1,0 +1,44 @@
+// dividing_oracle.hpp: the per-cycle functions of the flight module that
+// divide by table constants, written with a plain fx::div, as the oracle the
+// flight code is checked against.
+//
+// The flight module divides by the parameter table's constants (Table 2's
+// segment widths, the motor's N, eta and Kt) through reciprocals prepared
+// once per load (constant_divisor.hpp), and claims the result is fx::div's
+// bit for bit. Before issue 15 each of these functions had a second, dividing
+// entry point in the flight code only so that the claim could be tested;
+// the dividing forms now live here, in the tests, and the flight API has one
+// entry point per operation. The interpolation is the plain Q31.32 one
+// (a + f (b - a) rounded once into Q7.24), not the flight code's 64-bit
+// shortcut, so the oracle checks that shortcut too.
+#ifndef SINKWATCH_HOST_TESTS_DIVIDING_ORACLE_HPP
+#define SINKWATCH_HOST_TESTS_DIVIDING_ORACLE_HPP
+
+#include "sinkwatch/flight/correction.hpp"
+#include "sinkwatch/flight/current_limit.hpp"
+#include "sinkwatch/flight/motor.hpp"
+#include "sinkwatch/flight/param_table.hpp"
+
+namespace sinkwatch {
+namespace oracle {
+
+/// flight::corrections_at with fx::div for the interpolation fraction.
+flight::CorrectionResult corrections_at(const flight::CorrectionTable& table, flight::WheelLoadN load_n) noexcept;
+
+/// flight::current_from_torque with fx::div by N, eta and Kt.
+flight::CurrentResult current_from_torque(const flight::MotorParams& motor, flight::TorqueNm torque_nm,
+                                          flight::DriveDirection direction) noexcept;
+
+/// flight::current_limit on these corrections with fx::div in the motor model.
+flight::CurrentLimitResult current_limit(const flight::CorrectionResult& corrections,
+                                         const flight::MotorParams& motor, flight::LengthM radius_m,
+                                         flight::WheelLoadN load_n, flight::SinkageM allowed_sinkage_m) noexcept;
+
+/// corrections_at(table.correction, W), then current_limit with the table's
+/// motor, radius and allowed sinkage: section 7's I_max from the table alone.
+flight::CurrentLimitResult current_limit(const flight::ParameterTable& table, flight::WheelLoadN load_n) noexcept;
+
+}  // namespace oracle
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_HOST_TESTS_DIVIDING_ORACLE_HPP
