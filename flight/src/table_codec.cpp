@@ -40,9 +40,12 @@ static_assert(fixed_bytes<MonitorFields, MonitorParams>() == 44U, "section 4: 44
 static_assert(fixed_bytes<EscapeFields, EscapeParams>() == 20U, "section 5: 20 bytes");
 static_assert(fixed_bytes<RoverFields, RoverParams>() == kRoverSectionBytes, "section 6: 80 bytes");
 static_assert(fixed_bytes<HealthFields, HealthParams>() == 24U, "section 7: 24 bytes");
-static_assert((kTableHeaderBytes + (7U * 4U) + 4U + 20U + 4U + (kMaxCorrectionRows * 20U) + 44U + 20U + 80U + 24U +
-               kTableCrcBytes) <= kMaxTableBytes,
-              "the largest table fits the decoder's limit");
+// Seven section headers, every section at its largest, header and CRC.
+constexpr std::size_t kLargestTableBytes = kTableHeaderBytes + (std::size_t{7U} * std::size_t{4U}) +
+                                           std::size_t{4U + 20U + 4U} +
+                                           (std::size_t{kMaxCorrectionRows} * std::size_t{20U}) +
+                                           std::size_t{44U + 20U + 80U + 24U} + kTableCrcBytes;
+static_assert(kLargestTableBytes <= kMaxTableBytes, "the largest table fits the decoder's limit");
 
 // ---- writers: encoder and size ------------------------------------------------
 
