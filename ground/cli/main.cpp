@@ -9,6 +9,7 @@
 #include "sinkwatch/ground/cli_conventions.hpp"
 #include "sinkwatch/ground/diagnose_command.hpp"
 #include "sinkwatch/ground/replay_command.hpp"
+#include "sinkwatch/ground/rover_table_command.hpp"
 #include "sinkwatch/ground/simulate_command.hpp"
 
 #include <iostream>
@@ -24,7 +25,9 @@ int main(int argc, char** argv) {
   sinkwatch::ground::add_campaign_command(app, sinkwatch::ground::join_command_line(argc, argv));
   sinkwatch::ground::add_diagnose_command(app);
   sinkwatch::ground::add_replay_command(app);
+  sinkwatch::ground::add_rover_table_command(app);
   sinkwatch::ground::add_simulate_command(app, sinkwatch::ground::join_command_line(argc, argv));
+  sinkwatch::ground::add_table_info_command(app);
   const std::vector<std::string> args(argv + (argc > 0 ? 1 : 0), argv + argc);
   return sinkwatch::ground::run_command_line(app, args, std::cout, std::cerr);
 }

@@ -90,7 +90,7 @@ std::vector<std::uint8_t> table_bytes(bool with_rover, std::size_t& size) {
   return bytes;
 }
 
-const std::vector<std::string> kTools = {"calibrate", "diagnose", "replay", "simulate"};
+const std::vector<std::string> kTools = {"calibrate", "diagnose", "replay", "rover-table", "simulate", "table-info"};
 
 }  // namespace
 
@@ -99,7 +99,9 @@ TEST(CliConventions, UsageErrorsExitTwoWithThePrefix) {
       {"calibrate", kTable1, "--no-such-option"},
       {"diagnose", "--real", kTable1, "--no-such-option"},
       {"replay", "--no-such-option"},
+      {"rover-table", "--out", (scratch() / "u.tbl").string(), "--no-such-option"},
       {"simulate", "--no-such-option"},
+      {"table-info", kTable1, "--no-such-option"},
   };
   for (const std::vector<std::string>& args : unknown) {
     const CliRun r = cli(args);
@@ -125,7 +127,9 @@ TEST(CliConventions, DataErrorsExitOneWithThePrefix) {
       {"calibrate", missing.string()},
       {"diagnose", "--real", missing.string()},
       {"replay", missing.string()},
+      {"rover-table", "--out", (scratch() / "d.tbl").string(), "--base-table", missing.string()},
       {"simulate", "--loads", "1e7"},  // the wheel sinks past its axle
+      {"table-info", missing.string()},
   };
   for (const std::vector<std::string>& args : cases) {
     const CliRun r = cli(args);

@@ -191,6 +191,14 @@ CampaignFamily family_from_name(const std::string& name) {
   throw std::invalid_argument("unknown family '" + name + "'; known:" + known);
 }
 
+const char* flight_mass_name(FlightMass m) { return m == FlightMass::true_mass ? "true" : "default"; }
+
+FlightMass flight_mass_from_name(const std::string& name) {
+  if (name == "true") return FlightMass::true_mass;
+  if (name == "default") return FlightMass::default_mass;
+  throw std::invalid_argument("--flight-mass: '" + name + "' is not true or default");
+}
+
 std::vector<CampaignFamily> default_held_out_families() {
   return {CampaignFamily::one_side, CampaignFamily::drawn_soil};
 }
@@ -298,8 +306,7 @@ FaultSpec draw_fault(FaultClass c, std::uint64_t traverse_seed, double window_en
   return f;
 }
 
-FaultVerdict fault_verdict(FaultClass c, const TraverseDraw& draw, const Scenario& drive,
-                           const flight::ParameterTable& table) {
+FaultVerdict fault_verdict(FaultClass c, const TraverseDraw& draw, const Scenario& drive, const ReplayConfig& config) {
   FaultVerdict v;
   v.fault_class = c;
   const double window_end_s = drive.truth.embedded ? drive.truth.embed_time_s
@@ -308,8 +315,7 @@ FaultVerdict fault_verdict(FaultClass c, const TraverseDraw& draw, const Scenari
   v.seed = mix(draw.seed ^ 0xFA17ULL);
   TelemetryLog seen = drive.log;
   (void)apply_faults(seen, {v.spec}, v.seed);
-  v.flight = flight_verdict_of(seen, drive, table, draw.spec.gravity_mps2, watched_channels(v.spec.target),
-                               &v.detected_time_s);
+  v.flight = flight_verdict_of(seen, drive, config, watched_channels(v.spec.target), &v.detected_time_s);
   return v;
 }
 
@@ -403,11 +409,23 @@ void classify(const ScenarioTruth& truth, FlightVerdict& v) {
 
 }  // namespace
 
-FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive, const flight::ParameterTable& table,
-                                double gravity_mps2, unsigned watch, std::optional<double>* detected_time_s) {
+ReplayConfig traverse_flight_config(const TraverseDraw& draw, const CampaignOptions& options,
+                                    const flight::ParameterTable& table) {
   ReplayConfig config;
   config.table = table;
-  config.gravity_mps2 = gravity_mps2;
+  config.gravity_mps2 = draw.spec.gravity_mps2;
+  config.rover = options.rover;
+  config.mass_source = options.rover ? MassSource::table : MassSource::yutu_default;
+  if (options.flight_mass == FlightMass::true_mass) {
+    config.mass_kg = draw.mass_kg;
+    config.mass_source = MassSource::option;
+  }
+  return config;
+}
+
+FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive, const ReplayConfig& flight_config,
+                                unsigned watch, std::optional<double>* detected_time_s) {
+  ReplayConfig config = flight_config;
   config.run_escape = false;
   OnboardLoop loop(config);
   FlightVerdict v;
@@ -438,8 +456,15 @@ FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive,
   return v;
 }
 
+FlightVerdict flight_verdict(const Scenario& drive, const ReplayConfig& config) {
+  return flight_verdict_of(drive.log, drive, config);
+}
+
 FlightVerdict flight_verdict(const Scenario& drive, const flight::ParameterTable& table, double gravity_mps2) {
-  return flight_verdict_of(drive.log, drive, table, gravity_mps2);
+  ReplayConfig config;
+  config.table = table;
+  config.gravity_mps2 = gravity_mps2;
+  return flight_verdict_of(drive.log, drive, config);
 }
 
 IdealVerdict ideal_verdict(const Scenario& drive, double level_m) {
@@ -492,14 +517,15 @@ TraverseResult evaluate_traverse(const TraverseDraw& draw, const CampaignOptions
   out.embed_time_s = drive.truth.embed_time_s;
   out.embed_reason = drive.truth.embed_reason;
   truth_statistics(drive, out);
-  const double gravity = draw.spec.gravity_mps2;
-  out.flight = flight_verdict(drive, options.table, gravity);
+  const ReplayConfig config = traverse_flight_config(draw, options, options.table);
+  out.flight = flight_verdict(drive, config);
   out.ideal = ideal_verdict(drive, fx::to_double(options.table.monitor.stop_sinkage_m.q()));
   for (const double level_mm : options.sweep_stop_mm) {
-    out.sweep.push_back(flight_verdict(drive, table_at_stop_level(options.table, level_mm / 1000.0), gravity));
+    const flight::ParameterTable level = table_at_stop_level(options.table, level_mm / 1000.0);
+    out.sweep.push_back(flight_verdict(drive, traverse_flight_config(draw, options, level)));
     out.sweep_ideal.push_back(ideal_verdict(drive, level_mm / 1000.0));
   }
-  for (const FaultClass c : options.faults) out.faults.push_back(fault_verdict(c, draw, drive, options.table));
+  for (const FaultClass c : options.faults) out.faults.push_back(fault_verdict(c, draw, drive, config));
   return out;
 }
 

@@ -29,6 +29,7 @@ struct CampaignArgs {
   std::vector<double> levels_mm;
   std::vector<std::string> faults;
   std::string loss_policy;
+  std::string flight_mass = "true";
   double path_length_m = 16.0;
   Verbosity verbosity;
   std::string command_line = "sinkwatch campaign";
@@ -80,7 +81,9 @@ CampaignOptions options_of(const CampaignArgs& a) {
     load_parameter_table(a.table, config);
     o.table = config.table;
     o.table_source = a.table;
+    o.rover = config.rover;
   }
+  o.flight_mass = flight_mass_from_name(a.flight_mass);
   if (!a.loss_policy.empty()) {
     try {
       set_loss_policy(a.loss_policy, o.table, o.table_source);
@@ -154,6 +157,11 @@ void add_options(CLI::App* sub, CampaignArgs& a) {
   sub->add_option("--loss-policy", a.loss_policy,
                   "what a lasting loss of sensor evidence leads to (the table's section 7, docs/fault-tolerance.md)")
       ->check(CLI::IsMember({"stop", "continue-degraded"}));
+  sub->add_option("--flight-mass", a.flight_mass,
+                  "the mass the flight code is given: true (each traverse's drawn mass, as an operator who sets it "
+                  "has it) or default (the table's section 6, else the Yutu-like 140 kg)")
+      ->check(CLI::IsMember({"true", "default"}))
+      ->capture_default_str();
   add_verbosity_flags(*sub, a.verbosity);
 }
 

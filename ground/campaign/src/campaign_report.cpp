@@ -91,7 +91,7 @@ std::string traverses_csv(const CampaignResult& r) {
 std::string traverses_json(const CampaignResult& r) {
   std::ostringstream out;
   out << "{\"seed\": " << r.options.seed << ", \"table\": " << json_string(r.options.table_source)
-      << ", \"sweep_stop_mm\": [";
+      << ", \"flight_mass\": " << json_string(flight_mass_name(r.options.flight_mass)) << ", \"sweep_stop_mm\": [";
   for (std::size_t i = 0; i < r.options.sweep_stop_mm.size(); ++i) {
     out << (i ? ", " : "") << fixed(r.options.sweep_stop_mm[i], 1);
   }
@@ -311,6 +311,13 @@ std::string campaign_summary(const CampaignResult& r, const std::string& command
      << r.traverses.size() << " traverses (" << r.options.traverses_per_family << " per family), seed "
      << r.options.seed << ", table: " << r.options.table_source << ", path " << fixed(r.options.path_length_m, 1)
      << " m, " << fixed(r.seconds, 1) << " s wall time.\n\n"
+     << "Flight mass: " << flight_mass_name(r.options.flight_mass)
+     << (r.options.flight_mass == FlightMass::true_mass
+             ? std::string(" (the flight code is given each traverse's drawn mass, 120–160 kg; geometry ") +
+                   (r.options.rover ? "from the table's section 6" : "Yutu-like")
+             : std::string(" (the flight code keeps its rover's mass whatever the drawn mass: ") +
+                   (r.options.rover ? "the table's section 6" : "Yutu-like, 140 kg"))
+     << ").\n\n"
      << "Outcomes with the table (lead = embedding − stop along the path; the ideal sensor stops where the "
         "simulator's deepest wheel first reaches the table's stop level; medians over the embeddings that "
         "have one; rear-load excess = the fuller balance's rear loads over the flight statics', − 1):\n\n"

@@ -86,6 +86,48 @@ OnboardLoop::OnboardLoop(ReplayConfig config) : config_(config) {
     throw std::invalid_argument("gravity " + text_input::format_number(config_.gravity_mps2) +
                                 " m/s^2 is outside the rover model's range (0, 10]");
   }
+  if (config_.mass_kg) {
+    rover_.mass_kg = flight::MassKg{fx::from_double<flight::MassQ>(*config_.mass_kg, st)};
+    if (!st.ok() || flight::validate_rover_params(rover_) != flight::RoverParamStatus::ok) {
+      throw std::invalid_argument("rover mass " + text_input::format_number(*config_.mass_kg) +
+                                  " kg is outside the flight code's range (0, 1000] kg");
+    }
+  }
+}
+
+void resolve_rover_mass(const TelemetryLog& log, std::optional<double> option_kg, ReplayConfig& config) {
+  if (option_kg) {
+    if (!(std::isfinite(*option_kg) && *option_kg > 0.0 && *option_kg <= flight::limits::kMaxMassKg)) {
+      throw std::invalid_argument("--mass-kg " + text_input::format_number(*option_kg) +
+                                  " is outside the flight code's range (0, 1000] kg");
+    }
+    config.mass_kg = option_kg;
+    config.mass_source = MassSource::option;
+    return;
+  }
+  if (const std::optional<double> header = log.number("mass_kg")) {
+    config.mass_kg = header;
+    config.mass_source = MassSource::log_header;
+    const auto at = log.metadata_at.find("mass_kg");
+    config.mass_line = at != log.metadata_at.end() ? at->second.line : 0;
+  }
+}
+
+double replay_mass_kg(const ReplayConfig& config) {
+  if (config.mass_kg) return *config.mass_kg;
+  if (config.rover) return to_d(config.rover->mass_kg);
+  return flight::limits::YutuLike::kMassKg;
+}
+
+std::string describe_mass_source(const ReplayConfig& config) {
+  switch (config.mass_source) {
+    case MassSource::option: return "--mass-kg";
+    case MassSource::log_header:
+      return "the log's mass_kg" + (config.mass_line > 0 ? " (line " + std::to_string(config.mass_line) + ")" : "");
+    case MassSource::table: return "the table's section 6";
+    case MassSource::yutu_default: break;
+  }
+  return "the Yutu-like default: no --mass-kg, no mass_kg in the log, no rover section in the table";
 }
 
 double OnboardLoop::escape_best_sinkage_m() const { return to_d(escape_.best_sinkage_m()); }
@@ -267,6 +309,7 @@ void load_parameter_table(const std::string& path, ReplayConfig& config) {
   if (loaded.table().rover_geometry.present) {
     config.rover = loaded.rover();
     config.gravity_mps2 = fx::to_double(loaded.rover().gravity_mps2.q());
+    if (!config.mass_kg) config.mass_source = MassSource::table;
   }
 }
 

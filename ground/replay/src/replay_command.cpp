@@ -3,6 +3,9 @@
 
 #include "sinkwatch/ground/cli_conventions.hpp"
 
+#include "sinkwatch/fixedpoint/host_convert.hpp"
+#include "sinkwatch/flight/rover_limits.hpp"
+
 #include "sinkwatch/ground/fault_injection.hpp"
 #include "sinkwatch/ground/output_file.hpp"
 #include "sinkwatch/ground/replay.hpp"
@@ -30,6 +33,7 @@ struct ReplayArgs {
   Verbosity verbosity;  // -q: no progress bar or notes; -v: every cycle
   double every_s = 30.0;
   double gravity = 0.0;  // 0: from the log
+  double mass_kg = 0.0;  // --mass-kg; 0: the log's mass_kg, else the table's, else the default
   bool no_escape = false;
   std::string table;
   std::string loss_policy;
@@ -95,6 +99,13 @@ ReplayConfig replay_config(const ReplayArgs& a, const TelemetryLog& log, std::os
     if (a.gravity > 0.0 && config.rover && a.verbosity.inform()) {
       err << error_prefix("replay") << "note: --gravity is ignored: the table's rover section sets the gravity\n";
     }
+  }
+  resolve_rover_mass(log, a.mass_kg > 0.0 ? std::optional<double>(a.mass_kg) : std::nullopt, config);
+  if (config.mass_source == MassSource::log_header && config.rover && a.verbosity.inform() &&
+      fx::to_double(config.rover->mass_kg.q()) != *config.mass_kg) {
+    err << error_prefix("replay") << "note: the log's mass_kg (" << *config.mass_kg
+        << " kg) replaces the table's section-6 mass (" << fx::to_double(config.rover->mass_kg.q())
+        << " kg); --mass-kg sets another\n";
   }
   if (!a.loss_policy.empty()) {
     try {
@@ -207,6 +218,10 @@ CLI::App* add(CLI::App& app, std::shared_ptr<ReplayArgs> args, std::ostream& out
   sub->add_option("--gravity", args->gravity, "gravity in m/s^2 (default: the log's gravity_mps2, else the Moon's)")
       ->check(finite_number())
       ->check(CLI::Range(0.01, 10.0));
+  sub->add_option("--mass-kg", args->mass_kg,
+                  "the rover's mass in kg (default: the log's mass_kg, else the table's section 6, else 140)")
+      ->check(positive_finite_number("kg"))
+      ->check(CLI::Range(0.0, flight::limits::kMaxMassKg));
   non_empty_value(sub->add_option(
       "--table", args->table,
       "replay with this uploaded flight parameter table (binary, e.g. from sinkwatch calibrate --table)"));

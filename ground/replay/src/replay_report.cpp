@@ -145,9 +145,9 @@ void print_heading(std::ostream& out, const TelemetryLog& log, const ReplayConfi
     }
     out << line << '\n';
   }
-  out << strf("  rover: %s, %.0f kg, g = %.2f m/s^2; %zu cycles over %.1f s\n",
-              config.rover ? "from the table's section 6" : "Yutu-like", config.rover ? to_d(config.rover->mass_kg) : 140.0,
-              config.gravity_mps2, r.cycles.size(), duration);
+  out << strf("  rover: %s geometry, %.1f kg (from %s), g = %.2f m/s^2; %zu cycles over %.1f s\n",
+              config.rover ? "the table's section 6" : "Yutu-like", replay_mass_kg(config),
+              describe_mass_source(config).c_str(), config.gravity_mps2, r.cycles.size(), duration);
   out << strf("  flight code: RoverStep (fixed point), parameter table: %s, version %u.\n"
               "  Stop at an estimated sinkage >= %.1f mm or a current >= I_max in %u of %u samples; %u wheel(s) in "
               "STOP stop the rover.\n",

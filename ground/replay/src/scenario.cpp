@@ -57,6 +57,9 @@ std::string number(double v, int digits) {
   return s.str();
 }
 
+// The scenario's mass_kg metadata (the flight code in the loop reads it back).
+std::string mass_text(const ScenarioSpec& spec) { return number(spec.mass_kg, 3); }
+
 struct WheelTruth {
   double sinkage_m = 0.0;
   double torque_nm = 0.0;  // in the direction of driving
@@ -539,9 +542,14 @@ class ScenarioRun {
   }
 
  private:
+  // The flight code in the loop runs with the mass the log's mass_kg line
+  // will say (the number as written), so that the log replays to the
+  // decisions it was made with (a replay takes that line over the table's).
   static ReplayConfig flight_config(const ScenarioSpec& spec) {
     ReplayConfig flight = spec.flight;
     flight.gravity_mps2 = spec.gravity_mps2;
+    flight.mass_kg = std::stod(mass_text(spec));
+    flight.mass_source = MassSource::log_header;
     return flight;
   }
 
@@ -740,6 +748,7 @@ void describe_scenario(const ScenarioSpec& spec, const std::string& command_line
   log.metadata["cycle_s"] = number(spec.cycle_s, 3);
   log.metadata["commanded_speed_mps"] = number(spec.speed_mps, 3);
   log.metadata["rover"] = "yutu-like " + number(spec.mass_kg, 0) + " kg, r = 0.15 m (docs/rover-loads.md)";
+  log.metadata["mass_kg"] = mass_text(spec);
   std::string knots;
   for (const TerrainKnot& t : spec.terrain) {
     knots += (knots.empty() ? "" : " ") + number(t.x_m, 1) + "/" + number(t.soil_scale, 3) + "/" + number(t.slope_deg, 1);

@@ -12,6 +12,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "sinkwatch/flight/rover_limits.hpp"
 #include "sinkwatch/ground/text_input.hpp"
 
 namespace sinkwatch::ground {
@@ -47,6 +48,8 @@ const Range kPositionRange{-1e6, 1e6, false, false, "m"};
 const Range kSlipRange{-1.0, 1.0, false, false, ""};
 const Range kSinkageMmRange{-1000.0, 10000.0, false, false, "mm"};
 const Range kGravityRange{0.0, 30.0, true, false, "m/s^2"};
+// The rover's mass: the flight code's own bound (validate_rover_params).
+const Range kMassRange{0.0, flight::limits::kMaxMassKg, true, false, "kg"};
 
 const Range& range_of(int col) {
   switch (col) {
@@ -309,7 +312,8 @@ namespace {
 // a bad value is reported at its line and column.
 void check_metadata(const TelemetryLog& log) {
   const std::pair<const char*, const Range*> numeric[] = {
-      {"gravity_mps2", &kGravityRange}, {"embedding_x_m", &kPositionRange}, {"embedding_time_s", &kTimeSRange}};
+      {"gravity_mps2", &kGravityRange}, {"mass_kg", &kMassRange}, {"embedding_x_m", &kPositionRange},
+      {"embedding_time_s", &kTimeSRange}};
   for (const auto& [key, range] : numeric) {
     const auto it = log.metadata.find(key);
     if (it == log.metadata.end() || (std::string(key) == "embedding_x_m" && it->second == "none")) continue;

@@ -160,6 +160,17 @@ struct TraverseResult {
   std::size_t rows = 0;
 };
 
+/// The mass the flight code in the loop is given (--flight-mass).
+enum class FlightMass {
+  true_mass,     // "true": each traverse's drawn mass (120-160 kg), as an operator who
+                 // sets the rover's mass (rover-table, --mass-kg, the log's mass_kg) has it
+  default_mass,  // "default": the table's section 6, else the Yutu-like 140 kg, whatever
+                 // the drawn mass (the campaign before issue 14's mass bullet)
+};
+const char* flight_mass_name(FlightMass m);
+/// Throws std::invalid_argument for a name other than "true" or "default".
+FlightMass flight_mass_from_name(const std::string& name);
+
 struct CampaignOptions {
   std::size_t traverses_per_family = 8;
   std::uint64_t seed = 14;
@@ -167,6 +178,9 @@ struct CampaignOptions {
   std::vector<CampaignFamily> held_out = default_held_out_families();
   flight::ParameterTable table = flight::default_parameter_table();
   std::string table_source = "built-in default";
+  /// The table's section 6 (its rover geometry), when it has one; else the Yutu-like rover.
+  std::optional<flight::RoverParams> rover;
+  FlightMass flight_mass = FlightMass::true_mass;
   unsigned threads = 0;  // 0: all cores
   double path_length_m = 16.0;
   /// Stop levels of the sweep [mm]: caution, stop and allowed (z_max) levels
@@ -184,19 +198,25 @@ struct CampaignOptions {
 /// flight code's validate() refuses the result.
 flight::ParameterTable table_at_stop_level(const flight::ParameterTable& table, double stop_m);
 
+/// The flight code's configuration for a traverse with `table`: the drawn
+/// gravity, the options' rover (the table's section 6, else Yutu-like) and,
+/// with FlightMass::true_mass, the drawn mass.
+ReplayConfig traverse_flight_config(const TraverseDraw& draw, const CampaignOptions& options,
+                                    const flight::ParameterTable& table);
+
 /// The flight code's verdict on an open-loop traverse's rows.
+FlightVerdict flight_verdict(const Scenario& drive, const ReplayConfig& config);
+/// The same with the Yutu-like rover (140 kg) at `gravity_mps2`.
 FlightVerdict flight_verdict(const Scenario& drive, const flight::ParameterTable& table, double gravity_mps2);
 /// The flight code's verdict on `seen` (the drive's rows with faults; row k
 /// for row k), with the stop's time and place taken from the clean rows so
 /// that a clock fault does not move them. `watch` (one bit per
 /// flight::SensorChannel) selects the channels whose first non-ok health
 /// up to the stop is reported in `detected_time_s`.
-FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive, const flight::ParameterTable& table,
-                                double gravity_mps2, unsigned watch = 0U,
-                                std::optional<double>* detected_time_s = nullptr);
+FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive, const ReplayConfig& config,
+                                unsigned watch = 0U, std::optional<double>* detected_time_s = nullptr);
 /// The verdict with one fault injected (draw_fault, apply_faults).
-FaultVerdict fault_verdict(FaultClass c, const TraverseDraw& draw, const Scenario& drive,
-                           const flight::ParameterTable& table);
+FaultVerdict fault_verdict(FaultClass c, const TraverseDraw& draw, const Scenario& drive, const ReplayConfig& config);
 /// The ideal sensor's verdict at `level_m` on the same rows.
 IdealVerdict ideal_verdict(const Scenario& drive, double level_m);
 

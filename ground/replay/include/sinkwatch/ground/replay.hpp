@@ -41,6 +41,12 @@ namespace sinkwatch::ground {
 /// Below this rim speed the wheels are taken as standing (no escape sample).
 inline constexpr double kEscapeMinRimSpeedMps = 0.01;
 
+/// Where the replay's rover mass comes from. The first that exists decides,
+/// in this order (docs/replay.md, "The rover's mass"): an explicit --mass-kg,
+/// the log's "# mass_kg:" line (the rover that made the log), the table's
+/// section 6, the Yutu-like default's 140 kg.
+enum class MassSource { option, log_header, table, yutu_default };
+
 struct ReplayConfig {
   flight::ParameterTable table = flight::default_parameter_table();
   double gravity_mps2 = 1.62;  // the rover's body: feeds RoverParams (Yutu-like geometry)
@@ -48,7 +54,27 @@ struct ReplayConfig {
   /// The rover from a table's section 6; empty: the Yutu-like rover at gravity_mps2.
   std::optional<flight::RoverParams> rover;
   std::string table_source = "built-in default";  // for the report
+  /// A mass given apart from the rover (--mass-kg, the log's mass_kg): it
+  /// replaces the mass of `rover` (or of the Yutu-like rover). Empty: the
+  /// rover's own. OnboardLoop refuses one the flight code's check refuses.
+  std::optional<double> mass_kg;
+  MassSource mass_source = MassSource::yutu_default;
+  std::size_t mass_line = 0;  // the log's mass_kg line (MassSource::log_header)
 };
+
+/// Sets `config.mass_kg` and `mass_source` by the order of MassSource:
+/// `option_kg` (--mass-kg), else the log's mass_kg metadata (the reader has
+/// range-checked it at its line), else leaves the table's or the default
+/// rover's mass. Call after load_parameter_table(). Throws
+/// std::invalid_argument for an option outside (0, 1000] kg.
+void resolve_rover_mass(const TelemetryLog& log, std::optional<double> option_kg, ReplayConfig& config);
+
+/// The mass the flight code runs with under `config`, in kg.
+double replay_mass_kg(const ReplayConfig& config);
+
+/// "--mass-kg", "the log's mass_kg (line 12)", "the table's section 6",
+/// "the Yutu-like default": for the report.
+std::string describe_mass_source(const ReplayConfig& config);
 
 /// Reads an uploaded parameter table (the bytes `sinkwatch calibrate --table`
 /// writes) into `config`: flight::decode() with the rover section checked;

@@ -79,7 +79,8 @@ struct ScenarioSpec {
   ScenarioNoise noise;
   ReplayConfig flight;             // the flight software in the loop
   // Campaign extensions (docs/campaign.md); the defaults are the shipped scenarios' world.
-  double mass_kg = 140.0;                       // the simulated rover's mass (the flight code keeps its table's)
+  double mass_kg = 140.0;                       // the simulated rover's mass, written as the log's mass_kg
+                                                // (the flight code in the loop runs with it too)
   std::optional<SoilParameters> soil_parameters;  // a drawn soil in place of the preset `soil`
   std::optional<EffectSettings> effects;        // the simulator's effects; none: slip_sinkage only
   ScenarioLoadModel load_model = ScenarioLoadModel::flight_statics;

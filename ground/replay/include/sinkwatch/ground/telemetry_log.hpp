@@ -13,7 +13,8 @@
 // "-" reads standard input, a directory or a binary file is refused, a leading
 // UTF-8 byte-order mark is skipped, an unknown column is an error unless its
 // name starts with "note", and every number must lie in its column's physical
-// range (gravity_mps2, embedding_x_m and embedding_time_s metadata too).
+// range (gravity_mps2, mass_kg, embedding_x_m and embedding_time_s metadata
+// too; mass_kg within the flight code's (0, 1000] kg).
 #pragma once
 
 #include <array>
