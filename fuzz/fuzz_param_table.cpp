@@ -1,5 +1,5 @@
 // libFuzzer harness: the parameter-table loader (param_table.hpp: decode,
-// ParameterStore::load) with the rover-section validator (rover_geometry.hpp).
+// ParameterStore::load), section 6's typed rover geometry included.
 //
 // Input: one control byte, then the table bytes. The CRC trailer would stop a
 // blind fuzzer at the framing checks, so the control byte can patch the
@@ -7,13 +7,14 @@
 // section-6 decoder are then reached with arbitrary contents.
 //   bit 0: write size into the header's length field (bytes 8..11)
 //   bit 1: write the CRC of every byte before the trailer into the trailer
-//   bit 2: decode with rover_section_valid as the extension validator
+//   bit 2: unused since section 6 is typed and always decoded and validated
+//          (it was the extension validator; the seeds keep it)
 //
 // Checked on every input, besides "no crash, no sanitizer finding":
 //   * decode() returns a RejectReason below kRejectReasonCount;
 //   * decode() writes `out` only on ok (a sentinel table stays untouched);
-//   * an accepted table passes validate(), and with the validator its
-//     section 6 decodes into RoverParams that pass validate_rover_params();
+//   * an accepted table passes validate(), and a present section 6 holds
+//     RoverParams that pass validate_rover_params();
 //   * an accepted table encodes to exactly the bytes it came from (the
 //     codec is a bijection on valid tables);
 //   * ParameterStore::load agrees with decode(), keeps the old table on a
@@ -74,22 +75,19 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (((control & 2U) != 0U) && n >= sf::kTableHeaderBytes + sf::kTableCrcBytes) {
     put_u32(bytes + n - sf::kTableCrcBytes, sf::crc32(bytes, n - sf::kTableCrcBytes));
   }
-  const sf::ExtensionValidator validator = ((control & 4U) != 0U) ? &sf::rover_section_valid : nullptr;
 
   // decode(): status range, out untouched on rejection.
   const sf::ParameterTable sentinel = sf::eq15_parameter_table();
   sf::ParameterTable out = sentinel;
-  const sf::RejectReason r = sf::decode(bytes, n, out, validator);
+  const sf::RejectReason r = sf::decode(bytes, n, out);
   check(static_cast<std::uint8_t>(r) < sf::kRejectReasonCount);
   check(r != sf::RejectReason::buffer_too_small);  // an encoder status only
   if (r != sf::RejectReason::ok) {
     check(same_table(out, sentinel));
   } else {
     check(sf::validate(out) == sf::RejectReason::ok);
-    if (validator != nullptr && out.rover_geometry.present) {
-      sf::RoverParams p{};
-      check(sf::decode_rover_section(out.rover_geometry, p) == sf::RoverParamStatus::ok);
-      check(sf::validate_rover_params(p) == sf::RoverParamStatus::ok);
+    if (out.rover_geometry.present) {
+      check(sf::validate_rover_params(out.rover_geometry.params) == sf::RoverParamStatus::ok);
     }
     std::uint8_t again[sf::kMaxTableBytes];
     const sf::EncodeResult e = sf::encode(out, again, sizeof again);
@@ -100,7 +98,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   // ParameterStore::load agrees and keeps the old table on a rejection.
   sf::ParameterStore store;
   const sf::ParameterTable before = store.active();
-  const sf::RejectReason loaded = store.load(bytes, n, validator);
+  const sf::RejectReason loaded = store.load(bytes, n);
   check(loaded == r);
   if (loaded == sf::RejectReason::ok) {
     check(same_table(store.active(), out));
@@ -114,7 +112,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   // The null buffer is a status, not a crash.
   sf::ParameterTable unused = sentinel;
-  check(sf::decode(nullptr, n, unused, validator) == sf::RejectReason::null_buffer);
+  check(sf::decode(nullptr, n, unused) == sf::RejectReason::null_buffer);
   std::free(bytes);
   return 0;
 }

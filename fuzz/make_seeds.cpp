@@ -121,7 +121,8 @@ int main(int argc, char** argv) {
   // rover section, checked with the validator; one with a stale CRC that the
   // control byte repairs.
   sf::ParameterTable with_rover = sf::default_parameter_table();
-  sf::encode_rover_section(sf::yutu_like_rover_params(sf::kGravityMoon), with_rover.rover_geometry);
+  with_rover.rover_geometry.present = true;
+  with_rover.rover_geometry.params = sf::yutu_like_rover_params(sf::kGravityMoon);
   write(dir + "/param_table/default", table_seed(0U, sf::default_parameter_table()));
   write(dir + "/param_table/eq15", table_seed(0U, sf::eq15_parameter_table()));
   write(dir + "/param_table/rover_section", table_seed(4U, with_rover));

@@ -1,41 +1,28 @@
 // Bytes to prepared parameters in one call; see load.hpp.
 #include "sinkwatch/flight/load.hpp"
 
-#include "sinkwatch/flight/crc32.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 
 namespace sinkwatch {
 namespace flight {
-namespace {
-
-/// The CRC trailer of bytes that decode() accepted (so the 4 bytes exist).
-std::uint32_t trailer_crc(const std::uint8_t* bytes, std::size_t size) noexcept {
-  std::uint32_t crc = 0U;
-  for (std::size_t k = 0U; k < kTableCrcBytes; ++k) {
-    const std::uint32_t byte = bytes[(size - kTableCrcBytes) + k];  // NOLINT(cppcoreguidelines-pro-bounds-pointer-arithmetic) size checked by decode()
-    crc |= byte << (8U * static_cast<std::uint32_t>(k));
-  }
-  return crc;
-}
-
-}  // namespace
 
 RejectReason load(const std::uint8_t* bytes, std::size_t size, PreparedParameters& out) noexcept {
   ParameterTable table{};
-  // decode() validates the table; section 6 is only framed here and decoded
-  // (and validated) once below.
-  const RejectReason framing = decode(bytes, size, table, nullptr);
-  if (framing != RejectReason::ok) {
-    return framing;
+  // decode() is the one validation: the table's ranges and, when section 6
+  // is present, the rover's rules and its wheel radius against the table's.
+  const RejectReason reason = decode(bytes, size, table);
+  if (reason != RejectReason::ok) {
+    return reason;
   }
-  RoverParams rover = yutu_like_rover_params(kGravityMoon);
-  if (table.rover_geometry.present && (decode_rover_section(table.rover_geometry, rover) != RoverParamStatus::ok)) {
-    return RejectReason::extension_rejected;
-  }
+  // Without section 6 the Yutu-like rover on the Moon stands in; it is a
+  // compile-time constant (valid: host_tests/rover), but its wheel must
+  // still be the table's.
+  const RoverParams rover =
+      table.rover_geometry.present ? table.rover_geometry.params : yutu_like_rover_params(kGravityMoon);
   if (rover.wheel_radius_m != table.wheel_radius_m) {
     return RejectReason::rover_radius_mismatch;
   }
-  prepare_validated(table, rover, trailer_crc(bytes, size), out);
+  prepare_validated(table, rover, table_crc(bytes, size), out);
   return RejectReason::ok;
 }
 

@@ -31,7 +31,7 @@ std::uint32_t table_crc(const Bytes& b) { return flight::crc32(b.data(), b.size(
 Bytes table_with_rover(const flight::RoverParams& params, std::uint16_t version) {
   flight::ParameterTable t = flight::default_parameter_table();
   t.table_version = version;
-  flight::encode_rover_section(params, t.rover_geometry);
+  t.rover_geometry = flight::RoverSection{true, params};
   return encode_table(t);
 }
 

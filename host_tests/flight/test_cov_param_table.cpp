@@ -28,9 +28,9 @@ using sinkwatch::test::put_u32;
 using sinkwatch::test::Section;
 using sinkwatch::test::sections_of;
 
-RejectReason decode_bytes(const Bytes& b, ExtensionValidator v = nullptr) {
+RejectReason decode_bytes(const Bytes& b) {
   ParameterTable out{};
-  return decode(b.data(), b.size(), out, v);
+  return decode(b.data(), b.size(), out);
 }
 
 // Index of the section with `id` in an encoded default table.
@@ -108,36 +108,18 @@ TEST_F(SectionEdit, MonitorReservedWordMustBeZeroInItsHighByteToo) {
   EXPECT_EQ(decode_bytes(frame(secs_)), RejectReason::reserved_not_zero);
 }
 
-TEST_F(SectionEdit, EmptyExtensionSectionIsCarriedAsPresent) {
+TEST_F(SectionEdit, EmptyRoverSectionIsALengthMismatch) {
   secs_.push_back({static_cast<std::uint16_t>(SectionId::rover_geometry), {}});
-  ParameterTable out{};
-  const Bytes b = frame(secs_);
-  ASSERT_EQ(decode(b.data(), b.size(), out), RejectReason::ok);
-  EXPECT_TRUE(out.rover_geometry.present);
-  EXPECT_EQ(out.rover_geometry.length, 0U);
+  EXPECT_EQ(decode_bytes(frame(secs_)), RejectReason::section_length_mismatch);
 }
 
-TEST_F(SectionEdit, ExtensionOfTheMaximumLengthIsAccepted) {
-  secs_.push_back({static_cast<std::uint16_t>(SectionId::rover_geometry), Bytes(kExtensionMaxBytes, 0xA5)});
-  ParameterTable out{};
-  const Bytes b = frame(secs_);
-  ASSERT_EQ(decode(b.data(), b.size(), out), RejectReason::ok);
-  EXPECT_EQ(out.rover_geometry.length, kExtensionMaxBytes);
-  EXPECT_EQ(out.rover_geometry.bytes[kExtensionMaxBytes - 1U], 0xA5);
-  secs_.back().payload.push_back(0);
-  EXPECT_EQ(decode_bytes(frame(secs_)), RejectReason::extension_too_long);
-}
-
-TEST(ParamTableDecode, ValidatorIsNotAskedWhenNoExtensionIsPresent) {
-  static int calls = 0;
-  calls = 0;
-  const ExtensionValidator counting = [](const ExtensionSection&) noexcept {
-    ++calls;
-    return false;
-  };
-  const Bytes b = encode_table(default_parameter_table());
-  EXPECT_EQ(decode_bytes(b, counting), RejectReason::ok);
-  EXPECT_EQ(calls, 0);
+TEST_F(SectionEdit, RoverSectionOfTheLayoutLengthWithZerosIsDecodedAndRefusedByValidation) {
+  // Layout version 0 is the first field checked: the tag, not the values.
+  secs_.push_back({static_cast<std::uint16_t>(SectionId::rover_geometry), Bytes(kRoverSectionBytes, 0U)});
+  EXPECT_EQ(decode_bytes(frame(secs_)), RejectReason::extension_rejected);
+  // With the right layout version, zero mass fails validate_rover_params().
+  secs_.back().payload[0] = static_cast<std::uint8_t>(kRoverSectionLayout);
+  EXPECT_EQ(decode_bytes(frame(secs_)), RejectReason::extension_rejected);
 }
 
 TEST(ParamTableDecode, OutputIsUntouchedWhenTheTableIsRejected) {
@@ -239,8 +221,7 @@ TEST(ParamTableValidate, BoundaryValuesThemselvesAreAccepted) {
   t.escape.max_cycles = 100U;
   t.escape.patience_cycles = 100U;
   t.escape.min_decrease_m = SinkageM::zero();
-  t.rover_geometry.present = true;
-  t.rover_geometry.length = kExtensionMaxBytes;
+  t.rover_geometry = RoverSection{true, yutu_like_rover_params(kGravityMoon)};
   EXPECT_EQ(validate(t), RejectReason::ok);
   EXPECT_EQ(decode_bytes(encode_table(t)), RejectReason::ok);
 }

@@ -32,10 +32,12 @@ Qty q(double v) {
   return Qty(fx::from_double<typename Qty::q_type>(v, st));
 }
 
-RejectReason decode_bytes(const Bytes& b, ExtensionValidator v = nullptr) {
+RejectReason decode_bytes(const Bytes& b) {
   ParameterTable out{};
-  return decode(b.data(), b.size(), out, v);
+  return decode(b.data(), b.size(), out);
 }
+
+RoverParams moon_rover() { return yutu_like_rover_params(kGravityMoon); }
 
 TEST(Crc32, CheckValue) {
   const std::string s = "123456789";
@@ -107,23 +109,22 @@ TEST(ParamTable, ByteLayoutIsLittleEndianAsDocumented) {
 
 TEST(ParamTable, Eq15TableIsValid) { EXPECT_EQ(validate(eq15_parameter_table()), RejectReason::ok); }
 
-TEST(ParamTable, ExtensionSectionIsCarriedAndValidated) {
+TEST(ParamTable, RoverSectionIsCarriedTypedAndValidatedByDecode) {
   ParameterTable t = default_parameter_table();
-  t.rover_geometry.present = true;
-  t.rover_geometry.length = 3;
-  t.rover_geometry.bytes[0] = 7;
-  t.rover_geometry.bytes[1] = 8;
-  t.rover_geometry.bytes[2] = 9;
+  t.rover_geometry = RoverSection{true, moon_rover()};
   const Bytes b = encode_table(t);
+  EXPECT_EQ(b[12], 7U);  // sections 1..7
+  const std::vector<Section> secs = sections_of(b);
+  ASSERT_EQ(secs[5].id, 6U);
+  EXPECT_EQ(secs[5].payload.size(), kRoverSectionBytes);
   ParameterTable back{};
   ASSERT_EQ(decode(b.data(), b.size(), back), RejectReason::ok);
   EXPECT_TRUE(back.rover_geometry.present);
-  EXPECT_EQ(back.rover_geometry.length, 3U);
-  EXPECT_EQ(back.rover_geometry.bytes[2], 9U);
-  const ExtensionValidator yes = [](const ExtensionSection&) noexcept { return true; };
-  const ExtensionValidator no = [](const ExtensionSection&) noexcept { return false; };
-  EXPECT_EQ(decode_bytes(b, yes), RejectReason::ok);
-  EXPECT_EQ(decode_bytes(b, no), RejectReason::extension_rejected);
+  EXPECT_EQ(back.rover_geometry.params.mass_kg, t.rover_geometry.params.mass_kg);
+  EXPECT_EQ(back.rover_geometry.params.bogie_rear_axle.z_m, t.rover_geometry.params.bogie_rear_axle.z_m);
+  EXPECT_EQ(encode_table(back), b);
+  t.rover_geometry.params.mass_kg = MassKg::zero();
+  EXPECT_EQ(decode_bytes(encode_table(t)), RejectReason::extension_rejected);
 }
 
 // Every validation reason, by changing one field of a good table.
@@ -194,7 +195,8 @@ std::vector<Mutation> mutations() {
       {"attitude step 2 rad", [](ParameterTable& t) { t.health.attitude_step_rad = q<AngleRad>(2.0); }, RejectReason::health_step_out_of_range},
       {"joint step < 0", [](ParameterTable& t) { t.health.joint_step_rad = q<AngleRad>(-0.01); }, RejectReason::health_step_out_of_range},
       {"bridge 61 s", [](ParameterTable& t) { t.health.bridge_ms = 61000U; }, RejectReason::health_bridge_out_of_range},
-      {"extension 300 bytes", [](ParameterTable& t) { t.rover_geometry.present = true; t.rover_geometry.length = 300; }, RejectReason::extension_too_long},
+      {"rover mass 0", [](ParameterTable& t) { t.rover_geometry = RoverSection{true, moon_rover()}; t.rover_geometry.params.mass_kg = MassKg::zero(); }, RejectReason::extension_rejected},
+      {"rover wheel 0.2 m", [](ParameterTable& t) { t.rover_geometry = RoverSection{true, moon_rover()}; t.rover_geometry.params.wheel_radius_m = q<LengthM>(0.2); }, RejectReason::rover_radius_mismatch},
   };
 }
 
@@ -206,11 +208,6 @@ TEST(ParamTable, EveryRangeCheckRejectsWithItsReasonAndTheStoreKeepsItsTable) {
     EXPECT_EQ(validate(t), m.expected) << m.name;
     Bytes b(kMaxTableBytes);
     const EncodeResult e = encode(t, b.data(), b.size());
-    if (m.expected == RejectReason::extension_too_long) {
-      EXPECT_EQ(e.status, RejectReason::extension_too_long);
-      covered.insert(m.expected);
-      continue;
-    }
     ASSERT_EQ(e.status, RejectReason::ok) << m.name;
     b.resize(e.size);
     ParameterStore store;
@@ -221,7 +218,7 @@ TEST(ParamTable, EveryRangeCheckRejectsWithItsReasonAndTheStoreKeepsItsTable) {
     EXPECT_EQ(encode_table(store.active()), encode_table(before)) << m.name;
     covered.insert(m.expected);
   }
-  EXPECT_EQ(covered.size(), 37U);  // every validate() reason
+  EXPECT_EQ(covered.size(), 38U);  // every validate() reason
 }
 
 TEST(ParamTable, FramingRejections) {
@@ -291,8 +288,8 @@ TEST(ParamTable, FramingRejections) {
   s[2].payload[0] = 4;  // four rows announced, five present
   EXPECT_EQ(decode_bytes(frame(s)), RejectReason::section_length_mismatch);
   s = secs;
-  s.push_back({6, Bytes(300, 0)});
-  EXPECT_EQ(decode_bytes(frame(s)), RejectReason::extension_too_long);
+  s.push_back({6, Bytes(300, 0)});  // section 6 is typed: 80 bytes or refused
+  EXPECT_EQ(decode_bytes(frame(s)), RejectReason::section_length_mismatch);
   // Sections in another order are fine.
   s = secs;
   std::swap(s[0], s[4]);

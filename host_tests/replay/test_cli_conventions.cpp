@@ -82,7 +82,7 @@ void write_bytes(const fs::path& path, const std::vector<std::uint8_t>& bytes, s
 // The flight default table, with the rover section when asked, encoded.
 std::vector<std::uint8_t> table_bytes(bool with_rover, std::size_t& size) {
   fl::ParameterTable t = fl::default_parameter_table();
-  if (with_rover) fl::encode_rover_section(fl::detail::kYutuLikeRoverParams, t.rover_geometry);
+  if (with_rover) t.rover_geometry = fl::RoverSection{true, fl::detail::kYutuLikeRoverParams};
   std::vector<std::uint8_t> bytes(fl::kMaxTableBytes);
   const fl::EncodeResult enc = fl::encode(t, bytes.data(), bytes.size());
   EXPECT_EQ(enc.status, fl::RejectReason::ok);

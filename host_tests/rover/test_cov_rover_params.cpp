@@ -7,11 +7,13 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <vector>
 
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
 #include "../flight/quantity_support.hpp"
+#include "../flight/table_bytes.hpp"
 
 namespace {
 
@@ -76,22 +78,53 @@ TEST(RoverParamsValidate, ValuesOnTheBoundariesAreAccepted) {
   EXPECT_EQ(flight::validate_rover_params(p), S::ok);
 }
 
-TEST(RoverParamSectionFraming, NonZeroReservedWordIsABadEncoding) {
-  flight::ExtensionSection s{};
-  flight::encode_rover_section(moon(), s);
-  RoverParams out{};
-  ASSERT_EQ(flight::decode_rover_section(s, out), S::ok);
-  s.bytes[3] = 1U;
-  EXPECT_EQ(flight::decode_rover_section(s, out), S::bad_encoding);
-  EXPECT_FALSE(flight::rover_section_valid(s));
+// Section 6 goes through the table's codec (param_table.hpp): these take a
+// table that carries the rover apart into its sections, change section 6's
+// payload and frame it again with a correct CRC.
+std::vector<test::Section> sections_with(const RoverParams& p) {
+  flight::ParameterTable t = flight::default_parameter_table();
+  t.rover_geometry = flight::RoverSection{true, p};
+  return test::sections_of(test::encode_table(t));
 }
 
-TEST(RoverParamSectionFraming, SectionLongerThanTheLayoutIsABadEncoding) {
-  flight::ExtensionSection s{};
-  flight::encode_rover_section(moon(), s);
-  s.length = static_cast<std::uint16_t>(s.length + 4U);
-  RoverParams out{};
-  EXPECT_EQ(flight::decode_rover_section(s, out), S::bad_encoding);
+test::Bytes& rover_payload(std::vector<test::Section>& sections) {
+  for (test::Section& s : sections) {
+    if (s.id == static_cast<std::uint16_t>(flight::SectionId::rover_geometry)) {
+      return s.payload;
+    }
+  }
+  ADD_FAILURE() << "no section 6";
+  return sections.front().payload;
+}
+
+flight::RejectReason decode_framed(const std::vector<test::Section>& sections, flight::ParameterTable& out) {
+  const test::Bytes b = test::frame(sections);
+  return flight::decode(b.data(), b.size(), out);
+}
+
+TEST(RoverParamSectionFraming, NonZeroReservedWordIsRefused) {
+  std::vector<test::Section> secs = sections_with(moon());
+  flight::ParameterTable out{};
+  ASSERT_EQ(decode_framed(secs, out), flight::RejectReason::ok);
+  rover_payload(secs)[3] = 1U;
+  EXPECT_EQ(decode_framed(secs, out), flight::RejectReason::reserved_not_zero);
+}
+
+TEST(RoverParamSectionFraming, AnotherLayoutVersionIsRefusedAsExtensionRejected) {
+  std::vector<test::Section> secs = sections_with(moon());
+  rover_payload(secs)[0] = 2U;
+  flight::ParameterTable out{};
+  EXPECT_EQ(decode_framed(secs, out), flight::RejectReason::extension_rejected);
+}
+
+TEST(RoverParamSectionFraming, SectionLongerOrShorterThanTheLayoutIsALengthMismatch) {
+  std::vector<test::Section> longer = sections_with(moon());
+  rover_payload(longer).resize(flight::kRoverSectionBytes + 4U, 0U);
+  flight::ParameterTable out{};
+  EXPECT_EQ(decode_framed(longer, out), flight::RejectReason::section_length_mismatch);
+  std::vector<test::Section> shorter = sections_with(moon());
+  rover_payload(shorter).resize(flight::kRoverSectionBytes - 4U);
+  EXPECT_EQ(decode_framed(shorter, out), flight::RejectReason::section_length_mismatch);
 }
 
 TEST(RoverParamSectionFraming, DecodedParametersEqualTheEncodedOnes) {
@@ -99,11 +132,12 @@ TEST(RoverParamSectionFraming, DecodedParametersEqualTheEncodedOnes) {
   p.mass_kg = q<flight::MassKg>(123.25);
   p.com_y_m = q<flight::LengthM>(-0.125);
   p.rocker_bogie_pivot.z_m = q<flight::LengthM>(-0.2);
-  flight::ExtensionSection s{};
-  flight::encode_rover_section(p, s);
-  EXPECT_EQ(s.length, flight::kRoverSectionBytes);
-  RoverParams out{};
-  ASSERT_EQ(flight::decode_rover_section(s, out), S::ok);
+  std::vector<test::Section> secs = sections_with(p);
+  EXPECT_EQ(rover_payload(secs).size(), flight::kRoverSectionBytes);
+  flight::ParameterTable back{};
+  ASSERT_EQ(decode_framed(secs, back), flight::RejectReason::ok);
+  ASSERT_TRUE(back.rover_geometry.present);
+  const RoverParams& out = back.rover_geometry.params;
   EXPECT_EQ(out.mass_kg, p.mass_kg);
   EXPECT_EQ(out.com_y_m, p.com_y_m);  // a negative value survives the byte format
   EXPECT_EQ(out.rocker_bogie_pivot.z_m, p.rocker_bogie_pivot.z_m);

@@ -21,7 +21,7 @@ using sinkwatch::test::q;
 
 flight::ParameterTable with_rover(flight::RoverParams rover) {
   flight::ParameterTable t = flight::default_parameter_table();
-  flight::encode_rover_section(rover, t.rover_geometry);
+  t.rover_geometry = flight::RoverSection{true, rover};
   return t;
 }
 

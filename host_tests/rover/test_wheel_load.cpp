@@ -8,12 +8,14 @@
 #include <cstdint>
 #include <cstdio>
 #include <random>
+#include <vector>
 
 #include "rover_test_support.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
 #include "sinkwatch/ground/rover_loads.hpp"
+#include "../flight/table_bytes.hpp"
 
 namespace sinkwatch {
 namespace {
@@ -336,66 +338,54 @@ TEST(RoverWheelLoad, SensitivitiesBehindTheErrorBoundHold) {
 
 // ------------------------------------------------- parameter-table section 6
 
-TEST(RoverParamSection, RoundTripsThroughTheSection) {
+flight::ParameterTable table_with(const RoverParams& p) {
+  flight::ParameterTable t = flight::default_parameter_table();
+  t.rover_geometry = flight::RoverSection{true, p};
+  return t;
+}
+
+flight::RejectReason decode_bytes(const std::vector<std::uint8_t>& b, flight::ParameterTable& out) {
+  return flight::decode(b.data(), b.size(), out);
+}
+
+TEST(RoverParamSection, RoundTripsThroughTheTable) {
   RoverParams p = flight::yutu_like_rover_params(flight::kGravityMars);
   p.com_y_m = q<flight::LengthM>(-0.0123);
-  flight::ExtensionSection section{};
-  flight::encode_rover_section(p, section);
-  EXPECT_TRUE(section.present);
-  EXPECT_EQ(section.length, flight::kRoverSectionBytes);
-  RoverParams out{};
-  ASSERT_EQ(flight::decode_rover_section(section, out), flight::RoverParamStatus::ok);
+  const std::vector<std::uint8_t> bytes = test::encode_table(table_with(p));
+  flight::ParameterTable back{};
+  ASSERT_EQ(decode_bytes(bytes, back), flight::RejectReason::ok);
+  ASSERT_TRUE(back.rover_geometry.present);
+  const RoverParams& out = back.rover_geometry.params;
   EXPECT_EQ(out.com_y_m, p.com_y_m);
   EXPECT_EQ(out.gravity_mps2, p.gravity_mps2);
   EXPECT_EQ(out.bogie_rear_axle.z_m, p.bogie_rear_axle.z_m);
   EXPECT_EQ(out.high_slip, p.high_slip);
-  EXPECT_TRUE(flight::rover_section_valid(section));
 }
 
-TEST(RoverParamSection, RejectsBadFramingAndBadValues) {
+TEST(RoverParamSection, AbsentSectionDecodesAsAbsentAndBadValuesAreRefused) {
   const RoverParams p = earth();
-  flight::ExtensionSection good{};
-  flight::encode_rover_section(p, good);
-  RoverParams out = p;
-  out.mass_kg = flight::MassKg::zero();  // must stay untouched on failure
+  flight::ParameterTable out = table_with(p);  // must stay untouched on failure
+  const std::vector<std::uint8_t> plain = test::encode_table(flight::default_parameter_table());
+  flight::ParameterTable absent{};
+  ASSERT_EQ(decode_bytes(plain, absent), flight::RejectReason::ok);
+  EXPECT_FALSE(absent.rover_geometry.present);
 
-  flight::ExtensionSection absent = good;
-  absent.present = false;
-  EXPECT_EQ(flight::decode_rover_section(absent, out), flight::RoverParamStatus::bad_encoding);
-  flight::ExtensionSection shorter = good;
-  shorter.length = static_cast<std::uint16_t>(good.length - 4U);
-  EXPECT_EQ(flight::decode_rover_section(shorter, out), flight::RoverParamStatus::bad_encoding);
-  flight::ExtensionSection layout = good;
-  layout.bytes[0] = 2U;
-  EXPECT_EQ(flight::decode_rover_section(layout, out), flight::RoverParamStatus::bad_encoding);
   RoverParams heavy = p;
   heavy.mass_kg = q<flight::MassKg>(2000.0);
-  flight::ExtensionSection bad_value{};
-  flight::encode_rover_section(heavy, bad_value);
-  EXPECT_EQ(flight::decode_rover_section(bad_value, out), flight::RoverParamStatus::bad_mass);
-  EXPECT_FALSE(flight::rover_section_valid(bad_value));
-  EXPECT_EQ(out.mass_kg.raw(), 0);
+  ASSERT_EQ(flight::validate_rover_params(heavy), flight::RoverParamStatus::bad_mass);
+  EXPECT_EQ(decode_bytes(test::encode_table(table_with(heavy)), out), flight::RejectReason::extension_rejected);
+  EXPECT_EQ(out.rover_geometry.params.mass_kg, p.mass_kg);
 }
 
 TEST(RoverParamSection, ParameterTableRejectsABadGeometrySection) {
-  flight::ParameterTable table = flight::default_parameter_table();
-  flight::encode_rover_section(earth(), table.rover_geometry);
-  std::uint8_t bytes[flight::kMaxTableBytes] = {};
-  const flight::EncodeResult enc = flight::encode(table, bytes, sizeof bytes);
-  ASSERT_EQ(enc.status, flight::RejectReason::ok);
   flight::ParameterTable decoded{};
-  ASSERT_EQ(flight::decode(bytes, enc.size, decoded, &flight::rover_section_valid), flight::RejectReason::ok);
-  RoverParams from_table{};
-  EXPECT_EQ(flight::decode_rover_section(decoded.rover_geometry, from_table), flight::RoverParamStatus::ok);
-  EXPECT_EQ(from_table.track_width_m, earth().track_width_m);
+  ASSERT_EQ(decode_bytes(test::encode_table(table_with(earth())), decoded), flight::RejectReason::ok);
+  EXPECT_EQ(decoded.rover_geometry.params.track_width_m, earth().track_width_m);
 
   RoverParams bad = earth();
   bad.track_width_m = flight::LengthM::zero();
-  flight::encode_rover_section(bad, table.rover_geometry);
-  const flight::EncodeResult enc_bad = flight::encode(table, bytes, sizeof bytes);
-  ASSERT_EQ(enc_bad.status, flight::RejectReason::ok);
-  EXPECT_EQ(flight::decode(bytes, enc_bad.size, decoded, &flight::rover_section_valid),
-            flight::RejectReason::extension_rejected);
+  EXPECT_EQ(decode_bytes(test::encode_table(table_with(bad)), decoded), flight::RejectReason::extension_rejected);
+  EXPECT_EQ(flight::validate(table_with(bad)), flight::RejectReason::extension_rejected);
 }
 
 }  // namespace

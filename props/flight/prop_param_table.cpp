@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/rover_geometry.hpp"
 
 namespace {
 
@@ -50,12 +51,16 @@ ParameterTable gen_valid_table() {
     t.health.attitude_step_rad = AngleRad::from_raw(*rc::gen::inRange<std::int32_t>(0, 421657428 + 1));
     t.health.joint_step_rad = AngleRad::from_raw(*rc::gen::inRange<std::int32_t>(0, 421657428 + 1));
   }
+  // Section 6: sometimes absent, else the Yutu-like rover with its mass,
+  // gravity and lateral centre of mass (+-0.25 m, negative included) moved
+  // inside their ranges (rover_geometry.hpp).
   if (*rc::gen::arbitrary<bool>()) {
+    RoverParams& p = t.rover_geometry.params;
     t.rover_geometry.present = true;
-    t.rover_geometry.length = static_cast<std::uint16_t>(*rc::gen::inRange(0, 257));
-    for (std::uint16_t i = 0; i < t.rover_geometry.length; ++i) {
-      t.rover_geometry.bytes[i] = *rc::gen::arbitrary<std::uint8_t>();
-    }
+    p = yutu_like_rover_params(kGravityMoon);
+    p.mass_kg = MassKg::from_raw(*rc::gen::inRange<std::int32_t>(1, (1000 << 16) + 1));
+    p.gravity_mps2 = AccelMps2::from_raw(*rc::gen::inRange<std::int32_t>(1, (10 << 24) + 1));
+    p.com_y_m = LengthM::from_raw(*rc::gen::inRange<std::int32_t>(-(1 << 22), (1 << 22) + 1));
   }
   return t;
 }

@@ -149,7 +149,8 @@ void check_flight_validation(const flight::ParameterTable& table) {
 }
 
 // Encodes the table, reads the bytes back with the loader's own decoder
-// (what we hand out must load) and takes the CRC-32 from the last 4 bytes.
+// (what we hand out must load) and takes the CRC-32 the flight module reads
+// from the trailer (flight::table_crc).
 FlightTable encode_and_reload(const flight::ParameterTable& table) {
   std::array<std::uint8_t, flight::kMaxTableBytes> buffer{};
   const flight::EncodeResult encoded = flight::encode(table, buffer.data(), buffer.size());
@@ -165,11 +166,7 @@ FlightTable encode_and_reload(const flight::ParameterTable& table) {
     throw CalibrationError("flight table: the encoded bytes do not decode (" +
                            reject_reason_name(loaded) + ")");
   }
-  const std::size_t n = result.bytes.size();
-  result.crc = static_cast<std::uint32_t>(result.bytes[n - 4]) |
-               (static_cast<std::uint32_t>(result.bytes[n - 3]) << 8U) |
-               (static_cast<std::uint32_t>(result.bytes[n - 2]) << 16U) |
-               (static_cast<std::uint32_t>(result.bytes[n - 1]) << 24U);
+  result.crc = flight::table_crc(result.bytes.data(), result.bytes.size());
   return result;
 }
 

@@ -175,7 +175,7 @@ RoverTable build_rover_table(const LoadedTable& base, const std::vector<std::pai
   }
   check_radius(base, rover);
   flight::ParameterTable table = base.table;
-  flight::encode_rover_section(rover, table.rover_geometry);
+  table.rover_geometry = flight::RoverSection{true, rover};
   RoverTable out;
   out.bytes.resize(flight::kMaxTableBytes);
   const flight::EncodeResult written = flight::encode(table, out.bytes.data(), out.bytes.size());

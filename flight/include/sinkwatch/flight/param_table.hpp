@@ -10,14 +10,15 @@
 //
 // All integers little-endian, every Q value as its raw two's-complement
 // integer, written byte by byte (never by memcpy of a struct, whose layout
-// and endianness belong to the compiler). Sections 1..5 are this module's;
-// section 6 is reserved for the rover geometry of issue 4 and is carried as
-// CRC-protected bytes (ExtensionSection) that its owner decodes and checks
-// through an ExtensionValidator. A new section takes the next id.
+// and endianness belong to the compiler). Each section's fields are listed
+// once (param_table.cpp), and the encoder, the decoder and the size
+// computation walk that one list (src/table_codec.hpp). Sections 1..5 and 7
+// are this module's parameters; section 6, optional, is the rover geometry
+// (rover_geometry.hpp) as a typed section. A new section takes the next id.
 //
 // decode() checks the framing, the CRC and then every value's range
-// (validate()); each rejection has its own reason. ParameterStore keeps the
-// table in force when a new one is rejected.
+// (validate(), the rover section's included); each rejection has its own
+// reason. ParameterStore keeps the table in force when a new one is rejected.
 #ifndef SINKWATCH_FLIGHT_PARAM_TABLE_HPP
 #define SINKWATCH_FLIGHT_PARAM_TABLE_HPP
 
@@ -26,6 +27,7 @@
 
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/motor.hpp"
+#include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/rover_limits.hpp"
 #include "sinkwatch/flight/units.hpp"
 
@@ -35,7 +37,6 @@ namespace flight {
 constexpr std::uint8_t kMaxWheels = limits::kWheelCount;
 /// Longest N-of-M window: the history is a 16-bit mask.
 constexpr std::uint8_t kMaxWindow = 16U;
-constexpr std::uint16_t kExtensionMaxBytes = 256U;
 constexpr std::size_t kMaxTableBytes = 1024U;
 
 constexpr std::uint8_t kTableMagic[4] = {0x53U, 0x57U, 0x50U, 0x54U};  // "SWPT"
@@ -50,7 +51,7 @@ enum class SectionId : std::uint16_t {
   correction = 3U,      ///< CorrectionTable
   monitor = 4U,         ///< MonitorParams
   escape = 5U,          ///< EscapeParams
-  rover_geometry = 6U,  ///< issue 4: opaque here, decoded by its owner
+  rover_geometry = 6U,  ///< RoverSection; optional: absent means the Yutu-like rover on the Moon (load.hpp)
   health = 7U,          ///< HealthParams; optional: absent means every check off
 };
 
@@ -108,11 +109,11 @@ struct HealthParams {
   AngleRad joint_step_rad{};          ///< |joint change| beyond it: a spike (0: off)
 };
 
-/// Bytes of a section this module carries but does not interpret.
-struct ExtensionSection {
+/// Section 6: the rover geometry (rover_geometry.hpp, layout there), decoded
+/// and validated (validate_rover_params()) with the rest of the table.
+struct RoverSection {
   bool present{false};
-  std::uint16_t length{0U};
-  std::uint8_t bytes[kExtensionMaxBytes]{};
+  RoverParams params{};  ///< meaningful only when present
 };
 
 struct ParameterTable {
@@ -122,7 +123,7 @@ struct ParameterTable {
   CorrectionTable correction{};
   MonitorParams monitor{};
   EscapeParams escape{};
-  ExtensionSection rover_geometry{};
+  RoverSection rover_geometry{};  ///< section 6, written only when present
   HealthParams health{};  ///< section 7, written only when not all zero
 };
 
@@ -181,13 +182,14 @@ enum class RejectReason : std::uint8_t {
   escape_patience_out_of_range,
   escape_decrease_out_of_range,
   escape_freed_out_of_range,
-  // extension sections
-  extension_too_long,
-  extension_rejected,
+  // section 6 (the values keep their numbers; the names are the C API's)
+  extension_too_long,  ///< retired: section 6 is typed, a wrong length is section_length_mismatch
+  extension_rejected,  ///< section 6: wrong layout version, or validate_rover_params() refuses it
   // encoder
   buffer_too_small,
-  // load(): the rover section's wheel radius is not the table's (the statics
-  // and Eq. 15 must describe the same wheel)
+  // the rover section's wheel radius (or, without one, the Yutu-like
+  // rover's in load()) is not the table's: the statics and Eq. 15 must
+  // describe the same wheel
   rover_radius_mismatch,
   // sensor health (section 7); appended, so that no value changes
   health_policy_out_of_range,
@@ -203,10 +205,6 @@ constexpr std::uint8_t kRejectReasonCount = static_cast<std::uint8_t>(RejectReas
 /// enum. Static storage.
 [[nodiscard]] const char* reason_name(RejectReason reason) noexcept;
 
-/// A check of an extension section's contents by its owner; returns true when
-/// the bytes are acceptable. May be null (the section is then only framed).
-using ExtensionValidator = bool (*)(const ExtensionSection& section) noexcept;
-
 /// The default table: Table 2's corrections (C1 = C2 = 1, C3 = 0.20 .. 0.13
 /// at 3..20 kg x 9.81 N/kg), r = 0.15 m and illustrative motor values
 /// (docs/flight.md lists each value and where it comes from).
@@ -216,13 +214,25 @@ using ExtensionValidator = bool (*)(const ExtensionSection& section) noexcept;
 [[nodiscard]] ParameterTable eq15_parameter_table() noexcept;
 
 /// Every range check, in the order of the struct; the first failure is
-/// returned. `ok` means every flight function accepts the table.
+/// returned. A present rover section is checked by validate_rover_params()
+/// (extension_rejected) and must have the table's wheel radius
+/// (rover_radius_mismatch). `ok` means every flight function accepts the table.
 [[nodiscard]] RejectReason validate(const ParameterTable& table) noexcept;
 
-/// Parses and validates `size` bytes into `out`. `out` is written only when
-/// the result is ok. `extension` (may be null) checks a present extension.
-[[nodiscard]] RejectReason decode(const std::uint8_t* bytes, std::size_t size, ParameterTable& out,
-                                  ExtensionValidator extension = nullptr) noexcept;
+/// Parses and validates `size` bytes into `out` (every section, the rover
+/// geometry of section 6 included, decoded once and validated once by
+/// validate()). `out` is written only when the result is ok.
+[[nodiscard]] RejectReason decode(const std::uint8_t* bytes, std::size_t size, ParameterTable& out) noexcept;
+
+/// The CRC-32 trailer of a table's bytes: the last 4 bytes, little-endian,
+/// which decode() checked against crc32() of the bytes before them. 0 for a
+/// null buffer or fewer than 4 bytes. The CRC the ground quotes and the
+/// telemetry echoes (PreparedParameters::table_crc()).
+[[nodiscard]] std::uint32_t table_crc(const std::uint8_t* bytes, std::size_t size) noexcept;
+
+/// The number of bytes encode() writes for `table`: the encoder's own walk
+/// of the field lists, run by a byte counter.
+[[nodiscard]] std::size_t encoded_size(const ParameterTable& table) noexcept;
 
 struct EncodeResult {
   std::size_t size{0U};                                 ///< bytes written; 0 unless status == ok
@@ -242,7 +252,7 @@ class ParameterStore {
 
   /// Decodes and validates; on ok the new table is in force, otherwise the
   /// old one stays and the reason is returned and remembered.
-  RejectReason load(const std::uint8_t* bytes, std::size_t size, ExtensionValidator extension = nullptr) noexcept;
+  RejectReason load(const std::uint8_t* bytes, std::size_t size) noexcept;
 
 
   [[nodiscard]] const ParameterTable& active() const& noexcept { return active_; }

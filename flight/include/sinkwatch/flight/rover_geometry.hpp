@@ -22,7 +22,6 @@
 
 #include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
-#include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/rover_limits.hpp"
 #include "sinkwatch/flight/units.hpp"
 
@@ -139,8 +138,10 @@ constexpr RoverParams kYutuLikeRoverParams{
 // ------------------------------------------------ parameter-table section 6
 //
 // The rover geometry travels in the parameter table's section 6
-// (SectionId::rover_geometry), which param_table.hpp frames and protects by
-// the table's CRC and this module decodes. Layout, little-endian:
+// (SectionId::rover_geometry, ParameterTable::rover_geometry), a typed section
+// that the table's codec (flight/src/table_codec.cpp) writes and reads from
+// its one field list and validate() checks with validate_rover_params().
+// Layout, little-endian:
 //   u16 layout version (kRoverSectionLayout), u16 zero,
 //   then every RoverParams field in declaration order as the raw int32 of its
 //   Q value (mass, gravity, com x y z, track, radius, the four link points
@@ -148,16 +149,6 @@ constexpr RoverParams kYutuLikeRoverParams{
 
 constexpr std::uint16_t kRoverSectionLayout = 1U;
 constexpr std::uint16_t kRoverSectionBytes = 4U + (19U * 4U);
-
-/// Writes `params` into a present extension section (does not validate).
-void encode_rover_section(const RoverParams& params, ExtensionSection& out) noexcept;
-
-/// Decodes and validates section 6; `out` is written only on ok.
-[[nodiscard]] RoverParamStatus decode_rover_section(const ExtensionSection& section, RoverParams& out) noexcept;
-
-/// An ExtensionValidator for decode()/ParameterStore::load(): true when
-/// section 6 decodes into valid RoverParams.
-[[nodiscard]] bool rover_section_valid(const ExtensionSection& section) noexcept;
 
 }  // namespace flight
 }  // namespace sinkwatch

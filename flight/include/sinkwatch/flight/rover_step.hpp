@@ -104,9 +104,9 @@ class RoverStep {
   RoverStep() noexcept;
 
   /// One control cycle. `now` is the monitor's clock. `prepared` holds the
-  /// parameter table and the rover parameters (the table's section 6 decoded
-  /// when the table is loaded, decode_rover_section), checked once per load
-  /// by prepare(): the step does no validation of its own.
+  /// parameter table and the rover parameters (the table's section 6, read
+  /// and validated by decode() when the table is loaded), checked once per
+  /// load by load() or prepare(): the step does no validation of its own.
   RoverStepOutput step(const RoverTelemetry& telemetry, TimeMs now, const PreparedParameters& prepared) noexcept;
 
   /// The ground's acknowledgement after a re-plan (RoverMonitor::clear_stop);

@@ -5,7 +5,7 @@
 //
 // A table this code hands out is one the flight loader has accepted: the
 // rover passes the flight code's validate_rover_params(), section 6 is
-// written by encode_rover_section(), the whole table by flight::encode()
+// the table's typed RoverSection, the whole table written by flight::encode()
 // with its CRC, and the bytes are loaded back through flight::load() (the
 // one path from bytes to parameters the rover and the replay use) before
 // they are returned. Every section other than 6 is the base table's.
