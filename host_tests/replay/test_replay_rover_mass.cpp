@@ -45,8 +45,11 @@ std::string with_mass_line(const std::string& value, std::size_t* line = nullptr
   return text.substr(0, end) + "# mass_kg: " + value + "\n" + text.substr(end);
 }
 
+// One directory per test: ctest runs the tests of this file in parallel, and
+// two of them writing the same m120.csv made one read the other's half file.
 fs::path write_temp(const std::string& name, const std::string& text) {
-  const fs::path dir = fs::temp_directory_path() / "sinkwatch_replay_rover_mass";
+  const fs::path dir = fs::temp_directory_path() / "sinkwatch_replay_rover_mass" /
+                       ::testing::UnitTest::GetInstance()->current_test_info()->name();
   fs::create_directories(dir);
   const fs::path p = dir / name;
   std::ofstream(p, std::ios::binary) << text;

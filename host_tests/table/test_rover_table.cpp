@@ -45,7 +45,9 @@ CommandRun table_info(const std::vector<std::string>& args) {
 }
 
 fs::path temp(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "sinkwatch_rover_table_test";
+  // One directory per test: ctest runs this file's tests in parallel.
+  const fs::path dir = fs::temp_directory_path() / "sinkwatch_rover_table_test" /
+                       ::testing::UnitTest::GetInstance()->current_test_info()->name();
   fs::create_directories(dir);
   return dir / name;
 }
