@@ -3,6 +3,7 @@
 #include "sinkwatch/flight/param_table.hpp"
 
 #include "sinkwatch/fixedpoint/literal.hpp"
+#include "sinkwatch/flight/current_limit.hpp"
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/rover_limits.hpp"
 
@@ -213,6 +214,88 @@ RejectReason validate_rover_section(const RoverSection& rover, LengthM radius_m)
   return RejectReason::ok;
 }
 
+// The current limit over the loads of [u, v], whose corrections `a` (at u)
+// and `b` (at v) are linear in between. With L = r (DP_max/W + C3) + C2 z_max
+// linear too and C1 > 0,
+//     |T_max(W)| = W |L(W)| / C1(W) <= v max(|L_a|, |L_b|) / min(C1_a, C1_b),
+// so T_max evaluated at v with min(C1) and each end's (C2, C3, DP_max/W)
+// bounds it over [u, v], and I_max rises with |T_max|. False when a bound
+// does not fit its Q format.
+bool limit_fits(const ParameterTable& t, const MotorDivisors& md, const CorrectionResult& a,
+                const CorrectionResult& b, WheelLoadN v) noexcept {
+  if ((a.status != EstimateStatus::ok) || (b.status != EstimateStatus::ok)) {
+    return false;
+  }
+  const Ratio c1_min = (a.coefficients.c1 < b.coefficients.c1) ? a.coefficients.c1 : b.coefficients.c1;
+  const CorrectionResult* const ends[2] = {&a, &b};
+  for (const CorrectionResult* end : ends) {
+    const Coefficients c{c1_min, end->coefficients.c2, end->coefficients.c3};
+    const TorqueLimitResult torque =
+        torque_limit(c, end->dp_max_ratio, t.wheel_radius_m, v, t.monitor.allowed_sinkage_m);
+    fx::Status st;
+    const TorqueNm magnitude(fx::abs(torque.torque_nm.q(), st));
+    if ((torque.status != EstimateStatus::ok) || !st.ok() ||
+        (current_from_torque(t.motor, md, magnitude, DriveDirection::forward).status != EstimateStatus::ok)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Sub-intervals per piece of the correction table: the bound of limit_fits
+// over-estimates by about the relative change of W and L across one
+// sub-interval, 2/32 ~ 6 % on a piece where both change by half.
+constexpr std::int64_t kEnvelopeSubdivisions = 32;
+
+// limit_fits over [from, to], a piece on which the corrections are linear
+// (between two breakpoints) or held (beyond the first or the last), cut into
+// kEnvelopeSubdivisions sub-intervals, each bounded on its own.
+bool piece_fits(const ParameterTable& t, const CorrectionDivisors& cd, const MotorDivisors& md, WheelLoadN from,
+                WheelLoadN to) noexcept {
+  const std::int64_t from_raw = from.raw();
+  const std::int64_t span_raw = static_cast<std::int64_t>(to.raw()) - from_raw;  // >= 0, < 2^32
+  CorrectionResult previous = corrections_at(t.correction, cd, from);
+  bool fits = true;
+  for (std::int64_t j = 1; fits && (j <= kEnvelopeSubdivisions); ++j) {
+    // from <= w <= to, so w fits the load format.
+    const WheelLoadN w = WheelLoadN::from_raw(static_cast<std::int32_t>(from_raw + ((span_raw * j) / kEnvelopeSubdivisions)));
+    const CorrectionResult next = corrections_at(t.correction, cd, w);
+    fits = limit_fits(t, md, previous, next, w);
+    previous = next;
+  }
+  return fits;
+}
+
+// The table's own numbers over its whole envelope (issue 15): the torque of
+// every current the sensor can report, and the current limit at every load of
+// [load_min_n, load_max_n], bounded piece by piece of the correction table
+// (piece_fits). Runs after every range check (count in 1..kMaxCorrectionRows,
+// breakpoints increasing, 0 < load_min_n < load_max_n).
+RejectReason validate_envelope(const ParameterTable& t) noexcept {
+  // The sensor's range either way (|I| <= current_abs_max <= 1000 A, so the
+  // negation is exact).
+  fx::Status st;
+  const CurrentA currents[2] = {t.motor.current_abs_max_a, CurrentA(fx::neg(t.motor.current_abs_max_a.q(), st))};
+  for (const CurrentA current : currents) {
+    if (torque_from_current(t.motor, current, DriveDirection::forward).status != EstimateStatus::ok) {
+      return RejectReason::envelope_overflow;
+    }
+  }
+  const CorrectionDivisors cd = make_correction_divisors(t.correction);
+  const MotorDivisors md = make_motor_divisors(t.motor);
+  WheelLoadN from = t.monitor.load_min_n;
+  bool fits = true;
+  for (std::uint8_t k = 0U; fits && (k < t.correction.count) && (k < kMaxCorrectionRows); ++k) {
+    const WheelLoadN breakpoint = t.correction.rows[k].load_n;
+    if ((breakpoint > from) && (breakpoint < t.monitor.load_max_n)) {
+      fits = piece_fits(t, cd, md, from, breakpoint);
+      from = breakpoint;
+    }
+  }
+  fits = fits && piece_fits(t, cd, md, from, t.monitor.load_max_n);
+  return fits ? RejectReason::ok : RejectReason::envelope_overflow;
+}
+
 }  // namespace
 
 // ---- defaults --------------------------------------------------------------
@@ -330,7 +413,11 @@ RejectReason validate(const ParameterTable& t) noexcept {
   if (r != RejectReason::ok) {
     return r;
   }
-  return validate_rover_section(t.rover_geometry, t.wheel_radius_m);
+  r = validate_rover_section(t.rover_geometry, t.wheel_radius_m);
+  if (r != RejectReason::ok) {
+    return r;
+  }
+  return validate_envelope(t);
 }
 
 // ---- the store --------------------------------------------------------------

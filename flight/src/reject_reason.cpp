@@ -65,6 +65,7 @@ constexpr const char* kReasonNames[kRejectReasonCount] = {
     "health_blind_wheels_out_of_range",
     "health_step_out_of_range",
     "health_bridge_out_of_range",
+    "envelope_overflow",
 };
 
 }  // namespace

@@ -127,55 +127,6 @@ TEST_F(MonitorCov, EventSinkageIsMarkedInvalidWhenDpMaxDoesNotFitTheLoadFormat) 
   EXPECT_EQ(too_big.peak_sinkage_m, SinkageM::zero());
 }
 
-// A valid table with the largest gear ratio and torque constant: 5 A gives
-// 4.9 A * 4 N m/A * 0.6 * 10000 = 117,600 N m, beyond the torque format
-// (Q15.16, 32,768 N m). The sample has no estimate; 0.2 A (2,400 N m) has.
-TEST_F(MonitorCov, TorqueBeyondItsFormatMakesTheSampleUnusable) {
-  table.motor.gear_ratio = q<GearRatio>(10000.0);
-  table.motor.kt_nm_per_a = q<TorqueConstantNmPerA>(4.0);
-  ASSERT_EQ(validate(table), RejectReason::ok);
-  const auto at = [&](double current_a) {
-    t_ms += 100U;
-    return WheelInput{TimeMs{t_ms}, q<CurrentA>(current_a), q<WheelLoadN>(kW), DrawbarPullN::zero(),
-                      DriveDirection::forward, true};
-  };
-  const WheelOutput big = feed(at(5.0));
-  EXPECT_EQ(big.sample_status, SampleStatus::estimate_failed);
-  EXPECT_FALSE(big.estimate_valid);
-  const WheelOutput small = feed(at(0.2));
-  EXPECT_EQ(small.sample_status, SampleStatus::ok);
-  ASSERT_TRUE(small.estimate_valid);
-  // From the quantised inputs: (I - I0) Kt eta N, within the 0.5 LSB of each rounding.
-  const double expected = (d(q<CurrentA>(0.2)) - d(table.motor.no_load_current_a)) * d(table.motor.kt_nm_per_a) *
-                          d(table.motor.efficiency) * d(table.motor.gear_ratio);
-  EXPECT_NEAR(d(small.torque_nm), expected, 1e-3);
-}
-
-// A valid table with a 2 m wheel, DP_max/W = 2 at the last breakpoint and
-// loads up to 30 kN: at 20 kN the current limit's torque, W (r (DP_max/W + C3)
-// + C2 z_max) / C1 = 86,100 N m, does not fit Q15.16. The sample's sinkage
-// fits, but without a limit the sample is unusable.
-TEST_F(MonitorCov, CurrentLimitBeyondItsFormatMakesTheSampleUnusable) {
-  table.wheel_radius_m = q<LengthM>(2.0);
-  table.correction.rows[4].dp_max_ratio = q<Ratio>(2.0);
-  table.monitor.load_max_n = q<WheelLoadN>(30000.0);
-  ASSERT_EQ(validate(table), RejectReason::ok);
-  const auto at = [&](double load_n) {
-    const double dp = load_n * ((torque_nm(1.0) / load_n - 0.01) / 2.0 - 0.13);
-    t_ms += 100U;
-    return WheelInput{TimeMs{t_ms}, q<CurrentA>(1.0), q<WheelLoadN>(load_n), q<DrawbarPullN>(dp),
-                      DriveDirection::forward, true};
-  };
-  const WheelOutput heavy = feed(at(20000.0));
-  EXPECT_EQ(heavy.sample_status, SampleStatus::estimate_failed);
-  EXPECT_FALSE(heavy.limit_valid);
-  EXPECT_FALSE(heavy.estimate_valid);
-  // At 98.1 N the same table gives a limit and an estimate.
-  const WheelOutput light = feed(at(kW));
-  EXPECT_EQ(light.sample_status, SampleStatus::ok);
-  EXPECT_TRUE(light.limit_valid);
-}
-
 // A wheel carrying 1 N (the bottom of the default load envelope) at 10 A with
 // a gear ratio of 1000: the samples' own estimates fit (their drawbar pull
 // balances the torque), and the current trips STOP. The event's Section 7

@@ -10,6 +10,8 @@
 
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/flight/crc32.hpp"
+#include "sinkwatch/flight/current_limit.hpp"
+#include "sinkwatch/flight/motor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "table_bytes.hpp"
 
@@ -195,6 +197,9 @@ std::vector<Mutation> mutations() {
       {"attitude step 2 rad", [](ParameterTable& t) { t.health.attitude_step_rad = q<AngleRad>(2.0); }, RejectReason::health_step_out_of_range},
       {"joint step < 0", [](ParameterTable& t) { t.health.joint_step_rad = q<AngleRad>(-0.01); }, RejectReason::health_step_out_of_range},
       {"bridge 61 s", [](ParameterTable& t) { t.health.bridge_ms = 61000U; }, RejectReason::health_bridge_out_of_range},
+      // Every field in its range, but N = 1, eta = 0.01, Kt = 0.0001 N m/A put
+      // I_max = T_max / 1e-6 far beyond Q11.20's 2048 A at every load.
+      {"weakest motor", [](ParameterTable& t) { t.motor.gear_ratio = q<GearRatio>(1.0); t.motor.efficiency = q<Efficiency>(0.01); t.motor.kt_nm_per_a = q<TorqueConstantNmPerA>(0.0001); }, RejectReason::envelope_overflow},
       {"rover mass 0", [](ParameterTable& t) { t.rover_geometry = RoverSection{true, moon_rover()}; t.rover_geometry.params.mass_kg = MassKg::zero(); }, RejectReason::extension_rejected},
       {"rover wheel 0.2 m", [](ParameterTable& t) { t.rover_geometry = RoverSection{true, moon_rover()}; t.rover_geometry.params.wheel_radius_m = q<LengthM>(0.2); }, RejectReason::rover_radius_mismatch},
   };
@@ -218,7 +223,57 @@ TEST(ParamTable, EveryRangeCheckRejectsWithItsReasonAndTheStoreKeepsItsTable) {
     EXPECT_EQ(encode_table(store.active()), encode_table(before)) << m.name;
     covered.insert(m.expected);
   }
-  EXPECT_EQ(covered.size(), 38U);  // every validate() reason
+  EXPECT_EQ(covered.size(), 39U);  // every validate() reason
+}
+
+// A table whose current limit fits at every breakpoint and at both ends of
+// its load envelope, but not in between: on the segment from 15 kg to
+// 30,000 N, L = r (DP_max/W + C3) + C2 z_max falls from 6.05 m to 0.045 m,
+// so T_max = W L / C1 peaks near 15,000 N at about 45,000 N m, beyond
+// Q15.16's 32,768 N m, while the ends give 890 and 1,350 N m. validate()
+// bounds every segment (W_hi max|L| / min C1), so it is refused: the step
+// would otherwise fail its estimate at every sample near the peak.
+TEST(ParamTable, ACurrentLimitOverflowingInsideASegmentIsRefused) {
+  ParameterTable t = default_parameter_table();
+  t.wheel_radius_m = q<LengthM>(2.0);
+  t.monitor.load_max_n = q<WheelLoadN>(30000.0);
+  t.correction.rows[3].dp_max_ratio = q<Ratio>(2.0);
+  t.correction.rows[3].c3 = q<Ratio>(1.0);
+  t.correction.rows[4].load_n = q<WheelLoadN>(30000.0);
+  t.correction.rows[4].dp_max_ratio = Ratio::from_raw(1);
+  t.correction.rows[4].c3 = Ratio::zero();
+  const CorrectionDivisors cd = make_correction_divisors(t.correction);
+  const MotorDivisors md = make_motor_divisors(t.motor);
+  const auto limit_at = [&](WheelLoadN w) {
+    return current_limit(corrections_at(t.correction, cd, w), t.motor, md, t.wheel_radius_m, w,
+                         t.monitor.allowed_sinkage_m)
+        .status;
+  };
+  for (std::uint8_t i = 0U; i < t.correction.count; ++i) {
+    EXPECT_EQ(limit_at(t.correction.rows[i].load_n), EstimateStatus::ok) << int{i};
+  }
+  EXPECT_EQ(limit_at(t.monitor.load_min_n), EstimateStatus::ok);
+  EXPECT_EQ(limit_at(t.monitor.load_max_n), EstimateStatus::ok);
+  EXPECT_EQ(limit_at(q<WheelLoadN>(15000.0)), EstimateStatus::overflow);
+  EXPECT_EQ(validate(t), RejectReason::envelope_overflow);
+  // The same table with the peak brought down (DP_max/W = 0.5, C3 = 0 at
+  // 15 kg: L falls from 1.045 m, T_max peaks near 7,800 N m, I_max near
+  // 1,300 A of Q11.20's 2,048) is accepted: the bound is not so loose as to
+  // refuse it.
+  t.correction.rows[3].dp_max_ratio = q<Ratio>(0.5);
+  t.correction.rows[3].c3 = Ratio::zero();
+  EXPECT_EQ(validate(t), RejectReason::ok);
+}
+
+TEST(ParamTable, TheSensorsWholeRangeMustGiveATorque) {
+  ParameterTable t = default_parameter_table();
+  t.motor.gear_ratio = q<GearRatio>(9000.0);
+  t.motor.efficiency = q<Efficiency>(1.0);
+  t.motor.current_abs_max_a = q<CurrentA>(1000.0);
+  // N eta Kt I = 9000 x Kt x 1000 A: beyond Q15.16 for the default Kt.
+  EXPECT_EQ(torque_from_current(t.motor, t.motor.current_abs_max_a, DriveDirection::forward).status,
+            EstimateStatus::overflow);
+  EXPECT_EQ(validate(t), RejectReason::envelope_overflow);
 }
 
 TEST(ParamTable, FramingRejections) {

@@ -5,6 +5,7 @@
 #include <rapidcheck.h>
 #include <rapidcheck/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -61,6 +62,17 @@ ParameterTable gen_valid_table() {
     p.mass_kg = MassKg::from_raw(*rc::gen::inRange<std::int32_t>(1, (1000 << 16) + 1));
     p.gravity_mps2 = AccelMps2::from_raw(*rc::gen::inRange<std::int32_t>(1, (10 << 24) + 1));
     p.com_y_m = LengthM::from_raw(*rc::gen::inRange<std::int32_t>(-(1 << 22), (1 << 22) + 1));
+  }
+  // A drawn motor too weak for the table's own current limit (validate():
+  // envelope_overflow, e.g. N = 1, eta = 0.01: I_max = T_max / 2.5e-4 N m/A)
+  // is made stronger step by step, so that the other fields keep their
+  // spread: the gear ratio doubled (up to its 10,000), then eta raised to 1.
+  for (int i = 0; (i < 16) && (validate(t) == RejectReason::envelope_overflow); ++i) {
+    const std::int32_t doubled = std::min<std::int32_t>(t.motor.gear_ratio.raw(), 5000 << 16) * 2;
+    t.motor.gear_ratio = GearRatio::from_raw(doubled);
+  }
+  if (validate(t) == RejectReason::envelope_overflow) {
+    t.motor.efficiency = Efficiency::from_raw(1 << 30);
   }
   return t;
 }

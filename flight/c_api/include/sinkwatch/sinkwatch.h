@@ -111,7 +111,8 @@ typedef enum sw_reject_reason {
   SW_REJECT_HEALTH_BLIND_WHEELS_OUT_OF_RANGE = 52,
   SW_REJECT_HEALTH_STEP_OUT_OF_RANGE = 53,
   SW_REJECT_HEALTH_BRIDGE_OUT_OF_RANGE = 54,
-  SW_REJECT_REASON_COUNT = 55 /* not a reason: the number of reasons */
+  SW_REJECT_ENVELOPE_OVERFLOW = 55, /* the table's own numbers overflow within its envelope (sensor torque, current limit) */
+  SW_REJECT_REASON_COUNT = 56 /* not a reason: the number of reasons */
 } sw_reject_reason;
 
 enum { SW_DIRECTION_FORWARD = 0, SW_DIRECTION_REVERSE = 1 };

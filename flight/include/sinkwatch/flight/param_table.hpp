@@ -196,10 +196,14 @@ enum class RejectReason : std::uint8_t {
   health_blind_wheels_out_of_range,
   health_step_out_of_range,
   health_bridge_out_of_range,
+  // the table's own numbers overflow a Q format within its envelope (the
+  // torque of the sensor's largest current, or the current limit somewhere
+  // in [load_min_n, load_max_n]); appended, so that no value changes
+  envelope_overflow,
 };
 
 /// Number of RejectReason values (for tests and telemetry tables).
-constexpr std::uint8_t kRejectReasonCount = static_cast<std::uint8_t>(RejectReason::health_bridge_out_of_range) + 1U;
+constexpr std::uint8_t kRejectReasonCount = static_cast<std::uint8_t>(RejectReason::envelope_overflow) + 1U;
 
 /// The enumerator's name ("crc_mismatch"); "unknown" for a value outside the
 /// enum. Static storage.
@@ -216,7 +220,12 @@ constexpr std::uint8_t kRejectReasonCount = static_cast<std::uint8_t>(RejectReas
 /// Every range check, in the order of the struct; the first failure is
 /// returned. A present rover section is checked by validate_rover_params()
 /// (extension_rejected) and must have the table's wheel radius
-/// (rover_radius_mismatch). `ok` means every flight function accepts the table.
+/// (rover_radius_mismatch). Last, the table's own envelope: the torque of
+/// the sensor's largest current either way, and a bound of the section 7
+/// current limit over every load of [load_min_n, load_max_n] (per segment of
+/// the correction table: W_hi max|L| / min C1, docs/flight.md), must fit
+/// their Q formats, else envelope_overflow. `ok` means every flight function
+/// accepts the table.
 [[nodiscard]] RejectReason validate(const ParameterTable& table) noexcept;
 
 /// Parses and validates `size` bytes into `out` (every section, the rover
