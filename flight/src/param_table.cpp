@@ -275,11 +275,13 @@ RejectReason validate_envelope(const ParameterTable& t) noexcept {
   // The sensor's range either way (|I| <= current_abs_max <= 1000 A, so the
   // negation is exact).
   fx::Status st;
-  const CurrentA currents[2] = {t.motor.current_abs_max_a, CurrentA(fx::neg(t.motor.current_abs_max_a.q(), st))};
-  for (const CurrentA current : currents) {
-    if (torque_from_current(t.motor, current, DriveDirection::forward).status != EstimateStatus::ok) {
-      return RejectReason::envelope_overflow;
-    }
+  const CurrentA reverse_max(fx::neg(t.motor.current_abs_max_a.q(), st));
+  const bool torque_fits =
+      (torque_from_current(t.motor, t.motor.current_abs_max_a, DriveDirection::forward).status ==
+       EstimateStatus::ok) &&
+      (torque_from_current(t.motor, reverse_max, DriveDirection::forward).status == EstimateStatus::ok);
+  if (!torque_fits) {
+    return RejectReason::envelope_overflow;
   }
   const CorrectionDivisors cd = make_correction_divisors(t.correction);
   const MotorDivisors md = make_motor_divisors(t.motor);
