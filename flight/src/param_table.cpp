@@ -214,6 +214,19 @@ RejectReason validate_rover_section(const RoverSection& rover, LengthM radius_m)
   return RejectReason::ok;
 }
 
+// One end's part of limit_fits: T_max at v with min(C1) and this end's C2,
+// C3 and DP_max/W, and the current that torque needs, both in their formats.
+bool end_fits(const ParameterTable& t, const MotorDivisors& md, Ratio c1_min, const CorrectionResult& end,
+              WheelLoadN v) noexcept {
+  const Coefficients c{c1_min, end.coefficients.c2, end.coefficients.c3};
+  const TorqueLimitResult torque =
+      torque_limit(c, end.dp_max_ratio, t.wheel_radius_m, v, t.monitor.allowed_sinkage_m);
+  fx::Status st;
+  const TorqueNm magnitude(fx::abs(torque.torque_nm.q(), st));
+  return (torque.status == EstimateStatus::ok) && st.ok() &&
+         (current_from_torque(t.motor, md, magnitude, DriveDirection::forward).status == EstimateStatus::ok);
+}
+
 // The current limit over the loads of [u, v], whose corrections `a` (at u)
 // and `b` (at v) are linear in between. With L = r (DP_max/W + C3) + C2 z_max
 // linear too and C1 > 0,
@@ -223,23 +236,11 @@ RejectReason validate_rover_section(const RoverSection& rover, LengthM radius_m)
 // does not fit its Q format.
 bool limit_fits(const ParameterTable& t, const MotorDivisors& md, const CorrectionResult& a,
                 const CorrectionResult& b, WheelLoadN v) noexcept {
-  if ((a.status != EstimateStatus::ok) || (b.status != EstimateStatus::ok)) {
-    return false;
-  }
+  // A validated table's corrections at a load > 0 always have a number; a
+  // failed one must not read as a bound.
   const Ratio c1_min = (a.coefficients.c1 < b.coefficients.c1) ? a.coefficients.c1 : b.coefficients.c1;
-  const CorrectionResult* const ends[2] = {&a, &b};
-  for (const CorrectionResult* end : ends) {
-    const Coefficients c{c1_min, end->coefficients.c2, end->coefficients.c3};
-    const TorqueLimitResult torque =
-        torque_limit(c, end->dp_max_ratio, t.wheel_radius_m, v, t.monitor.allowed_sinkage_m);
-    fx::Status st;
-    const TorqueNm magnitude(fx::abs(torque.torque_nm.q(), st));
-    if ((torque.status != EstimateStatus::ok) || !st.ok() ||
-        (current_from_torque(t.motor, md, magnitude, DriveDirection::forward).status != EstimateStatus::ok)) {
-      return false;
-    }
-  }
-  return true;
+  return (a.status == EstimateStatus::ok) && (b.status == EstimateStatus::ok) && end_fits(t, md, c1_min, a, v) &&
+         end_fits(t, md, c1_min, b, v);
 }
 
 // Sub-intervals per piece of the correction table: the bound of limit_fits
