@@ -98,26 +98,12 @@ flight::CurrentResult current_from_torque(const flight::MotorParams& motor, flig
 flight::CurrentLimitResult current_limit(const CorrectionResult& corr, const flight::MotorParams& motor,
                                          flight::LengthM radius_m, flight::WheelLoadN load_n,
                                          flight::SinkageM allowed_sinkage_m) noexcept {
-  flight::CurrentLimitResult result{flight::CurrentA::zero(), flight::TorqueNm::zero(), corr.clamp,
-                                    EstimateStatus::ok};
-  if (corr.status != EstimateStatus::ok) {
-    result.status = corr.status;
-    return result;
-  }
-  const flight::TorqueLimitResult t =
-      flight::torque_limit(corr.coefficients, corr.dp_max_ratio, radius_m, load_n, allowed_sinkage_m);
-  if (t.status != EstimateStatus::ok) {
-    result.status = t.status;
-    return result;
-  }
-  const flight::CurrentResult i = current_from_torque(motor, t.torque_nm, flight::DriveDirection::forward);
-  if (i.status != EstimateStatus::ok) {
-    result.status = i.status;
-    return result;
-  }
-  result.current_limit_a = i.current_a;
-  result.torque_limit_nm = t.torque_nm;
-  return result;
+  // The flight code's own T_max and status plumbing, on divisors without a
+  // reciprocal: div_by_constant then is fx::div itself (constant_divisor.hpp),
+  // so the only difference from the flight path is the one under test.
+  const flight::MotorDivisors dividing{{motor.gear_ratio.q(), 0U}, {motor.efficiency.q(), 0U},
+                                       {motor.kt_nm_per_a.q(), 0U}};
+  return flight::current_limit(corr, motor, dividing, radius_m, load_n, allowed_sinkage_m);
 }
 
 flight::CurrentLimitResult current_limit(const flight::ParameterTable& table, flight::WheelLoadN load_n) noexcept {

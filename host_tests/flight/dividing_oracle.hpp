@@ -29,7 +29,8 @@ flight::CorrectionResult corrections_at(const flight::CorrectionTable& table, fl
 flight::CurrentResult current_from_torque(const flight::MotorParams& motor, flight::TorqueNm torque_nm,
                                           flight::DriveDirection direction) noexcept;
 
-/// flight::current_limit on these corrections with fx::div in the motor model.
+/// flight::current_limit on these corrections with fx::div in the motor model
+/// (divisors whose reciprocal is 0 fall back to fx::div).
 flight::CurrentLimitResult current_limit(const flight::CorrectionResult& corrections,
                                          const flight::MotorParams& motor, flight::LengthM radius_m,
                                          flight::WheelLoadN load_n, flight::SinkageM allowed_sinkage_m) noexcept;
