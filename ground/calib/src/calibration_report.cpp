@@ -1,4 +1,5 @@
 // calibration_report.cpp: text and JSON output of a calibration.
+#include "sinkwatch/ground/strf.hpp"
 #include "sinkwatch/ground/calibration_report.hpp"
 
 #include <cmath>
@@ -15,19 +16,9 @@ namespace {
 constexpr std::array<const char*, kCoefficientCount> kNames = {"C1", "C2", "C3"};
 constexpr std::array<const char*, kCoefficientCount> kKeys = {"c1", "c2", "c3"};
 
-std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string format(const char* fmt, ...) {
-  char buffer[256];
-  va_list args;
-  va_start(args, fmt);
-  std::vsnprintf(buffer, sizeof buffer, fmt, args);
-  va_end(args);
-  return buffer;
-}
-
 // A number for the table, or "-" when it does not exist.
 std::string num(double value, const char* fmt = "%.4f") {
-  return std::isfinite(value) ? format(fmt, value) : std::string("-");
+  return std::isfinite(value) ? strf(fmt, value) : std::string("-");
 }
 
 std::string describe_fixed(const FixedCoefficients& fixed) {
@@ -35,7 +26,7 @@ std::string describe_fixed(const FixedCoefficients& fixed) {
   for (std::size_t k = 0; k < kCoefficientCount; ++k) {
     if (fixed.value[k]) {
       text += text.empty() ? "" : ", ";
-      text += std::string(kKeys[k]) + "=" + format("%g", *fixed.value[k]);
+      text += std::string(kKeys[k]) + "=" + strf("%g", *fixed.value[k]);
     }
   }
   return text;
@@ -45,29 +36,29 @@ std::string describe_fixed(const FixedCoefficients& fixed) {
 // 95 % interval of each free coefficient.
 void print_coefficients(std::ostream& out, const CalibrationFit& fit) {
   if (fit.free_count > 0) {
-    out << format("  least squares by SVD of A: %zu rows, %zu free, %zu degrees of freedom, "
+    out << strf("  least squares by SVD of A: %zu rows, %zu free, %zu degrees of freedom, "
                   "t(0.975) = %.3f\n\n",
                   fit.rows, fit.free_count, fit.dof, fit.t_quantile);
   } else {
-    out << format("  all coefficients fixed: %zu rows evaluated, nothing fitted\n\n", fit.rows);
+    out << strf("  all coefficients fixed: %zu rows evaluated, nothing fitted\n\n", fit.rows);
   }
   out << "  coef    estimate     std err    95 % interval\n";
   for (std::size_t k = 0; k < kCoefficientCount; ++k) {
     if (fit.free[k]) {
-      out << format("  %-4s %11.6f %11.6f    [%9.5f, %9.5f]\n", kNames[k], fit.c[k],
+      out << strf("  %-4s %11.6f %11.6f    [%9.5f, %9.5f]\n", kNames[k], fit.c[k],
                     fit.std_err[k], fit.ci_low[k], fit.ci_high[k]);
     } else {
-      out << format("  %-4s %11.6f       fixed\n", kNames[k], fit.c[k]);
+      out << strf("  %-4s %11.6f       fixed\n", kNames[k], fit.c[k]);
     }
   }
 }
 
 // One row of the correlation matrix, over the free coefficients only.
 void print_correlation_row(std::ostream& out, const CalibrationFit& fit, std::size_t k) {
-  out << format("  %-11s", kNames[k]);
+  out << strf("  %-11s", kNames[k]);
   for (std::size_t q = 0; q < kCoefficientCount; ++q) {
     if (fit.free[q]) {
-      out << format("%8.4f", fit.correlation[k][q]);
+      out << strf("%8.4f", fit.correlation[k][q]);
     }
   }
   out << '\n';
@@ -82,7 +73,7 @@ void print_correlation(std::ostream& out, const CalibrationFit& fit) {
   out << "\n  correlation ";
   for (std::size_t k = 0; k < kCoefficientCount; ++k) {
     if (fit.free[k]) {
-      out << format("%8s", kNames[k]);
+      out << strf("%8s", kNames[k]);
     }
   }
   out << '\n';
@@ -97,12 +88,12 @@ void print_correlation(std::ostream& out, const CalibrationFit& fit) {
 // cross-check of the SVD solution.
 void print_quality(std::ostream& out, const CalibrationFit& fit) {
   if (fit.free_count > 0) {
-    out << format("  condition number of A   %.4g   (columns scaled to unit length: %.4g)\n",
+    out << strf("  condition number of A   %.4g   (columns scaled to unit length: %.4g)\n",
                   fit.condition_number, fit.condition_number_scaled);
   }
-  out << format("  residual RMS            %.4g", fit.rms);
+  out << strf("  residual RMS            %.4g", fit.rms);
   if (fit.free_count > 0) {
-    out << format("   (residual std, n - p: %.4g)", fit.residual_std);
+    out << strf("   (residual std, n - p: %.4g)", fit.residual_std);
   }
   out << '\n';
   out << "  leave-one-out RMS       " << num(fit.loo_rms, "%.4g") << '\n';
@@ -111,7 +102,7 @@ void print_quality(std::ostream& out, const CalibrationFit& fit) {
     for (std::size_t k = 0; k < kCoefficientCount; ++k) {
       out << ' ' << num(fit.normal_equations_c[k], "%.6f");
     }
-    out << format("   (max |difference| from SVD: %.2g)\n", fit.normal_equations_max_diff);
+    out << strf("   (max |difference| from SVD: %.2g)\n", fit.normal_equations_max_diff);
   }
 }
 
@@ -123,14 +114,14 @@ void print_fit(std::ostream& out, const CalibrationFit& fit) {
   out << "\n  residuals by slip\n";
   out << "      slip      DP/W    fitted  residual  LOO res.   line\n";
   for (const Residual& r : fit.residuals) {
-    out << format("  %8.4f %9.4f %9.4f %9.4f ", r.slip, r.measured, r.fitted, r.residual)
-        << format("%9s", num(r.loo_residual).c_str()) << format(" %6zu\n", r.line);
+    out << strf("  %8.4f %9.4f %9.4f %9.4f ", r.slip, r.measured, r.fitted, r.residual)
+        << strf("%9s", num(r.loo_residual).c_str()) << strf(" %6zu\n", r.line);
   }
 }
 
 // JSON helpers: a non-finite number has no JSON spelling and becomes null.
 std::string json_number(double value) {
-  return std::isfinite(value) ? format("%.17g", value) : std::string("null");
+  return std::isfinite(value) ? strf("%.17g", value) : std::string("null");
 }
 
 std::string json_string(const std::string& text) {
@@ -154,7 +145,7 @@ std::string json_string(const std::string& text) {
         break;
       default:
         if (static_cast<unsigned char>(ch) < 0x20) {
-          quoted += format("\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(ch)));
+          quoted += strf("\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(ch)));
         } else {
           quoted += ch;
         }
@@ -166,7 +157,7 @@ std::string json_string(const std::string& text) {
 std::string json_per_coefficient(const Coefficients& values) {
   std::string text = "{";
   for (std::size_t k = 0; k < kCoefficientCount; ++k) {
-    text += format("\"%s\": ", kKeys[k]) + json_number(values[k]);
+    text += strf("\"%s\": ", kKeys[k]) + json_number(values[k]);
     text += k + 1 < kCoefficientCount ? ", " : "}";
   }
   return text;
@@ -222,15 +213,15 @@ std::string json_fit_members(const CalibrationFit& fit, const std::string& pad) 
 }
 
 void print_flight_table(std::ostream& out, const FlightTableSummary& t) {
-  out << format("\n  flight parameter table %s: %zu bytes, CRC-32 0x%08x, table version %u\n",
+  out << strf("\n  flight parameter table %s: %zu bytes, CRC-32 0x%08x, table version %u\n",
                 t.path.c_str(), t.bytes, static_cast<unsigned>(t.crc),
                 static_cast<unsigned>(t.table_version));
-  out << "  other sections from the " << t.base << "; wheel radius " << format("%.6g", t.wheel_radius_m)
+  out << "  other sections from the " << t.base << "; wheel radius " << strf("%.6g", t.wheel_radius_m)
       << " m " << (t.radius_from_data ? "from the data (or --radius)" : "kept from the base table") << '\n';
   out << "  as the flight code reads it (Q7.24 coefficients, Q15.16 loads):\n";
   out << "    load_N          C1          C2          C3   DP_max/W\n";
   for (const FlightTableSummary::Row& r : t.rows) {
-    out << format("  %8.3f  %10.7f  %10.7f  %10.7f  %9.6f\n", r.load_n, r.c1, r.c2, r.c3,
+    out << strf("  %8.3f  %10.7f  %10.7f  %10.7f  %9.6f\n", r.load_n, r.c1, r.c2, r.c3,
                   r.dp_max_ratio);
   }
 }
@@ -242,15 +233,15 @@ void print_load_table(std::ostream& out, const std::vector<LoadFit>& load_table)
          "              RMS   LOO RMS      cond\n";
   for (const LoadFit& entry : load_table) {
     const CalibrationFit& f = entry.fit;
-    out << format("  %8.3f %5zu", entry.load_n, f.rows);
+    out << strf("  %8.3f %5zu", entry.load_n, f.rows);
     for (std::size_t k = 0; k < kCoefficientCount; ++k) {
       if (f.free[k]) {
-        out << format("  %8.4f +- %-7.2g", f.c[k], f.std_err[k]);
+        out << strf("  %8.4f +- %-7.2g", f.c[k], f.std_err[k]);
       } else {
-        out << format("  %8.4f (fixed)   ", f.c[k]);
+        out << strf("  %8.4f (fixed)   ", f.c[k]);
       }
     }
-    out << format("  %9.4g %9s  %8s\n", f.rms, num(f.loo_rms, "%.4g").c_str(),
+    out << strf("  %9.4g %9s  %8s\n", f.rms, num(f.loo_rms, "%.4g").c_str(),
                   num(f.condition_number, "%.3g").c_str());
   }
 }

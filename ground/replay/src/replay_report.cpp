@@ -1,4 +1,5 @@
 // The replay's report, time-series CSV and plot (replay_report.hpp).
+#include "sinkwatch/ground/strf.hpp"
 #include "sinkwatch/ground/replay_report.hpp"
 
 #include "sinkwatch/fixedpoint/host_convert.hpp"
@@ -21,16 +22,6 @@
 
 namespace sinkwatch::ground {
 namespace {
-
-std::string strf(const char* format, ...) __attribute__((format(printf, 1, 2)));
-std::string strf(const char* format, ...) {
-  char buf[512];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(buf, sizeof buf, format, args);
-  va_end(args);
-  return buf;
-}
 
 template <typename Quantity>
 double to_d(Quantity q) {

@@ -1,5 +1,6 @@
 // A parameter table in human units (rover_table.hpp: describe_table; the
 // `sinkwatch table-info` command, docs/rover-table.md).
+#include "sinkwatch/ground/strf.hpp"
 #include "sinkwatch/ground/rover_table.hpp"
 
 #include "sinkwatch/fixedpoint/host_convert.hpp"
@@ -13,16 +14,6 @@ namespace {
 template <typename Quantity>
 double d(const Quantity& q) {
   return fx::to_double(q.q());
-}
-
-std::string strf(const char* format, ...) __attribute__((format(printf, 1, 2)));
-std::string strf(const char* format, ...) {
-  char buf[512];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(buf, sizeof buf, format, args);
-  va_end(args);
-  return buf;
 }
 
 std::string motor_and_corrections(const flight::ParameterTable& t) {
