@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <utility>
 
 namespace sinkwatch::ground {
 namespace {
@@ -161,6 +162,25 @@ LoadedTable read_table_file(const std::string& path) {
   return t;
 }
 
+EncodedTable encode_table(const flight::ParameterTable& table) {
+  EncodedTable out;
+  out.bytes.resize(flight::kMaxTableBytes);
+  const flight::EncodeResult written = flight::encode(table, out.bytes.data(), out.bytes.size());
+  if (written.status != flight::RejectReason::ok) {
+    throw RoverTableError(std::string("the table does not encode: ") + reject_reason_name(written.status));
+  }
+  out.bytes.resize(written.size);
+  flight::PreparedParameters loaded;
+  const flight::RejectReason reason = flight::load(out.bytes.data(), out.bytes.size(), loaded);
+  if (reason != flight::RejectReason::ok) {
+    throw RoverTableError(std::string("the flight loader refuses the table written: ") + reject_reason_name(reason));
+  }
+  out.table = loaded.table();
+  if (out.table.rover_geometry.present) out.rover = loaded.rover();
+  out.crc = loaded.table_crc();
+  return out;
+}
+
 RoverTable build_rover_table(const LoadedTable& base, const std::vector<std::pair<std::string, double>>& settings) {
   RoverParams rover = base.rover ? *base.rover : flight::yutu_like_rover_params(flight::kGravityMoon);
   if (!base.rover) rover.wheel_radius_m = base.table.wheel_radius_m;
@@ -176,21 +196,12 @@ RoverTable build_rover_table(const LoadedTable& base, const std::vector<std::pai
   check_radius(base, rover);
   flight::ParameterTable table = base.table;
   table.rover_geometry = flight::RoverSection{true, rover};
+  EncodedTable written = encode_table(table);
   RoverTable out;
-  out.bytes.resize(flight::kMaxTableBytes);
-  const flight::EncodeResult written = flight::encode(table, out.bytes.data(), out.bytes.size());
-  if (written.status != flight::RejectReason::ok) {
-    throw RoverTableError(std::string("the table does not encode: ") + reject_reason_name(written.status));
-  }
-  out.bytes.resize(written.size);
-  flight::PreparedParameters loaded;
-  const flight::RejectReason reason = flight::load(out.bytes.data(), out.bytes.size(), loaded);
-  if (reason != flight::RejectReason::ok) {
-    throw RoverTableError(std::string("the flight loader refuses the table written: ") + reject_reason_name(reason));
-  }
-  out.table = loaded.table();
-  out.rover = loaded.rover();
-  out.crc = loaded.table_crc();
+  out.table = written.table;
+  out.rover = *written.rover;  // present: section 6 was just set
+  out.bytes = std::move(written.bytes);
+  out.crc = written.crc;
   return out;
 }
 

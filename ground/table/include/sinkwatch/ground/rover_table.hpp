@@ -66,6 +66,21 @@ LoadedTable read_table_file(const std::string& path);
 /// The built-in default table (no section 6).
 LoadedTable default_table();
 
+/// A table as written: its bytes (flight::encode(), with the CRC) and what
+/// flight::load() made of them.
+struct EncodedTable {
+  flight::ParameterTable table{};            // as loaded back from the bytes
+  std::optional<flight::RoverParams> rover;  // section 6, when the table has one
+  std::vector<std::uint8_t> bytes;
+  std::uint32_t crc = 0;
+};
+
+/// The one table writer of the ground tools that hand out a whole table
+/// (rover-table, campaign --choose-levels): encodes `table` and loads the
+/// bytes back through flight::load(). Throws RoverTableError with the
+/// encoder's or the loader's reason.
+EncodedTable encode_table(const flight::ParameterTable& table);
+
 struct RoverTable {
   flight::ParameterTable table{};  // as loaded back from the bytes
   flight::RoverParams rover{};     // as loaded back
