@@ -618,6 +618,97 @@ TEST(WheelSoilForms, SpeedDriveFrictionGrowsWithTheWheelSpeed) {
   }
 }
 
+// The flexible forms (issue 16) hold their family's forms as special cases:
+// grouser engagement 0 and 1 are shear_radius and lug_tip, drive_friction
+// power with exponent 0 and 1 the constant and speed forms, slip_sinkage power
+// with exponent 1 the linear multiplier 1 + gain s.
+TEST(WheelSoilForms, FlexibleFormsContainTheirFamilysForms) {
+  auto same = [](const sg::SimParameters& a, const sg::SimParameters& b, const char* what) {
+    for (double load : {2 * kG, 24 * kG}) {
+      for (double s : {0.0, 0.05, 0.6, 1.0}) {
+        const sg::WheelSoilState x = eval(a, load, s);
+        const sg::WheelSoilState y = eval(b, load, s);
+        EXPECT_NEAR(x.sinkage_m / y.sinkage_m, 1.0, 1e-12) << what << " load " << load << " slip " << s;
+        EXPECT_NEAR(x.torque_nm / y.torque_nm, 1.0, 1e-12) << what << " load " << load << " slip " << s;
+        EXPECT_NEAR(x.drawbar_pull_n - y.drawbar_pull_n, 0.0, 1e-10 * load) << what << " load " << load;
+      }
+    }
+  };
+  sg::SimParameters g = base();
+  g.effects.grouser.enabled = true;
+  g.effects.grouser.height_m = 0.02;
+  sg::SimParameters flex = g;
+  flex.effects.grouser.form = sg::GrouserForm::engagement;
+  flex.effects.grouser.engagement = 0.0;
+  same(flex, g, "engagement 0 = shear_radius");
+  flex.effects.grouser.engagement = 1.0;
+  g.effects.grouser.form = sg::GrouserForm::lug_tip;
+  same(flex, g, "engagement 1 = lug_tip");
+  // Half way, the lug shear lies between the two.
+  flex.effects.grouser.engagement = 0.5;
+  const double mid = eval(flex, 10 * kG, 0.05).drawbar_pull_n;
+  g.effects.grouser.form = sg::GrouserForm::shear_radius;
+  EXPECT_GT(mid, eval(g, 10 * kG, 0.05).drawbar_pull_n);
+  g.effects.grouser.form = sg::GrouserForm::lug_tip;
+  EXPECT_LT(mid, eval(g, 10 * kG, 0.05).drawbar_pull_n);
+
+  sg::SimParameters d = base();
+  d.effects.drive_friction.enabled = true;
+  d.effects.drive_friction.t0_nm = 0.3;
+  d.effects.drive_friction.tv_nm = 0.3;
+  sg::SimParameters dflex = d;
+  dflex.effects.drive_friction.form = sg::DriveFrictionForm::power;
+  dflex.effects.drive_friction.speed_exponent = 0.0;
+  same(dflex, d, "drive power 0 = constant");
+  dflex.effects.drive_friction.speed_exponent = 1.0;
+  d.effects.drive_friction.form = sg::DriveFrictionForm::speed;
+  same(dflex, d, "drive power 1 = speed");
+
+  sg::SimParameters ss = base();
+  ss.effects.slip_sinkage.enabled = true;
+  ss.effects.slip_sinkage.form = sg::SlipSinkageForm::power;
+  ss.effects.slip_sinkage.gain = 2.0;
+  ss.effects.slip_sinkage.power = 1.0;
+  sg::SimParameters linear = base();
+  linear.effects.saturating_slip_sinkage.enabled = true;  // saturating past s = 1: linear
+  linear.effects.saturating_slip_sinkage.gain = 2.0;
+  linear.effects.saturating_slip_sinkage.saturation_slip = 1.0;
+  same(ss, linear, "slip power 1 = linear");
+}
+
+// The held-out forms (data only): lug tips shearing from the tip circle's
+// entry, linear slip-sinkage with saturation, Coulomb plus viscous drag.
+TEST(WheelSoilForms, HeldOutFormsActAsDocumented) {
+  sg::SimParameters tip = base();
+  tip.effects.grouser.enabled = true;
+  tip.effects.grouser.form = sg::GrouserForm::lug_tip;
+  tip.effects.grouser.height_m = 0.02;
+  sg::SimParameters entry = base();
+  entry.effects.lug_entry.enabled = true;
+  // The soil sheared ahead of the rim's entry adds thrust, most at low slip.
+  const sg::WheelSoilState e = eval(entry, 10 * kG, 0.05);
+  EXPECT_DOUBLE_EQ(e.shear_radius_m, 0.17);
+  EXPECT_GT(e.drawbar_pull_n, eval(tip, 10 * kG, 0.05).drawbar_pull_n + 1.0);
+  sg::SimParameters both = entry;
+  both.effects.grouser.enabled = true;
+  EXPECT_EQ(sg::evaluate(both, 10 * kG, 0.3).status, sg::SimStatus::bad_input);
+  for (const std::string& n : sg::active_parameter_names(entry)) EXPECT_EQ(n.find("entry"), std::string::npos);
+
+  sg::SimParameters sat = base();
+  sat.effects.saturating_slip_sinkage.enabled = true;  // 1 + 1.5 min(s, 0.5)
+  for (double s : {0.3, 0.6, 0.75}) {
+    const double f = 1.0 + 1.5 * std::min(s, 0.5);
+    EXPECT_NEAR(eval(sat, 10 * kG, s).sinkage_m / eval(base(), 10 * kG, s).sinkage_m / f, 1.0, 0.04) << s;
+  }
+
+  sg::SimParameters cv = base();
+  cv.effects.coulomb_viscous_drag.enabled = true;
+  for (double s : {0.0, 0.5, 1.0}) {
+    EXPECT_NEAR(eval(cv, 10 * kG, s).drive_friction_torque_nm, 0.3 + 0.3 / std::max(1.0 - s, 0.05) + 1e-3 * 10 * kG,
+                1e-12);
+  }
+}
+
 // Wong's hump-shaped shear curve (not a catalogue effect): stiffer than
 // Janosi–Hanamoto (K = 1 cm) at small shear displacement, softer past its
 // peak at j = K_w = 2 cm, where it falls towards K_r of the peak. Against the

@@ -252,20 +252,22 @@ const ParameterInfo& info_of(const std::string& name) {
   throw std::invalid_argument("unknown simulator parameter " + name);
 }
 
-// The parameters of an effect form the diagnosis fits: the primary one, plus
-// the load term of drive_friction (linear, identifiable whenever there are
-// two loads, and otherwise its default would be taken for the truth).
+// The parameters of an effect form the diagnosis fits: the primary one, the
+// shape parameters of a flexible form (ParameterInfo::shape: the fit chooses
+// the form within the family), plus the load term of drive_friction (linear,
+// identifiable whenever there are two loads, and otherwise its default would
+// be taken for the truth).
 std::vector<std::string> fitted_effect_parameters(Effect effect, const std::string& form) {
   std::vector<std::string> names{primary_parameter_name(effect, form)};
-  if (effect == Effect::drive_friction) {
-    for (const std::string& n : effect_parameter_names(effect, form)) {
-      if (n != names.front()) {
-        names.push_back(n);
-      }
+  for (const std::string& n : effect_parameter_names(effect, form)) {
+    if (n != names.front() && (effect == Effect::drive_friction || info_of(n).shape)) {
+      names.push_back(n);
     }
   }
   return names;
 }
+
+constexpr const char* kDriveLoadTerm = "drive_friction.k_w_m";
 
 }  // namespace
 
@@ -346,7 +348,9 @@ std::vector<Candidate> WongReeceModel::candidates(const std::vector<DiagnosisRow
       }
       if (effect == Effect::drive_friction && distinct_loads(train).size() < 2) {
         // The drag term and k_w W are collinear at one load: fit the drag alone.
-        c.extra.resize(1);
+        c.extra.erase(std::remove_if(c.extra.begin(), c.extra.end(),
+                                     [](const ParameterSpec& spec) { return spec.name == kDriveLoadTerm; }),
+                      c.extra.end());
         c.note = "one training load: drive_friction.k_w_m held at its default";
       }
       out.push_back(c);

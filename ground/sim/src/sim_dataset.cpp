@@ -137,6 +137,36 @@ std::string describe_soil(const SimParameters& p) {
   return s.str();
 }
 
+namespace {
+
+// The forms that exist only as data (no Effect value, never fitted): the
+// cross-form check's held-out forms.
+void describe_data_only_forms(const EffectSettings& e, std::ostringstream& s, bool& first) {
+  if (e.shear_softening.enabled) {
+    s << (first ? "" : " ") << "shear_softening(residual_ratio=" << fmt(e.shear_softening.residual_ratio)
+      << ",peak_displacement_m=" << fmt(e.shear_softening.peak_displacement_m) << ')';
+    first = false;
+  }
+  // The held-out forms (data only, like shear_softening).
+  if (e.lug_entry.enabled) {
+    s << (first ? "" : " ") << "lug_entry(height_m=" << fmt(e.lug_entry.height_m) << ')';
+    first = false;
+  }
+  if (e.saturating_slip_sinkage.enabled) {
+    s << (first ? "" : " ") << "saturating_slip_sinkage(gain=" << fmt(e.saturating_slip_sinkage.gain)
+      << ",saturation_slip=" << fmt(e.saturating_slip_sinkage.saturation_slip) << ')';
+    first = false;
+  }
+  if (e.coulomb_viscous_drag.enabled) {
+    s << (first ? "" : " ") << "coulomb_viscous_drag(coulomb_nm=" << fmt(e.coulomb_viscous_drag.coulomb_nm)
+      << ",viscous_nm=" << fmt(e.coulomb_viscous_drag.viscous_nm)
+      << ",k_w_m=" << fmt(e.coulomb_viscous_drag.k_w_m) << ')';
+    first = false;
+  }
+}
+
+}  // namespace
+
 std::string describe_effects(const SimParameters& p) {
   std::ostringstream s;
   bool first = true;
@@ -154,11 +184,7 @@ std::string describe_effects(const SimParameters& p) {
     s << ')';
     first = false;
   }
-  if (p.effects.shear_softening.enabled) {
-    s << (first ? "" : " ") << "shear_softening(residual_ratio=" << fmt(p.effects.shear_softening.residual_ratio)
-      << ",peak_displacement_m=" << fmt(p.effects.shear_softening.peak_displacement_m) << ')';
-    first = false;
-  }
+  describe_data_only_forms(p.effects, s, first);
   return first ? std::string("none") : s.str();
 }
 

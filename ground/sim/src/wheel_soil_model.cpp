@@ -9,6 +9,7 @@
 #include <boost/math/tools/roots.hpp>
 #include <boost/math/tools/toms748_solve.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstdint>
@@ -58,6 +59,12 @@ ParameterInfo in_forms(ParameterInfo info, std::vector<std::string> forms) {
   return info;
 }
 
+// A flexible form's shape parameter (fitted with the primary one).
+ParameterInfo shape_of(ParameterInfo info) {
+  info.shape = true;
+  return info;
+}
+
 using ParameterRef = std::function<double&(SimParameters&)>;
 
 void add_row(std::vector<ParameterRow>& t, ParameterInfo info, ParameterRef ref, double scale = 1.0) {
@@ -97,6 +104,14 @@ void add_sinkage_and_contact_rows(std::vector<ParameterRow>& t) {
                                  "z = z0 (1 + ks s)/(1 - 0.5 ks s) (Lyasko: ks = 1)", 0.0, 1.9),
                      {"lyasko"}),
           [](SimParameters& p) -> double& { return p.effects.slip_sinkage.ks; });
+  add_row(t, in_forms(effect_info(Effect::slip_sinkage, true, "slip_sinkage.gain", "-",
+                                 "z = z0 (1 + gain s^power)", 0.0, 20.0),
+                     {"power"}),
+          [](SimParameters& p) -> double& { return p.effects.slip_sinkage.gain; });
+  add_row(t, shape_of(in_forms(effect_info(Effect::slip_sinkage, false, "slip_sinkage.power", "-",
+                                          "exponent of the slip in z = z0 (1 + gain s^power)", 0.2, 4.0),
+                              {"power"})),
+          [](SimParameters& p) -> double& { return p.effects.slip_sinkage.power; });
   add_row(t, effect_info(Effect::stress_peak_shift, true, "stress_peak_shift.a1", "-", "theta_m = (a0 + a1 s) theta1",
                          0.0, 0.6),
           [](SimParameters& p) -> double& { return p.effects.stress_peak_shift.a1; });
@@ -107,11 +122,16 @@ void add_sinkage_and_contact_rows(std::vector<ParameterRow>& t) {
           [](SimParameters& p) -> double& { return p.effects.grouser.height_m; });
   // lambda is no parameter of lug_face (the rim shears at r); lug_count only of lug_face.
   add_row(t, in_forms(effect_info(Effect::grouser, false, "grouser.lambda", "-", "r_s = r + lambda h", 0.0, 1.0),
-                      {"shear_radius", "lug_tip"}),
+                      {"shear_radius", "lug_tip", "engagement"}),
           [](SimParameters& p) -> double& { return p.effects.grouser.lambda; });
   add_row(t, in_forms(effect_info(Effect::grouser, false, "grouser.lug_count", "-", "lugs per wheel turn", 1.0, 100.0),
                      {"lug_face"}),
           [](SimParameters& p) -> double& { return p.effects.grouser.lug_count; });
+  add_row(t, shape_of(in_forms(effect_info(Effect::grouser, false, "grouser.engagement", "-",
+                                          "slip-independent part of the lug shear: 0 shear_radius, 1 lug_tip",
+                                          0.0, 1.0),
+                              {"engagement"})),
+          [](SimParameters& p) -> double& { return p.effects.grouser.engagement; });
 }
 
 void add_resistance_rows(std::vector<ParameterRow>& t) {
@@ -135,12 +155,16 @@ void add_resistance_rows(std::vector<ParameterRow>& t) {
                      {"constant"}),
           [](SimParameters& p) -> double& { return p.effects.drive_friction.t0_nm; });
   add_row(t, in_forms(effect_info(Effect::drive_friction, true, "drive_friction.tv_nm", "N m",
-                                 "viscous drag at zero slip, tv/(1 - s)", 0.0, 10.0),
-                     {"speed"}),
+                                 "speed-dependent drag at zero slip, tv/(1 - s) or tv/(1 - s)^p", 0.0, 10.0),
+                     {"speed", "power"}),
           [](SimParameters& p) -> double& { return p.effects.drive_friction.tv_nm; });
   add_row(t, effect_info(Effect::drive_friction, false, "drive_friction.k_w_m", "m",
                          "load-proportional friction torque per newton", 0.0, 0.05),
           [](SimParameters& p) -> double& { return p.effects.drive_friction.k_w_m; });
+  add_row(t, shape_of(in_forms(effect_info(Effect::drive_friction, false, "drive_friction.speed_exponent", "-",
+                                          "p of tv (omega/omega0)^p: 0 constant, 1 viscous", 0.0, 3.0),
+                              {"power"})),
+          [](SimParameters& p) -> double& { return p.effects.drive_friction.speed_exponent; });
 }
 
 const std::vector<ParameterRow>& rows() {
@@ -178,7 +202,8 @@ const ParameterRow& find_row(std::string_view name) {
 // cannot upset the quadrature.
 struct Contact {
   double r = 0, b = 0, rs = 0;         // radius, width, shear radius (torque arm)
-  double j_arc = 0, j_chord = 0;       // j = j_arc (theta1 - theta) - j_chord (1 - s)(sin theta1 - sin theta)
+  double j_arc = 0, j_chord = 0;       // j = j0 + j_arc (theta1 - theta) - j_chord (1 - s)(sin theta1 - sin theta)
+  double j0 = 0;                       // shear before the rim's entry (lug_entry, held-out form), else 0
   double k = 0, n = 0;                 // kc/b + kphi, exponent
   double c = 0, phi0 = 0, K = 0;       // shear
   double s = 0;                        // slip
@@ -246,12 +271,13 @@ struct Contact {
     sm.sigma = pressure(d);
     sm.front.sin_t = sin_mid * half_gap_cos - cos_mid * half_gap_sin;
     sm.front.cos_t = cos_mid * half_gap_cos + sin_mid * half_gap_sin;
-    sm.front.tau = shear(sm.sigma, j_arc * gap - j_chord * (1.0 - s) * dsin);
+    sm.front.tau = shear(sm.sigma, j0 + (j_arc * gap - j_chord * (1.0 - s) * dsin));
     if (rear_width > 0.0) {
       const double theta_r = theta2 + u * rear_width;
       sm.rear.sin_t = std::sin(theta_r);
       sm.rear.cos_t = std::cos(theta_r);
-      sm.rear.tau = shear(sm.sigma, j_arc * (theta1 - theta_r) - j_chord * (1.0 - s) * (sin1 - sm.rear.sin_t));
+      sm.rear.tau =
+          shear(sm.sigma, j0 + (j_arc * (theta1 - theta_r) - j_chord * (1.0 - s) * (sin1 - sm.rear.sin_t)));
     }
     return sm;
   }
@@ -262,12 +288,17 @@ double sinkage_exponent(const SimParameters& p, double slip) {
   return p.soil.n + (ss.enabled && ss.form == SlipSinkageForm::exponent ? ss.n1 * slip : 0.0);
 }
 
-// Lyasko's slip-sinkage multiplier f(s) = (1 + ks s)/(1 - 0.5 ks s); 1 unless
-// slip_sinkage is on in form lyasko.
-double lyasko_factor(const SimParameters& p, double slip) {
+// The load-independent slip-sinkage multiplier f(s): Lyasko's (1 + ks s)/(1 -
+// 0.5 ks s), the power form's 1 + gain s^power, times the held-out
+// saturating form's 1 + gain min(s, s_sat); 1 when none is on.
+double sinkage_multiplier(const SimParameters& p, double slip) {
   const auto& ss = p.effects.slip_sinkage;
-  if (!ss.enabled || ss.form != SlipSinkageForm::lyasko) return 1.0;
-  return (1.0 + ss.ks * slip) / (1.0 - 0.5 * ss.ks * slip);
+  double f = 1.0;
+  if (ss.enabled && ss.form == SlipSinkageForm::lyasko) f = (1.0 + ss.ks * slip) / (1.0 - 0.5 * ss.ks * slip);
+  if (ss.enabled && ss.form == SlipSinkageForm::power) f = 1.0 + ss.gain * std::pow(slip, ss.power);
+  const auto& sat = p.effects.saturating_slip_sinkage;
+  if (sat.enabled) f *= 1.0 + sat.gain * std::min(slip, sat.saturation_slip);
+  return f;
 }
 
 double max_stress_ratio(const SimParameters& p, double slip) {
@@ -277,7 +308,27 @@ double max_stress_ratio(const SimParameters& p, double slip) {
 double shear_radius(const SimParameters& p) {
   const auto& g = p.effects.grouser;
   const bool lengthens = g.enabled && g.form != GrouserForm::lug_face;
+  if (p.effects.lug_entry.enabled) return p.wheel.radius_m + p.effects.lug_entry.height_m;
   return p.wheel.radius_m + (lengthens ? g.lambda * g.height_m : 0.0);
+}
+
+// The radius whose rolling the ground's speed subtracts in j: the rim's for
+// the lug tip (slip is defined on the rim), r_s for the rim-referenced form,
+// in between for the engagement form.
+double shear_chord_radius(const SimParameters& p, double rs) {
+  const auto& g = p.effects.grouser;
+  const double r = p.wheel.radius_m;
+  if (p.effects.lug_entry.enabled || (g.enabled && g.form == GrouserForm::lug_tip)) return r;
+  if (g.enabled && g.form == GrouserForm::engagement) return r + (1.0 - g.engagement) * (rs - r);
+  return rs;
+}
+
+// Held-out lug_entry: the shear the tips put into the soil between the tip
+// circle's entry theta1t and the rim's theta1 (zero otherwise).
+double lug_entry_shear(const SimParameters& p, const Contact& ct, double sinkage_m) {
+  if (!p.effects.lug_entry.enabled) return 0.0;
+  const double t1t = std::acos(std::clamp((ct.r - sinkage_m) / ct.rs, -1.0, 1.0));
+  return ct.rs * (t1t - ct.theta1) - ct.r * (1.0 - ct.s) * (std::sin(t1t) - ct.sin1);
 }
 
 void set_shear_law(const SimParameters& p, Contact& ct) {
@@ -304,8 +355,7 @@ Contact make_contact(const SimParameters& p, double sinkage_m, double slip) {
   ct.j_arc = ct.rs;
   // Lug tip: the tip (radius r_s) slips against ground that moves at the
   // vehicle speed, which the rim radius sets (s = 1 - v/(r omega)).
-  const bool lug_tip = p.effects.grouser.enabled && p.effects.grouser.form == GrouserForm::lug_tip;
-  ct.j_chord = lug_tip ? ct.r : ct.rs;
+  ct.j_chord = shear_chord_radius(p, ct.rs);
   ct.n = sinkage_exponent(p, slip);
   ct.k = p.soil.kc / ct.b + p.soil.kphi;
   ct.c = p.soil.cohesion_pa;
@@ -322,10 +372,11 @@ Contact make_contact(const SimParameters& p, double sinkage_m, double slip) {
   ct.front_width = ct.theta1 - ct.thetam;
   ct.rear_width = ct.thetam - ct.theta2;
   ct.sin1 = std::sin(ct.theta1);
+  ct.j0 = lug_entry_shear(p, ct, sinkage_m);
   set_shear_law(p, ct);
   // Lyasko: a softer k by f^(n + 1/2) scales Bekker's wheel sinkage,
   // z ~ (W / (b k sqrt(2r)))^(1/(n + 1/2)), by exactly f.
-  ct.k_rn = ct.k * std::pow(ct.r, ct.n) / std::pow(lyasko_factor(p, slip), ct.n + 0.5);
+  ct.k_rn = ct.k * std::pow(ct.r, ct.n) / std::pow(sinkage_multiplier(p, slip), ct.n + 0.5);
   ct.rel_tol = p.quadrature_rel_tol;
   return ct;
 }
@@ -476,7 +527,18 @@ std::string check_geometry_effects(const SimParameters& p, double slip, const Co
   const auto& ss = p.effects.slip_sinkage;
   if (ss.enabled && ss.form == SlipSinkageForm::lyasko) {
     if (!(ss.ks >= 0.0 && ss.ks < 2.0)) return bad("slip_sinkage.ks must be in [0, 2)", ss.ks);
-    if (!(lyasko_factor(p, slip) > 0.0) || !std::isfinite(lyasko_factor(p, slip))) return bad("slip_sinkage.ks: 1 - 0.5 ks s must be > 0", ss.ks);
+    if (!(sinkage_multiplier(p, slip) > 0.0) || !std::isfinite(sinkage_multiplier(p, slip))) return bad("slip_sinkage.ks: 1 - 0.5 ks s must be > 0", ss.ks);
+  }
+  if (ss.enabled && ss.form == SlipSinkageForm::power) {
+    if (!(ss.gain >= 0.0) || !std::isfinite(ss.gain)) return bad("slip_sinkage.gain must be >= 0", ss.gain);
+    if (!(ss.power > 0.0) || !std::isfinite(ss.power)) return bad("slip_sinkage.power must be > 0", ss.power);
+  }
+  const auto& sat = p.effects.saturating_slip_sinkage;
+  if (sat.enabled && (!(sat.gain >= 0.0) || !std::isfinite(sat.gain) || !(sat.saturation_slip >= 0.0)))
+    return bad("saturating_slip_sinkage gain and saturation slip must be >= 0", sat.gain);
+  if (p.effects.lug_entry.enabled) {
+    if (p.effects.grouser.enabled) return bad("lug_entry (held-out grouser form) cannot be combined with the grouser effect", 1.0);
+    if (!(p.effects.lug_entry.height_m >= 0.0) || !std::isfinite(p.effects.lug_entry.height_m)) return bad("lug_entry.height_m must be >= 0", p.effects.lug_entry.height_m);
   }
   if (p.effects.rear_contact.enabled) {
     const double lr = p.effects.rear_contact.lambda_r;
@@ -486,6 +548,7 @@ std::string check_geometry_effects(const SimParameters& p, double slip, const Co
     const auto& g = p.effects.grouser;
     if (!(g.height_m >= 0.0) || !std::isfinite(g.height_m)) return bad("grouser.height_m must be >= 0", g.height_m);
     if (!(g.lambda >= 0.0 && g.lambda <= 1.0)) return bad("grouser.lambda must be in [0, 1]", g.lambda);
+    if (!(g.engagement >= 0.0 && g.engagement <= 1.0)) return bad("grouser.engagement must be in [0, 1]", g.engagement);
     if (g.form == GrouserForm::lug_face) {
       if (!(g.lug_count > 0.0) || !std::isfinite(g.lug_count)) return bad("grouser.lug_count must be > 0", g.lug_count);
       return check_soil_weight(p, "grouser lug faces", bad);
@@ -508,7 +571,11 @@ std::string check_force_effects(const SimParameters& p, const Complaint& bad) {
   if (p.effects.drive_friction.enabled) {
     const auto& d = p.effects.drive_friction;
     if (!std::isfinite(d.t0_nm) || !std::isfinite(d.k_w_m) || !std::isfinite(d.tv_nm)) return bad("drive_friction parameters must be finite", d.t0_nm);
+    if (!(d.speed_exponent >= 0.0) || !std::isfinite(d.speed_exponent)) return bad("drive_friction.speed_exponent must be >= 0", d.speed_exponent);
   }
+  const auto& cv = p.effects.coulomb_viscous_drag;
+  if (cv.enabled && (!std::isfinite(cv.coulomb_nm) || !std::isfinite(cv.viscous_nm) || !std::isfinite(cv.k_w_m)))
+    return bad("coulomb_viscous_drag parameters must be finite", cv.coulomb_nm);
   const auto& soft = p.effects.shear_softening;
   if (soft.enabled) {
     if (!(soft.residual_ratio > 0.0 && soft.residual_ratio <= 1.0)) return bad("shear_softening.residual_ratio must be in (0, 1]", soft.residual_ratio);
@@ -556,15 +623,27 @@ double bulldozing_resistance(const SimParameters& p, double z) {
   return bd.scale * p.wheel.width_m * (0.67 * c * z * bf.kpc + 0.5 * z * z * gamma * bf.kpgamma);
 }
 
+// omega / omega(s = 0) = 1/(1 - s) at a fixed vehicle speed; capped at
+// s = 0.95 (20x) so that s = 1 (a stalled vehicle) stays finite.
+double relative_wheel_speed(double slip) { return 1.0 / std::max(1.0 - slip, 0.05); }
+
+double coulomb_viscous_torque(const SimParameters& p, double load_n, double slip) {
+  const auto& cv = p.effects.coulomb_viscous_drag;
+  if (!cv.enabled) return 0.0;
+  return cv.coulomb_nm + cv.viscous_nm * relative_wheel_speed(slip) + cv.k_w_m * load_n;
+}
+
 double drive_friction_torque(const SimParameters& p, double load_n, double slip) {
   const auto& d = p.effects.drive_friction;
-  if (!d.enabled) return 0.0;
+  const double held_out = coulomb_viscous_torque(p, load_n, slip);
+  if (!d.enabled) return held_out;
   if (d.form == DriveFrictionForm::speed) {
-    // omega / omega(s = 0) = 1/(1 - s) at a fixed vehicle speed; capped at
-    // s = 0.95 (20x) so that s = 1 (a stalled vehicle) stays finite.
-    return d.tv_nm / std::max(1.0 - slip, 0.05) + d.k_w_m * load_n;
+    return held_out + (d.tv_nm / std::max(1.0 - slip, 0.05) + d.k_w_m * load_n);
   }
-  return d.t0_nm + d.k_w_m * load_n;
+  if (d.form == DriveFrictionForm::power) {
+    return held_out + (d.tv_nm * std::pow(relative_wheel_speed(slip), d.speed_exponent) + d.k_w_m * load_n);
+  }
+  return held_out + (d.t0_nm + d.k_w_m * load_n);
 }
 
 // Grouser form lug_face: the engaged lugs (lug_count per turn over the
@@ -603,7 +682,7 @@ std::array<double, 4> bracket_sinkage(const SimParameters& p, double load_n, dou
   const double x_max = std::log(r);
   const Contact probe = make_contact(p, 0.5 * r, slip);
   // Lyasko's factor scales the sinkage by f (make_contact); the guess too.
-  const double guess = bekker_sinkage_guess(probe, load_n) * lyasko_factor(p, slip);
+  const double guess = bekker_sinkage_guess(probe, load_n) * sinkage_multiplier(p, slip);
   const double x0 = std::log(std::min(r, std::max(1e-9 * r, guess)));
   const double f0 = residual(x0);
   const double step = 1.2 * std::fabs(f0) / (probe.n + 0.5) + 1e-6;
@@ -866,13 +945,13 @@ std::string primary_parameter_name(Effect effect) { return effect_parameter_name
 
 std::vector<std::string> effect_forms(Effect effect) {
   switch (effect) {
-    case Effect::slip_sinkage: return {"exponent", "lyasko"};
+    case Effect::slip_sinkage: return {"exponent", "lyasko", "power"};
     case Effect::stress_peak_shift: return {"linear"};
     case Effect::rear_contact: return {"rebound"};
-    case Effect::grouser: return {"shear_radius", "lug_tip", "lug_face"};
+    case Effect::grouser: return {"shear_radius", "lug_tip", "lug_face", "engagement"};
     case Effect::bulldozing: return {"bekker", "hegedus"};
     case Effect::load_dependence: return {"friction_angle", "stiffness"};
-    case Effect::drive_friction: return {"constant", "speed"};
+    case Effect::drive_friction: return {"constant", "speed", "power"};
   }
   return {"?"};
 }

@@ -63,22 +63,28 @@ Effect effect_from_name(std::string_view name);
 // The literature forms of the effects that have more than one
 // (docs/simulator.md, "Effects"; issue 16). The first enumerator of each is
 // the default: the form the simulator had before forms existed, so a setting
-// without a form computes what it always did.
-enum class SlipSinkageForm { exponent, lyasko };
-enum class GrouserForm { shear_radius, lug_tip, lug_face };
+// without a form computes what it always did. The last form of slip_sinkage,
+// grouser and drive_friction is a flexible one: a shape parameter spans the
+// family's literature forms (exactly or approximately, docs/simulator.md).
+enum class SlipSinkageForm { exponent, lyasko, power };
+enum class GrouserForm { shear_radius, lug_tip, lug_face, engagement };
 enum class BulldozingForm { bekker, hegedus };
 enum class LoadDependenceForm { friction_angle, stiffness };
-enum class DriveFrictionForm { constant, speed };
+enum class DriveFrictionForm { constant, speed, power };
 
 struct EffectSettings {
   // slip_sinkage, form exponent: n = n0 + n1 s (Ding et al. 2011/2015);
   // form lyasko: z = z0 (1 + ks s)/(1 - 0.5 ks s) (Lyasko 2010 with ks = 1),
-  // through the Bekker modulus k / f(s)^(n + 1/2).
+  // through the Bekker modulus k / f(s)^(n + 1/2); form power: the same
+  // load-independent multiplier with f(s) = 1 + gain s^power (flexible:
+  // power 1 is the linear form, other powers approach Lyasko's and others).
   struct SlipSinkage {
     bool enabled = false;
     SlipSinkageForm form = SlipSinkageForm::exponent;
     double n1 = 0.5;
     double ks = 1.0;
+    double gain = 2.0;
+    double power = 1.0;
   } slip_sinkage;
   // stress_peak_shift: theta_m = (a0 + a1 s) theta1 (Wong & Reece 1967).
   struct StressPeakShift { bool enabled = false; double a1 = 0.32; } stress_peak_shift;
@@ -88,13 +94,16 @@ struct EffectSettings {
   // form lug_tip: j = r_s (theta1 - theta) - r (1 - s)(sin theta1 - sin theta),
   // the slip of the lug tip (radius r_s) against the ground (speed set by r);
   // form lug_face: the rim shears as without lugs, plus the passive
-  // resistance of the engaged lug faces (lug_count lugs per turn, h x b each).
+  // resistance of the engaged lug faces (lug_count lugs per turn, h x b each);
+  // form engagement (flexible): j = r_s (theta1 - theta) - (r + (1 - e) lambda h)
+  // (1 - s)(sin theta1 - sin theta): e = 0 is shear_radius, e = 1 lug_tip.
   struct Grouser {
     bool enabled = false;
     GrouserForm form = GrouserForm::shear_radius;
     double height_m = 0.01;
     double lambda = 1.0;
     double lug_count = 15.0;
+    double engagement = 0.5;
   } grouser;
   // bulldozing, form bekker: Rb = scale b (0.67 c z Kpc + 0.5 z^2 gamma Kpgamma)
   // (Bekker/Wong, Terzaghi factors); form hegedus: Rb = scale b D1 (c z + D2
@@ -118,13 +127,16 @@ struct EffectSettings {
   } load_dependence;
   // drive_friction, form constant: T_measured = T_soil + t0 + k_w W (gearbox
   // drag + bearing load term); form speed: T_soil + tv/(1 - s) + k_w W, a
-  // viscous drag proportional to the wheel's angular speed at a fixed vehicle speed.
+  // viscous drag proportional to the wheel's angular speed at a fixed vehicle
+  // speed; form power (flexible): T_soil + tv (1/(1 - s))^p + k_w W, p = 0 the
+  // constant form, p = 1 the speed form.
   struct DriveFriction {
     bool enabled = false;
     DriveFrictionForm form = DriveFrictionForm::constant;
     double t0_nm = 0.1;
     double k_w_m = 1.0e-3;
     double tv_nm = 0.1;
+    double speed_exponent = 1.0;
   } drive_friction;
   // Not an effect of the catalogue: no Effect value, no named parameters, so
   // never a diagnosis candidate. It is the "form the library does not have" of
@@ -137,6 +149,32 @@ struct EffectSettings {
     double residual_ratio = 0.75;      // K_r
     double peak_displacement_m = 0.02;  // K_w
   } shear_softening;
+  // Held-out forms of three families, data only like shear_softening (no
+  // Effect value, no named parameters, never fitted): the cross-form check's
+  // test of the flexible forms (docs/simulator.md, "Held-out forms").
+  // Grousers whose tips (radius r + h) shear the soil from where the tip
+  // circle enters it, theta1t = arccos((r - z)/(r + h)), ahead of the rim's
+  // entry: j = r_s (theta1t - theta) - r (1 - s)(sin theta1t - sin theta),
+  // torque arm r + h. Not together with the grouser effect.
+  struct LugEntry {
+    bool enabled = false;
+    double height_m = 0.02;
+  } lug_entry;
+  // Linear slip-sinkage with saturation, z = z0 (1 + gain min(s, s_sat)),
+  // as a load-independent multiplier (through k / f^(n + 1/2), as lyasko).
+  struct SaturatingSlipSinkage {
+    bool enabled = false;
+    double gain = 1.5;
+    double saturation_slip = 0.5;
+  } saturating_slip_sinkage;
+  // Coulomb plus viscous drive drag: t_c + t_v/(1 - s) + k_w W (the speed
+  // form's cap at s = 0.95).
+  struct CoulombViscousDrag {
+    bool enabled = false;
+    double coulomb_nm = 0.3;
+    double viscous_nm = 0.3;
+    double k_w_m = 1.0e-3;
+  } coulomb_viscous_drag;
 
   bool enabled(Effect effect) const;
   void set_enabled(Effect effect, bool on);
@@ -182,6 +220,7 @@ struct ParameterInfo {
   Effect effect = Effect::slip_sinkage;  // meaningful only when is_effect_parameter
   std::vector<std::string> forms;  // the effect forms it belongs to; empty: every form of the effect
   bool primary = false;  // the one parameter that sets the size of its form (fit this one)
+  bool shape = false;    // a flexible form's shape parameter: fitted with the primary one
   double lower = 0.0;    // physically admissible range, for bounded fits
   double upper = 0.0;
 };
