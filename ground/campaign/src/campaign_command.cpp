@@ -4,6 +4,7 @@
 #include "sinkwatch/ground/campaign.hpp"
 #include "sinkwatch/ground/campaign_report.hpp"
 #include "sinkwatch/ground/cli_conventions.hpp"
+#include "sinkwatch/ground/level_choice.hpp"
 #include "sinkwatch/ground/output_file.hpp"
 #include "sinkwatch/ground/replay.hpp"
 
@@ -12,8 +13,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <stdexcept>
 
 namespace sinkwatch::ground {
 namespace {
@@ -31,6 +35,9 @@ struct CampaignArgs {
   std::string loss_policy;
   std::string flight_mass = "true";
   double path_length_m = 16.0;
+  bool choose_levels = false;
+  double max_false_stop = 0.0;
+  std::string table_out;  // default: DIR/chosen.tbl
   Verbosity verbosity;
   std::string command_line = "sinkwatch campaign";
 };
@@ -91,6 +98,12 @@ CampaignOptions options_of(const CampaignArgs& a) {
       throw_usage_error(e.what());
     }
   }
+  if (a.choose_levels && a.levels_mm.empty()) o.sweep_stop_mm = choice_grid_mm(o.table);
+  if (a.choose_levels && std::all_of(o.families.begin(), o.families.end(), [&](CampaignFamily f) {
+        return std::find(o.held_out.begin(), o.held_out.end(), f) != o.held_out.end();
+      })) {
+    throw_usage_error("--choose-levels: every family of --families is --held-out; the choice needs tuning families");
+  }
   for (const double level : o.sweep_stop_mm) {
     try {
       (void)table_at_stop_level(o.table, level / 1000.0);
@@ -112,20 +125,70 @@ std::function<void(std::size_t, std::size_t)> progress_bar(std::ostream& err, bo
   };
 }
 
+// --choose-levels: the choice on the tuning families and the chosen table,
+// loaded back by the flight code (a table it refuses ends the run, exit 1).
+ChoiceFiles choice_files(const CampaignResult& result, double max_false_stop, const std::string& table_path) {
+  const LevelChoice choice = choose_levels(result, max_false_stop);
+  ChoiceFiles files;
+  try {
+    EncodedTable table = encode_chosen_table(result, choice);
+    files.markdown = level_choice_markdown(result, choice, table_path, table.crc);
+    files.json = level_choice_json(result, choice, table_path, table.crc);
+    files.table_bytes = std::move(table.bytes);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string("--choose-levels: the chosen levels give a table the flight code refuses: ") +
+                             e.what() + "; nothing written");
+  }
+  return files;
+}
+
+std::string table_out_path(const CampaignArgs& a) {
+  if (a.table_out == "-") throw_usage_error("--table-out: '-' is not allowed (the summary goes to standard output)");
+  return a.table_out.empty() ? (std::filesystem::path(a.out_dir) / "chosen.tbl").string() : a.table_out;
+}
+
 int run(const CampaignArgs& a, std::ostream& out, std::ostream& err) {
   CampaignOptions options = options_of(a);
+  const std::optional<std::string> table_out =
+      a.choose_levels ? std::optional<std::string>(table_out_path(a)) : std::nullopt;
   // Every output is checked before the campaign runs (docs/output-files.md).
-  CampaignReport report(a.out_dir, find_campaign_gnuplot(), !options.faults.empty());
+  CampaignReport report(a.out_dir, find_campaign_gnuplot(), !options.faults.empty(), table_out);
   options.progress = progress_bar(err, a.verbosity.inform());
   if (a.verbosity.verbose) {
     err << "sinkwatch campaign: " << options.families.size() * options.traverses_per_family << " traverses\n";
   }
   const CampaignResult result = run_campaign(options);
-  const std::vector<std::string> written = report.write(result, a.command_line);
-  out << campaign_summary(result, a.command_line, written.size() > 6);
+  std::optional<ChoiceFiles> choice;
+  if (table_out) choice = choice_files(result, a.max_false_stop, *table_out);
+  const std::vector<std::string> written = report.write(result, a.command_line, choice ? &*choice : nullptr);
+  const bool plots = std::any_of(written.begin(), written.end(), [](const std::string& path) {
+    return std::filesystem::path(path).filename() == "lead_by_family.svg";
+  });
+  out << campaign_summary(result, a.command_line, plots) << (choice ? choice->markdown : std::string());
   for (const std::string& path : written) out << "  wrote " << path << '\n';
   finish_standard_output(out);
   return 0;
+}
+
+void add_choice_options(CLI::App* sub, CampaignArgs& a) {
+  CLI::Option* choose = sub->add_flag(
+      "--choose-levels", a.choose_levels,
+      "choose the caution and stop levels on the tuning families for --max-false-stop and write the flight table "
+      "(docs/campaign.md, 'Choosing the levels'); the sweep's grid becomes 20 mm to the wheel radius in 2.5 mm steps "
+      "unless --levels is given");
+  CLI::Option* target = sub->add_option("--max-false-stop", a.max_false_stop,
+                                        "target false-stop rate over traverses that never embed, in (0, 1)")
+                            ->check(positive_finite_number())
+                            ->check(CLI::Validator(
+                                [](const std::string& text) {
+                                  return std::stod(text) < 1.0 ? std::string() : std::string("must be below 1");
+                                },
+                                "in (0, 1)"));
+  CLI::Option* table_out = non_empty_value(sub->add_option(
+      "--table-out", a.table_out, "where --choose-levels writes the chosen flight table (default: OUT/chosen.tbl)"));
+  choose->needs(target);
+  target->needs(choose);
+  table_out->needs(choose);
 }
 
 void add_options(CLI::App* sub, CampaignArgs& a) {
@@ -162,6 +225,7 @@ void add_options(CLI::App* sub, CampaignArgs& a) {
                   "has it) or default (the table's section 6, else the Yutu-like 140 kg)")
       ->check(CLI::IsMember({"true", "default"}))
       ->capture_default_str();
+  add_choice_options(sub, a);
   add_verbosity_flags(*sub, a.verbosity);
 }
 

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 namespace sinkwatch::ground {
 namespace {
@@ -30,15 +31,6 @@ std::string opt(const std::optional<double>& v, int digits, const char* none = "
 }
 
 std::string json_opt(const std::optional<double>& v, int digits) { return v ? fixed(*v, digits) : "null"; }
-
-std::string json_string(const std::string& s) {
-  std::string q = "\"";
-  for (const char c : s) {
-    if (c == '"' || c == '\\') q += '\\';
-    q += c;
-  }
-  return q + "\"";
-}
 
 // One traverse's CSV fields, in traverse_csv_columns() order.
 std::vector<std::string> csv_fields(const TraverseResult& t) {
@@ -119,22 +111,21 @@ std::string traverses_json(const CampaignResult& r) {
   return out.str();
 }
 
+std::string json_string(const std::string& s) {
+  std::string q = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') q += '\\';
+    q += c;
+  }
+  return q + "\"";
+}
+
 std::optional<double> median(std::vector<double> values) {
   if (values.empty()) return std::nullopt;
   std::sort(values.begin(), values.end());
   const std::size_t n = values.size();
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
-
-namespace {
-
-// Counts and medians of a group of traverses at one verdict per traverse.
-struct GroupStats {
-  std::size_t traverses = 0, embeddings = 0;
-  std::array<std::size_t, kTraverseOutcomes> outcomes{};
-  std::vector<double> leads, ideal_leads, rear_excess;
-  std::size_t lead_at_80pct_of_ideal = 0;  // embeddings whose stop lead >= 0.8 ideal lead
-};
 
 GroupStats group_stats(const std::vector<const TraverseResult*>& group, std::optional<std::size_t> level) {
   GroupStats g;
@@ -153,6 +144,16 @@ GroupStats group_stats(const std::vector<const TraverseResult*>& group, std::opt
   return g;
 }
 
+std::vector<const TraverseResult*> select_traverses(const CampaignResult& r, const std::function<bool(const TraverseResult&)>& f) {
+  std::vector<const TraverseResult*> out;
+  for (const TraverseResult& t : r.traverses) {
+    if (f(t)) out.push_back(&t);
+  }
+  return out;
+}
+
+namespace {
+
 std::string percent(std::size_t part, std::size_t whole) {
   return whole ? fixed(100.0 * static_cast<double>(part) / static_cast<double>(whole), 0) + " %" : "–";
 }
@@ -168,14 +169,6 @@ std::string family_row(const std::string& name, const GroupStats& g) {
   return row.str();
 }
 
-std::vector<const TraverseResult*> select(const CampaignResult& r, const std::function<bool(const TraverseResult&)>& f) {
-  std::vector<const TraverseResult*> out;
-  for (const TraverseResult& t : r.traverses) {
-    if (f(t)) out.push_back(&t);
-  }
-  return out;
-}
-
 std::string outcome_table(const CampaignResult& r) {
   std::ostringstream md;
   md << "| family | traverses | embeddings | stopped ≥ 1 m ahead | stopped < 1 m ahead | late | missed | "
@@ -183,10 +176,10 @@ std::string outcome_table(const CampaignResult& r) {
         "median rear-load excess |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const bool held : {false, true}) {
     for (const CampaignFamily f : r.options.families) {
-      const auto group = select(r, [&](const TraverseResult& t) { return t.draw.family == f && t.held_out == held; });
+      const auto group = select_traverses(r, [&](const TraverseResult& t) { return t.draw.family == f && t.held_out == held; });
       if (!group.empty()) md << family_row(std::string(family_name(f)) + (held ? " (held out)" : ""), group_stats(group, {}));
     }
-    const auto all = select(r, [&](const TraverseResult& t) { return t.held_out == held; });
+    const auto all = select_traverses(r, [&](const TraverseResult& t) { return t.held_out == held; });
     if (!all.empty()) {
       md << family_row(held ? "**all held-out families**" : "**all tuning families**", group_stats(all, {}));
     }
@@ -200,7 +193,7 @@ std::string levels_table(const CampaignResult& r) {
         "median ideal-sensor lead [m] |\n|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < r.options.sweep_stop_mm.size(); ++k) {
     for (const bool held : {false, true}) {
-      const auto group = select(r, [&](const TraverseResult& t) { return t.held_out == held; });
+      const auto group = select_traverses(r, [&](const TraverseResult& t) { return t.held_out == held; });
       if (group.empty()) continue;
       const GroupStats g = group_stats(group, k);
       const std::size_t ordinary = g.traverses - g.embeddings;
@@ -362,7 +355,7 @@ std::string levels_dat(const CampaignResult& r) {
   for (std::size_t k = 0; k < r.options.sweep_stop_mm.size(); ++k) {
     dat << fixed(r.options.sweep_stop_mm[k], 1);
     for (const bool held : {false, true}) {
-      const GroupStats g = group_stats(select(r, [&](const TraverseResult& t) { return t.held_out == held; }), k);
+      const GroupStats g = group_stats(select_traverses(r, [&](const TraverseResult& t) { return t.held_out == held; }), k);
       const std::size_t ordinary = g.traverses - g.embeddings;
       const std::size_t fs = g.outcomes[static_cast<std::size_t>(TraverseOutcome::false_stop)];
       dat << ' ' << (ordinary ? fixed(static_cast<double>(fs) / static_cast<double>(ordinary), 4) : "NaN") << ' '
@@ -425,11 +418,20 @@ struct CampaignReport::Files {
   OutputFile* lead_svg = nullptr;
   OutputFile* levels_svg = nullptr;
   OutputFile* faults = nullptr;  // with --faults only
+  OutputFile* choice = nullptr;  // with --choose-levels only
+  OutputFile* table = nullptr;   // with --choose-levels only
+  std::string table_path;
 };
 
-CampaignReport::CampaignReport(const std::string& dir, std::string gnuplot, bool faults)
+CampaignReport::CampaignReport(const std::string& dir, std::string gnuplot, bool faults,
+                               const std::optional<std::string>& table_out)
     : dir_(dir), gnuplot_(std::move(gnuplot)), files_(std::make_unique<Files>()) {
   check_output_directory(dir);
+  // A table outside the folder is checked before the folder is created.
+  if (table_out && std::filesystem::path(*table_out).parent_path().lexically_normal() !=
+                       std::filesystem::path(dir).lexically_normal()) {
+    (void)check_output_path(*table_out);
+  }
   create_output_directory(dir);
   const std::filesystem::path base(dir);
   const auto add = [&](const char* name) { return &files_->set.add((base / name).string()); };
@@ -440,6 +442,11 @@ CampaignReport::CampaignReport(const std::string& dir, std::string gnuplot, bool
   files_->levels = add("levels.dat");
   files_->script = add("campaign.gp");
   if (faults) files_->faults = add("faults.csv");
+  if (table_out) {
+    files_->choice = add("choice.json");
+    files_->table_path = *table_out;
+    files_->table = &files_->set.add(*table_out);
+  }
   if (!gnuplot_.empty()) {
     files_->lead_svg = &files_->plots.add((base / "lead_by_family.svg").string());
     files_->levels_svg = &files_->plots.add((base / "false_stop_vs_lead.svg").string());
@@ -463,14 +470,22 @@ bool CampaignReport::draw(const CampaignResult& r) {
   return status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
-std::vector<std::string> CampaignReport::write(const CampaignResult& r, const std::string& command_line) {
+std::vector<std::string> CampaignReport::write(const CampaignResult& r, const std::string& command_line,
+                                               const ChoiceFiles* choice) {
   Files& f = *files_;
+  if ((choice != nullptr) != (f.table != nullptr)) {
+    throw std::logic_error("campaign report: a level choice without its table file, or the reverse");
+  }
   f.leads->write(leads_dat(r));
   f.levels->write(levels_dat(r));
   const bool plots = !gnuplot_.empty() && draw(r);
   f.csv->write(traverses_csv(r));
   f.json->write(traverses_json(r));
-  f.summary->write(campaign_summary(r, command_line, plots));
+  f.summary->write(campaign_summary(r, command_line, plots) + (choice ? choice->markdown : std::string()));
+  if (choice) {
+    f.choice->write(choice->json);
+    f.table->write(std::string(choice->table_bytes.begin(), choice->table_bytes.end()));
+  }
   f.script->write(plot_script(r, "leads.dat", "levels.dat", "lead_by_family.svg", "false_stop_vs_lead.svg"));
   if (f.faults) f.faults->write(faults_csv(r));
   if (plots) f.plots.commit();
@@ -480,6 +495,10 @@ std::vector<std::string> CampaignReport::write(const CampaignResult& r, const st
     written.push_back((std::filesystem::path(dir_) / name).string());
   }
   if (f.faults) written.push_back((std::filesystem::path(dir_) / "faults.csv").string());
+  if (choice) {
+    written.push_back((std::filesystem::path(dir_) / "choice.json").string());
+    written.push_back(f.table_path);
+  }
   for (const char* name : {"lead_by_family.svg", "false_stop_vs_lead.svg"}) {
     if (plots) written.push_back((std::filesystem::path(dir_) / name).string());
   }

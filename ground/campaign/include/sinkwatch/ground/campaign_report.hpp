@@ -10,7 +10,11 @@
 #include "sinkwatch/ground/campaign.hpp"
 #include "sinkwatch/ground/output_file.hpp"
 
+#include <array>
+#include <cstdint>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,24 +31,54 @@ std::string faults_csv(const CampaignResult& r);
 /// summary.md's table of the fault classes against the same traverses without faults.
 std::string fault_table(const CampaignResult& r);
 
+/// `s` as a JSON string, quotes and backslashes escaped.
+std::string json_string(const std::string& s);
+
 /// Median of the values (nothing when empty).
 std::optional<double> median(std::vector<double> values);
+
+/// Counts and medians of a group of traverses at one verdict per traverse.
+struct GroupStats {
+  std::size_t traverses = 0, embeddings = 0;
+  std::array<std::size_t, kTraverseOutcomes> outcomes{};  // by TraverseOutcome
+  std::vector<double> leads, ideal_leads, rear_excess;
+  std::size_t lead_at_80pct_of_ideal = 0;  // embeddings whose stop lead >= 0.8 ideal lead
+};
+
+/// The group at the campaign table's verdict, or at sweep level `level`.
+GroupStats group_stats(const std::vector<const TraverseResult*>& group, std::optional<std::size_t> level);
+
+/// The traverses `keep` accepts, in order.
+std::vector<const TraverseResult*> select_traverses(const CampaignResult& r, const std::function<bool(const TraverseResult&)>& keep);
 
 /// The report folder: every file checked (and its temporary made) when this
 /// is constructed, before the campaign runs; written by write() through
 /// temporaries and renamed into place only when all are complete. When
 /// gnuplot fails (e.g. nothing to plot), the plots are left out and
 /// summary.md says so; the data and scripts are still written.
+/// What --choose-levels adds to the report: its section of summary.md,
+/// choice.json, and the chosen flight table's bytes.
+struct ChoiceFiles {
+  std::string markdown;
+  std::string json;
+  std::vector<std::uint8_t> table_bytes;
+};
+
 class CampaignReport {
  public:
   /// `gnuplot`: the program to draw with, empty for none (scripts only);
-  /// `faults`: the campaign injects faults (faults.csv is written too).
-  CampaignReport(const std::string& dir, std::string gnuplot, bool faults = false);
+  /// `faults`: the campaign injects faults (faults.csv is written too);
+  /// `table_out`: with --choose-levels, where the chosen table goes
+  /// (choice.json is written too).
+  CampaignReport(const std::string& dir, std::string gnuplot, bool faults = false,
+                 const std::optional<std::string>& table_out = std::nullopt);
   CampaignReport(const CampaignReport&) = delete;
   CampaignReport& operator=(const CampaignReport&) = delete;
   ~CampaignReport();
-  /// Writes every file; returns the paths written.
-  std::vector<std::string> write(const CampaignResult& r, const std::string& command_line);
+  /// Writes every file; returns the paths written. `choice` must be given
+  /// exactly when the report was made with a `table_out`.
+  std::vector<std::string> write(const CampaignResult& r, const std::string& command_line,
+                                 const ChoiceFiles* choice = nullptr);
 
  private:
   bool draw(const CampaignResult& r);

@@ -1,0 +1,108 @@
+// level_choice.hpp: `sinkwatch campaign --choose-levels --max-false-stop F`
+// (issue 14; docs/campaign.md, "Choosing the levels"): the caution and stop
+// levels for a target false-stop rate, chosen on the campaign's tuning
+// families only, with the expected lead at the chosen level and the
+// held-out families' outcomes at it reported apart as the check.
+//
+// The rule. The campaign's stop-level sweep (CampaignOptions::sweep_stop_mm)
+// re-runs the flight code per level on the same open-loop rows, so each
+// level's false stops are exact for the table table_at_stop_level() makes.
+// Over the n tuning traverses that never embed, a level with k false stops
+// has a one-sided 95 % Clopper-Pearson upper bound on its false-stop rate;
+// n is the same at every level, so the bound meets the target F exactly when
+// k <= k_max(n, F). The chosen stop level is the lowest (the longest lead)
+// with k <= k_max: "certified". When even k = 0 cannot meet F with this n
+// (n < ln 0.05 / ln(1 - F)), or no level has k <= k_max, the choice falls
+// back to the lowest level among those with the fewest false stops, marked
+// not certified, with the number of non-embedding traverses that would be
+// needed. Either way a tighter target never gives a lower stop level.
+//
+// The caution level keeps the base table's caution/stop ratio (as every
+// sweep level does): CAUTION stops nothing, and the ratio keeps its warning
+// margin in proportion; its false-caution rate is reported.
+#pragma once
+
+#include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/ground/campaign.hpp"
+#include "sinkwatch/ground/rover_table.hpp"
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sinkwatch::ground {
+
+/// One-sided upper confidence bound (Clopper-Pearson) on a rate of which k of
+/// n trials were seen: the p with P(X <= k | n, p) = 1 - confidence; 1 when
+/// k >= n or n = 0.
+double clopper_pearson_upper(std::size_t k, std::size_t n, double confidence = 0.95);
+
+/// The largest k whose bound over n meets `target`; none when not even k = 0 does.
+std::optional<std::size_t> certifiable_false_stops(std::size_t n, double target, double confidence = 0.95);
+
+/// The smallest n whose bound with no false stop meets `target` (target in (0, 1)).
+std::size_t traverses_needed(double target, double confidence = 0.95);
+
+/// The default grid of the choice [mm]: 20 mm to the table's wheel radius in
+/// 2.5 mm steps, the levels table_at_stop_level() accepts.
+std::vector<double> choice_grid_mm(const flight::ParameterTable& table);
+
+/// How the stop level was chosen.
+enum class ChoiceBasis {
+  certified,           // the lowest level whose false-stop bound meets the target
+  fewest_false_stops,  // not certified: the lowest level with the fewest false stops
+};
+const char* choice_basis_name(ChoiceBasis b);
+
+/// A group of traverses (tuning or held out) at one sweep level.
+struct LevelOutcome {
+  std::size_t traverses = 0;
+  std::size_t ordinary = 0;             // never embed
+  std::size_t false_stops = 0;          // of `ordinary`
+  double false_stop_bound = 1.0;        // Clopper-Pearson 95 % upper bound
+  std::size_t false_cautions = 0;       // ordinary traverses that reached CAUTION
+  std::size_t embeddings = 0;
+  std::size_t stopped_before = 0;       // stopped_ahead + stopped_close
+  std::size_t stopped_ahead = 0;        // >= 1 m ahead
+  std::size_t lead_at_80pct_of_ideal = 0;
+  std::optional<double> median_lead_m, median_ideal_lead_m, median_caution_lead_m;
+};
+
+/// The tuning or held-out traverses' outcome at sweep level `level`.
+LevelOutcome level_outcome(const CampaignResult& r, std::size_t level, bool held_out);
+
+struct LevelChoice {
+  double max_false_stop = 0.01;
+  ChoiceBasis basis = ChoiceBasis::certified;
+  std::size_t level = 0;  // index into the sweep
+  double stop_mm = 0.0, caution_mm = 0.0, allowed_mm = 0.0;
+  std::optional<std::size_t> certifiable;  // k_max(n, F) over the tuning traverses
+  std::size_t needed_without_false_stop = 0;  // n with which k = 0 would certify F
+  std::vector<LevelOutcome> tuning;        // every sweep level
+  LevelOutcome held_out;                   // at the chosen level only
+};
+
+/// The choice on the tuning families of `r` (held-out traverses are not read
+/// for it). Throws std::invalid_argument when the sweep is empty or no tuning
+/// traverse is ordinary (nothing to measure a false-stop rate on), and when
+/// the chosen level's table is refused by the flight code.
+LevelChoice choose_levels(const CampaignResult& r, double max_false_stop);
+
+/// The base table at the chosen levels (table_at_stop_level()).
+flight::ParameterTable chosen_table(const CampaignResult& r, const LevelChoice& c);
+
+/// The chosen table written through the one table writer (encode_table():
+/// flight::encode(), loaded back by flight::load()), and checked to carry the
+/// chosen levels bit for bit. Throws (std::invalid_argument, RoverTableError)
+/// when the flight code refuses it or the levels did not survive.
+EncodedTable encode_chosen_table(const CampaignResult& r, const LevelChoice& c);
+
+/// summary.md's section and the machine-readable choice.json.
+std::string level_choice_markdown(const CampaignResult& r, const LevelChoice& c, const std::string& table_path,
+                                  std::uint32_t table_crc);
+std::string level_choice_json(const CampaignResult& r, const LevelChoice& c, const std::string& table_path,
+                              std::uint32_t table_crc);
+
+}  // namespace sinkwatch::ground

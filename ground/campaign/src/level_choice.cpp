@@ -1,0 +1,293 @@
+// The choice of the caution and stop levels for a false-stop target
+// (level_choice.hpp, docs/campaign.md "Choosing the levels").
+#include "sinkwatch/ground/level_choice.hpp"
+
+#include "sinkwatch/fixedpoint/host_convert.hpp"
+#include "sinkwatch/ground/campaign_report.hpp"
+#include "sinkwatch/ground/strf.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace sinkwatch::ground {
+namespace {
+
+// P(X <= k) for X ~ Binomial(n, p), 0 < p < 1, summed in logs.
+double binomial_cdf(std::size_t k, std::size_t n, double p) {
+  const double nd = static_cast<double>(n);
+  const double log_p = std::log(p), log_q = std::log1p(-p);
+  double sum = 0.0;
+  for (std::size_t i = 0; i <= k; ++i) {
+    const double id = static_cast<double>(i);
+    const double log_choose = std::lgamma(nd + 1.0) - std::lgamma(id + 1.0) - std::lgamma(nd - id + 1.0);
+    sum += std::exp(log_choose + id * log_p + (nd - id) * log_q);
+  }
+  return std::min(sum, 1.0);
+}
+
+std::string number(double v, int digits) { return strf("%.*f", digits, v); }
+
+std::string json_number(const std::optional<double>& v, int digits) { return v ? number(*v, digits) : "null"; }
+
+double q_mm(const flight::SinkageM& level) { return 1000.0 * fx::to_double(level.q()); }
+
+}  // namespace
+
+double clopper_pearson_upper(std::size_t k, std::size_t n, double confidence) {
+  if (n == 0 || k >= n) return 1.0;
+  const double alpha = 1.0 - confidence;
+  // The CDF falls with p: bisect for CDF(p) = alpha; 60 halvings reach 1e-18.
+  double lo = 0.0, hi = 1.0;
+  for (int step = 0; step < 60; ++step) {
+    const double mid = 0.5 * (lo + hi);
+    (binomial_cdf(k, n, mid) > alpha ? lo : hi) = mid;
+  }
+  return hi;
+}
+
+std::optional<std::size_t> certifiable_false_stops(std::size_t n, double target, double confidence) {
+  std::optional<std::size_t> k_max;
+  for (std::size_t k = 0; k < n && clopper_pearson_upper(k, n, confidence) <= target; ++k) k_max = k;
+  return k_max;
+}
+
+std::size_t traverses_needed(double target, double confidence) {
+  // With k = 0 the bound is 1 - alpha^(1/n); the closed form, then checked
+  // against the bound itself (rounding at the boundary).
+  auto n = static_cast<std::size_t>(std::ceil(std::log(1.0 - confidence) / std::log1p(-target)));
+  while (n > 1 && clopper_pearson_upper(0, n - 1, confidence) <= target) --n;
+  while (clopper_pearson_upper(0, n, confidence) > target) ++n;
+  return n;
+}
+
+std::vector<double> choice_grid_mm(const flight::ParameterTable& table) {
+  const double radius_mm = 1000.0 * fx::to_double(table.wheel_radius_m.q());
+  std::vector<double> grid;
+  for (int step = 0; step <= 4000; ++step) {  // 2.5 mm steps; 4000 covers a 10 m radius
+    const double level_mm = 20.0 + 2.5 * step;
+    if (level_mm > radius_mm + 1e-9) break;
+    try {
+      (void)table_at_stop_level(table, level_mm / 1000.0);
+      grid.push_back(level_mm);
+    } catch (const std::invalid_argument&) {
+      // a level the flight code refuses for this table is not offered
+    }
+  }
+  return grid;
+}
+
+const char* choice_basis_name(ChoiceBasis b) {
+  return b == ChoiceBasis::certified ? "certified" : "fewest_false_stops";
+}
+
+LevelOutcome level_outcome(const CampaignResult& r, std::size_t level, bool held_out) {
+  const std::vector<const TraverseResult*> group =
+      select_traverses(r, [held_out](const TraverseResult& t) { return t.held_out == held_out; });
+  const GroupStats g = group_stats(group, level);
+  LevelOutcome o;
+  o.traverses = g.traverses;
+  o.embeddings = g.embeddings;
+  o.ordinary = g.traverses - g.embeddings;
+  o.false_stops = g.outcomes[static_cast<std::size_t>(TraverseOutcome::false_stop)];
+  o.false_stop_bound = clopper_pearson_upper(o.false_stops, o.ordinary);
+  o.stopped_ahead = g.outcomes[static_cast<std::size_t>(TraverseOutcome::stopped_ahead)];
+  o.stopped_before = o.stopped_ahead + g.outcomes[static_cast<std::size_t>(TraverseOutcome::stopped_close)];
+  o.lead_at_80pct_of_ideal = g.lead_at_80pct_of_ideal;
+  o.median_lead_m = median(g.leads);
+  o.median_ideal_lead_m = median(g.ideal_leads);
+  std::vector<double> caution_leads;
+  for (const TraverseResult* t : group) {
+    const FlightVerdict& f = t->sweep.at(level);
+    if (!t->embedded && f.caution_time_s) ++o.false_cautions;
+    if (t->embedded && f.caution_x_m) caution_leads.push_back(t->embed_x_m - *f.caution_x_m);
+  }
+  o.median_caution_lead_m = median(caution_leads);
+  return o;
+}
+
+LevelChoice choose_levels(const CampaignResult& r, double max_false_stop) {
+  const std::size_t levels = r.options.sweep_stop_mm.size();
+  if (levels == 0) throw std::invalid_argument("no stop level to choose from");
+  LevelChoice c;
+  c.max_false_stop = max_false_stop;
+  for (std::size_t k = 0; k < levels; ++k) c.tuning.push_back(level_outcome(r, k, false));
+  const std::size_t n = c.tuning.front().ordinary;  // the same traverses at every level
+  if (n == 0) {
+    throw std::invalid_argument("no traverse of the tuning families stays clear of embedding: no false-stop rate to "
+                                "choose on (more traverses, or other families)");
+  }
+  c.certifiable = certifiable_false_stops(n, max_false_stop);
+  c.needed_without_false_stop = traverses_needed(max_false_stop);
+  // The levels in increasing order; the lowest certified, else the lowest with the fewest false stops.
+  std::vector<std::size_t> order(levels);
+  for (std::size_t k = 0; k < levels; ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return r.options.sweep_stop_mm[a] < r.options.sweep_stop_mm[b];
+  });
+  std::size_t fewest = order.front();
+  for (const std::size_t k : order) {
+    if (c.tuning[k].false_stops < c.tuning[fewest].false_stops) fewest = k;
+  }
+  c.basis = ChoiceBasis::fewest_false_stops;
+  c.level = fewest;
+  const auto certified = std::find_if(order.begin(), order.end(), [&](std::size_t k) {
+    return c.certifiable && c.tuning[k].false_stops <= *c.certifiable;
+  });
+  if (certified != order.end()) {
+    c.basis = ChoiceBasis::certified;
+    c.level = *certified;
+  }
+  c.held_out = level_outcome(r, c.level, true);
+  const flight::MonitorParams m = chosen_table(r, c).monitor;
+  c.stop_mm = q_mm(m.stop_sinkage_m);
+  c.caution_mm = q_mm(m.caution_sinkage_m);
+  c.allowed_mm = q_mm(m.allowed_sinkage_m);
+  return c;
+}
+
+flight::ParameterTable chosen_table(const CampaignResult& r, const LevelChoice& c) {
+  return table_at_stop_level(r.options.table, r.options.sweep_stop_mm.at(c.level) / 1000.0);
+}
+
+EncodedTable encode_chosen_table(const CampaignResult& r, const LevelChoice& c) {
+  const flight::ParameterTable table = chosen_table(r, c);
+  EncodedTable written = encode_table(table);
+  const flight::MonitorParams& want = table.monitor;
+  const flight::MonitorParams& got = written.table.monitor;
+  const auto same = [](const flight::SinkageM& a, const flight::SinkageM& b) { return a.q().raw() == b.q().raw(); };
+  if (!same(want.stop_sinkage_m, got.stop_sinkage_m) || !same(want.caution_sinkage_m, got.caution_sinkage_m) ||
+      !same(want.allowed_sinkage_m, got.allowed_sinkage_m)) {
+    throw std::invalid_argument("the table loaded back does not carry the chosen levels");
+  }
+  return written;
+}
+
+namespace {
+
+std::string share(std::size_t part, std::size_t whole) {
+  return whole ? strf("%zu of %zu (%.0f %%)", part, whole, 100.0 * static_cast<double>(part) / static_cast<double>(whole))
+               : std::string("–");
+}
+
+std::string median_text(const std::optional<double>& v) { return v ? number(*v, 2) : std::string("–"); }
+
+std::string outcome_row(const char* group, const LevelOutcome& o) {
+  std::ostringstream row;
+  row << "| " << group << " | " << o.traverses << " | " << o.false_stops << " of " << o.ordinary << " | "
+      << (o.ordinary ? number(100.0 * o.false_stop_bound, 1) + " %" : std::string("–")) << " | "
+      << share(o.false_cautions, o.ordinary) << " | " << o.embeddings << " | " << share(o.stopped_before, o.embeddings)
+      << " | " << share(o.stopped_ahead, o.embeddings) << " | " << median_text(o.median_lead_m) << " | "
+      << median_text(o.median_ideal_lead_m) << " | " << share(o.lead_at_80pct_of_ideal, o.embeddings) << " | "
+      << median_text(o.median_caution_lead_m) << " |\n";
+  return row.str();
+}
+
+// The verdict in words: certified, or why not and what it would take.
+std::string verdict_text(const LevelChoice& c, std::size_t n) {
+  const LevelOutcome& at = c.tuning[c.level];
+  std::ostringstream md;
+  if (c.basis == ChoiceBasis::certified) {
+    md << "**Certified**: " << at.false_stops << " false stops of " << n
+       << " tuning traverses that never embed; the one-sided 95 % upper bound on the false-stop rate, "
+       << number(100.0 * at.false_stop_bound, 2) << " %, meets the target " << number(100.0 * c.max_false_stop, 2)
+       << " %. No lower level of the grid does.\n";
+    return md.str();
+  }
+  md << "**NOT CERTIFIED.** ";
+  if (!c.certifiable) {
+    md << "With " << n << " tuning traverses that never embed, not even zero false stops would certify "
+       << number(100.0 * c.max_false_stop, 2) << " % (bound at k = 0: "
+       << number(100.0 * clopper_pearson_upper(0, n), 2) << " %); it takes at least " << c.needed_without_false_stop
+       << " such traverses, none stopping falsely (each false stop raises the number). ";
+  } else {
+    md << "Up to " << *c.certifiable << " false stops of " << n << " would certify the target, but every level of "
+       << "the grid has more. ";
+  }
+  md << "Fallback rule: the lowest level with the fewest false stops (" << at.false_stops << " of " << n
+     << ", upper bound " << number(100.0 * at.false_stop_bound, 1) << " %)";
+  const double rate = static_cast<double>(at.false_stops) / static_cast<double>(n);
+  if (rate >= c.max_false_stop) md << "; its observed rate is at or above the target: more traverses would not certify it";
+  md << ".\n";
+  return md.str();
+}
+
+std::string levels_rows(const CampaignResult& r, const LevelChoice& c) {
+  std::ostringstream md;
+  md << "| stop level [mm] | false stops (tuning) | 95 % upper bound | meets the target | stopped before the "
+        "embedding | median lead [m] |\n|---|---|---|---|---|---|\n";
+  for (std::size_t k = 0; k < c.tuning.size(); ++k) {
+    const LevelOutcome& o = c.tuning[k];
+    md << "| " << number(r.options.sweep_stop_mm[k], 1) << (k == c.level ? " **(chosen)**" : "") << " | "
+       << o.false_stops << " of " << o.ordinary << " | " << number(100.0 * o.false_stop_bound, 1) << " % | "
+       << (o.false_stop_bound <= c.max_false_stop ? "yes" : "no") << " | " << share(o.stopped_before, o.embeddings)
+       << " | " << median_text(o.median_lead_m) << " |\n";
+  }
+  return md.str();
+}
+
+}  // namespace
+
+std::string level_choice_markdown(const CampaignResult& r, const LevelChoice& c, const std::string& table_path,
+                                  std::uint32_t table_crc) {
+  std::ostringstream md;
+  const std::size_t n = c.tuning[c.level].ordinary;
+  md << "\n## Level choice (--choose-levels --max-false-stop " << number(c.max_false_stop, 4) << ")\n\n"
+     << "Chosen on the tuning families only: the lowest stop level whose one-sided 95 % Clopper–Pearson upper bound "
+        "on the false-stop rate (over the tuning traverses that never embed) meets the target; if none, the lowest "
+        "level with the fewest false stops, not certified. Caution keeps the base table's caution/stop ratio; the "
+        "allowed sinkage (section 7) scales with the stop level, as in the sweep.\n\n"
+     << "Stop level " << number(c.stop_mm, 2) << " mm, caution " << number(c.caution_mm, 2) << " mm, allowed sinkage "
+     << number(c.allowed_mm, 2) << " mm (" << choice_basis_name(c.basis) << "); table written to " << table_path
+     << " (CRC-32 " << strf("0x%08x", static_cast<unsigned>(table_crc)) << "; every other value from "
+     << r.options.table_source << "; loaded back through flight::load()).\n\n"
+     << verdict_text(c, n)
+     << "\nExpected outcome at the chosen level (the held-out families are the check, never used to choose; false "
+        "cautions: traverses that never embed but reached CAUTION; caution lead: embedding − first CAUTION):\n\n"
+     << "| group | traverses | false stops | 95 % upper bound | false cautions | embeddings | stopped before the "
+        "embedding | stopped ≥ 1 m ahead | median lead [m] | median ideal-sensor lead [m] | lead ≥ 80 % of ideal | "
+        "median caution lead [m] |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n"
+     << outcome_row("tuning", c.tuning[c.level]) << outcome_row("held out", c.held_out)
+     << "\nEvery level of the choice's grid (tuning families):\n\n"
+     << levels_rows(r, c);
+  return md.str();
+}
+
+namespace {
+
+std::string outcome_json(const LevelOutcome& o) {
+  std::ostringstream j;
+  j << "{\"traverses\": " << o.traverses << ", \"never_embed\": " << o.ordinary << ", \"false_stops\": "
+    << o.false_stops << ", \"false_stop_upper_95\": " << number(o.false_stop_bound, 6) << ", \"false_cautions\": "
+    << o.false_cautions << ", \"embeddings\": " << o.embeddings << ", \"stopped_before\": " << o.stopped_before
+    << ", \"stopped_ahead_1m\": " << o.stopped_ahead << ", \"median_lead_m\": " << json_number(o.median_lead_m, 3)
+    << ", \"median_ideal_lead_m\": " << json_number(o.median_ideal_lead_m, 3)
+    << ", \"lead_at_80pct_of_ideal\": " << o.lead_at_80pct_of_ideal
+    << ", \"median_caution_lead_m\": " << json_number(o.median_caution_lead_m, 3) << "}";
+  return j.str();
+}
+
+}  // namespace
+
+std::string level_choice_json(const CampaignResult& r, const LevelChoice& c, const std::string& table_path,
+                              std::uint32_t table_crc) {
+  std::ostringstream j;
+  j << "{\"max_false_stop\": " << number(c.max_false_stop, 6) << ", \"confidence\": 0.95, \"basis\": \""
+    << choice_basis_name(c.basis) << "\", \"certified\": " << (c.basis == ChoiceBasis::certified ? "true" : "false")
+    << ",\n \"stop_mm\": " << number(c.stop_mm, 3) << ", \"caution_mm\": " << number(c.caution_mm, 3)
+    << ", \"allowed_mm\": " << number(c.allowed_mm, 3)
+    << ", \"caution_rule\": \"base table's caution/stop ratio\", \"table\": " << json_string(table_path) << ", \"table_crc\": " << table_crc << ",\n"
+    << " \"certifiable_false_stops\": " << (c.certifiable ? std::to_string(*c.certifiable) : std::string("null"))
+    << ", \"needed_without_false_stop\": " << c.needed_without_false_stop << ",\n"
+    << " \"tuning\": " << outcome_json(c.tuning[c.level]) << ",\n \"held_out\": " << outcome_json(c.held_out)
+    << ",\n \"levels\": [";
+  for (std::size_t k = 0; k < c.tuning.size(); ++k) {
+    j << (k ? ",\n  " : "\n  ") << "{\"stop_mm\": " << number(r.options.sweep_stop_mm[k], 3)
+      << ", \"tuning\": " << outcome_json(c.tuning[k]) << "}";
+  }
+  j << "]}\n";
+  return j.str();
+}
+
+}  // namespace sinkwatch::ground
