@@ -40,6 +40,12 @@ ScenarioSpec embedding_path() {
 // Firm and moderately soft ground: never embeds.
 ScenarioSpec ordinary_path() { return constructed("ordinary", {{0, 1, 0}, {2, 1, 2}, {4, 0.4, 3}, {6, 0.6, 0}}, 6.0); }
 
+// Firm ground, then a patch just firm enough to carry the rover through
+// (min reserve 0.024 m g at scale 0.07; 0.05 embeds, 0.1 keeps 0.069).
+ScenarioSpec near_miss_path() {
+  return constructed("near-miss", {{0, 1, 0}, {1, 1, 0}, {3, 0.07, 0}, {6, 0.07, 0}}, 6.0);
+}
+
 class CampaignCases : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -108,6 +114,38 @@ TEST_F(CampaignCases, IdealSensorCrossesTheStopLevelBeforeTheEmbedding) {
   EXPECT_GT(*v.lead_m, 0.0);
   EXPECT_LT(*v.cross_time_s, embedding_->truth.embed_time_s);
   EXPECT_FALSE(ideal_verdict(*ordinary_, 0.045).cross_time_s);  // 45 mm is never reached there
+}
+
+TEST_F(CampaignCases, TractionReserveRunsOutOnlyWhereTheRoverEmbeds) {
+  // The ordinary path keeps a wide reserve; on the embedding path the reserve
+  // falls towards zero just before the simulator's embedding point.
+  ASSERT_TRUE(ordinary_->truth.min_reserve_frac && embedding_->truth.min_reserve_frac);
+  EXPECT_GT(*ordinary_->truth.min_reserve_frac, 2.0 * kNearMissReserve);
+  EXPECT_LT(*embedding_->truth.min_reserve_frac, kNearMissReserve);
+  EXPECT_GT(*embedding_->truth.min_reserve_frac, -kNearMissReserve);
+  std::size_t rows_with_reserve = 0;
+  for (const CycleLoads& c : ordinary_->cycle_loads) rows_with_reserve += c.reserve_n ? 1U : 0U;
+  EXPECT_GT(rows_with_reserve, ordinary_->log.rows.size() / 6);  // every 5th driving row
+  EXPECT_LT(rows_with_reserve, ordinary_->log.rows.size() / 4);
+}
+
+TEST_F(CampaignCases, ShippedScenarioSettingsComputeNoReserve) {
+  ScenarioSpec s = ordinary_path();
+  s.reserve_every_rows = 0;
+  const Scenario drive = generate_open_loop_drive(s);
+  EXPECT_FALSE(drive.truth.min_reserve_frac);
+  for (const CycleLoads& c : drive.cycle_loads) EXPECT_FALSE(c.reserve_n);
+}
+
+TEST(CampaignOutcomes, AStopOnADriveThatNearlyEmbedsIsANearMissNotAFalseStop) {
+  // A soft patch the rover just gets through: it never embeds, but its
+  // reserve falls below kNearMissReserve; a low stop level stops it there.
+  const Scenario drive = generate_open_loop_drive(near_miss_path());
+  ASSERT_FALSE(drive.truth.embedded);
+  ASSERT_TRUE(drive.truth.min_reserve_frac);
+  ASSERT_LT(*drive.truth.min_reserve_frac, kNearMissReserve);
+  const auto table = table_at_stop_level(default_parameter_table(), 0.010);
+  EXPECT_EQ(flight_verdict(drive, table, kMoon).outcome, TraverseOutcome::near_miss_stop);
 }
 
 TEST(CampaignDraws, AreAPureFunctionOfSeedFamilyAndIndex) {

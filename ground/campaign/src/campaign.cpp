@@ -163,6 +163,7 @@ void campaign_settings(ScenarioSpec& s, double path_length_m) {
   s.slip_bisections = 12;
   s.slip_step_down = 0.01;
   s.slip_step_up = 0.01;
+  s.reserve_every_rows = 5;  // 1 s, 5 cm of travel: the traction reserve's resolution
 }
 
 }  // namespace
@@ -210,6 +211,7 @@ const char* outcome_name(TraverseOutcome o) {
     case TraverseOutcome::late: return "late";
     case TraverseOutcome::missed: return "missed";
     case TraverseOutcome::false_stop: return "false_stop";
+    case TraverseOutcome::near_miss_stop: return "near_miss_stop";
     case TraverseOutcome::ok_no_stop: return "ok_no_stop";
   }
   return "unknown";
@@ -391,7 +393,10 @@ namespace {
 // Outcome and lead from the stop and the simulator's embedding.
 void classify(const ScenarioTruth& truth, FlightVerdict& v) {
   if (!truth.embedded) {
-    v.outcome = v.stop_time_s ? TraverseOutcome::false_stop : TraverseOutcome::ok_no_stop;
+    const bool near_miss = truth.min_reserve_frac && *truth.min_reserve_frac < kNearMissReserve;
+    v.outcome = !v.stop_time_s ? TraverseOutcome::ok_no_stop
+                : near_miss    ? TraverseOutcome::near_miss_stop
+                               : TraverseOutcome::false_stop;
     return;
   }
   if (!v.stop_time_s) {
@@ -516,6 +521,7 @@ TraverseResult evaluate_traverse(const TraverseDraw& draw, const CampaignOptions
   out.embed_x_m = drive.truth.embed_x_m;
   out.embed_time_s = drive.truth.embed_time_s;
   out.embed_reason = drive.truth.embed_reason;
+  out.min_reserve_frac = drive.truth.min_reserve_frac;
   truth_statistics(drive, out);
   const ReplayConfig config = traverse_flight_config(draw, options, options.table);
   out.flight = flight_verdict(drive, config);

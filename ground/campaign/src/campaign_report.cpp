@@ -43,7 +43,8 @@ std::vector<std::string> csv_fields(const TraverseResult& t) {
           opt(f.stop_time_s, 1), opt(f.stop_x_m, 3), f.stop_time_s ? to_string(f.stop_reason) : "",
           opt(f.lead_m, 3), opt(f.lead_s, 1), outcome_name(f.outcome), opt(t.ideal.cross_time_s, 1),
           opt(t.ideal.cross_x_m, 3), opt(t.ideal.lead_m, 3), opt(t.ideal.lead_s, 1), fixed(t.max_true_sinkage_mm, 1),
-          fixed(t.rear_load_excess, 4), fixed(t.front_load_excess, 4), std::to_string(t.rows)};
+          fixed(t.rear_load_excess, 4), fixed(t.front_load_excess, 4), opt(t.min_reserve_frac, 4),
+          std::to_string(t.rows)};
 }
 
 std::string csv_field(const std::string& s) {
@@ -55,6 +56,11 @@ std::string csv_field(const std::string& s) {
 
 bool is_embedding(const TraverseResult& t) { return t.embedded; }
 
+// Never embeds, but its traction reserve fell below kNearMissReserve.
+bool is_near_miss(const TraverseResult& t) {
+  return !t.embedded && t.min_reserve_frac && *t.min_reserve_frac < kNearMissReserve;
+}
+
 }  // namespace
 
 const std::vector<std::string>& traverse_csv_columns() {
@@ -63,7 +69,7 @@ const std::vector<std::string>& traverse_csv_columns() {
       "noise_scale", "effects", "embedded", "embed_x_m", "embed_time_s", "embed_reason", "caution_time_s",
       "caution_x_m", "stop_time_s", "stop_x_m", "stop_reason", "lead_m", "lead_s", "outcome", "ideal_cross_time_s",
       "ideal_cross_x_m", "ideal_lead_m", "ideal_lead_s", "max_true_sinkage_mm", "rear_load_excess",
-      "front_load_excess", "rows"};
+      "front_load_excess", "min_reserve_frac", "rows"};
   return columns;
 }
 
@@ -135,6 +141,7 @@ GroupStats group_stats(const std::vector<const TraverseResult*>& group, std::opt
     ++g.traverses;
     ++g.outcomes[static_cast<std::size_t>(f.outcome)];
     g.rear_excess.push_back(t->rear_load_excess);
+    if (is_near_miss(*t)) ++g.near_misses;
     if (!is_embedding(*t)) continue;
     ++g.embeddings;
     if (f.lead_m) g.leads.push_back(*f.lead_m);
@@ -143,6 +150,8 @@ GroupStats group_stats(const std::vector<const TraverseResult*>& group, std::opt
   }
   return g;
 }
+
+std::size_t clear_drives(const GroupStats& g) { return g.traverses - g.embeddings - g.near_misses; }
 
 std::vector<const TraverseResult*> select_traverses(const CampaignResult& r, const std::function<bool(const TraverseResult&)>& f) {
   std::vector<const TraverseResult*> out;
@@ -172,8 +181,8 @@ std::string family_row(const std::string& name, const GroupStats& g) {
 std::string outcome_table(const CampaignResult& r) {
   std::ostringstream md;
   md << "| family | traverses | embeddings | stopped ≥ 1 m ahead | stopped < 1 m ahead | late | missed | "
-        "false stop | ok, no stop | median lead [m] | median ideal-sensor lead [m] | lead ≥ 80 % of ideal | "
-        "median rear-load excess |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "false stop | near-miss stop | ok, no stop | median lead [m] | median ideal-sensor lead [m] | lead ≥ 80 % of ideal | "
+        "median rear-load excess |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const bool held : {false, true}) {
     for (const CampaignFamily f : r.options.families) {
       const auto group = select_traverses(r, [&](const TraverseResult& t) { return t.draw.family == f && t.held_out == held; });
@@ -189,17 +198,17 @@ std::string outcome_table(const CampaignResult& r) {
 
 std::string levels_table(const CampaignResult& r) {
   std::ostringstream md;
-  md << "| stop level [mm] | group | false-stop rate | stopped before embedding | median lead [m] | "
-        "median ideal-sensor lead [m] |\n|---|---|---|---|---|---|\n";
+  md << "| stop level [mm] | group | false-stop rate (clear drives) | near-miss stops | stopped before embedding | "
+        "median lead [m] | median ideal-sensor lead [m] |\n|---|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < r.options.sweep_stop_mm.size(); ++k) {
     for (const bool held : {false, true}) {
       const auto group = select_traverses(r, [&](const TraverseResult& t) { return t.held_out == held; });
       if (group.empty()) continue;
       const GroupStats g = group_stats(group, k);
-      const std::size_t ordinary = g.traverses - g.embeddings;
       const std::size_t before = g.outcomes[0] + g.outcomes[1];
       md << "| " << fixed(r.options.sweep_stop_mm[k], 0) << " | " << (held ? "held out" : "tuning") << " | "
-         << percent(g.outcomes[static_cast<std::size_t>(TraverseOutcome::false_stop)], ordinary) << " | "
+         << percent(g.outcomes[static_cast<std::size_t>(TraverseOutcome::false_stop)], clear_drives(g)) << " | "
+         << g.outcomes[static_cast<std::size_t>(TraverseOutcome::near_miss_stop)] << " of " << g.near_misses << " | "
          << percent(before, g.embeddings) << " | " << opt(median(g.leads), 2, "–") << " | "
          << opt(median(g.ideal_leads), 2, "–") << " |\n";
     }
@@ -356,7 +365,7 @@ std::string levels_dat(const CampaignResult& r) {
     dat << fixed(r.options.sweep_stop_mm[k], 1);
     for (const bool held : {false, true}) {
       const GroupStats g = group_stats(select_traverses(r, [&](const TraverseResult& t) { return t.held_out == held; }), k);
-      const std::size_t ordinary = g.traverses - g.embeddings;
+      const std::size_t ordinary = clear_drives(g);
       const std::size_t fs = g.outcomes[static_cast<std::size_t>(TraverseOutcome::false_stop)];
       dat << ' ' << (ordinary ? fixed(static_cast<double>(fs) / static_cast<double>(ordinary), 4) : "NaN") << ' '
           << opt(median(g.leads), 3, "NaN");

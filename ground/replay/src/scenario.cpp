@@ -185,6 +185,24 @@ class World {
                                                       : illinois(total, b, required_n, sol);
   }
 
+  // The largest total pull at any slip up to kEmbedMaxSlip, on a grid of
+  // kReserveSlipStep (the pull's maximum is flat, so the grid's error is a
+  // small fraction of a newton), up to the first slip at which a wheel sinks
+  // to its axle; nothing when one does so already at zero slip.
+  std::optional<double> max_pull(SideSoil soil, const std::array<double, kN>& w) const {
+    constexpr double kReserveSlipStep = 0.025;
+    const SideParams p = scaled(soil);
+    std::optional<double> best;
+    std::string failure;
+    std::array<WheelTruth, kN> wheels{};
+    for (int k = 0; k * kReserveSlipStep <= kEmbedMaxSlip + 1e-9; ++k) {
+      const std::optional<double> pull = total_pull(p, w, k * kReserveSlipStep, wheels, failure);
+      if (!pull) break;
+      best = best ? std::max(*best, *pull) : *pull;
+    }
+    return best;
+  }
+
   // The wheels spinning in place at the highest slip, for a stuck rover.
   std::array<WheelTruth, kN> spinning(SideSoil soil, const std::array<double, kN>& w) const {
     const SideParams p = scaled(soil);
@@ -515,7 +533,7 @@ class ScenarioRun {
       const TelemetryRow row = telemetry_row(c, cmd);
       if (open_loop_) {
         out_.log.rows.push_back(row);
-        out_.cycle_loads.push_back(CycleLoads{c.load_n, world_.statics_loads(c.pitch_deg, c.roll_deg)});
+        out_.cycle_loads.push_back(CycleLoads{c.load_n, world_.statics_loads(c.pitch_deg, c.roll_deg), reserve(c, k)});
         next_open_loop_mode();
         continue;
       }
@@ -523,6 +541,16 @@ class ScenarioRun {
       out_.log.rows.push_back(row);
       next_mode(rec);
     }
+  }
+
+  // The traction reserve of a driving row (CycleLoads::reserve_n), on the
+  // rows the spec asks for; an axle-deep wheel at zero slip is no reserve.
+  std::optional<double> reserve(const CycleTruth& c, std::size_t k) const {
+    const auto every = static_cast<std::size_t>(std::max(spec_.reserve_every_rows, 0));
+    if (every == 0 || k % every != 0 || mode_ != Mode::drive) return std::nullopt;
+    const double slope_pull = world_.mass_kg() * spec_.gravity_mps2 * std::sin(c.pitch_deg * kDeg);
+    const std::optional<double> pull = world_.max_pull(world_.soil(m_.x, m_.gain), c.load_n);
+    return pull ? *pull - slope_pull : -slope_pull;
   }
 
   // Where would the rover have embedded had it not stopped? The drive up to
@@ -782,6 +810,12 @@ Scenario generate_open_loop_drive(const ScenarioSpec& spec) {
   out.log.source = spec.name;
   ScenarioRun run(spec, out, true);
   run.run({});
+  const double weight_n = spec.mass_kg * spec.gravity_mps2;
+  for (std::size_t i = 0; i < out.cycle_loads.size() && i < out.log.rows.size(); ++i) {
+    const std::optional<double>& r = out.cycle_loads[i].reserve_n;
+    if (out.truth.embedded && out.log.rows[i].time_s >= out.truth.embed_time_s) break;
+    if (r) out.truth.min_reserve_frac = std::min(out.truth.min_reserve_frac.value_or(*r / weight_n), *r / weight_n);
+  }
   return out;
 }
 

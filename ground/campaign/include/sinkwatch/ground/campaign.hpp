@@ -59,10 +59,17 @@ enum class TraverseOutcome {
   stopped_close,  // embeds; stopped before it, by less than 1 m
   late,           // embeds; stopped at or after the embedding
   missed,         // embeds; never stopped
-  false_stop,     // never embeds, but the flight code stopped
+  false_stop,     // never embeds, never came near it (min reserve >= kNearMissReserve), but stopped
+  near_miss_stop, // never embeds, came within kNearMissReserve of it, and stopped
   ok_no_stop,     // never embeds, never stopped
 };
-inline constexpr std::size_t kTraverseOutcomes = 6;
+inline constexpr std::size_t kTraverseOutcomes = 7;
+/// A drive that never embeds but whose traction reserve (the largest pull
+/// the six wheels could give, minus what the slope needs) fell below this
+/// share of the rover's weight is a near miss: 0.05 m g is the pull of a
+/// 2.9 degree rise, so the next gentle rise or slightly softer patch would
+/// have embedded it. A stop there is not a stop for nothing (docs/campaign.md).
+inline constexpr double kNearMissReserve = 0.05;
 const char* outcome_name(TraverseOutcome o);
 
 inline constexpr double kCloseLeadM = 1.0;  // stopped_ahead vs stopped_close
@@ -154,6 +161,7 @@ struct TraverseResult {
   // The fuller balance against the flight statics, mean over the driving
   // rows: true load / statics load - 1 of the rear and of the front wheels.
   double rear_load_excess = 0.0, front_load_excess = 0.0;
+  std::optional<double> min_reserve_frac;  // ScenarioTruth::min_reserve_frac of the open-loop drive
   std::vector<FlightVerdict> sweep;  // one per CampaignOptions::sweep_stop_mm
   std::vector<IdealVerdict> sweep_ideal;
   std::vector<FaultVerdict> faults;  // one per CampaignOptions::faults

@@ -40,6 +40,7 @@ std::optional<double> median(std::vector<double> values);
 /// Counts and medians of a group of traverses at one verdict per traverse.
 struct GroupStats {
   std::size_t traverses = 0, embeddings = 0;
+  std::size_t near_misses = 0;  // never embed, but the reserve fell below kNearMissReserve
   std::array<std::size_t, kTraverseOutcomes> outcomes{};  // by TraverseOutcome
   std::vector<double> leads, ideal_leads, rear_excess;
   std::size_t lead_at_80pct_of_ideal = 0;  // embeddings whose stop lead >= 0.8 ideal lead
@@ -47,6 +48,10 @@ struct GroupStats {
 
 /// The group at the campaign table's verdict, or at sweep level `level`.
 GroupStats group_stats(const std::vector<const TraverseResult*>& group, std::optional<std::size_t> level);
+
+/// Drives that never embed and never came near it (no near miss): what a
+/// false stop is counted against.
+std::size_t clear_drives(const GroupStats& g);
 
 /// The traverses `keep` accepts, in order.
 std::vector<const TraverseResult*> select_traverses(const CampaignResult& r, const std::function<bool(const TraverseResult&)>& keep);

@@ -90,6 +90,9 @@ struct ScenarioSpec {
   double slip_step_down = 0.04;      // bracketing the slip: steps down from the last slip, then up
   double slip_step_up = 0.02;
   SlipRefine slip_refine = SlipRefine::bisection;
+  // The open-loop drive's traction reserve (CycleLoads::reserve_n) on every
+  // this-many-th driving row; 0: not computed (the shipped scenarios).
+  int reserve_every_rows = 0;
 };
 
 /// From firm ground into a soft ripple until the wheels would embed
@@ -111,6 +114,10 @@ struct ScenarioTruth {
   std::string embed_reason;
   std::optional<double> stop_time_s;  // the flight code's stop in the loop
   std::optional<double> stop_x_m;
+  /// The smallest traction reserve (CycleLoads::reserve_n) of the open-loop
+  /// drive before the embedding, over the rover's weight m g; empty when no
+  /// row has a reserve (ScenarioSpec::reserve_every_rows = 0).
+  std::optional<double> min_reserve_frac;
 };
 
 /// One cycle's wheel loads in the simulated world and what the flight
@@ -118,6 +125,11 @@ struct ScenarioTruth {
 struct CycleLoads {
   std::array<double, kTelemetryWheels> true_n{};
   std::array<double, kTelemetryWheels> flight_statics_n{};
+  /// The traction reserve (docs/campaign.md): the largest total drawbar pull
+  /// of the six wheels at any slip up to kEmbedMaxSlip, at this row's soil and
+  /// loads, minus the pull the slope needs [N]. Below zero the rover embeds.
+  /// Only on the rows ScenarioSpec::reserve_every_rows asks for.
+  std::optional<double> reserve_n;
 };
 
 struct Scenario {
