@@ -14,6 +14,17 @@
 //      effect): the verdict must not be `explained` — no family of the
 //      library is the cause, so naming one would be wrong.
 //
+// The flexible forms (grouser.engagement, slip_sinkage.power,
+// drive_friction.power) hold some of their family's forms as exact special
+// cases. Data made with such a form are then no unfamiliar form: in (a) the
+// flexible forms that contain the generating form are held out with it
+// (CrossCase::contained_in), and a second set of cases keeps them, which
+// checks that the flexible form finds the form it contains while every other
+// form competes. The flexible forms' own cross-form test is (c): each family
+// they belong to has a held-out form that exists only as data
+// (EffectSettings::lug_entry, saturating_slip_sinkage, coulomb_viscous_drag),
+// sized before the first run and run once at the end (docs/findings-diagnosis.md, 1b).
+//
 // The form sizes were chosen from the literature and the simulator's
 // documented defaults before the first run (docs/findings-diagnosis.md,
 // section 1b) and not tuned to the seed. The table is printed on stdout and,
@@ -51,42 +62,65 @@ struct CrossCase {
   Effect effect = Effect::grouser;
   std::string form;
   std::vector<std::pair<std::string, double>> sizes;
+  // The flexible forms of which the generating form is an exact special case.
+  std::vector<std::string> contained_in;
+  bool keep_flexible = false;  // true: contained_in stays in the library
 };
+
+CrossCase keeping_flexible(CrossCase c) {
+  c.keep_flexible = true;
+  return c;
+}
 
 // Sizes: grousers 2 cm (the withheld check's size; 15 lugs for the lug-face
 // form, mid-range of Ding et al.'s 8-30), Lyasko's own ks = 1, Hegedus at
 // scale 1, a modulus exponent m = 0.5 (Janbu's typical value for sand), a
 // viscous drag of 0.3 N m at zero slip (the withheld check's gearbox drag).
-[[maybe_unused]] CrossCase lug_tip() { return {Effect::grouser, "lug_tip", {{"grouser.height_m", 0.02}}}; }
-[[maybe_unused]] CrossCase lug_face() {
-  return {Effect::grouser, "lug_face", {{"grouser.height_m", 0.02}, {"grouser.lug_count", 15.0}}};
+[[maybe_unused]] CrossCase lug_tip() {
+  return {Effect::grouser, "lug_tip", {{"grouser.height_m", 0.02}}, {"grouser.engagement"}, false};
 }
-[[maybe_unused]] CrossCase lyasko() { return {Effect::slip_sinkage, "lyasko", {{"slip_sinkage.ks", 1.0}}}; }
-[[maybe_unused]] CrossCase hegedus() { return {Effect::bulldozing, "hegedus", {{"bulldozing.scale", 1.0}}}; }
-[[maybe_unused]] CrossCase stiffness() { return {Effect::load_dependence, "stiffness", {{"load_dependence.stiffening", 0.5}}}; }
-[[maybe_unused]] CrossCase speed() { return {Effect::drive_friction, "speed", {{"drive_friction.tv_nm", 0.3}}}; }
+[[maybe_unused]] CrossCase lug_face() {
+  return {Effect::grouser, "lug_face", {{"grouser.height_m", 0.02}, {"grouser.lug_count", 15.0}}, {}, false};
+}
+[[maybe_unused]] CrossCase lyasko() { return {Effect::slip_sinkage, "lyasko", {{"slip_sinkage.ks", 1.0}}, {}, false}; }
+[[maybe_unused]] CrossCase hegedus() { return {Effect::bulldozing, "hegedus", {{"bulldozing.scale", 1.0}}, {}, false}; }
+[[maybe_unused]] CrossCase stiffness() { return {Effect::load_dependence, "stiffness", {{"load_dependence.stiffening", 0.5}}, {}, false}; }
+[[maybe_unused]] CrossCase speed() {
+  return {Effect::drive_friction, "speed", {{"drive_friction.tv_nm", 0.3}}, {"drive_friction.power"}, false};
+}
 
 // The cases that reach the aim, or leave no significant gap to rank (the
-// base refit absorbs the form: lug_face, stiffness). The sanitizer build
-// (Debug, several times slower) checks one.
+// base refit absorbs the form: lug_face, stiffness). lyasko: the power form
+// (not containing Lyasko's) takes 91 % against a true 93 %. The sanitizer
+// build (Debug, several times slower) checks one.
 std::vector<CrossCase> resolved_cases() {
 #if defined(SINKWATCH_DIAGNOSIS_QUICK)
   return {hegedus()};
 #else
-  return {lug_face(), hegedus(), stiffness()};
+  return {lug_face(), lyasko(), hegedus(), stiffness()};
 #endif
 }
 // Cases that do not reach the aim at seed 20261121, kept as DISABLED_ cases
 // (`--gtest_also_run_disabled_tests`; docs/findings-diagnosis.md, 1b): with
-// its own form held out, the family's other forms cannot describe the data.
-// lug_tip: drive_friction ranks first, grouser second (37 % against a true
-// 85 %); lyasko: slip_sinkage first, but 74 % against 93 %; speed:
-// drive_friction first, but 41 % against 89 % (not_explained).
+// its own form and the flexible form that contains it held out, the
+// family's other forms cannot describe the data (the library of these cases
+// is the one before the flexible forms, and so are the results). lug_tip:
+// drive_friction ranks first, grouser second (37 % against a true 85 %);
+// speed: drive_friction first, but 41 % against 89 % (not_explained).
 std::vector<CrossCase> unresolved_cases() {
 #if defined(SINKWATCH_DIAGNOSIS_QUICK)
   return {};
 #else
-  return {lug_tip(), lyasko(), speed()};
+  return {lug_tip(), speed()};
+#endif
+}
+
+// The generating form held out, the flexible form that contains it kept.
+std::vector<CrossCase> flexible_cases() {
+#if defined(SINKWATCH_DIAGNOSIS_QUICK)
+  return {};
+#else
+  return {keeping_flexible(lug_tip()), keeping_flexible(speed())};
 #endif
 }
 
@@ -148,11 +182,21 @@ TEST_P(CrossFormEffect, FamilyRanksFirstWithTheTrueShrinkInAnotherForm) {
 
   const WongReeceModel full(default_parameters("hit-lss1"));
   const Candidate generating = full.candidate_for(c.effect, c.form);
-  const WongReeceModel model = full.excluding({generating.name});
+  std::vector<std::string> held_out{generating.name};
+  if (!c.keep_flexible) {
+    held_out.insert(held_out.end(), c.contained_in.begin(), c.contained_in.end());
+  }
+  const WongReeceModel model = full.excluding(held_out);
   const DiagnosisResult result = diagnose(model, rows, "generated", DiagnosisSettings{});
 
   Outcome out;
   out.data = generating.name;
+  for (std::size_t k = 1; k < held_out.size(); ++k) {
+    out.data += " (" + held_out[k] + " held out too)";
+  }
+  if (c.keep_flexible && !c.contained_in.empty()) {
+    out.data += " (" + c.contained_in.front() + " kept)";
+  }
   out.verdict = verdict_name(result.verdict);
   out.leading = leading_families(result);
   out.before = result.cv_heldout_rms_scaled;
@@ -189,26 +233,32 @@ std::string case_name(const ::testing::TestParamInfo<CrossCase>& param_info) {
 
 INSTANTIATE_TEST_SUITE_P(OtherForm, CrossFormEffect, ::testing::ValuesIn(resolved_cases()), case_name);
 INSTANTIATE_TEST_SUITE_P(DISABLED_Unresolved, CrossFormEffect, ::testing::ValuesIn(unresolved_cases()), case_name);
+// The same data with the flexible form that contains the generating form kept
+// in the library: an in-family check (the flexible form must find the form it
+// contains while every other form competes), not a cross-form one.
+INSTANTIATE_TEST_SUITE_P(FlexibleKept, CrossFormEffect, ::testing::ValuesIn(flexible_cases()), case_name);
 
-// (b) A form no family of the library has: Wong's hump-shaped shear curve
-// with K_r = 0.75 (tan 33 deg / tan 40 deg: a dense sand's critical-state
-// over peak friction) and its peak at K_w = 2 cm (two Janosi-Hanamoto K of
-// this soil).
-void run_unlisted_form(Outcome& out, Verdict& verdict) {
+// A diagnosis of data made with a form that exists only as data (no
+// catalogue effect, never fitted), against the full library.
+struct DataOnlyCase {
+  std::string label;                        // the table's "data made with"
+  std::string truth;                        // its sizes
+  std::string family;                       // the family it belongs to; empty: none
+  void (*enable)(EffectSettings&) = nullptr;  // switches it on in the truth
+};
+
+DiagnosisResult run_data_only(const DataOnlyCase& c, Outcome& out) {
   const auto t0 = std::chrono::steady_clock::now();
   SimParameters truth = default_parameters("hit-lss1");
-  truth.effects.shear_softening.enabled = true;
-  truth.effects.shear_softening.residual_ratio = 0.75;
-  truth.effects.shear_softening.peak_displacement_m = 0.02;
+  c.enable(truth.effects);
   const std::vector<DiagnosisRow> rows = campaign_rows(truth);
   const WongReeceModel model(default_parameters("hit-lss1"));
-  const DiagnosisResult result = diagnose(model, rows, "generated", DiagnosisSettings{});
-  verdict = result.verdict;
-  out.data = "shear_softening (not in the library)";
+  DiagnosisResult result = diagnose(model, rows, "generated", DiagnosisSettings{});
+  out.data = c.label;
   out.verdict = verdict_name(result.verdict);
   out.leading = leading_families(result);
   out.before = result.cv_heldout_rms_scaled;
-  out.truth = "K_r = 0.75, K_w = 0.02 m";
+  out.truth = c.truth;
   if (!result.families.empty()) {
     const RankedFamily& top = result.families.front();
     out.top = top.family;
@@ -216,26 +266,102 @@ void run_unlisted_form(Outcome& out, Verdict& verdict) {
     out.after = top.heldout_rms_after;
     out.shrink = top.shrink_pct;
   }
-  // The generating model: its shear_softening is no catalogue effect, so a
+  if (!c.family.empty()) {
+    const FamilyReading family = read_family(result, effect_from_name(c.family));
+    out.rank = family.rank;
+    out.best = family.best_effect;
+    out.fitted = family.fitted_name + " = " + format_number(family.fitted);
+    out.after = family.after;
+    out.shrink = family.shrink;
+  }
+  // The generating model: the data-only form is no catalogue effect, so a
   // model started from the truth keeps it in its base.
   const WongReeceModel truth_model(truth);
   const std::vector<double> true_params = get_parameters(truth, WongReeceModel::default_base_parameters());
   out.true_after = true_heldout_rms(truth_model, nullptr, true_params, rows, result);
   out.true_shrink = 100.0 * (out.before - out.true_after) / out.before;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return result;
 }
 
+// (b) A form no family of the library has: Wong's hump-shaped shear curve
+// with K_r = 0.75 (tan 33 deg / tan 40 deg: a dense sand's critical-state
+// over peak friction) and its peak at K_w = 2 cm (two Janosi-Hanamoto K of
+// this soil).
 TEST(CrossFormUnlisted, FormOutsideTheLibraryIsNotCalledExplained) {
 #if defined(SINKWATCH_DIAGNOSIS_QUICK)
   GTEST_SKIP() << "sanitizer build: one cross-form case only";
 #endif
+  const DataOnlyCase softening{"shear_softening (not in the library)", "K_r = 0.75, K_w = 0.02 m", "",
+                               [](EffectSettings& e) {
+                                 e.shear_softening.enabled = true;
+                                 e.shear_softening.residual_ratio = 0.75;
+                                 e.shear_softening.peak_displacement_m = 0.02;
+                               }};
   Outcome out;
-  Verdict verdict = Verdict::not_enough_data;
-  run_unlisted_form(out, verdict);
+  const Verdict verdict = run_data_only(softening, out).verdict;
   outcomes().push_back(out);
   EXPECT_NE(verdict, Verdict::explained) << "top family " << out.top << " (" << out.best << "), shrink "
                                          << out.shrink << " %, held-out gap " << out.before << " x noise";
 }
+
+// (c) A held-out form of a family with a flexible form, data only: the
+// family must rank first with the true shrink within 10 points where the gap
+// is significant. Sizes fixed before the first run (findings-diagnosis.md 1b):
+// lug tips of 2 cm (the check's grouser size) shearing from the tip circle's
+// entry; Bekker's linear slip-sinkage with saturation (terramechanics.md
+// 2.2(d)) at Lyasko's initial slope 1.5 (ks = 1), saturating at s = 0.5;
+// Coulomb 0.3 N m (section 1's gearbox drag) plus viscous 0.3 N m at zero
+// slip (the speed case's) and k_w 1 mm. The first run (seed 20261121, then
+// seeds 1 and 2) passed the two below; saturating_slip_sinkage only at this
+// seed (6 points off; 12 and 14 at seeds 1 and 2).
+std::vector<DataOnlyCase> held_out_cases() {
+#if defined(SINKWATCH_DIAGNOSIS_QUICK)
+  return {};
+#else
+  return {
+      {"saturating_slip_sinkage (held out)", "gain 1.5, s_sat 0.5", "slip_sinkage",
+       [](EffectSettings& e) { e.saturating_slip_sinkage.enabled = true; }},
+      {"coulomb_viscous_drag (held out)", "t_c = 0.3, t_v = 0.3 N m, k_w = 0.001 m", "drive_friction",
+       [](EffectSettings& e) { e.coulomb_viscous_drag.enabled = true; }},
+  };
+#endif
+}
+// Missed in the first run: grouser is named first, but lug_tip (the best
+// form; engagement tops out at e = 1, lug_tip itself) takes 65 % against a
+// true 82 % (46 against 83-85 % at seeds 1 and 2).
+std::vector<DataOnlyCase> unresolved_held_out_cases() {
+#if defined(SINKWATCH_DIAGNOSIS_QUICK)
+  return {};
+#else
+  return {{"lug_entry (held out)", "h = 0.02 m", "grouser", [](EffectSettings& e) { e.lug_entry.enabled = true; }}};
+#endif
+}
+
+void PrintTo(const DataOnlyCase& c, std::ostream* os) { *os << c.label; }
+
+class HeldOutForm : public ::testing::TestWithParam<DataOnlyCase> {};
+
+TEST_P(HeldOutForm, FamilyRanksFirstWithTheTrueShrinkInAFormNoCandidateHas) {
+  Outcome out;
+  const DiagnosisResult result = run_data_only(GetParam(), out);
+  outcomes().push_back(out);
+  if (!significant_gap(result.verdict)) {
+    std::printf("%s: held-out gap %.2f x noise is not significant (%s); nothing to rank\n", out.data.c_str(),
+                out.before, out.verdict.c_str());
+    return;
+  }
+  EXPECT_EQ(out.rank, 1U) << "top family: " << out.top;
+  EXPECT_NEAR(out.shrink, out.true_shrink, 10.0) << "reported shrink vs true shrink (percentage points)";
+}
+
+std::string held_out_name(const ::testing::TestParamInfo<DataOnlyCase>& param_info) {
+  return param_info.param.label.substr(0, param_info.param.label.find(' '));
+}
+
+INSTANTIATE_TEST_SUITE_P(FlexibleFamily, HeldOutForm, ::testing::ValuesIn(held_out_cases()), held_out_name);
+INSTANTIATE_TEST_SUITE_P(DISABLED_Unresolved, HeldOutForm, ::testing::ValuesIn(unresolved_held_out_cases()),
+                         held_out_name);
 
 // Prints the table once every case has run.
 class TablePrinter : public ::testing::Environment {

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "sinkwatch/ground/soil_presets.hpp"
 #include "sinkwatch/ground/wheel_soil_model.hpp"
@@ -38,6 +39,16 @@ sg::SimParameters random_parameters() {
   p.effects.rear_contact.lambda_r = uniform(0.0, 1.0);
   p.effects.grouser.height_m = uniform(0.0, 0.03);
   p.effects.load_dependence.dphi_deg = uniform(0.0, 5.0);
+  // Every form of every effect (issue 16), the flexible forms' shapes over their ranges.
+  for (sg::Effect e : sg::kAllEffects) {
+    const std::vector<std::string> forms = sg::effect_forms(e);
+    sg::set_effect_form(p.effects, e, forms[*rc::gen::inRange<std::size_t>(0, forms.size())]);
+  }
+  p.effects.slip_sinkage.ks = uniform(0.0, 1.5);
+  p.effects.slip_sinkage.gain = uniform(0.0, 3.0);
+  p.effects.slip_sinkage.power = uniform(0.2, 4.0);
+  p.effects.grouser.engagement = uniform(0.0, 1.0);
+  p.effects.drive_friction.speed_exponent = uniform(0.0, 3.0);
   return p;
 }
 
@@ -59,6 +70,7 @@ RC_GTEST_PROP(WheelSoilProps, EvaluateReturnsAStatusAndSolvedStatesCarryTheLoad,
            << ", b " << p.wheel.width_m << ", kc " << p.soil.kc << ", kphi " << p.soil.kphi << ", c " << p.soil.cohesion_pa
            << ", phi " << p.soil.friction_angle_rad << ", effects";
   for (sg::Effect e : sg::kAllEffects) RC_LOG() << ' ' << (p.effects.enabled(e) ? sg::effect_name(e) : "-");
+  for (sg::Effect e : sg::kAllEffects) RC_LOG() << ' ' << sg::effect_form(p.effects, e);
   RC_LOG() << ", n1 " << p.effects.slip_sinkage.n1 << ", a1 " << p.effects.stress_peak_shift.a1 << ", lr "
            << p.effects.rear_contact.lambda_r << ", h " << p.effects.grouser.height_m << ", dphi "
            << p.effects.load_dependence.dphi_deg << ")\n";

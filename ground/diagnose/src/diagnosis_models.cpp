@@ -267,7 +267,14 @@ std::vector<std::string> fitted_effect_parameters(Effect effect, const std::stri
   return names;
 }
 
-constexpr const char* kDriveLoadTerm = "drive_friction.k_w_m";
+// One training load: the drag term and k_w W are collinear, so drive_friction
+// fits its drag terms alone.
+void hold_drive_load_term(Candidate& c) {
+  c.extra.erase(std::remove_if(c.extra.begin(), c.extra.end(),
+                               [](const ParameterSpec& spec) { return spec.name == "drive_friction.k_w_m"; }),
+                c.extra.end());
+  c.note = "one training load: drive_friction.k_w_m held at its default";
+}
 
 }  // namespace
 
@@ -347,11 +354,7 @@ std::vector<Candidate> WongReeceModel::candidates(const std::vector<DiagnosisRow
         continue;
       }
       if (effect == Effect::drive_friction && distinct_loads(train).size() < 2) {
-        // The drag term and k_w W are collinear at one load: fit the drag alone.
-        c.extra.erase(std::remove_if(c.extra.begin(), c.extra.end(),
-                                     [](const ParameterSpec& spec) { return spec.name == kDriveLoadTerm; }),
-                      c.extra.end());
-        c.note = "one training load: drive_friction.k_w_m held at its default";
+        hold_drive_load_term(c);
       }
       out.push_back(c);
     }
