@@ -311,6 +311,16 @@ TEST(DiagnoseInputs, AnUnwritableOutputIsRefusedBeforeTheDataIsRead) {
   EXPECT_THROW(run_diagnose(options, out), OutputError);
 }
 
+// A report folder that cannot be made (its parent is a file) is refused
+// before the data is read, like an unwritable JSON path.
+TEST(DiagnoseInputs, AReportFolderThatCannotBeMadeIsRefusedBeforeTheDataIsRead) {
+  const std::string blocker = temp_file("not_a_folder.txt", "a file where the report's parent folder should be\n");
+  DiagnoseOptions options = command_options("/nonexistent/data.csv");
+  options.report_dir = blocker + "/report";
+  std::ostringstream out;
+  EXPECT_THROW(run_diagnose(options, out), OutputError);
+}
+
 TEST(DiagnoseInputs, BadGeometryOptionIsAnError) {
   const std::string path = temp_file("geometry.csv", csv(9));
   for (double bad : {-0.15, 0.0, std::nan(""), HUGE_VAL}) {
