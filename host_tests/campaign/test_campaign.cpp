@@ -129,6 +129,15 @@ TEST_F(CampaignCases, TractionReserveRunsOutOnlyWhereTheRoverEmbeds) {
   EXPECT_LT(rows_with_reserve, ordinary_->log.rows.size() / 4);
 }
 
+TEST_F(CampaignCases, IdealReserveSensorCrossesBeforeTheEmbeddingAndNeverOnAClearDrive) {
+  const double weight_n = 140.0 * kMoon;
+  const IdealVerdict v = reserve_verdict(*embedding_, weight_n);
+  ASSERT_TRUE(v.lead_m && v.cross_time_s);
+  EXPECT_GT(*v.lead_m, 0.0);
+  EXPECT_LT(*v.cross_time_s, embedding_->truth.embed_time_s);
+  EXPECT_FALSE(reserve_verdict(*ordinary_, weight_n).cross_time_s);
+}
+
 TEST_F(CampaignCases, ShippedScenarioSettingsComputeNoReserve) {
   ScenarioSpec s = ordinary_path();
   s.reserve_every_rows = 0;

@@ -488,6 +488,23 @@ IdealVerdict ideal_verdict(const Scenario& drive, double level_m) {
   return v;
 }
 
+IdealVerdict reserve_verdict(const Scenario& drive, double weight_n) {
+  IdealVerdict v;
+  for (std::size_t i = 0; i < drive.log.rows.size() && i < drive.cycle_loads.size(); ++i) {
+    const std::optional<double>& reserve = drive.cycle_loads[i].reserve_n;
+    if (reserve && *reserve < kNearMissReserve * weight_n) {
+      v.cross_time_s = drive.log.rows[i].time_s;
+      v.cross_x_m = drive.log.rows[i].x_m.value_or(0.0);
+      break;
+    }
+  }
+  if (v.cross_time_s && drive.truth.embedded) {
+    v.lead_m = drive.truth.embed_x_m - *v.cross_x_m;
+    v.lead_s = drive.truth.embed_time_s - *v.cross_time_s;
+  }
+  return v;
+}
+
 namespace {
 
 // The simulator's deepest wheel before the embedding, and the mean load
@@ -526,6 +543,7 @@ TraverseResult evaluate_traverse(const TraverseDraw& draw, const CampaignOptions
   const ReplayConfig config = traverse_flight_config(draw, options, options.table);
   out.flight = flight_verdict(drive, config);
   out.ideal = ideal_verdict(drive, fx::to_double(options.table.monitor.stop_sinkage_m.q()));
+  out.reserve_ideal = reserve_verdict(drive, draw.spec.mass_kg * draw.spec.gravity_mps2);
   for (const double level_mm : options.sweep_stop_mm) {
     const flight::ParameterTable level = table_at_stop_level(options.table, level_mm / 1000.0);
     out.sweep.push_back(flight_verdict(drive, traverse_flight_config(draw, options, level)));

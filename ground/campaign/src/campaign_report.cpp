@@ -44,6 +44,7 @@ std::vector<std::string> csv_fields(const TraverseResult& t) {
           opt(f.lead_m, 3), opt(f.lead_s, 1), outcome_name(f.outcome), opt(t.ideal.cross_time_s, 1),
           opt(t.ideal.cross_x_m, 3), opt(t.ideal.lead_m, 3), opt(t.ideal.lead_s, 1), fixed(t.max_true_sinkage_mm, 1),
           fixed(t.rear_load_excess, 4), fixed(t.front_load_excess, 4), opt(t.min_reserve_frac, 4),
+          opt(t.reserve_ideal.cross_x_m, 3), opt(t.reserve_ideal.lead_m, 3),
           std::to_string(t.rows)};
 }
 
@@ -69,7 +70,7 @@ const std::vector<std::string>& traverse_csv_columns() {
       "noise_scale", "effects", "embedded", "embed_x_m", "embed_time_s", "embed_reason", "caution_time_s",
       "caution_x_m", "stop_time_s", "stop_x_m", "stop_reason", "lead_m", "lead_s", "outcome", "ideal_cross_time_s",
       "ideal_cross_x_m", "ideal_lead_m", "ideal_lead_s", "max_true_sinkage_mm", "rear_load_excess",
-      "front_load_excess", "min_reserve_frac", "rows"};
+      "front_load_excess", "min_reserve_frac", "reserve_cross_x_m", "reserve_lead_m", "rows"};
   return columns;
 }
 
@@ -146,6 +147,7 @@ GroupStats group_stats(const std::vector<const TraverseResult*>& group, std::opt
     ++g.embeddings;
     if (f.lead_m) g.leads.push_back(*f.lead_m);
     if (ideal.lead_m) g.ideal_leads.push_back(*ideal.lead_m);
+    if (t->reserve_ideal.lead_m) g.reserve_leads.push_back(*t->reserve_ideal.lead_m);
     if (f.lead_m && ideal.lead_m && *f.lead_m >= 0.8 * *ideal.lead_m) ++g.lead_at_80pct_of_ideal;
   }
   return g;
@@ -173,7 +175,7 @@ std::string family_row(const std::string& name, const GroupStats& g) {
   for (const std::size_t c : g.outcomes) row << " | " << c;
   const std::optional<double> rear = median(g.rear_excess);
   row << " | " << opt(median(g.leads), 2, "–") << " | " << opt(median(g.ideal_leads), 2, "–") << " | "
-      << percent(g.lead_at_80pct_of_ideal, g.embeddings) << " | "
+      << opt(median(g.reserve_leads), 2, "–") << " | " << percent(g.lead_at_80pct_of_ideal, g.embeddings) << " | "
       << (rear ? fixed(100.0 * *rear, 1) + " %" : "–") << " |\n";
   return row.str();
 }
@@ -181,8 +183,9 @@ std::string family_row(const std::string& name, const GroupStats& g) {
 std::string outcome_table(const CampaignResult& r) {
   std::ostringstream md;
   md << "| family | traverses | embeddings | stopped ≥ 1 m ahead | stopped < 1 m ahead | late | missed | "
-        "false stop | near-miss stop | ok, no stop | median lead [m] | median ideal-sensor lead [m] | lead ≥ 80 % of ideal | "
-        "median rear-load excess |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "false stop | near-miss stop | ok, no stop | median lead [m] | median ideal-sensor lead [m] | "
+        "median ideal-reserve lead [m] | lead ≥ 80 % of ideal | "
+        "median rear-load excess |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const bool held : {false, true}) {
     for (const CampaignFamily f : r.options.families) {
       const auto group = select_traverses(r, [&](const TraverseResult& t) { return t.draw.family == f && t.held_out == held; });
@@ -321,8 +324,9 @@ std::string campaign_summary(const CampaignResult& r, const std::string& command
                    (r.options.rover ? "the table's section 6" : "Yutu-like, 140 kg"))
      << ").\n\n"
      << "Outcomes with the table (lead = embedding − stop along the path; the ideal sensor stops where the "
-        "simulator's deepest wheel first reaches the table's stop level; medians over the embeddings that "
-        "have one; rear-load excess = the fuller balance's rear loads over the flight statics', − 1):\n\n"
+        "simulator's deepest wheel first reaches the table's stop level; the ideal reserve sensor where the "
+        "traction reserve first falls below 5 % of the weight; a near miss is a drive that never embeds but "
+        "whose reserve fell below that; medians over the embeddings that have one; rear-load excess = the fuller balance's rear loads over the flight statics', − 1):\n\n"
      << outcome_table(r)
      << "\nStop-level sweep (caution, stop and allowed sinkage scaled together; the flight code re-run on the same "
         "open-loop rows per level; false-stop rate over the traverses that never embed):\n\n"

@@ -158,6 +158,7 @@ struct TraverseResult {
   double max_true_sinkage_mm = 0.0;  // deepest wheel before the embedding (or over the drive)
   FlightVerdict flight;              // the campaign's table
   IdealVerdict ideal;                // at the table's stop level
+  IdealVerdict reserve_ideal;        // the ideal traction-reserve sensor (reserve_verdict)
   // The fuller balance against the flight statics, mean over the driving
   // rows: true load / statics load - 1 of the rear and of the front wheels.
   double rear_load_excess = 0.0, front_load_excess = 0.0;
@@ -227,6 +228,11 @@ FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive,
 FaultVerdict fault_verdict(FaultClass c, const TraverseDraw& draw, const Scenario& drive, const ReplayConfig& config);
 /// The ideal sensor's verdict at `level_m` on the same rows.
 IdealVerdict ideal_verdict(const Scenario& drive, double level_m);
+/// The ideal traction-reserve sensor: the first row of the open-loop drive
+/// whose reserve (CycleLoads::reserve_n) is below kNearMissReserve of the
+/// weight, and its lead. What knowing the soil's present reserve exactly
+/// would allow without stopping a clear drive (docs/campaign.md).
+IdealVerdict reserve_verdict(const Scenario& drive, double weight_n);
 
 /// One traverse: the simulator's drive, then the verdicts.
 TraverseResult evaluate_traverse(const TraverseDraw& draw, const CampaignOptions& options);

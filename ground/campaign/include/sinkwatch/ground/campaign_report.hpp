@@ -43,6 +43,7 @@ struct GroupStats {
   std::size_t near_misses = 0;  // never embed, but the reserve fell below kNearMissReserve
   std::array<std::size_t, kTraverseOutcomes> outcomes{};  // by TraverseOutcome
   std::vector<double> leads, ideal_leads, rear_excess;
+  std::vector<double> reserve_leads;  // the ideal traction-reserve sensor's, embeddings only
   std::size_t lead_at_80pct_of_ideal = 0;  // embeddings whose stop lead >= 0.8 ideal lead
 };
 
