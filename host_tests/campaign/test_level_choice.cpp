@@ -220,6 +220,7 @@ TEST_F(ChooseLevelsCommand, WritesATableThatLoadsAndCarriesTheChosenLevels) {
   EXPECT_EQ(table.table.correction.rows[0].c3.q().raw(), base.correction.rows[0].c3.q().raw());
   EXPECT_EQ(table.table.monitor.window_m, base.monitor.window_m);
   EXPECT_FALSE(table.rover);
+  EXPECT_NE(json.find("\"base_table\": {\"stop_mm\": 45.000"), std::string::npos) << json;  // the comparison
   EXPECT_NE(text.find("Level choice"), std::string::npos);
   EXPECT_NE(read(out / "summary.md").find("Level choice"), std::string::npos);
 }

@@ -82,7 +82,7 @@ const char* choice_basis_name(ChoiceBasis b) {
   return b == ChoiceBasis::certified ? "certified" : "fewest_false_stops";
 }
 
-LevelOutcome level_outcome(const CampaignResult& r, std::size_t level, bool held_out) {
+LevelOutcome level_outcome(const CampaignResult& r, std::optional<std::size_t> level, bool held_out) {
   const std::vector<const TraverseResult*> group =
       select_traverses(r, [held_out](const TraverseResult& t) { return t.held_out == held_out; });
   const GroupStats g = group_stats(group, level);
@@ -99,7 +99,7 @@ LevelOutcome level_outcome(const CampaignResult& r, std::size_t level, bool held
   o.median_ideal_lead_m = median(g.ideal_leads);
   std::vector<double> caution_leads;
   for (const TraverseResult* t : group) {
-    const FlightVerdict& f = t->sweep.at(level);
+    const FlightVerdict& f = level ? t->sweep.at(*level) : t->flight;
     if (!t->embedded && f.caution_time_s) ++o.false_cautions;
     if (t->embedded && f.caution_x_m) caution_leads.push_back(t->embed_x_m - *f.caution_x_m);
   }
@@ -140,6 +140,8 @@ LevelChoice choose_levels(const CampaignResult& r, double max_false_stop) {
     c.level = *certified;
   }
   c.held_out = level_outcome(r, c.level, true);
+  c.base_tuning = level_outcome(r, std::nullopt, false);
+  c.base_held_out = level_outcome(r, std::nullopt, true);
   const flight::MonitorParams m = chosen_table(r, c).monitor;
   c.stop_mm = q_mm(m.stop_sinkage_m);
   c.caution_mm = q_mm(m.caution_sinkage_m);
@@ -233,6 +235,9 @@ std::string level_choice_markdown(const CampaignResult& r, const LevelChoice& c,
                                   std::uint32_t table_crc) {
   std::ostringstream md;
   const std::size_t n = c.tuning[c.level].ordinary;
+  const flight::MonitorParams& base = r.options.table.monitor;
+  const std::string base_levels = "the campaign's table (stop " + number(q_mm(base.stop_sinkage_m), 1) +
+                                  " mm, caution " + number(q_mm(base.caution_sinkage_m), 1) + " mm)";
   md << "\n## Level choice (--choose-levels --max-false-stop " << number(c.max_false_stop, 4) << ")\n\n"
      << "Chosen on the tuning families only: the lowest stop level whose one-sided 95 % Clopper–Pearson upper bound "
         "on the false-stop rate (over the tuning traverses that never embed) meets the target; if none, the lowest "
@@ -242,13 +247,18 @@ std::string level_choice_markdown(const CampaignResult& r, const LevelChoice& c,
      << number(c.allowed_mm, 2) << " mm (" << choice_basis_name(c.basis) << "); table written to " << table_path
      << " (CRC-32 " << strf("0x%08x", static_cast<unsigned>(table_crc)) << "; every other value from "
      << r.options.table_source << "; loaded back through flight::load()).\n\n"
-     << verdict_text(c, n)
+     << verdict_text(c, n) << "\nThe price: at the chosen level " << share(c.tuning[c.level].stopped_before,
+                                                                                 c.tuning[c.level].embeddings)
+     << " tuning embeddings are stopped before the embedding, against "
+     << share(c.base_tuning.stopped_before, c.base_tuning.embeddings) << " with " << base_levels << ".\n"
      << "\nExpected outcome at the chosen level (the held-out families are the check, never used to choose; false "
         "cautions: traverses that never embed but reached CAUTION; caution lead: embedding − first CAUTION):\n\n"
      << "| group | traverses | false stops | 95 % upper bound | false cautions | embeddings | stopped before the "
         "embedding | stopped ≥ 1 m ahead | median lead [m] | median ideal-sensor lead [m] | lead ≥ 80 % of ideal | "
         "median caution lead [m] |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n"
      << outcome_row("tuning", c.tuning[c.level]) << outcome_row("held out", c.held_out)
+     << outcome_row(("tuning, " + base_levels).c_str(), c.base_tuning)
+     << outcome_row(("held out, " + base_levels).c_str(), c.base_held_out)
      << "\nEvery level of the choice's grid (tuning families):\n\n"
      << levels_rows(r, c);
   return md.str();
@@ -281,6 +291,8 @@ std::string level_choice_json(const CampaignResult& r, const LevelChoice& c, con
     << " \"certifiable_false_stops\": " << (c.certifiable ? std::to_string(*c.certifiable) : std::string("null"))
     << ", \"needed_without_false_stop\": " << c.needed_without_false_stop << ",\n"
     << " \"tuning\": " << outcome_json(c.tuning[c.level]) << ",\n \"held_out\": " << outcome_json(c.held_out)
+    << ",\n \"base_table\": {\"stop_mm\": " << number(q_mm(r.options.table.monitor.stop_sinkage_m), 3)
+    << ", \"tuning\": " << outcome_json(c.base_tuning) << ", \"held_out\": " << outcome_json(c.base_held_out) << "}"
     << ",\n \"levels\": [";
   for (std::size_t k = 0; k < c.tuning.size(); ++k) {
     j << (k ? ",\n  " : "\n  ") << "{\"stop_mm\": " << number(r.options.sweep_stop_mm[k], 3)

@@ -70,8 +70,9 @@ struct LevelOutcome {
   std::optional<double> median_lead_m, median_ideal_lead_m, median_caution_lead_m;
 };
 
-/// The tuning or held-out traverses' outcome at sweep level `level`.
-LevelOutcome level_outcome(const CampaignResult& r, std::size_t level, bool held_out);
+/// The tuning or held-out traverses' outcome at sweep level `level`, or
+/// with the campaign's (base) table when `level` is empty.
+LevelOutcome level_outcome(const CampaignResult& r, std::optional<std::size_t> level, bool held_out);
 
 struct LevelChoice {
   double max_false_stop = 0.01;
@@ -82,6 +83,7 @@ struct LevelChoice {
   std::size_t needed_without_false_stop = 0;  // n with which k = 0 would certify F
   std::vector<LevelOutcome> tuning;        // every sweep level
   LevelOutcome held_out;                   // at the chosen level only
+  LevelOutcome base_tuning, base_held_out;  // with the campaign's table, for comparison
 };
 
 /// The choice on the tuning families of `r` (held-out traverses are not read
