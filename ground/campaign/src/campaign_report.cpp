@@ -329,7 +329,8 @@ std::string campaign_summary(const CampaignResult& r, const std::string& command
         "whose reserve fell below that; medians over the embeddings that have one; rear-load excess = the fuller balance's rear loads over the flight statics', − 1):\n\n"
      << outcome_table(r)
      << "\nStop-level sweep (caution, stop and allowed sinkage scaled together; the flight code re-run on the same "
-        "open-loop rows per level; false-stop rate over the traverses that never embed):\n\n"
+        "open-loop rows per level; false-stop rate over the clear drives, the traverses that never embed and "
+        "never came within 5 % of the weight of it; near-miss stops apart):\n\n"
      << levels_table(r)
      << (r.options.faults.empty()
              ? std::string()
