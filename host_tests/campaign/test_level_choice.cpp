@@ -145,6 +145,27 @@ TEST(LevelChoiceRule, TooFewTraversesFallBackToTheFewestFalseStopsNotCertified) 
   EXPECT_EQ(many.level, 1U);
 }
 
+TEST(LevelChoiceRule, StopsOnNearMissesAreNotFalseStops) {
+  // 400 clear drives without a false stop at 40 mm, and 50 drives that came
+  // within kNearMissReserve of embedding and stop at every level: counted
+  // apart, they neither enter n nor k.
+  CampaignResult r = made_up({30, 40}, 400, {9, 0});
+  for (std::size_t i = 0; i < 50; ++i) {
+    TraverseResult t = r.traverses.front();
+    ASSERT_FALSE(t.embedded);
+    t.min_reserve_frac = 0.5 * kNearMissReserve;
+    for (FlightVerdict& f : t.sweep) f.outcome = TraverseOutcome::near_miss_stop;
+    r.traverses.push_back(t);
+  }
+  const LevelChoice c = choose_levels(r, 0.01);
+  EXPECT_EQ(c.level, 1U);
+  EXPECT_EQ(c.basis, ChoiceBasis::certified);
+  EXPECT_EQ(c.tuning[c.level].ordinary, 400U);
+  EXPECT_EQ(c.tuning[c.level].false_stops, 0U);
+  EXPECT_EQ(c.tuning[c.level].near_misses, 50U);
+  EXPECT_EQ(c.tuning[c.level].near_miss_stops, 50U);
+}
+
 TEST(LevelChoiceRule, RefusesAChoiceWithNothingToMeasureOn) {
   CampaignResult r = made_up({30, 40}, 0, {0, 0});  // only embeddings
   EXPECT_THROW((void)choose_levels(r, 0.01), std::invalid_argument);

@@ -89,7 +89,9 @@ LevelOutcome level_outcome(const CampaignResult& r, std::optional<std::size_t> l
   LevelOutcome o;
   o.traverses = g.traverses;
   o.embeddings = g.embeddings;
-  o.ordinary = g.traverses - g.embeddings;
+  o.ordinary = clear_drives(g);
+  o.near_misses = g.near_misses;
+  o.near_miss_stops = g.outcomes[static_cast<std::size_t>(TraverseOutcome::near_miss_stop)];
   o.false_stops = g.outcomes[static_cast<std::size_t>(TraverseOutcome::false_stop)];
   o.false_stop_bound = clopper_pearson_upper(o.false_stops, o.ordinary);
   o.stopped_ahead = g.outcomes[static_cast<std::size_t>(TraverseOutcome::stopped_ahead)];
@@ -100,7 +102,8 @@ LevelOutcome level_outcome(const CampaignResult& r, std::optional<std::size_t> l
   std::vector<double> caution_leads;
   for (const TraverseResult* t : group) {
     const FlightVerdict& f = level ? t->sweep.at(*level) : t->flight;
-    if (!t->embedded && f.caution_time_s) ++o.false_cautions;
+    const bool clear = !t->embedded && !(t->min_reserve_frac && *t->min_reserve_frac < kNearMissReserve);
+    if (clear && f.caution_time_s) ++o.false_cautions;
     if (t->embedded && f.caution_x_m) caution_leads.push_back(t->embed_x_m - *f.caution_x_m);
   }
   o.median_caution_lead_m = median(caution_leads);
@@ -179,7 +182,8 @@ std::string outcome_row(const char* group, const LevelOutcome& o) {
   std::ostringstream row;
   row << "| " << group << " | " << o.traverses << " | " << o.false_stops << " of " << o.ordinary << " | "
       << (o.ordinary ? number(100.0 * o.false_stop_bound, 1) + " %" : std::string("–")) << " | "
-      << share(o.false_cautions, o.ordinary) << " | " << o.embeddings << " | " << share(o.stopped_before, o.embeddings)
+      << share(o.false_cautions, o.ordinary) << " | " << o.near_miss_stops << " of " << o.near_misses << " | "
+      << o.embeddings << " | " << share(o.stopped_before, o.embeddings)
       << " | " << share(o.stopped_ahead, o.embeddings) << " | " << median_text(o.median_lead_m) << " | "
       << median_text(o.median_ideal_lead_m) << " | " << share(o.lead_at_80pct_of_ideal, o.embeddings) << " | "
       << median_text(o.median_caution_lead_m) << " |\n";
@@ -192,14 +196,14 @@ std::string verdict_text(const LevelChoice& c, std::size_t n) {
   std::ostringstream md;
   if (c.basis == ChoiceBasis::certified) {
     md << "**Certified**: " << at.false_stops << " false stops of " << n
-       << " tuning traverses that never embed; the one-sided 95 % upper bound on the false-stop rate, "
+       << " tuning clear drives; the one-sided 95 % upper bound on the false-stop rate, "
        << number(100.0 * at.false_stop_bound, 2) << " %, meets the target " << number(100.0 * c.max_false_stop, 2)
        << " %. No lower level of the grid does.\n";
     return md.str();
   }
   md << "**NOT CERTIFIED.** ";
   if (!c.certifiable) {
-    md << "With " << n << " tuning traverses that never embed, not even zero false stops would certify "
+    md << "With " << n << " tuning clear drives, not even zero false stops would certify "
        << number(100.0 * c.max_false_stop, 2) << " % (bound at k = 0: "
        << number(100.0 * clopper_pearson_upper(0, n), 2) << " %); it takes at least " << c.needed_without_false_stop
        << " such traverses, none stopping falsely (each false stop raises the number). ";
@@ -217,7 +221,7 @@ std::string verdict_text(const LevelChoice& c, std::size_t n) {
 
 std::string levels_rows(const CampaignResult& r, const LevelChoice& c) {
   std::ostringstream md;
-  md << "| stop level [mm] | false stops (tuning) | 95 % upper bound | meets the target | stopped before the "
+  md << "| stop level [mm] | false stops (tuning clear drives) | 95 % upper bound | meets the target | stopped before the "
         "embedding | median lead [m] |\n|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < c.tuning.size(); ++k) {
     const LevelOutcome& o = c.tuning[k];
@@ -240,7 +244,8 @@ std::string level_choice_markdown(const CampaignResult& r, const LevelChoice& c,
                                   " mm, caution " + number(q_mm(base.caution_sinkage_m), 1) + " mm)";
   md << "\n## Level choice (--choose-levels --max-false-stop " << number(c.max_false_stop, 4) << ")\n\n"
      << "Chosen on the tuning families only: the lowest stop level whose one-sided 95 % Clopper–Pearson upper bound "
-        "on the false-stop rate (over the tuning traverses that never embed) meets the target; if none, the lowest "
+        "on the false-stop rate (over the tuning clear drives: traverses that never embed nor come within 5 % of "
+        "the weight of it; near-miss stops apart) meets the target; if none, the lowest "
         "level with the fewest false stops, not certified. Caution keeps the base table's caution/stop ratio; the "
         "allowed sinkage (section 7) scales with the stop level, as in the sweep.\n\n"
      << "Stop level " << number(c.stop_mm, 2) << " mm, caution " << number(c.caution_mm, 2) << " mm, allowed sinkage "
@@ -252,10 +257,12 @@ std::string level_choice_markdown(const CampaignResult& r, const LevelChoice& c,
      << " tuning embeddings are stopped before the embedding, against "
      << share(c.base_tuning.stopped_before, c.base_tuning.embeddings) << " with " << base_levels << ".\n"
      << "\nExpected outcome at the chosen level (the held-out families are the check, never used to choose; false "
-        "cautions: traverses that never embed but reached CAUTION; caution lead: embedding − first CAUTION):\n\n"
-     << "| group | traverses | false stops | 95 % upper bound | false cautions | embeddings | stopped before the "
-        "embedding | stopped ≥ 1 m ahead | median lead [m] | median ideal-sensor lead [m] | lead ≥ 80 % of ideal | "
-        "median caution lead [m] |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n"
+        "cautions: clear drives that reached CAUTION; near-miss stops: stops on traverses that came within 5 % of "
+        "the weight of embedding without it; caution lead: embedding − first CAUTION):\n\n"
+     << "| group | traverses | false stops (of the clear drives) | 95 % upper bound | false cautions | near-miss "
+        "stops | embeddings | stopped before the embedding | stopped ≥ 1 m ahead | median lead [m] | median "
+        "ideal-sensor lead [m] | lead ≥ 80 % of ideal | median caution lead [m] |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n"
      << outcome_row("tuning", c.tuning[c.level]) << outcome_row("held out", c.held_out)
      << outcome_row(("tuning, " + base_levels).c_str(), c.base_tuning)
      << outcome_row(("held out, " + base_levels).c_str(), c.base_held_out)
@@ -268,7 +275,8 @@ namespace {
 
 std::string outcome_json(const LevelOutcome& o) {
   std::ostringstream j;
-  j << "{\"traverses\": " << o.traverses << ", \"never_embed\": " << o.ordinary << ", \"false_stops\": "
+  j << "{\"traverses\": " << o.traverses << ", \"clear_drives\": " << o.ordinary << ", \"near_misses\": "
+    << o.near_misses << ", \"near_miss_stops\": " << o.near_miss_stops << ", \"false_stops\": "
     << o.false_stops << ", \"false_stop_upper_95\": " << number(o.false_stop_bound, 6) << ", \"false_cautions\": "
     << o.false_cautions << ", \"embeddings\": " << o.embeddings << ", \"stopped_before\": " << o.stopped_before
     << ", \"stopped_ahead_1m\": " << o.stopped_ahead << ", \"median_lead_m\": " << json_number(o.median_lead_m, 3)

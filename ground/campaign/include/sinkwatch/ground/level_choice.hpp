@@ -7,7 +7,9 @@
 // The rule. The campaign's stop-level sweep (CampaignOptions::sweep_stop_mm)
 // re-runs the flight code per level on the same open-loop rows, so each
 // level's false stops are exact for the table table_at_stop_level() makes.
-// Over the n tuning traverses that never embed, a level with k false stops
+// Over the n tuning clear drives (traverses that never embed nor come within
+// kNearMissReserve of it, campaign.hpp; a stop on a near miss is counted
+// apart, not as a false stop), a level with k false stops
 // has a one-sided 95 % Clopper-Pearson upper bound on its false-stop rate;
 // n is the same at every level, so the bound meets the target F exactly when
 // k <= k_max(n, F). The chosen stop level is the lowest (the longest lead)
@@ -59,10 +61,11 @@ const char* choice_basis_name(ChoiceBasis b);
 /// A group of traverses (tuning or held out) at one sweep level.
 struct LevelOutcome {
   std::size_t traverses = 0;
-  std::size_t ordinary = 0;             // never embed
+  std::size_t ordinary = 0;             // clear drives: never embed, never a near miss
   std::size_t false_stops = 0;          // of `ordinary`
+  std::size_t near_misses = 0, near_miss_stops = 0;  // reported apart
   double false_stop_bound = 1.0;        // Clopper-Pearson 95 % upper bound
-  std::size_t false_cautions = 0;       // ordinary traverses that reached CAUTION
+  std::size_t false_cautions = 0;       // clear drives that reached CAUTION
   std::size_t embeddings = 0;
   std::size_t stopped_before = 0;       // stopped_ahead + stopped_close
   std::size_t stopped_ahead = 0;        // >= 1 m ahead
