@@ -171,7 +171,8 @@ constexpr std::uint32_t bit_at(const U128& a, std::uint32_t i) noexcept {
 
 /// num / den by restoring long division, one bit per step: at most 128 steps.
 /// den != 0 is the caller's duty. When den < 2^64 (every Q31.32 divisor) the
-/// remainder, always below den, is kept in 64 bits plus the bit shifted out.
+/// remainder, always below den, is kept in 64 bits plus the bit shifted out,
+/// and the steps whose quotient bit must be zero are skipped.
 constexpr DivMod<U128> divmod(const U128& num, const U128& den) noexcept {
   if (num.hi == 0U && den.hi == 0U) {
     return DivMod<U128>{U128{0U, num.lo / den.lo}, U128{0U, num.lo % den.lo}};
@@ -179,8 +180,14 @@ constexpr DivMod<U128> divmod(const U128& num, const U128& den) noexcept {
   const std::uint32_t n_bits = bit_length(num);
   U128 quotient{0U, 0U};
   if (den.hi == 0U) {
-    std::uint64_t remainder = 0U;
-    for (std::uint32_t step = 0U; step < n_bits; ++step) {
+    // The top bit_length(den) - 1 bits of num are below den: their quotient
+    // bits are zero and they are the remainder after them, so the loop
+    // starts past them (the same quotient and remainder in n_bits -
+    // bit_length(den) + 1 steps instead of n_bits). num.hi != 0 here, so
+    // n_bits >= 65 > bit_length(den) >= 1.
+    const std::uint32_t skipped = bit_length(den.lo) - 1U;
+    std::uint64_t remainder = shr(num, n_bits - skipped).lo;
+    for (std::uint32_t step = skipped; step < n_bits; ++step) {
       const std::uint32_t i = n_bits - 1U - step;
       // 2 remainder + bit < 2 den <= 2^65: `carry` is its bit 64. With it set
       // the value exceeds den, and the difference, below den, is exact
