@@ -72,7 +72,11 @@ DrawbarResult pulls_of_valid(const RoverParams& params, const WheelLoadResult& l
   const std::uint64_t load_sum_reciprocal = reciprocal_of(load_sum);
 
   // m (a + g sin(pitch)): the along-path force the tractions must supply.
-  const W sin_pitch = fx::rescale<W>(fx::sin(input.pitch_rad.q(), st), st);
+  // The loads' sine when they were computed at this pitch (the step's case):
+  // the same bits as computing it here.
+  const fx::Q1_30 sin_pitch_q =
+      (loads.pitch_rad == input.pitch_rad) ? loads.sin_pitch : fx::sin(input.pitch_rad.q(), st);
+  const W sin_pitch = fx::rescale<W>(sin_pitch_q, st);
   const W g_along = fx::mul<W>(params.gravity_mps2.q(), sin_pitch, st);
   const W accel = fx::add(fx::rescale<W>(input.accel_mps2.q(), st), g_along, st);
   const W total = fx::mul<W>(params.mass_kg.q(), accel, st);

@@ -53,9 +53,9 @@ bool motion_in_range(const RoverTelemetry& t) noexcept {
 }
 
 /// Stage 2: the wheel loads into `out`; ok, tip_over or loads_failed.
-RoverStepStatus load_stage(const PreparedParameters& prepared, const RoverTelemetry& t,
+RoverStepStatus load_stage(const PreparedParameters& prepared, const RoverTelemetry& t, WheelLoadResult& loads,
                            RoverStepOutput& out) noexcept {
-  const WheelLoadResult loads = wheel_loads(prepared, t.attitude, t.joints);
+  loads = wheel_loads(prepared, t.attitude, t.joints);
   out.load_status = loads.status;
   if (loads.status == WheelLoadStatus::tip_over) {
     out.lifting_wheel = loads.lifting_wheel;
@@ -73,16 +73,15 @@ RoverStepStatus load_stage(const PreparedParameters& prepared, const RoverTeleme
 
 /// Stage 4: the corrections at each load into `corr` (kept for the monitor,
 /// which needs the same C(W) for Eq. 15 and I_max), then the drawbar pulls
-/// into `out`.
+/// into `out`. `loads` is stage 2's ok result (it also carries sin(pitch)).
 RoverStepStatus drawbar_stage(const PreparedParameters& prepared, const RoverTelemetry& t,
-                              CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept {
+                              const WheelLoadResult& loads, CorrectionResult (&corr)[kWheelCount],
+                              RoverStepOutput& out) noexcept {
   DrawbarInput in{};
   in.accel_mps2 = out.accel_mps2;
   in.pitch_rad = t.attitude.pitch_rad;
   in.slip_known = out.slip_known;
   in.slip = out.slip;
-  WheelLoadResult loads{};
-  loads.status = WheelLoadStatus::ok;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     corr[i] = corrections_at(prepared.table().correction, prepared.correction_divisors(), out.load_n[i]);
     if (corr[i].status != EstimateStatus::ok) {
@@ -90,7 +89,6 @@ RoverStepStatus drawbar_stage(const PreparedParameters& prepared, const RoverTel
       return RoverStepStatus::drawbar_failed;
     }
     in.dp_max_ratio[i] = corr[i].dp_max_ratio;
-    loads.load_n[i] = out.load_n[i];
   }
   const DrawbarResult dp = drawbar_pulls(prepared, loads, in);
   out.drawbar_status = dp.status;
@@ -206,7 +204,8 @@ void RoverStep::assess(const RoverTelemetry& t, const PreparedParameters& prepar
 RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParameters& prepared,
                                    CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept {
   // 2. Wheel loads.
-  RoverStepStatus status = load_stage(prepared, t, out);
+  WheelLoadResult loads{};
+  RoverStepStatus status = load_stage(prepared, t, loads, out);
   // 3. Motion. Kept up to date even when the loads failed, so that the speed
   //    difference is ready on the next good cycle.
   if (!motion_in_range(t)) {
@@ -220,7 +219,7 @@ RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParame
     return RoverStepStatus::no_acceleration;
   }
   // 4. DP_max/W and the drawbar pulls.
-  status = drawbar_stage(prepared, t, corr, out);
+  status = drawbar_stage(prepared, t, loads, corr, out);
   return status;
 }
 

@@ -147,10 +147,13 @@ SideContacts side_contacts(const Links& l, AngleRad rocker_rad, AngleRad bogie_r
   const fx::Q3_28 rocker = rocker_rad.q();
   // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
   const fx::Q3_28 bogie_abs = fx::add(rocker, bogie_rad.q(), st);
-  const W cr = wide(fx::cos(rocker, st), st);
-  const W sr = wide(fx::sin(rocker, st), st);
-  const W cb = wide(fx::cos(bogie_abs, st), st);
-  const W sb = wide(fx::sin(bogie_abs, st), st);
+  // One range reduction per angle (fx::sincos), the bits of sin and cos apart.
+  const fx::SinCos rocker_sc = fx::sincos(rocker, st);
+  const fx::SinCos bogie_sc = fx::sincos(bogie_abs, st);
+  const W cr = wide(rocker_sc.cos, st);
+  const W sr = wide(rocker_sc.sin, st);
+  const W cb = wide(bogie_sc.cos, st);
+  const W sb = wide(bogie_sc.sin, st);
   SideContacts c{};
   c.pivot_b = rotate(l.rocker_bogie, cr, sr, st);
   c.front = plus(rotate(l.rocker_front, cr, sr, st), l.down, st);
@@ -161,6 +164,7 @@ SideContacts side_contacts(const Links& l, AngleRad rocker_rad, AngleRad bogie_r
 
 /// Gravity's direction in the body frame (section 3.2).
 struct GravityFrame {
+  fx::Q1_30 sin_pitch;  ///< kept for the drawbar pulls (WheelLoadResult::sin_pitch)
   W normal_fraction;  ///< cos(pitch) cos(roll)
   W kx;               ///< tan(pitch) / cos(roll)
   W ky;               ///< tan(roll)
@@ -207,13 +211,16 @@ WheelLoadStatus check_inputs(const RoverParams& params, const RoverAttitude& att
 
 
 GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexcept {
-  const W sin_pitch = wide(fx::sin(attitude.pitch_rad.q(), st), st);
-  const W cos_pitch = wide(fx::cos(attitude.pitch_rad.q(), st), st);
-  const fx::Q1_30 sin_roll = fx::sin(attitude.roll_rad.q(), st);
-  const fx::Q1_30 cos_roll_q = fx::cos(attitude.roll_rad.q(), st);
+  const fx::SinCos pitch_sc = fx::sincos(attitude.pitch_rad.q(), st);
+  const fx::SinCos roll_sc = fx::sincos(attitude.roll_rad.q(), st);
+  const W sin_pitch = wide(pitch_sc.sin, st);
+  const W cos_pitch = wide(pitch_sc.cos, st);
+  const fx::Q1_30 sin_roll = roll_sc.sin;
+  const fx::Q1_30 cos_roll_q = roll_sc.cos;
   const W cos_roll = wide(cos_roll_q, st);
   // cos(pitch) cos(roll) >= cos^2(1.05 rad) > 0.24: the divisions are safe.
   GravityFrame g{};
+  g.sin_pitch = pitch_sc.sin;
   g.normal_fraction = fx::mul(cos_pitch, cos_roll, st);
   g.kx = fx::div(sin_pitch, g.normal_fraction, st);
   // Directly from Q1.30: the same quotient as of the operands widened to
@@ -291,7 +298,7 @@ bool support_forces(const SideLevers (&side)[kSideCount], const Body& body, W (&
 
 /// The normal loads from the support forces: tip_over when one is negative.
 WheelLoadResult normal_loads(const W (&support)[kWheelCount], const Body& body, const GravityFrame& g,
-                             fx::Status& st) noexcept {
+                             AngleRad pitch_rad, fx::Status& st) noexcept {
   std::uint32_t lowest = 0U;
   for (std::uint32_t i = 1U; i < kWheelCount; ++i) {
     if (support[i] < support[lowest]) {
@@ -308,6 +315,8 @@ WheelLoadResult normal_loads(const W (&support)[kWheelCount], const Body& body, 
     r.load_n[i] = WheelLoadN{fx::rescale<LoadQ>(fx::mul(support[i], g.normal_fraction, st), st)};
   }
   r.weight_normal_n = WheelLoadN{fx::rescale<LoadQ>(fx::mul(body.weight_n, g.normal_fraction, st), st)};
+  r.pitch_rad = pitch_rad;
+  r.sin_pitch = g.sin_pitch;
   if (!st.ok()) {
     // Defensive, unreachable after the tip-over check (docs/coverage.md).
     return failed(WheelLoadStatus::overflow);  // GCOVR_EXCL_LINE
@@ -335,7 +344,7 @@ WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& a
   if (!st.ok()) {
     return failed(WheelLoadStatus::overflow);
   }
-  return normal_loads(support, body, g, st);
+  return normal_loads(support, body, g, attitude.pitch_rad, st);
 }
 
 }  // namespace

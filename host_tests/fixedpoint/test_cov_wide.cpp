@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <random>
 
 #include "sinkwatch/fixedpoint/wide.hpp"
 
@@ -118,6 +119,42 @@ TEST(FxWide, LongDivisionByATwoWordDivisorIsExact) {
   const wide::DivMod<U128> qr3 = wide::divmod(small, U128{2U, 0U});
   EXPECT_TRUE(same(qr3.quotient, U128{0U, 0U}));
   EXPECT_TRUE(same(qr3.remainder, small));
+}
+
+// The single-word-divisor loop starts past the dividend's top
+// bit_length(den) - 1 bits (their quotient bits are zero): q d + r == n and
+// r < d (which fix q and r) for 400,000 dividends of every length from 65 to
+// 128 bits and divisors of every length from 1 to 64 bits: random, powers of
+// two, all ones, and just above a power of two. Portable (no __int128), so
+// it runs on ARM32 too.
+TEST(FxWide, LongDivisionSkippingTheLeadingZeroQuotientBitsIsExact) {
+  std::mt19937_64 rng(15U);
+  std::uint32_t compared = 0U;
+  for (std::uint32_t k = 0U; k < 400000U; ++k) {
+    const std::uint32_t n_len = 65U + static_cast<std::uint32_t>(rng() % 64U);  // 65..128
+    const std::uint32_t d_len = 1U + (k % 64U);
+    // The top word has n_len - 64 bits, its leading one set.
+    const std::uint64_t top = (rng() >> (128U - n_len)) | (std::uint64_t{1U} << (n_len - 65U));
+    const U128 num{top, rng()};
+    std::uint64_t d = (rng() >> (64U - d_len)) | (std::uint64_t{1U} << (d_len - 1U));
+    const std::uint32_t mode = (k / 64U) % 4U;
+    if (mode == 1U) {
+      d = std::uint64_t{1U} << (d_len - 1U);  // a power of two
+    } else if (mode == 2U) {
+      d = (d_len == 64U) ? kAllOnes : ((std::uint64_t{1U} << d_len) - 1U);  // all ones
+    } else if ((mode == 3U) && (d_len > 1U)) {
+      d = (std::uint64_t{1U} << (d_len - 1U)) + 1U;  // just above a power of two
+    } else {
+      // random, as drawn
+    }
+    const U128 den{0U, d};
+    const wide::DivMod<U128> qr = wide::divmod(num, den);
+    // The quotient times d stays below 2^128: no partial product is lost.
+    ASSERT_EQ(wide::mul_full(qr.quotient.hi, d).hi, 0U) << "k " << k;
+    ASSERT_TRUE(division_identity(num, den, qr)) << "k " << k;
+    ++compared;
+  }
+  EXPECT_EQ(compared, 400000U);
 }
 
 }  // namespace

@@ -70,6 +70,27 @@ TEST(RoverDrawbarPull, SharesBalanceTheSlopeAndSplitByLoad) {
   EXPECT_GT(d(r.dp_n[2]), d(r.dp_n[0]));
 }
 
+// The pulls take sin(pitch) from the loads when they were computed at the
+// drawbar's pitch (the step's case): the same bits as the sine computed
+// afresh, at pitches over the attitude range, uphill and downhill.
+TEST(RoverDrawbarPull, SineFromTheLoadsGivesTheSameBitsAsComputedAfresh) {
+  for (int k = -20; k <= 20; ++k) {
+    const double pitch = 0.0137 * k;
+    const Scene s = scene(pitch, 0.03);
+    ASSERT_EQ(s.loads.status, flight::WheelLoadStatus::ok) << pitch;
+    const flight::DrawbarInput in = input(0.01, pitch, 0.6);
+    ASSERT_EQ(s.loads.pitch_rad, in.pitch_rad);
+    flight::WheelLoadResult without_sine = s.loads;
+    without_sine.pitch_rad = flight::AngleRad::zero();
+    without_sine.sin_pitch = sinkwatch::fx::Q1_30::zero();
+    const flight::DrawbarResult reused = flight::drawbar_pulls(s.params, s.loads, in);
+    const flight::DrawbarResult fresh = flight::drawbar_pulls(s.params, without_sine, in);
+    ASSERT_EQ(reused.status, fresh.status) << pitch;
+    EXPECT_EQ(reused.total_n, fresh.total_n) << pitch;
+    for (std::size_t i = 0; i < 6; ++i) EXPECT_EQ(reused.dp_n[i], fresh.dp_n[i]) << pitch << " wheel " << i;
+  }
+}
+
 TEST(RoverDrawbarPull, DecelerationDownhillGivesNegativePull) {
   const Scene s = scene(-0.15, 0.0);
   const flight::DrawbarResult r = flight::drawbar_pulls(s.params, s.loads, input(-0.01, -0.15, 0.5));

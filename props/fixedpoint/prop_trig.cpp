@@ -1,4 +1,4 @@
-// prop_trig.cpp: sin, cos, asin, acos and entry_angle against long double
+// prop_trig.cpp: sin, cos, sincos, asin, acos and entry_angle against long double
 // references (glibc's sinl, cosl, asinl, acosl: correctly reduced, within a
 // few units of 2^-64 relative, i.e. ~1e-9 output LSB), over the whole
 // representable range of several input formats, with the edges weighted in,
@@ -85,6 +85,20 @@ std::string check_sin_cos(QT x, Worst* worst = nullptr) {
   e = check_value("cos", cs, s2, cosl(value_of(x)), input_name(x), worst);
   if (!e.empty()) {
     return e;
+  }
+  // sincos: the same bound against the references, and bit for bit the
+  // values of sin() and cos() apart (one reduction shared).
+  fx::Status s4;
+  const fx::SinCos sc = fx::sincos(x, s4);
+  e = check_value("sincos.sin", sc.sin, s4, sinl(value_of(x)), input_name(x), worst);
+  if (e.empty()) {
+    e = check_value("sincos.cos", sc.cos, s4, cosl(value_of(x)), input_name(x), worst);
+  }
+  if (!e.empty()) {
+    return e;
+  }
+  if ((sc.sin != sn) || (sc.cos != cs)) {
+    return "sincos differs from sin/cos at " + input_name(x);
   }
   // Symmetry, bit for bit: sin odd, cos even (sign-magnitude evaluation).
   if (x.raw() != std::numeric_limits<typename QT::storage_type>::min()) {

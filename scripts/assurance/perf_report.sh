@@ -8,9 +8,11 @@
 #     cortex-m0:  arm-none-eabi-g++ -mcpu=cortex-m0 -mthumb -mfloat-abi=soft
 #                 -Os (the firmware-m0 flags), run under qemu-arm with one
 #                 instruction per translation block and no chaining, every
-#                 executed instruction logged: (count(N) - count(0)) / N.
+#                 executed instruction logged: (count(N) - count(0)) / N;
+#     cortex-m4:  the same with -mcpu=cortex-m4 -mthumb -mfloat-abi=hard
+#                 -mfpu=fpv4-sp-d16 (the firmware-m4f flags, preset perf-m4).
 #   code_size, stack: arm-none-eabi-size and scripts/stack_report.py on the
-#                 Cortex-M0 build (build/perf-m0, same flags as firmware-m0).
+#                 Cortex-M0 and M4 builds (build/perf-m0, build/perf-m4).
 #
 #   scripts/assurance/perf_report.sh [--host-bin DIR]
 # DIR holds perf_step_fixed and perf_step_double (the perf-report target
@@ -53,53 +55,69 @@ else
   echo "note: valgrind missing: host figures skipped"
 fi
 
-# ---- Cortex-M0 under qemu-arm
+# ---- Cortex-M0 and Cortex-M4 under qemu-arm
 if ! command -v arm-none-eabi-g++ >/dev/null || ! command -v qemu-arm >/dev/null; then
-  echo "note: arm-none-eabi-g++ or qemu-arm missing: Cortex-M0 figures skipped"
+  echo "note: arm-none-eabi-g++ or qemu-arm missing: Cortex-M figures skipped"
   exit 0
 fi
-cmake --preset perf-m0 >/dev/null
-cmake --build --preset perf-m0 >/dev/null
-m0=build/perf-m0
-out_dir=$m0/perf
-mkdir -p "$out_dir"
-cpu="-mcpu=cortex-m0 -mthumb -mfloat-abi=soft -Os -ffunction-sections -fdata-sections -Wno-psabi"
-inc="-Iflight/include -Ifixedpoint/include -Iground/reference/include"
-ld="-nostartfiles --specs=nosys.specs -Wl,--gc-sections"
-flight_lib="$m0/flight/libsinkwatch_flight.a"
-arm-none-eabi-gcc $cpu -c perf/arm_start.c -o "$out_dir/arm_start.o"
-# The double reference is host code (exceptions, std::vector): built as it is.
-ref_objs=()
-for src in ground/reference/src/*.cpp; do
-  obj="$out_dir/$(basename "$src" .cpp).o"
-  arm-none-eabi-g++ -std=c++17 $cpu $inc -c "$src" -o "$obj"
-  ref_objs+=("$obj")
-done
-
 count_insns() {  # elf -> executed instructions
   qemu-arm -cpu any -singlestep -d exec,nochain "$1" 2>&1 >/dev/null | grep -c '^Trace'
 }
 
-for impl in fixed double; do
-  extra=(-fno-exceptions -fno-rtti)
-  objs=()
-  if [ "$impl" = double ]; then extra=(-DPERF_IMPL_DOUBLE); objs=("${ref_objs[@]}"); fi
-  for n in 0 "$arm_steps"; do
-    elf="$out_dir/perf_step_${impl}_$n.elf"
-    arm-none-eabi-g++ -std=c++17 $cpu $inc "${extra[@]}" -DPERF_BARE_METAL -DPERF_STEPS="$n" \
-      perf/perf_step.cpp "${objs[@]}" "$out_dir/arm_start.o" "$flight_lib" $ld -o "$elf" 2>&1 \
-      | grep -vE 'is not implemented and will always fail|^collect2|in function|warning: .*has a LOAD segment' || true
+# One core: its preset (the flight library as its firmware preset builds it),
+# the driver's CPU flags, the target name printed.
+arm_target() {
+  local preset=$1 target=$2 cpu=$3
+  local dir=build/$preset
+  cmake --preset "$preset" >/dev/null
+  cmake --build --preset "$preset" >/dev/null
+  local out_dir=$dir/perf
+  mkdir -p "$out_dir"
+  local inc="-Iflight/include -Ifixedpoint/include -Iground/reference/include"
+  local ld="-nostartfiles --specs=nosys.specs -Wl,--gc-sections"
+  local flight_lib="$dir/flight/libsinkwatch_flight.a"
+  # shellcheck disable=SC2086
+  arm-none-eabi-gcc $cpu -c perf/arm_start.c -o "$out_dir/arm_start.o"
+  # The double reference is host code (exceptions, std::vector): built as it is.
+  local ref_objs=() src obj
+  for src in ground/reference/src/*.cpp; do
+    obj="$out_dir/$(basename "$src" .cpp).o"
+    # shellcheck disable=SC2086
+    arm-none-eabi-g++ -std=c++17 $cpu $inc -c "$src" -o "$obj"
+    ref_objs+=("$obj")
   done
-  out=$(qemu-arm -cpu any "$out_dir/perf_step_${impl}_${arm_steps}.elf")
-  check_full "$out" "$arm_steps" "cortex-m0 $impl"
-  with=$(count_insns "$out_dir/perf_step_${impl}_${arm_steps}.elf")
-  without=$(count_insns "$out_dir/perf_step_${impl}_0.elf")
-  echo "instructions_per_step target=cortex-m0 impl=$impl value=$(( (with - without) / arm_steps ))"
-  arm-none-eabi-size "$out_dir/perf_step_${impl}_${arm_steps}.elf" |
-    awk -v i="$impl" 'NR==2 {printf "code_size target=cortex-m0 impl=%s driver_text=%d data=%d bss=%d (whole program: driver, libraries, newlib)\n", i, $1, $2, $3}'
-done
+  local impl n elf out with without extra objs
+  for impl in fixed double; do
+    extra=(-fno-exceptions -fno-rtti)
+    objs=()
+    if [ "$impl" = double ]; then extra=(-DPERF_IMPL_DOUBLE); objs=("${ref_objs[@]}"); fi
+    for n in 0 "$arm_steps"; do
+      elf="$out_dir/perf_step_${impl}_$n.elf"
+      # shellcheck disable=SC2086
+      arm-none-eabi-g++ -std=c++17 $cpu $inc "${extra[@]}" -DPERF_BARE_METAL -DPERF_STEPS="$n" \
+        perf/perf_step.cpp "${objs[@]}" "$out_dir/arm_start.o" "$flight_lib" $ld -o "$elf" 2>&1 \
+        | grep -vE 'is not implemented and will always fail|^collect2|in function|warning: .*has a LOAD segment' || true
+    done
+    out=$(qemu-arm -cpu any "$out_dir/perf_step_${impl}_${arm_steps}.elf")
+    check_full "$out" "$arm_steps" "$target $impl"
+    with=$(count_insns "$out_dir/perf_step_${impl}_${arm_steps}.elf")
+    without=$(count_insns "$out_dir/perf_step_${impl}_0.elf")
+    echo "instructions_per_step target=$target impl=$impl value=$(( (with - without) / arm_steps ))"
+    arm-none-eabi-size "$out_dir/perf_step_${impl}_${arm_steps}.elf" |
+      awk -v i="$impl" -v t="$target" 'NR==2 {printf "code_size target=%s impl=%s driver_text=%d data=%d bss=%d (whole program: driver, libraries, newlib)\n", t, i, $1, $2, $3}'
+  done
+}
+
+opt="-Os -ffunction-sections -fdata-sections -Wno-psabi"
+arm_target perf-m0 cortex-m0 "-mcpu=cortex-m0 -mthumb -mfloat-abi=soft $opt"
+# The M4F's FPU is single precision: the double twin is soft-float there too.
+arm_target perf-m4 cortex-m4 "-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 $opt"
+m0=build/perf-m0
 
 # Flight library text (what a firmware links at most) and the stack of a cycle.
 arm-none-eabi-size -t "$m0/flight/libsinkwatch_flight.a" | awk '/\(TOTALS\)/ {printf "code_size target=cortex-m0 impl=fixed library=libsinkwatch_flight.a text=%d data=%d bss=%d\n", $1, $2, $3}'
 arm-none-eabi-size "$m0/flight/firmware/sinkwatch_heap_trap" | awk 'NR==2 {printf "image_size target=cortex-m0 heap_trap_text=%d data=%d bss=%d\n", $1, $2, $3}'
 python3 scripts/stack_report.py "$m0" cortex-m0 sw_step main
+m4=build/perf-m4
+arm-none-eabi-size -t "$m4/flight/libsinkwatch_flight.a" | awk '/\(TOTALS\)/ {printf "code_size target=cortex-m4 impl=fixed library=libsinkwatch_flight.a text=%d data=%d bss=%d\n", $1, $2, $3}'
+python3 scripts/stack_report.py "$m4" cortex-m4 sw_step

@@ -26,6 +26,9 @@
 //
 // There are deliberately no arithmetic operators: an operator has nowhere to
 // report an overflow. Comparisons, which cannot fail, are operators.
+//
+// The sign-magnitude helpers, the raw accessors and two comparisons are
+// SW_FX_INLINE (inline.hpp, wide.hpp): forced inline for the -Os firmware.
 #ifndef SINKWATCH_FIXEDPOINT_Q_HPP
 #define SINKWATCH_FIXEDPOINT_Q_HPP
 
@@ -33,6 +36,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
 
@@ -65,7 +69,7 @@ struct WideFor {
 
 /// |x| without overflow, also for the most negative value.
 template <typename Storage>
-constexpr std::uint64_t magnitude(Storage x) noexcept {
+SW_FX_INLINE constexpr std::uint64_t magnitude(Storage x) noexcept {
   if (x >= 0) {
     return static_cast<std::uint64_t>(x);
   }
@@ -75,14 +79,14 @@ constexpr std::uint64_t magnitude(Storage x) noexcept {
 
 /// Largest magnitude of a result with the given sign: 2^(N-1) - 1 or 2^(N-1).
 template <typename Storage>
-constexpr std::uint64_t magnitude_limit(bool negative) noexcept {
+SW_FX_INLINE constexpr std::uint64_t magnitude_limit(bool negative) noexcept {
   const std::uint64_t top = std::uint64_t{1U} << (StorageTraits<Storage>::bits - 1U);
   return negative ? top : (top - 1U);
 }
 
 /// Builds a raw value from sign and magnitude, saturating on overflow.
 template <typename Storage, typename W>
-constexpr Storage from_sign_magnitude(bool negative, const W& mag, Status& status) noexcept {
+SW_FX_INLINE constexpr Storage from_sign_magnitude(bool negative, const W& mag, Status& status) noexcept {
   const W limit = wide::from_u64<W>(magnitude_limit<Storage>(negative));
   if (wide::less(limit, mag)) {
     status.raise(Flag::overflow);
@@ -103,7 +107,7 @@ constexpr Storage from_sign_magnitude(bool negative, const W& mag, Status& statu
 /// shift that would lose bits sets `overflowed` (the result is then beyond
 /// every format this library has).
 template <typename W>
-constexpr W scale_magnitude(const W& mag, std::int32_t shift, bool& overflowed) noexcept {
+SW_FX_INLINE constexpr W scale_magnitude(const W& mag, std::int32_t shift, bool& overflowed) noexcept {
   overflowed = false;
   if (shift > 0) {
     const std::uint32_t s = static_cast<std::uint32_t>(shift);
@@ -129,7 +133,7 @@ constexpr W scale_magnitude(const W& mag, std::int32_t shift, bool& overflowed) 
 }
 
 template <typename Storage>
-constexpr bool is_negative(Storage x) noexcept {
+SW_FX_INLINE constexpr bool is_negative(Storage x) noexcept {
   return x < 0;
 }
 
@@ -153,12 +157,12 @@ class Q {
 
   constexpr Q() noexcept = default;
 
-  [[nodiscard]] static constexpr Q from_raw(Storage raw_bits) noexcept { return Q(raw_bits); }
-  [[nodiscard]] static constexpr Q zero() noexcept { return Q(0); }
+  [[nodiscard]] SW_FX_INLINE static constexpr Q from_raw(Storage raw_bits) noexcept { return Q(raw_bits); }
+  [[nodiscard]] SW_FX_INLINE static constexpr Q zero() noexcept { return Q(0); }
   [[nodiscard]] static constexpr Q max() noexcept { return Q(std::numeric_limits<Storage>::max()); }
   [[nodiscard]] static constexpr Q min() noexcept { return Q(std::numeric_limits<Storage>::min()); }
   /// The smallest positive value, 2^-F: one LSB.
-  [[nodiscard]] static constexpr Q lsb() noexcept { return Q(1); }
+  [[nodiscard]] SW_FX_INLINE static constexpr Q lsb() noexcept { return Q(1); }
   /// The value 1; raises overflow (and returns max) when F leaves no integer bit.
   [[nodiscard]] static constexpr Q one(Status& status) noexcept { return from_int(1, status); }
 
@@ -177,13 +181,13 @@ class Q {
     return Q(detail::from_sign_magnitude<Storage>(negative, mag, status));
   }
 
-  [[nodiscard]] constexpr Storage raw() const noexcept { return raw_; }
+  [[nodiscard]] SW_FX_INLINE constexpr Storage raw() const noexcept { return raw_; }
 
   friend constexpr bool operator==(Q a, Q b) noexcept { return a.raw_ == b.raw_; }
   friend constexpr bool operator!=(Q a, Q b) noexcept { return a.raw_ != b.raw_; }
-  friend constexpr bool operator<(Q a, Q b) noexcept { return a.raw_ < b.raw_; }
+  SW_FX_INLINE friend constexpr bool operator<(Q a, Q b) noexcept { return a.raw_ < b.raw_; }
   friend constexpr bool operator<=(Q a, Q b) noexcept { return a.raw_ <= b.raw_; }
-  friend constexpr bool operator>(Q a, Q b) noexcept { return a.raw_ > b.raw_; }
+  SW_FX_INLINE friend constexpr bool operator>(Q a, Q b) noexcept { return a.raw_ > b.raw_; }
   friend constexpr bool operator>=(Q a, Q b) noexcept { return a.raw_ >= b.raw_; }
 
  private:

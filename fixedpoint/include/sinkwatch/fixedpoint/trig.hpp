@@ -1,4 +1,4 @@
-// trig.hpp: sin, cos, asin, acos, atan2 and the wheel entry angle in Q format.
+// trig.hpp: sin, cos, sincos, asin, acos, atan2 and the wheel entry angle in Q format.
 //
 // The entry angle is the paper's geometry cos theta1 = 1 - z/r (the angle at
 // which the soil first touches a wheel of radius r sunk by z; the upper bound
@@ -144,9 +144,9 @@ constexpr std::uint64_t square_q31(std::uint64_t m) noexcept {
   return (sum + (std::uint64_t{1U} << 30U)) >> 31U;
 }
 
-/// |sin(pi/4 v)| * 2^30 rounded, for v = m * 2^-61 in [0, 1].
-constexpr std::uint64_t sin_kernel(std::uint64_t m) noexcept {
-  const std::uint64_t w = square_q31(m);
+/// |sin(pi/4 v)| * 2^30 rounded, for v = m * 2^-61 in [0, 1] and
+/// w = square_q31(m) (computed once when cos_kernel needs it too).
+constexpr std::uint64_t sin_kernel(std::uint64_t m, std::uint64_t w) noexcept {
   // P(w) = a1 - w (a3 - w (a5 - w (a7 - w (a9 - w a11)))): every bracket is
   // positive (a_k > a_(k+2) and w <= 1), so the Horner steps stay unsigned.
   std::uint64_t b = k_sin_a[5];
@@ -162,9 +162,8 @@ constexpr std::uint64_t sin_kernel(std::uint64_t m) noexcept {
   return (t + (std::uint64_t{1U} << 32U)) >> 33U;
 }
 
-/// cos(pi/4 v) * 2^30 rounded, for v = m * 2^-61 in [0, 1].
-constexpr std::uint64_t cos_kernel(std::uint64_t m) noexcept {
-  const std::uint64_t w = square_q31(m);
+/// cos(pi/4 v) * 2^30 rounded, for w = square_q31(m), v = m * 2^-61 in [0, 1].
+constexpr std::uint64_t cos_kernel(std::uint64_t w) noexcept {
   std::uint64_t b = k_cos_b[5];
   for (std::uint32_t step = 0U; step < 5U; ++step) {
     const std::uint32_t k = 4U - step;
@@ -172,6 +171,20 @@ constexpr std::uint64_t cos_kernel(std::uint64_t m) noexcept {
   }
   // cos = 1 - w Q, Q = b in units 2^-33: w Q in 2^-30 units is w b 2^-34.
   return (std::uint64_t{1U} << 30U) - mul_round(w, b, 34U);
+}
+
+/// |angle| = q pi/2 + r: sin is +-sin(r) in quadrants 0 and 2, +-cos(r) in
+/// 1 and 3, and odd in the angle.
+constexpr bool sin_negative(const Reduced& r, bool angle_negative) noexcept {
+  const bool odd_quadrant = (r.quadrant & 1U) != 0U;
+  const bool negative = odd_quadrant ? (r.quadrant == 3U) : (r.negative != (r.quadrant == 2U));
+  return negative != angle_negative;
+}
+
+/// cos is +-cos(r) in quadrants 0 and 2, -+sin(r) in 1 and 3, and even.
+constexpr bool cos_negative(const Reduced& r) noexcept {
+  const bool odd_quadrant = (r.quadrant & 1U) != 0U;
+  return odd_quadrant ? (r.negative != (r.quadrant == 1U)) : (r.quadrant == 2U);
 }
 
 /// Q1_30 from a sign and a magnitude <= 2^30.
@@ -247,14 +260,10 @@ template <typename S, std::int32_t F>
 [[nodiscard]] constexpr Q1_30 sin(Q<S, F> angle_rad, Status& status) noexcept {
   static_cast<void>(status);
   const detail::trig::Reduced r = detail::trig::reduce(detail::trig::turns<F>(detail::magnitude(angle_rad.raw())));
-  // |angle| = q pi/2 + r: sin is +-sin(r) in quadrants 0 and 2, +-cos(r) in 1 and 3.
+  const std::uint64_t w = detail::trig::square_q31(r.m);
   const bool odd_quadrant = (r.quadrant & 1U) != 0U;
-  const std::uint64_t mag = odd_quadrant ? detail::trig::cos_kernel(r.m) : detail::trig::sin_kernel(r.m);
-  bool negative = odd_quadrant ? (r.quadrant == 3U) : (r.negative != (r.quadrant == 2U));
-  if (angle_rad.raw() < 0) {
-    negative = !negative;
-  }
-  return detail::trig::signed_q1_30(negative, mag);
+  const std::uint64_t mag = odd_quadrant ? detail::trig::cos_kernel(w) : detail::trig::sin_kernel(r.m, w);
+  return detail::trig::signed_q1_30(detail::trig::sin_negative(r, angle_rad.raw() < 0), mag);
 }
 
 /// cos(angle_rad) in Q1_30, within 1 LSB of the exact cosine of the exact
@@ -264,11 +273,34 @@ template <typename S, std::int32_t F>
 [[nodiscard]] constexpr Q1_30 cos(Q<S, F> angle_rad, Status& status) noexcept {
   static_cast<void>(status);
   const detail::trig::Reduced r = detail::trig::reduce(detail::trig::turns<F>(detail::magnitude(angle_rad.raw())));
-  // cos is +-cos(r) in quadrants 0 and 2, -+sin(r) in 1 and 3.
+  const std::uint64_t w = detail::trig::square_q31(r.m);
   const bool odd_quadrant = (r.quadrant & 1U) != 0U;
-  const std::uint64_t mag = odd_quadrant ? detail::trig::sin_kernel(r.m) : detail::trig::cos_kernel(r.m);
-  const bool negative = odd_quadrant ? (r.negative != (r.quadrant == 1U)) : (r.quadrant == 2U);
-  return detail::trig::signed_q1_30(negative, mag);
+  const std::uint64_t mag = odd_quadrant ? detail::trig::sin_kernel(r.m, w) : detail::trig::cos_kernel(w);
+  return detail::trig::signed_q1_30(detail::trig::cos_negative(r), mag);
+}
+
+/// The sine and cosine of one angle.
+struct SinCos {
+  Q1_30 sin;
+  Q1_30 cos;
+};
+
+/// sin(angle_rad) and cos(angle_rad) together: one range reduction, one
+/// square and one evaluation of each kernel, where sin() and cos() apart
+/// reduce twice. Bit for bit the values of sin() and cos() (the same
+/// reduction, kernels and signs), so within 1 LSB of the exact values for
+/// every representable angle. Cannot fail.
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr SinCos sincos(Q<S, F> angle_rad, Status& status) noexcept {
+  static_cast<void>(status);
+  const detail::trig::Reduced r = detail::trig::reduce(detail::trig::turns<F>(detail::magnitude(angle_rad.raw())));
+  const std::uint64_t w = detail::trig::square_q31(r.m);
+  const std::uint64_t sin_r = detail::trig::sin_kernel(r.m, w);
+  const std::uint64_t cos_r = detail::trig::cos_kernel(w);
+  const bool odd_quadrant = (r.quadrant & 1U) != 0U;
+  return SinCos{detail::trig::signed_q1_30(detail::trig::sin_negative(r, angle_rad.raw() < 0),
+                                           odd_quadrant ? cos_r : sin_r),
+                detail::trig::signed_q1_30(detail::trig::cos_negative(r), odd_quadrant ? sin_r : cos_r)};
 }
 
 /// asin(x) in radians, Q3_28, within 1 LSB (2^-28) of the exact value.

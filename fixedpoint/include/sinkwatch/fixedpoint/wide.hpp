@@ -7,12 +7,21 @@
 // halves. Every function here is overloaded for uint64_t and U128 so the Q
 // operations are written once for both.
 //
+// The small helpers (compare, add, subtract, shift, bit length, the 32x32
+// and 64x64-bit products) are SW_FX_INLINE (inline.hpp): forced inline in
+// the -Os firmware builds, where GCC otherwise keeps them as calls and a
+// shift by a constant becomes a call plus a library shift; plain inline in
+// the coverage build. The long divisions (divmod) stay calls: inlined at
+// every use they would grow the code for about 2 % of the cycle.
+//
 // All shifts are on unsigned operands (MISRA C++:2023 rule 7.0.4) and every
 // shift count is checked against the width before it is used.
 #ifndef SINKWATCH_FIXEDPOINT_WIDE_HPP
 #define SINKWATCH_FIXEDPOINT_WIDE_HPP
 
 #include <cstdint>
+
+#include "sinkwatch/fixedpoint/inline.hpp"
 
 namespace sinkwatch {
 namespace fx {
@@ -24,40 +33,40 @@ struct U128 {
   std::uint64_t lo;
 };
 
-constexpr std::uint32_t width(std::uint64_t) noexcept { return 64U; }
-constexpr std::uint32_t width(const U128&) noexcept { return 128U; }
+SW_FX_INLINE constexpr std::uint32_t width(std::uint64_t) noexcept { return 64U; }
+SW_FX_INLINE constexpr std::uint32_t width(const U128&) noexcept { return 128U; }
 
-constexpr U128 make_u128(std::uint64_t value) noexcept { return U128{0U, value}; }
+SW_FX_INLINE constexpr U128 make_u128(std::uint64_t value) noexcept { return U128{0U, value}; }
 
-constexpr bool equal(std::uint64_t a, std::uint64_t b) noexcept { return a == b; }
-constexpr bool equal(const U128& a, const U128& b) noexcept { return (a.hi == b.hi) && (a.lo == b.lo); }
+SW_FX_INLINE constexpr bool equal(std::uint64_t a, std::uint64_t b) noexcept { return a == b; }
+SW_FX_INLINE constexpr bool equal(const U128& a, const U128& b) noexcept { return (a.hi == b.hi) && (a.lo == b.lo); }
 
-constexpr bool less(std::uint64_t a, std::uint64_t b) noexcept { return a < b; }
-constexpr bool less(const U128& a, const U128& b) noexcept {
+SW_FX_INLINE constexpr bool less(std::uint64_t a, std::uint64_t b) noexcept { return a < b; }
+SW_FX_INLINE constexpr bool less(const U128& a, const U128& b) noexcept {
   return (a.hi < b.hi) || ((a.hi == b.hi) && (a.lo < b.lo));
 }
 
-constexpr bool is_zero(std::uint64_t a) noexcept { return a == 0U; }
-constexpr bool is_zero(const U128& a) noexcept { return (a.hi == 0U) && (a.lo == 0U); }
+SW_FX_INLINE constexpr bool is_zero(std::uint64_t a) noexcept { return a == 0U; }
+SW_FX_INLINE constexpr bool is_zero(const U128& a) noexcept { return (a.hi == 0U) && (a.lo == 0U); }
 
 /// a + b; the caller guarantees no carry out of the top bit.
-constexpr std::uint64_t add(std::uint64_t a, std::uint64_t b) noexcept { return a + b; }
-constexpr U128 add(const U128& a, const U128& b) noexcept {
+SW_FX_INLINE constexpr std::uint64_t add(std::uint64_t a, std::uint64_t b) noexcept { return a + b; }
+SW_FX_INLINE constexpr U128 add(const U128& a, const U128& b) noexcept {
   const std::uint64_t lo = a.lo + b.lo;
   const std::uint64_t carry = (lo < a.lo) ? 1U : 0U;
   return U128{a.hi + b.hi + carry, lo};
 }
 
 /// a - b; the caller guarantees a >= b.
-constexpr std::uint64_t sub(std::uint64_t a, std::uint64_t b) noexcept { return a - b; }
-constexpr U128 sub(const U128& a, const U128& b) noexcept {
+SW_FX_INLINE constexpr std::uint64_t sub(std::uint64_t a, std::uint64_t b) noexcept { return a - b; }
+SW_FX_INLINE constexpr U128 sub(const U128& a, const U128& b) noexcept {
   const std::uint64_t borrow = (a.lo < b.lo) ? 1U : 0U;
   return U128{a.hi - b.hi - borrow, a.lo - b.lo};
 }
 
 /// a >> n; n >= width gives 0.
-constexpr std::uint64_t shr(std::uint64_t a, std::uint32_t n) noexcept { return (n >= 64U) ? 0U : (a >> n); }
-constexpr U128 shr(const U128& a, std::uint32_t n) noexcept {
+SW_FX_INLINE constexpr std::uint64_t shr(std::uint64_t a, std::uint32_t n) noexcept { return (n >= 64U) ? 0U : (a >> n); }
+SW_FX_INLINE constexpr U128 shr(const U128& a, std::uint32_t n) noexcept {
   if (n >= 128U) {
     return U128{0U, 0U};
   }
@@ -71,8 +80,8 @@ constexpr U128 shr(const U128& a, std::uint32_t n) noexcept {
 }
 
 /// a << n, bits shifted out are lost; n >= width gives 0.
-constexpr std::uint64_t shl(std::uint64_t a, std::uint32_t n) noexcept { return (n >= 64U) ? 0U : (a << n); }
-constexpr U128 shl(const U128& a, std::uint32_t n) noexcept {
+SW_FX_INLINE constexpr std::uint64_t shl(std::uint64_t a, std::uint32_t n) noexcept { return (n >= 64U) ? 0U : (a << n); }
+SW_FX_INLINE constexpr U128 shl(const U128& a, std::uint32_t n) noexcept {
   if (n >= 128U) {
     return U128{0U, 0U};
   }
@@ -86,13 +95,13 @@ constexpr U128 shl(const U128& a, std::uint32_t n) noexcept {
 }
 
 /// Bit n of a (0 = least significant); n >= width gives false.
-constexpr bool bit(std::uint64_t a, std::uint32_t n) noexcept { return (shr(a, n) & 1U) != 0U; }
-constexpr bool bit(const U128& a, std::uint32_t n) noexcept { return (shr(a, n).lo & 1U) != 0U; }
+SW_FX_INLINE constexpr bool bit(std::uint64_t a, std::uint32_t n) noexcept { return (shr(a, n) & 1U) != 0U; }
+SW_FX_INLINE constexpr bool bit(const U128& a, std::uint32_t n) noexcept { return (shr(a, n).lo & 1U) != 0U; }
 
 /// Number of significant bits of a 32-bit value (0 for a == 0). Loop bounded
 /// by the width; compilers turn this form into a count-leading-zeros
 /// instruction or libgcc's __clzsi2.
-constexpr std::uint32_t bit_length32(std::uint32_t a) noexcept {
+SW_FX_INLINE constexpr std::uint32_t bit_length32(std::uint32_t a) noexcept {
   std::uint32_t n = 0U;
   std::uint32_t v = a;
   while ((v != 0U) && (n < 32U)) {
@@ -104,7 +113,7 @@ constexpr std::uint32_t bit_length32(std::uint32_t a) noexcept {
 
 /// Number of significant bits (0 for a == 0), a 32-bit half at a time: a
 /// 64-bit shift by a variable count is a library call on 32-bit cores.
-constexpr std::uint32_t bit_length(std::uint64_t a) noexcept {
+SW_FX_INLINE constexpr std::uint32_t bit_length(std::uint64_t a) noexcept {
   // a / 2^32 is the high word: the compilers emit the same shift (no library
   // call, checked with arm-none-eabi-g++ at -O0 and -Os). Written as a
   // division because clang's static analyser, which does not follow the
@@ -113,16 +122,16 @@ constexpr std::uint32_t bit_length(std::uint64_t a) noexcept {
   const auto high = static_cast<std::uint32_t>(a / kWord);
   return (high != 0U) ? (32U + bit_length32(high)) : bit_length32(static_cast<std::uint32_t>(a));
 }
-constexpr std::uint32_t bit_length(const U128& a) noexcept {
+SW_FX_INLINE constexpr std::uint32_t bit_length(const U128& a) noexcept {
   return (a.hi != 0U) ? (64U + bit_length(a.hi)) : bit_length(a.lo);
 }
 
 /// Full product of two 32-bit values.
-constexpr std::uint64_t mul_full(std::uint32_t a, std::uint32_t b) noexcept {
+SW_FX_INLINE constexpr std::uint64_t mul_full(std::uint32_t a, std::uint32_t b) noexcept {
   return static_cast<std::uint64_t>(a) * static_cast<std::uint64_t>(b);
 }
 /// Full product of two 64-bit values, by 32-bit limbs (schoolbook).
-constexpr U128 mul_full(std::uint64_t a, std::uint64_t b) noexcept {
+SW_FX_INLINE constexpr U128 mul_full(std::uint64_t a, std::uint64_t b) noexcept {
   const std::uint64_t mask = 0xFFFFFFFFU;
   const std::uint64_t a_lo = a & mask;
   const std::uint64_t a_hi = a >> 32U;
@@ -162,7 +171,8 @@ constexpr std::uint32_t bit_at(const U128& a, std::uint32_t i) noexcept {
 
 /// num / den by restoring long division, one bit per step: at most 128 steps.
 /// den != 0 is the caller's duty. When den < 2^64 (every Q31.32 divisor) the
-/// remainder, always below den, is kept in 64 bits plus the bit shifted out.
+/// remainder, always below den, is kept in 64 bits plus the bit shifted out,
+/// and the steps whose quotient bit must be zero are skipped.
 constexpr DivMod<U128> divmod(const U128& num, const U128& den) noexcept {
   if (num.hi == 0U && den.hi == 0U) {
     return DivMod<U128>{U128{0U, num.lo / den.lo}, U128{0U, num.lo % den.lo}};
@@ -170,8 +180,14 @@ constexpr DivMod<U128> divmod(const U128& num, const U128& den) noexcept {
   const std::uint32_t n_bits = bit_length(num);
   U128 quotient{0U, 0U};
   if (den.hi == 0U) {
-    std::uint64_t remainder = 0U;
-    for (std::uint32_t step = 0U; step < n_bits; ++step) {
+    // The top bit_length(den) - 1 bits of num are below den: their quotient
+    // bits are zero and they are the remainder after them, so the loop
+    // starts past them (the same quotient and remainder in n_bits -
+    // bit_length(den) + 1 steps instead of n_bits). num.hi != 0 here, so
+    // n_bits >= 65 > bit_length(den) >= 1.
+    const std::uint32_t skipped = bit_length(den.lo) - 1U;
+    std::uint64_t remainder = shr(num, n_bits - skipped).lo;
+    for (std::uint32_t step = skipped; step < n_bits; ++step) {
       const std::uint32_t i = n_bits - 1U - step;
       // 2 remainder + bit < 2 den <= 2^65: `carry` is its bit 64. With it set
       // the value exceeds den, and the difference, below den, is exact
@@ -206,23 +222,23 @@ template <typename W>
 struct FromU64;
 template <>
 struct FromU64<std::uint64_t> {
-  static constexpr std::uint64_t of(std::uint64_t value) noexcept { return value; }
+  SW_FX_INLINE static constexpr std::uint64_t of(std::uint64_t value) noexcept { return value; }
 };
 template <>
 struct FromU64<U128> {
-  static constexpr U128 of(std::uint64_t value) noexcept { return make_u128(value); }
+  SW_FX_INLINE static constexpr U128 of(std::uint64_t value) noexcept { return make_u128(value); }
 };
 }  // namespace detail
 
 /// Converts a uint64_t into the wide type W.
 template <typename W>
-constexpr W from_u64(std::uint64_t value) noexcept {
+SW_FX_INLINE constexpr W from_u64(std::uint64_t value) noexcept {
   return detail::FromU64<W>::of(value);
 }
 
 /// Low 64 bits of a wide value (the caller has checked that it fits).
-constexpr std::uint64_t low_u64(std::uint64_t a) noexcept { return a; }
-constexpr std::uint64_t low_u64(const U128& a) noexcept { return a.lo; }
+SW_FX_INLINE constexpr std::uint64_t low_u64(std::uint64_t a) noexcept { return a; }
+SW_FX_INLINE constexpr std::uint64_t low_u64(const U128& a) noexcept { return a.lo; }
 
 }  // namespace wide
 }  // namespace fx

@@ -31,6 +31,7 @@
 #include "sinkwatch/flight/prepared_params.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/units.hpp"
+#include "sinkwatch/fixedpoint/q.hpp"
 
 namespace sinkwatch {
 namespace flight {
@@ -64,6 +65,12 @@ struct WheelLoadResult {
   /// With tip_over: the wheel with the most negative load (the one lifting);
   /// else kWheelCount.
   std::uint32_t lifting_wheel{kWheelCount};
+  /// The pitch the loads were computed at and its sine (fx::sin's bits), both
+  /// zero unless ok: drawbar_pulls() takes the sine from here when its own
+  /// pitch is this one, so sin(pitch) is computed once per cycle. Set them
+  /// together or not at all.
+  AngleRad pitch_rad;
+  fx::Q1_30 sin_pitch;
   WheelLoadStatus status{WheelLoadStatus::invalid_params};  ///< a default result is never usable
 };
 
