@@ -67,7 +67,7 @@ struct CrossCase {
   bool keep_flexible = false;  // true: contained_in stays in the library
 };
 
-CrossCase keeping_flexible(CrossCase c) {
+[[maybe_unused]] CrossCase keeping_flexible(CrossCase c) {
   c.keep_flexible = true;
   return c;
 }
