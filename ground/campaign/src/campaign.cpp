@@ -7,6 +7,7 @@
 #include "sinkwatch/ground/soil_presets.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -472,27 +473,14 @@ FlightVerdict flight_verdict(const Scenario& drive, const flight::ParameterTable
   return flight_verdict_of(drive.log, drive, config);
 }
 
-IdealVerdict ideal_verdict(const Scenario& drive, double level_m) {
-  IdealVerdict v;
-  for (const TelemetryRow& row : drive.log.rows) {
-    if (row.true_sinkage_mm && *row.true_sinkage_mm >= level_m * 1000.0) {
-      v.cross_time_s = row.time_s;
-      v.cross_x_m = row.x_m.value_or(0.0);
-      break;
-    }
-  }
-  if (v.cross_time_s && drive.truth.embedded) {
-    v.lead_m = drive.truth.embed_x_m - *v.cross_x_m;
-    v.lead_s = drive.truth.embed_time_s - *v.cross_time_s;
-  }
-  return v;
-}
+namespace {
 
-IdealVerdict reserve_verdict(const Scenario& drive, double weight_n) {
+// The first row of the drive that `crossed` accepts, and its lead on the
+// simulator's embedding: the ideal sensors' common verdict.
+IdealVerdict first_crossing(const Scenario& drive, const std::function<bool(std::size_t row)>& crossed) {
   IdealVerdict v;
-  for (std::size_t i = 0; i < drive.log.rows.size() && i < drive.cycle_loads.size(); ++i) {
-    const std::optional<double>& reserve = drive.cycle_loads[i].reserve_n;
-    if (reserve && *reserve < kNearMissReserve * weight_n) {
+  for (std::size_t i = 0; i < drive.log.rows.size(); ++i) {
+    if (crossed(i)) {
       v.cross_time_s = drive.log.rows[i].time_s;
       v.cross_x_m = drive.log.rows[i].x_m.value_or(0.0);
       break;
@@ -503,6 +491,23 @@ IdealVerdict reserve_verdict(const Scenario& drive, double weight_n) {
     v.lead_s = drive.truth.embed_time_s - *v.cross_time_s;
   }
   return v;
+}
+
+}  // namespace
+
+IdealVerdict ideal_verdict(const Scenario& drive, double level_m) {
+  return first_crossing(drive, [&](std::size_t i) {
+    const std::optional<double>& z_mm = drive.log.rows[i].true_sinkage_mm;
+    return z_mm && *z_mm >= level_m * 1000.0;
+  });
+}
+
+IdealVerdict reserve_verdict(const Scenario& drive, double weight_n) {
+  return first_crossing(drive, [&](std::size_t i) {
+    if (i >= drive.cycle_loads.size()) return false;
+    const std::optional<double>& reserve = drive.cycle_loads[i].reserve_n;
+    return reserve && *reserve < kNearMissReserve * weight_n;
+  });
 }
 
 namespace {
