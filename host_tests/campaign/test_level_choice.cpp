@@ -160,7 +160,7 @@ TEST(LevelChoiceRule, StopsOnNearMissesAreNotFalseStops) {
   const LevelChoice c = choose_levels(r, 0.01);
   EXPECT_EQ(c.level, 1U);
   EXPECT_EQ(c.basis, ChoiceBasis::certified);
-  EXPECT_EQ(c.tuning[c.level].ordinary, 400U);
+  EXPECT_EQ(c.tuning[c.level].clear_drives, 400U);
   EXPECT_EQ(c.tuning[c.level].false_stops, 0U);
   EXPECT_EQ(c.tuning[c.level].near_misses, 50U);
   EXPECT_EQ(c.tuning[c.level].near_miss_stops, 50U);

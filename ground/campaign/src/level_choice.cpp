@@ -89,11 +89,11 @@ LevelOutcome level_outcome(const CampaignResult& r, std::optional<std::size_t> l
   LevelOutcome o;
   o.traverses = g.traverses;
   o.embeddings = g.embeddings;
-  o.ordinary = clear_drives(g);
+  o.clear_drives = clear_drives(g);
   o.near_misses = g.near_misses;
   o.near_miss_stops = g.outcomes[static_cast<std::size_t>(TraverseOutcome::near_miss_stop)];
   o.false_stops = g.outcomes[static_cast<std::size_t>(TraverseOutcome::false_stop)];
-  o.false_stop_bound = clopper_pearson_upper(o.false_stops, o.ordinary);
+  o.false_stop_bound = clopper_pearson_upper(o.false_stops, o.clear_drives);
   o.stopped_ahead = g.outcomes[static_cast<std::size_t>(TraverseOutcome::stopped_ahead)];
   o.stopped_before = o.stopped_ahead + g.outcomes[static_cast<std::size_t>(TraverseOutcome::stopped_close)];
   o.lead_at_80pct_of_ideal = g.lead_at_80pct_of_ideal;
@@ -116,7 +116,7 @@ LevelChoice choose_levels(const CampaignResult& r, double max_false_stop) {
   LevelChoice c;
   c.max_false_stop = max_false_stop;
   for (std::size_t k = 0; k < levels; ++k) c.tuning.push_back(level_outcome(r, k, false));
-  const std::size_t n = c.tuning.front().ordinary;  // the same traverses at every level
+  const std::size_t n = c.tuning.front().clear_drives;  // the same traverses at every level
   if (n == 0) {
     throw std::invalid_argument("no traverse of the tuning families stays clear of embedding: no false-stop rate to "
                                 "choose on (more traverses, or other families)");
@@ -180,9 +180,9 @@ std::string median_text(const std::optional<double>& v) { return v ? number(*v, 
 
 std::string outcome_row(const char* group, const LevelOutcome& o) {
   std::ostringstream row;
-  row << "| " << group << " | " << o.traverses << " | " << o.false_stops << " of " << o.ordinary << " | "
-      << (o.ordinary ? number(100.0 * o.false_stop_bound, 1) + " %" : std::string("–")) << " | "
-      << share(o.false_cautions, o.ordinary) << " | " << o.near_miss_stops << " of " << o.near_misses << " | "
+  row << "| " << group << " | " << o.traverses << " | " << o.false_stops << " of " << o.clear_drives << " | "
+      << (o.clear_drives ? number(100.0 * o.false_stop_bound, 1) + " %" : std::string("–")) << " | "
+      << share(o.false_cautions, o.clear_drives) << " | " << o.near_miss_stops << " of " << o.near_misses << " | "
       << o.embeddings << " | " << share(o.stopped_before, o.embeddings)
       << " | " << share(o.stopped_ahead, o.embeddings) << " | " << median_text(o.median_lead_m) << " | "
       << median_text(o.median_ideal_lead_m) << " | " << share(o.lead_at_80pct_of_ideal, o.embeddings) << " | "
@@ -226,7 +226,7 @@ std::string levels_rows(const CampaignResult& r, const LevelChoice& c) {
   for (std::size_t k = 0; k < c.tuning.size(); ++k) {
     const LevelOutcome& o = c.tuning[k];
     md << "| " << number(r.options.sweep_stop_mm[k], 1) << (k == c.level ? " **(chosen)**" : "") << " | "
-       << o.false_stops << " of " << o.ordinary << " | " << number(100.0 * o.false_stop_bound, 1) << " % | "
+       << o.false_stops << " of " << o.clear_drives << " | " << number(100.0 * o.false_stop_bound, 1) << " % | "
        << (o.false_stop_bound <= c.max_false_stop ? "yes" : "no") << " | " << share(o.stopped_before, o.embeddings)
        << " | " << median_text(o.median_lead_m) << " |\n";
   }
@@ -238,7 +238,7 @@ std::string levels_rows(const CampaignResult& r, const LevelChoice& c) {
 std::string level_choice_markdown(const CampaignResult& r, const LevelChoice& c, const std::string& table_path,
                                   std::uint32_t table_crc) {
   std::ostringstream md;
-  const std::size_t n = c.tuning[c.level].ordinary;
+  const std::size_t n = c.tuning[c.level].clear_drives;
   const flight::MonitorParams& base = r.options.table.monitor;
   const std::string base_levels = "the campaign's table (stop " + number(q_mm(base.stop_sinkage_m), 1) +
                                   " mm, caution " + number(q_mm(base.caution_sinkage_m), 1) + " mm)";
@@ -275,7 +275,7 @@ namespace {
 
 std::string outcome_json(const LevelOutcome& o) {
   std::ostringstream j;
-  j << "{\"traverses\": " << o.traverses << ", \"clear_drives\": " << o.ordinary << ", \"near_misses\": "
+  j << "{\"traverses\": " << o.traverses << ", \"clear_drives\": " << o.clear_drives << ", \"near_misses\": "
     << o.near_misses << ", \"near_miss_stops\": " << o.near_miss_stops << ", \"false_stops\": "
     << o.false_stops << ", \"false_stop_upper_95\": " << number(o.false_stop_bound, 6) << ", \"false_cautions\": "
     << o.false_cautions << ", \"embeddings\": " << o.embeddings << ", \"stopped_before\": " << o.stopped_before

@@ -61,8 +61,8 @@ const char* choice_basis_name(ChoiceBasis b);
 /// A group of traverses (tuning or held out) at one sweep level.
 struct LevelOutcome {
   std::size_t traverses = 0;
-  std::size_t ordinary = 0;             // clear drives: never embed, never a near miss
-  std::size_t false_stops = 0;          // of `ordinary`
+  std::size_t clear_drives = 0;         // never embed, never a near miss
+  std::size_t false_stops = 0;          // of `clear_drives`
   std::size_t near_misses = 0, near_miss_stops = 0;  // reported apart
   double false_stop_bound = 1.0;        // Clopper-Pearson 95 % upper bound
   std::size_t false_cautions = 0;       // clear drives that reached CAUTION
