@@ -149,6 +149,7 @@ struct Outcome {
   double shrink = 0.0;
   double true_after = 0.0;
   double true_shrink = 0.0;
+  double bound = 0.0;  // the held-out RMS the noise allows the best family
   std::string verdict;
   std::string leading;  // the first three families
   double seconds = 0.0;
@@ -212,6 +213,7 @@ TEST_P(CrossFormEffect, FamilyRanksFirstWithTheTrueShrinkInAnotherForm) {
   out.verdict = verdict_name(result.verdict);
   out.leading = leading_families(result);
   out.before = result.cv_heldout_rms_scaled;
+  out.bound = result.residual_bound;
   const FamilyReading family = read_family(result, c.effect);
   out.rank = family.rank;
   out.top = family.top;
@@ -253,6 +255,21 @@ struct DataOnlyCase {
   void (*enable)(EffectSettings&) = nullptr;  // switches it on in the truth
 };
 
+// Every parameter of the named candidate's form as fitted ("a = 1, b = 2"):
+// a flexible form's shape parameter with its size.
+std::string every_fitted(const DiagnosisResult& result, const std::string& effect) {
+  std::string text;
+  for (const RankedEffect& e : result.ranking) {
+    if (e.effect != effect) {
+      continue;
+    }
+    for (const auto& [name, value] : e.fitted) {
+      text += (text.empty() ? "" : ", ") + name + " = " + format_number(value);
+    }
+  }
+  return text;
+}
+
 DiagnosisResult run_data_only(const DataOnlyCase& c, Outcome& out) {
   const auto t0 = std::chrono::steady_clock::now();
   SimParameters truth = default_parameters("hit-lss1");
@@ -264,6 +281,7 @@ DiagnosisResult run_data_only(const DataOnlyCase& c, Outcome& out) {
   out.verdict = verdict_name(result.verdict);
   out.leading = leading_families(result);
   out.before = result.cv_heldout_rms_scaled;
+  out.bound = result.residual_bound;
   out.truth = c.truth;
   if (!result.families.empty()) {
     const RankedFamily& top = result.families.front();
@@ -276,7 +294,7 @@ DiagnosisResult run_data_only(const DataOnlyCase& c, Outcome& out) {
     const FamilyReading family = read_family(result, effect_from_name(c.family));
     out.rank = family.rank;
     out.best = family.best_effect;
-    out.fitted = family.fitted_name + " = " + format_number(family.fitted);
+    out.fitted = every_fitted(result, family.best_effect);
     out.after = family.after;
     out.shrink = family.shrink;
   }
@@ -359,10 +377,33 @@ std::string held_out_name(const ::testing::TestParamInfo<DataOnlyCase>& param_in
   return param_info.param.label.substr(0, param_info.param.label.find(' '));
 }
 
+// A held-out form that misses the aim must not be called `explained`: the
+// verdict says the best family's form leaves more than the noise allows
+// (partly_explained) or that no family explains the gap. The lug-entry
+// grousers were `explained` at 1.67 sigma under the 2 sigma rule, 17 points
+// short of the true shrink.
+class HeldOutFormShortfall : public ::testing::TestWithParam<DataOnlyCase> {};
+
+TEST_P(HeldOutFormShortfall, AFormThatMissesPartOfTheEffectIsNotCalledExplained) {
+  Outcome out;
+  const DiagnosisResult result = run_data_only(GetParam(), out);
+  outcomes().push_back(out);
+  ASSERT_TRUE(significant_gap(result.verdict)) << out.verdict;
+  EXPECT_EQ(out.rank, 1U) << "top family: " << out.top;
+  if (std::abs(out.shrink - out.true_shrink) > 10.0) {
+    EXPECT_NE(result.verdict, Verdict::explained)
+        << "shrink " << out.shrink << " % against a true " << out.true_shrink << " %, held-out after " << out.after
+        << " x noise, the noise allows " << out.bound;
+  }
+}
+
 // The sanitizer build's quick mode (SINKWATCH_DIAGNOSIS_QUICK) runs no held-out form.
 GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(HeldOutForm);
 INSTANTIATE_TEST_SUITE_P(FlexibleFamily, HeldOutForm, ::testing::ValuesIn(held_out_cases()), held_out_name);
 INSTANTIATE_TEST_SUITE_P(DISABLED_Unresolved, HeldOutForm, ::testing::ValuesIn(unresolved_held_out_cases()),
+                         held_out_name);
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(HeldOutFormShortfall);
+INSTANTIATE_TEST_SUITE_P(FlexibleFamily, HeldOutFormShortfall, ::testing::ValuesIn(unresolved_held_out_cases()),
                          held_out_name);
 
 // Prints the table once every case has run.
@@ -375,13 +416,13 @@ class TablePrinter : public ::testing::Environment {
     std::ostringstream os;
     os << std::setprecision(3);
     os << "| data made with | family rank | top family | best form in the library | fitted | true | "
-          "held-out before | after (fit) | after (true model) | shrink reported % | true shrink % | verdict | "
-          "time s |\n"
-       << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+          "held-out before | after (fit) | after (true model) | noise allows | shrink reported % | true shrink % | "
+          "verdict | time s |\n"
+       << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Outcome& o : outcomes()) {
       os << "| " << o.data << " | " << (o.rank == 0 ? std::string("–") : std::to_string(o.rank)) << " | " << o.top
          << " | " << o.best << " | " << (o.fitted.empty() ? "–" : o.fitted) << " | " << o.truth << " | " << o.before
-         << " | " << o.after << " | " << o.true_after << " | " << o.shrink << " | " << o.true_shrink << " | "
+         << " | " << o.after << " | " << o.true_after << " | " << o.bound << " | " << o.shrink << " | " << o.true_shrink << " | "
          << o.verdict << " | " << o.seconds << " |\n";
     }
     os << "\nLeading families (best form, shrink):\n";

@@ -153,6 +153,40 @@ TEST(DiagnosisFamilies, AGapNoFamilyDescribesIsNotExplainedNotTheNearestNamed) {
   EXPECT_NE(result.verdict_text.find("no candidate family explains"), std::string::npos) << result.verdict_text;
 }
 
+// A curvature the library has, plus a slip-load interaction no candidate has
+// at 3 % of the curvature's size: small enough that the curvature leaves a
+// held-out residual below 2 sigma, large enough to be more than noise.
+double square_and_small_interaction(const DiagnosisRow& r) { return square(r) + 0.03 * interaction(r); }
+const std::vector<double> kFiveLoads = {20.0, 35.0, 50.0, 65.0, 80.0};
+
+TEST(DiagnosisVerdict, ResidualBoundIsTheNoisesFQuantileWidenedByTheFitsLeverage) {
+  // 5 loads x 12 slips: 24 held-out residuals over the two extreme-load
+  // folds, noise from 45 slip-wise third differences. F(24, 45) at 1 %:
+  // 2.23 (tables: 2.29 at (24, 40), 2.12 at (24, 60), interpolated in 1/m).
+  // The line does not depend on load, so a held-out load's rows repeat the
+  // slips of each of the 4 training loads: their leverages sum to 3
+  // parameters / 4 loads, 3/48 per held-out row (the noise's relative part
+  // weights the rows a little unevenly).
+  const DiagnosisResult result = diagnose(LineModel(kLibrary), line_rows(kFiveLoads, 12, square, 1.0), "generated");
+  ASSERT_EQ(result.noise.front().dof, 45U);
+  EXPECT_NEAR(result.heldout_leverage, 3.0 / 48.0, 0.003);
+  EXPECT_NEAR(result.residual_bound * result.residual_bound, 2.23 * (1.0 + result.heldout_leverage), 0.04);
+  EXPECT_LE(result.families.front().heldout_rms_after, result.residual_bound);
+  EXPECT_EQ(result.verdict, Verdict::explained) << result.verdict_text;
+}
+
+TEST(DiagnosisVerdict, AResidualAboveWhatTheNoiseAllowsIsNotExplainedEvenBelowTwoSigma) {
+  const std::vector<DiagnosisRow> rows = line_rows(kFiveLoads, 12, square_and_small_interaction, 1.0);
+  const DiagnosisResult result = diagnose(LineModel(kLibrary), rows, "generated");
+  const RankedFamily& best = result.families.front();
+  EXPECT_EQ(best.family, "curvature");
+  // The case the 2 sigma rule called explained: above the bound, below 2 sigma.
+  EXPECT_GT(best.heldout_rms_after, result.residual_bound);
+  EXPECT_LT(best.heldout_rms_after, result.settings.residual_threshold);
+  EXPECT_EQ(result.verdict, Verdict::partly_explained) << result.verdict_text;
+  EXPECT_NE(result.verdict_text.find("more than the noise allows"), std::string::npos) << result.verdict_text;
+}
+
 TEST(DiagnosisFamilies, TwoFamiliesThatFitAlikeAreAmbiguous) {
   // The same term in two families: held-out scores tie; the data cannot tell them apart.
   const std::vector<Term> twins = {{"curvature", "square", square}, {"parabola", "square", square}};

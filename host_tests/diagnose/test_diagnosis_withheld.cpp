@@ -83,6 +83,7 @@ struct Outcome {
   double shrink = 0.0;
   double true_after = 0.0;
   double true_shrink = 0.0;
+  double bound = 0.0;  // the held-out RMS the noise allows the best family
   std::string verdict;
   double seconds = 0.0;
 };
@@ -113,6 +114,7 @@ TEST_P(WithheldEffect, RanksFirstWithTheTrueShrink) {
   out.effect = std::string(effect_name(effect));
   out.verdict = verdict_name(result.verdict);
   out.before = result.cv_heldout_rms_scaled;
+  out.bound = result.residual_bound;
   // The family's rank among the families, each scored by its best form.
   const FamilyReading family = read_family(result, effect);
   out.top = family.top;
@@ -157,11 +159,11 @@ class TablePrinter : public ::testing::Environment {
     std::ostringstream os;
     os << std::setprecision(3);
     os << "| effect | rank found | top-ranked | fitted size | true size | held-out before | after (fit) | "
-          "after (true model) | shrink reported % | true shrink % | verdict | time s |\n"
-       << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+          "after (true model) | noise allows | shrink reported % | true shrink % | verdict | time s |\n"
+       << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Outcome& o : outcomes()) {
       os << "| " << o.effect << " | " << o.rank << " | " << o.top << " | " << o.fitted_name << " = " << o.fitted
-         << " | " << o.truth << " | " << o.before << " | " << o.after << " | " << o.true_after << " | " << o.shrink
+         << " | " << o.truth << " | " << o.before << " | " << o.after << " | " << o.true_after << " | " << o.bound << " | " << o.shrink
          << " | " << o.true_shrink << " | " << o.verdict << " | " << o.seconds << " |\n";
     }
     std::printf("\n%s\n", os.str().c_str());

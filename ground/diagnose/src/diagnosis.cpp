@@ -392,7 +392,11 @@ RankedEffect assess(const Job& job, const Candidate& candidate) {
   PooledHeldout after;
   if (effect.identifiable) {
     try {
-      after = pooled_heldout(job.model, r.rows, fold_fits(job, &candidate, effect.fit, job.fixed), r.folds, r.noise);
+      const std::vector<FitResult> folds = fold_fits(job, &candidate, effect.fit, job.fixed);
+      after = pooled_heldout(job.model, r.rows, folds, r.folds, r.noise);
+      for (const FitResult& fold : folds) {
+        effect.fold_values.push_back(fold.values);
+      }
     } catch (const DiagnosisError& e) {
       effect.identifiable = false;
       effect.note = e.what();
@@ -535,9 +539,78 @@ std::string tied_families(const std::vector<RankedFamily>& families, double tie)
 struct VerdictInputs {
   double before = 0.0;
   double tie = 0.0;
+  double residual_bound = 0.0;  // the held-out RMS the noise allows (DiagnosisResult::residual_bound)
   const RankedFamily* best = nullptr;
   std::string tied;
 };
+
+// The mean leverage of the best family's best form over the pooled held-out
+// residuals (detail::heldout_leverage on each fold's fit); 0 when there is
+// no identifiable family or the model fails on a row.
+double best_family_leverage(const Job& job) {
+  const DiagnosisResult& r = job.result;
+  if (r.families.empty() || !r.families.front().identifiable) {
+    return 0.0;
+  }
+  const RankedEffect& best = r.ranking[r.families.front().best_rank];
+  const std::vector<Candidate> candidates = job.model.candidates(detail::select(r.rows, r.train));
+  const auto candidate = std::find_if(candidates.begin(), candidates.end(),
+                                      [&](const Candidate& c) { return c.name == best.effect; });
+  if (candidate == candidates.end() || best.fold_values.size() != r.folds.size()) {
+    return 0.0;
+  }
+  double sum = 0.0;
+  std::size_t residuals = 0;
+  for (std::size_t f = 0; f < r.folds.size(); ++f) {
+    sum += detail::heldout_leverage(request_for(job, &*candidate, r.folds[f], {}, job.fixed), best.fold_values[f]);
+    residuals += r.folds[f].heldout.size() * r.channels.size();
+  }
+  return std::isfinite(sum) && residuals > 0 ? sum / static_cast<double>(residuals) : 0.0;
+}
+
+// Upper quantile of F(n, m) at the standard normal quantile z, by Paulson's
+// cube-root approximation (z = (a u - b) / sqrt(c u^2 + d), u = F^(1/3),
+// solved for u; within 1 % of the exact quantile for n, m >= 10). Infinite
+// when m is too small for the approximation to bound it.
+double f_quantile(double n, double m, double z) {
+  const double c = 2.0 / (9.0 * m);
+  const double d = 2.0 / (9.0 * n);
+  const double a = 1.0 - c;
+  const double b = 1.0 - d;
+  const double quadratic = a * a - z * z * c;
+  const double discriminant = a * a * b * b - quadratic * (b * b - z * z * d);
+  if (quadratic <= 0.0 || discriminant < 0.0) {
+    return kInf;
+  }
+  const double u = (a * b + std::sqrt(discriminant)) / quadratic;
+  return u * u * u;
+}
+
+// The held-out RMS (noise units) a model that leaves only noise stays below
+// but for residual_z's tail: its mean square over the n pooled held-out
+// residuals, each divided by an estimated noise, is F(n, m)-distributed,
+// with m the noise estimate's degrees of freedom combined over the channels
+// (the combined score averages the channels' mean squares: m = C^2 / sum
+// 1/m_c), times 1 + the mean leverage (the fitted parameters' own noise,
+// carried to the held-out rows: a prediction's variance is sigma^2 (1 + h)).
+// Capped at residual_threshold.
+double residual_bound(const DiagnosisResult& r, const DiagnosisSettings& s) {
+  std::size_t heldout_rows = 0;
+  for (const DataSplit& fold : r.folds) {
+    heldout_rows += fold.heldout.size();
+  }
+  const double channels = static_cast<double>(r.noise.size());
+  double inverse_dof = 0.0;
+  for (const ChannelNoiseEstimate& e : r.noise) {
+    inverse_dof += e.dof > 0 ? 1.0 / static_cast<double>(e.dof) : 0.0;
+  }
+  const double n = static_cast<double>(heldout_rows) * channels;
+  const double m = inverse_dof > 0.0 ? channels * channels / inverse_dof : kInf;
+  if (!(n > 0.0)) {
+    return s.residual_threshold;
+  }
+  return std::min(s.residual_threshold, std::sqrt((1.0 + r.heldout_leverage) * f_quantile(n, m, s.residual_z)));
+}
 
 Verdict choose_verdict(const VerdictInputs& in, const DiagnosisSettings& s) {
   if (in.before < s.gap_threshold) {
@@ -549,7 +622,7 @@ Verdict choose_verdict(const VerdictInputs& in, const DiagnosisSettings& s) {
   if (in.best == nullptr || !(in.best->shrink_pct >= s.explain_threshold_pct)) {
     return Verdict::not_explained;
   }
-  const bool residual_high = in.best->heldout_rms_after > s.residual_threshold;
+  const bool residual_high = in.best->heldout_rms_after > in.residual_bound;
   if (residual_high && in.best->shrink_pct < s.partial_threshold_pct) {
     return Verdict::not_explained;
   }
@@ -581,7 +654,7 @@ std::string verdict_text(Verdict v, const VerdictInputs& in, const DiagnosisSett
       if (b != nullptr) {
         os << "; the nearest, " << family_label(*b) << ", shrinks it by only " << b->shrink_pct << " % to "
            << b->heldout_rms_after << "x noise (a family is named when it shrinks the gap by "
-           << s.explain_threshold_pct << " % to " << s.residual_threshold << "x noise or by "
+           << s.explain_threshold_pct << " % to " << in.residual_bound << "x noise, what the noise allows, or by "
            << s.partial_threshold_pct << " % or more): the missing effect is not among the candidates";
       }
       break;
@@ -593,12 +666,12 @@ std::string verdict_text(Verdict v, const VerdictInputs& in, const DiagnosisSett
       break;
     case Verdict::partly_explained:
       os << family_label(*b) << " shrinks the held-out gap by " << b->shrink_pct << " % (" << in.before << " -> "
-         << b->heldout_rms_after << "x noise) but the rest stays above " << s.residual_threshold
-         << "x noise: something else is missing too";
+         << b->heldout_rms_after << "x noise) but the rest is more than the noise allows (" << in.residual_bound
+         << "x noise on these held-out rows): its form misses part of the effect, or something else is missing too";
       break;
     default:
       os << family_label(*b) << " explains the gap: held-out RMS " << in.before << " -> " << b->heldout_rms_after
-         << "x noise (" << b->shrink_pct << " % shrink)";
+         << "x noise (" << b->shrink_pct << " % shrink; the noise allows " << in.residual_bound << "x)";
   }
   return os.str();
 }
@@ -608,6 +681,8 @@ void verdict_stage(DiagnosisResult& r, const DiagnosisSettings& s) {
   VerdictInputs in;
   in.before = r.cv_heldout_rms_scaled;
   in.tie = s.tie_fraction * in.before;
+  r.residual_bound = residual_bound(r, s);
+  in.residual_bound = r.residual_bound;
   if (!r.families.empty() && r.families.front().identifiable) {
     in.best = &r.families.front();
     in.tied = tied_families(r.families, in.tie);
@@ -635,6 +710,7 @@ void rank_and_judge(Job& job) {
   r.ranking = candidate_stage(job);
   rank_effects(r.ranking, job.settings.tie_fraction * r.cv_heldout_rms_scaled);
   r.families = rank_families(r.ranking);
+  r.heldout_leverage = best_family_leverage(job);
   verdict_stage(r, job.settings);
 }
 

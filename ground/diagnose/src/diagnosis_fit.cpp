@@ -307,9 +307,137 @@ void solve(const detail::FitRequest& request, const std::vector<ParameterSpec>& 
   }
 }
 
+// Noise-scaled predictions of `rows` at x, one entry per row and channel;
+// false when the model fails on one of them.
+bool scaled_predictions(const detail::FitRequest& request, const std::vector<std::size_t>& rows,
+                        const RowNoise& row_sigma, const std::vector<double>& x, std::vector<double>& out) {
+  out.clear();
+  std::vector<double> predicted;
+  for (std::size_t i : rows) {
+    if (!request.model->predict(request.candidate, x, (*request.rows)[i], predicted)) {
+      return false;
+    }
+    for (std::size_t c = 0; c < predicted.size(); ++c) {
+      out.push_back(predicted[c] / row_sigma[i][c]);
+    }
+  }
+  return true;
+}
+
+// Forward-difference Jacobian (rows: the entries of scaled_predictions;
+// columns: the free parameters, each divided by its column's norm, which
+// leaves leverages unchanged) of the training rows (first) and the held-out
+// rows. Free: past `fixed` and not at a bound (a parameter held by its bound
+// does not move with the noise).
+bool scaled_jacobians(const detail::FitRequest& request, const std::vector<ParameterSpec>& specs,
+                      const RowNoise& row_sigma, const std::vector<double>& x,
+                      std::vector<std::vector<double>>& train_columns, std::vector<std::vector<double>>& heldout_columns) {
+  std::vector<double> train0;
+  std::vector<double> heldout0;
+  if (!scaled_predictions(request, request.split->train, row_sigma, x, train0) ||
+      !scaled_predictions(request, request.split->heldout, row_sigma, x, heldout0)) {
+    return false;
+  }
+  for (std::size_t j = request.fixed; j < specs.size(); ++j) {
+    const double range = specs[j].upper - specs[j].lower;
+    if (x[j] <= specs[j].lower + 1e-9 * range || x[j] >= specs[j].upper - 1e-9 * range) {
+      continue;
+    }
+    const double step = 1e-5 * std::max(std::abs(x[j]), 1e-2 * range);
+    std::vector<double> moved = x;
+    moved[j] = x[j] + step <= specs[j].upper ? x[j] + step : x[j] - step;
+    std::vector<double> train1;
+    std::vector<double> heldout1;
+    if (!scaled_predictions(request, request.split->train, row_sigma, moved, train1) ||
+        !scaled_predictions(request, request.split->heldout, row_sigma, moved, heldout1)) {
+      return false;
+    }
+    double norm = 0.0;
+    for (std::size_t e = 0; e < train1.size(); ++e) {
+      train1[e] = (train1[e] - train0[e]) / (moved[j] - x[j]);
+      norm += train1[e] * train1[e];
+    }
+    if (!(norm > 0.0)) {
+      continue;  // no training row depends on it: the fit did not set it
+    }
+    norm = std::sqrt(norm);
+    for (std::size_t e = 0; e < train1.size(); ++e) {
+      train1[e] /= norm;
+    }
+    for (std::size_t e = 0; e < heldout1.size(); ++e) {
+      heldout1[e] = (heldout1[e] - heldout0[e]) / (moved[j] - x[j]) / norm;
+    }
+    train_columns.push_back(std::move(train1));
+    heldout_columns.push_back(std::move(heldout1));
+  }
+  return true;
+}
+
+// Cholesky factor L (row-major, lower) of A + ridge I, A symmetric k x k.
+// The ridge (1e-10 of the unit diagonal the column scaling gives) keeps two
+// near-collinear parameters from an unbounded inverse.
+std::vector<double> cholesky(std::vector<double> a, std::size_t k) {
+  for (std::size_t i = 0; i < k; ++i) {
+    a[i * k + i] += 1e-10;
+  }
+  for (std::size_t j = 0; j < k; ++j) {
+    double d = a[j * k + j];
+    for (std::size_t p = 0; p < j; ++p) {
+      d -= a[j * k + p] * a[j * k + p];
+    }
+    a[j * k + j] = std::sqrt(std::max(d, 1e-300));
+    for (std::size_t i = j + 1; i < k; ++i) {
+      double v = a[i * k + j];
+      for (std::size_t p = 0; p < j; ++p) {
+        v -= a[i * k + p] * a[j * k + p];
+      }
+      a[i * k + j] = v / a[j * k + j];
+    }
+  }
+  return a;
+}
+
 }  // namespace
 
 namespace detail {
+
+double heldout_leverage(const FitRequest& request, const std::vector<double>& values) {
+  const std::vector<ParameterSpec> specs =
+      all_parameters(*request.model, request.candidate, select(*request.rows, request.split->train));
+  const RowNoise row_sigma = row_noise(*request.model, *request.rows, *request.noise);
+  std::vector<std::vector<double>> train;
+  std::vector<std::vector<double>> heldout;
+  if (!scaled_jacobians(request, specs, row_sigma, values, train, heldout)) {
+    return kNaN;
+  }
+  const std::size_t k = train.size();
+  if (k == 0) {
+    return 0.0;
+  }
+  std::vector<double> normal(k * k, 0.0);  // J_t' J_t
+  for (std::size_t a = 0; a < k; ++a) {
+    for (std::size_t b = 0; b < k; ++b) {
+      for (std::size_t e = 0; e < train[a].size(); ++e) {
+        normal[a * k + b] += train[a][e] * train[b][e];
+      }
+    }
+  }
+  const std::vector<double> l = cholesky(normal, k);
+  // h = g' (J_t' J_t)^-1 g = |L^-1 g|^2 for each held-out entry's gradient g.
+  double sum = 0.0;
+  std::vector<double> y(k);
+  for (std::size_t e = 0; e < heldout.front().size(); ++e) {
+    for (std::size_t a = 0; a < k; ++a) {
+      double v = heldout[a][e];
+      for (std::size_t p = 0; p < a; ++p) {
+        v -= l[a * k + p] * y[p];
+      }
+      y[a] = v / l[a * k + a];
+      sum += y[a] * y[a];
+    }
+  }
+  return sum;
+}
 
 FitResult run_fit(const FitRequest& request) {
   const std::vector<DiagnosisRow> train = select(*request.rows, request.split->train);

@@ -53,6 +53,15 @@ struct FitRequest {
 
 [[nodiscard]] FitResult run_fit(const FitRequest& request);
 
+/// The fit's extrapolation to the held-out rows: the sum over the held-out
+/// residuals (rows x channels, noise-scaled) of their leverage
+/// g' (J' J)^-1 g, J the training rows' Jacobian in the free parameters
+/// (past `fixed`, off their bounds) and g the held-out entry's gradient, at
+/// `values`. A model that leaves only noise has an expected held-out mean
+/// square of 1 + this sum / n (n held-out residuals). NaN when the model
+/// fails on a row.
+[[nodiscard]] double heldout_leverage(const FitRequest& request, const std::vector<double>& values);
+
 }  // namespace detail
 }  // namespace ground
 }  // namespace sinkwatch

@@ -133,6 +133,8 @@ std::vector<NamedSetting> settings_used(const DiagnosisResult& r) {
   out.push_back({"cross-validation", r.cv_rule});
   out.push_back({"gap threshold (x noise)", text(s.gap_threshold)});
   out.push_back({"residual threshold (x noise)", text(s.residual_threshold)});
+  out.push_back({"residual bound (x noise): z of the noise's F quantile, best family's mean held-out leverage -> bound",
+                 text(s.residual_z) + ", " + text(r.heldout_leverage) + " -> " + text(r.residual_bound)});
   out.push_back({"explain threshold (% shrink)", text(s.explain_threshold_pct)});
   out.push_back({"partial threshold (% shrink)", text(s.partial_threshold_pct)});
   out.push_back({"tie (fraction of the base's held-out RMS)", text(s.tie_fraction)});
@@ -264,6 +266,8 @@ std::string to_json(const DiagnosisResult& r) {
      << "  \"cv_folds\": " << r.folds.size() << ",\n  \"cv_rule\": " << quote(r.cv_rule) << ",\n"
      << "  \"cv_heldout_rms\": " << per_channel(r.channels, r.cv_heldout_rms) << ",\n"
      << "  \"cv_heldout_rms_noise_units\": " << num(r.cv_heldout_rms_scaled) << ",\n"
+     << "  \"heldout_leverage\": " << num(r.heldout_leverage) << ",\n"
+     << "  \"residual_bound_noise_units\": " << num(r.residual_bound) << ",\n"
      << "  \"verdict\": " << quote(verdict_name(r.verdict)) << ",\n  \"verdict_text\": " << quote(r.verdict_text)
      << ",\n  \"settings\": " << settings_json(r) << ",\n  \"noise\": " << noise_json(r) << ",\n";
   if (r.verdict != Verdict::not_enough_data) {

@@ -214,6 +214,7 @@ struct RankedEffect {
   double train_bic = 0.0;
   double delta_bic = 0.0;           // candidate BIC - base BIC (negative: supported)
   FitResult fit;
+  std::vector<std::vector<double>> fold_values;  // the parameters fitted on each cross-validation fold
 };
 
 /// One form's score within its family (RankedFamily::forms).
@@ -244,7 +245,7 @@ struct RankedFamily {
 enum class Verdict {
   no_gap,            // base held-out RMS below gap_threshold x noise
   weak_gap,          // between gap_threshold and residual_threshold x noise
-  explained,         // the best family takes the gap to residual_threshold x noise or below
+  explained,         // the best family leaves a held-out residual the noise allows (residual_bound)
   partly_explained,  // the best family takes at least partial_threshold_pct of it, the rest stays above
   ambiguous,         // two or more families tie on held-out rows: the data cannot tell them apart
   not_explained,     // no family shrinks the gap enough (explain / partial thresholds)
@@ -270,6 +271,12 @@ struct DiagnosisSettings {
   double explain_threshold_pct = 10.0;  // best shrink below this: nothing explains the gap
   double gap_threshold = 1.5;           // base held-out below 1.5x noise: no significant gap
   double residual_threshold = 2.0;      // best still above 2x noise: only partly explained
+  // The best family's held-out residual is noise when its mean square is
+  // below the upper quantile of F(n, m) at this standard normal quantile
+  // (n held-out residuals, m the noise estimate's degrees of freedom): 2.326,
+  // one-sided 1 %. Above it (or above residual_threshold) the residual is
+  // significant and the verdict is not `explained`.
+  double residual_z = 2.326;
   int max_iterations = 100;
   // Score the ranking by cross-validation over the folds of
   // cross_validation_folds (several loads: the highest and the lowest held
@@ -328,6 +335,14 @@ struct DiagnosisResult {
   WhereBreakdown where;
   std::vector<RankedEffect> ranking;  // best first; non-identifiable ones last
   std::vector<RankedFamily> families; // best first, each by its best form
+  // The best family's extrapolation: the mean leverage of its fits over the
+  // pooled held-out residuals (a model that leaves only noise has an expected
+  // held-out mean square of 1 + this; docs/diagnosis.md, "Verdicts").
+  double heldout_leverage = 0.0;
+  // The largest held-out RMS (noise units) the noise allows the best family:
+  // min(residual_threshold, sqrt((1 + heldout_leverage) x F(n, m)'s quantile
+  // at residual_z)).
+  double residual_bound = 0.0;
   Verdict verdict = Verdict::not_enough_data;
   std::string verdict_text;
   std::vector<std::string> notes;
