@@ -17,7 +17,7 @@
 //   current      N eta Kt I0 Imax T dir       -> I
 //   corrections  W (default table)           -> c1 c2 c3 dp_max/W clamp
 //   limit        N eta Kt I0 Imax r W z_max (default corrections) -> I_max T_max clamp
-//   table_crc    (none)                       -> CRC-32 of the encoded default table, its size
+//   table_crc    (none)                       -> the encoded default table's CRC-32 (its trailer), its size
 #ifndef SINKWATCH_HOST_TESTS_FLIGHT_GOLDEN_VECTORS_HPP
 #define SINKWATCH_HOST_TESTS_FLIGHT_GOLDEN_VECTORS_HPP
 
