@@ -1,6 +1,8 @@
 // The per-wheel monitor and the rover decision (monitor.hpp).
 #include "sinkwatch/flight/monitor.hpp"
 
+#include "n_of_m.hpp"
+
 #include "sinkwatch/flight/current_limit.hpp"
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/motor.hpp"
@@ -10,19 +12,8 @@ namespace flight {
 
 namespace {
 
-std::uint8_t count_bits(std::uint16_t bits, std::uint8_t window) noexcept {
-  std::uint8_t n = 0U;
-  for (std::uint8_t i = 0U; (i < window) && (i < kMaxWindow); ++i) {
-    if (((static_cast<std::uint32_t>(bits) >> i) & 1U) != 0U) {
-      ++n;
-    }
-  }
-  return n;
-}
-
-std::uint16_t shift_in(std::uint16_t history, bool bit) noexcept {
-  return static_cast<std::uint16_t>((static_cast<std::uint32_t>(history) << 1U) | (bit ? 1U : 0U));
-}
+using n_of_m::count_bits;
+using n_of_m::shift_in;
 
 /// The current in the direction of motion: the quantity the limit bounds.
 CurrentA directional(CurrentA current_a, DriveDirection direction, fx::Status& st) noexcept {

@@ -199,6 +199,31 @@ RejectReason validate_health(const HealthParams& h, const MotorParams& motor, co
   return RejectReason::ok;
 }
 
+// Section 8's ranges (docs/traction.md): a coefficient beyond 4 would need
+// four times the weight in resistance; the lookahead and the span are
+// distances of a drive segment. The span's lower bound keeps the trend's
+// baseline (span / 8 between marks) above the odometry's resolution.
+constexpr Ratio kMaxResistance{fx::constant<RatioQ>(4.0)};
+constexpr LengthM kMaxLookaheadM{fx::constant<LengthQ>(10.0)};
+constexpr LengthM kMinTrendSpanM{fx::constant<LengthQ>(0.2)};
+constexpr LengthM kMaxTrendSpanM{fx::constant<LengthQ>(5.0)};
+
+RejectReason validate_traction(const TractionParams& p) noexcept {
+  if (!traction_check_on(p)) {
+    return RejectReason::ok;
+  }
+  if ((p.caution_coefficient <= Ratio::zero()) || (p.caution_coefficient > p.stop_coefficient) ||
+      (p.stop_coefficient > kMaxResistance) || (p.hysteresis < Ratio::zero()) ||
+      (p.hysteresis >= p.caution_coefficient)) {
+    return RejectReason::traction_level_out_of_range;
+  }
+  if ((p.lookahead_m < LengthM::zero()) || (p.lookahead_m > kMaxLookaheadM) || (p.trend_span_m < kMinTrendSpanM) ||
+      (p.trend_span_m > kMaxTrendSpanM)) {
+    return RejectReason::traction_distance_out_of_range;
+  }
+  return RejectReason::ok;
+}
+
 // Section 6, when present: the rover's own rules (rover_geometry.hpp) and the
 // wheel it shares with Eq. 15.
 RejectReason validate_rover_section(const RoverSection& rover, LengthM radius_m) noexcept {
@@ -372,6 +397,16 @@ constexpr ParameterTable make_default_table() noexcept {
   t.health.current_step_a = CurrentA(fx::constant<CurrentQ>(1.0));
   t.health.attitude_step_rad = AngleRad(fx::constant<AngleQ>(0.034906585039886591));
   t.health.joint_step_rad = AngleRad(fx::constant<AngleQ>(0.052359877559829883));
+
+  // Section 8 (docs/traction.md): STOP when the motion-resistance
+  // coefficient, carried 2 m ahead along its rise over the last metre,
+  // reaches 0.38; CAUTION from 0.30. The level was chosen on the campaign's
+  // tuning families (seed 14), never on the held-out ones.
+  t.traction.caution_coefficient = Ratio(fx::constant<RatioQ>(0.30));
+  t.traction.stop_coefficient = Ratio(fx::constant<RatioQ>(0.38));
+  t.traction.hysteresis = Ratio(fx::constant<RatioQ>(0.03));
+  t.traction.lookahead_m = LengthM(fx::constant<LengthQ>(2.0));
+  t.traction.trend_span_m = LengthM(fx::constant<LengthQ>(1.0));
   return t;
 }
 
@@ -413,6 +448,10 @@ RejectReason validate(const ParameterTable& t) noexcept {
     return r;
   }
   r = validate_health(t.health, t.motor, t.monitor);
+  if (r != RejectReason::ok) {
+    return r;
+  }
+  r = validate_traction(t.traction);
   if (r != RejectReason::ok) {
     return r;
   }

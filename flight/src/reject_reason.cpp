@@ -66,6 +66,8 @@ constexpr const char* kReasonNames[kRejectReasonCount] = {
     "health_step_out_of_range",
     "health_bridge_out_of_range",
     "envelope_overflow",
+    "traction_level_out_of_range",
+    "traction_distance_out_of_range",
 };
 
 }  // namespace

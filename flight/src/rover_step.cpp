@@ -103,12 +103,32 @@ RoverStepStatus drawbar_stage(const PreparedParameters& prepared, const RoverTel
   return RoverStepStatus::ok;
 }
 
+/// Stage 6's input: this cycle's loads, pulls and the wheel monitors'
+/// directed torques (when the cycle has them), and the odometry.
+TractionInput traction_input(const RoverTelemetry& t, const RoverStepOutput& out) noexcept {
+  TractionInput in{};
+  in.time = t.time;
+  in.loads_valid = (out.status == RoverStepStatus::ok);
+  in.pull_assumed = (out.drawbar_status == DrawbarStatus::saturated);
+  in.speed_valid = t.speed_valid;
+  in.speed_mps = t.speed_mps;
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    in.load_n[i] = out.load_n[i];
+    in.drawbar_pull_n[i] = out.drawbar_pull_n[i];
+    in.torque_valid[i] = in.loads_valid && out.monitor.wheels[i].estimate_valid;
+    in.torque_nm[i] = out.monitor.wheels[i].torque_nm;
+    in.direction[i] = t.direction[i];
+  }
+  return in;
+}
+
 }  // namespace
 
 RoverStep::RoverStep() noexcept = default;
 
 void RoverStep::clear_stop() noexcept {
   monitor_.clear_stop();
+  traction_.clear_stop();
   health_.accept_levels();
 }
 
@@ -242,8 +262,10 @@ void RoverStep::monitor_stage(const RoverTelemetry& t, TimeMs now, const Prepare
     inputs[i].sensor_fault = usable_sample && !out.health.current_usable[i];
   }
   out.monitor = monitor_.step(inputs, now, prepared);
+  out.traction = traction_.step(traction_input(t, out), prepared.table().traction, prepared.table().monitor,
+                                prepared.table().wheel_radius_m);
   out.decision = out.monitor.decision;
-  if (out.status == RoverStepStatus::tip_over) {
+  if ((out.status == RoverStepStatus::tip_over) || (out.traction.state == TractionState::stop)) {
     out.decision = RoverDecision::stop_and_replan;
   }
 }

@@ -21,6 +21,7 @@ using codec::EstimatorFields;
 using codec::fixed_bytes;
 using codec::HeaderFields;
 using codec::HealthFields;
+using codec::TractionFields;
 using codec::MonitorFields;
 using codec::MotorFields;
 using codec::RoverFields;
@@ -40,11 +41,12 @@ static_assert(fixed_bytes<MonitorFields, MonitorParams>() == 44U, "section 4: 44
 static_assert(fixed_bytes<EscapeFields, EscapeParams>() == 20U, "section 5: 20 bytes");
 static_assert(fixed_bytes<RoverFields, RoverParams>() == kRoverSectionBytes, "section 6: 80 bytes");
 static_assert(fixed_bytes<HealthFields, HealthParams>() == 24U, "section 7: 24 bytes");
-// Seven section headers, every section at its largest, header and CRC.
-constexpr std::size_t kLargestTableBytes = kTableHeaderBytes + (std::size_t{7U} * std::size_t{4U}) +
+static_assert(fixed_bytes<TractionFields, TractionParams>() == 20U, "section 8: 20 bytes");
+// Eight section headers, every section at its largest, header and CRC.
+constexpr std::size_t kLargestTableBytes = kTableHeaderBytes + (std::size_t{8U} * std::size_t{4U}) +
                                            std::size_t{4U + 20U + 4U} +
                                            (std::size_t{kMaxCorrectionRows} * std::size_t{20U}) +
-                                           std::size_t{44U + 20U + 80U + 24U} + kTableCrcBytes;
+                                           std::size_t{44U + 20U + 80U + 24U + 20U} + kTableCrcBytes;
 static_assert(kLargestTableBytes <= kMaxTableBytes, "the largest table fits the decoder's limit");
 
 // ---- writers: encoder and size ------------------------------------------------
@@ -81,6 +83,9 @@ void put_sections(V& v, const ParameterTable& t) noexcept {
   }
   if (health_present(t.health)) {
     put_section<HealthFields>(v, SectionId::health, t.health);
+  }
+  if (traction_check_on(t.traction)) {
+    put_section<TractionFields>(v, SectionId::traction, t.traction);
   }
 }
 
@@ -134,7 +139,7 @@ namespace {
 
 // ---- reader -------------------------------------------------------------------
 
-constexpr std::uint16_t kMaxSectionId = 7U;
+constexpr std::uint16_t kMaxSectionId = 8U;
 constexpr std::uint16_t kCoreSections = 5U;
 // Bit id of a section set, ids 1..kCoreSections: the sections every table has.
 constexpr std::uint32_t kCoreSectionBits = (1U << (kCoreSections + 1U)) - 2U;
@@ -214,6 +219,8 @@ RejectReason read_section_payload(Decoder& d, SectionId id, std::uint16_t length
       return read_rover(d, length, t.rover_geometry);
     case SectionId::health:
       return read_fixed<HealthFields>(d, length, t.health);
+    case SectionId::traction:
+      return read_fixed<TractionFields>(d, length, t.traction);
     // GCOVR_EXCL_START MISRA 16.4.1's default; read_section() refuses other ids first (docs/coverage.md)
     default:
       return RejectReason::unknown_section;
@@ -255,7 +262,7 @@ RejectReason read_section(Decoder& d, std::size_t crc_at, ParameterTable& t, std
 
 // Every section up to the CRC, then the count and the core sections.
 RejectReason read_sections(Decoder& d, std::size_t crc_at, std::uint16_t section_count, ParameterTable& t) noexcept {
-  // At most one section per id, ids 1..7, so at most 7 iterations do work;
+  // At most one section per id, ids 1..8, so at most 8 iterations do work;
   // the loop bound also covers a corrupt count that passed the CRC.
   std::uint32_t seen = 0U;
   std::uint16_t parsed = 0U;

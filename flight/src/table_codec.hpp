@@ -384,6 +384,18 @@ struct HealthFields {
   }
 };
 
+/// Section 8: TractionParams.
+struct TractionFields {
+  template <typename V, typename P>
+  static constexpr void walk(V& v, P& p) noexcept {
+    v.q(p.caution_coefficient);
+    v.q(p.stop_coefficient);
+    v.q(p.hysteresis);
+    v.q(p.lookahead_m);
+    v.q(p.trend_span_m);
+  }
+};
+
 /// The bytes of one walk of `Fields` over a value-initialised `Section`: the
 /// size of a fixed-size section, as a compile-time constant.
 template <typename Fields, typename Section>

@@ -81,16 +81,24 @@ TEST_F(CampaignCases, DefaultTableStopsTheEmbeddingAhead) {
   EXPECT_NE(v.stop_reason, sinkwatch::flight::StopReason::none);
 }
 
+/// The default table with its sinkage stop at the wheel radius (it never
+/// trips) and without section 8: the wheels' slip rule alone.
+sinkwatch::flight::ParameterTable stops_disabled() {
+  sinkwatch::flight::ParameterTable table = table_at_stop_level(default_parameter_table(), 0.15);
+  table.traction = sinkwatch::flight::TractionParams{};
+  return table;
+}
+
 TEST_F(CampaignCases, DisabledStopMissesTheEmbedding) {
   // The stop level at the wheel radius: the sinkage never trips; without a
   // stuck tail the slip rule has no rows to trip on either.
-  const auto table = table_at_stop_level(default_parameter_table(), 0.15);
+  const auto table = stops_disabled();
   EXPECT_EQ(flight_verdict(*no_tail_, table, kMoon).outcome, TraverseOutcome::missed);
 }
 
 TEST_F(CampaignCases, DisabledStopIsLateWhenTheWheelsSpin) {
   // The same, with the stuck tail: the high-slip rule stops the rover after the embedding.
-  const auto table = table_at_stop_level(default_parameter_table(), 0.15);
+  const auto table = stops_disabled();
   const FlightVerdict v = flight_verdict(*embedding_, table, kMoon);
   EXPECT_EQ(v.outcome, TraverseOutcome::late);
   ASSERT_TRUE(v.lead_s);

@@ -51,8 +51,9 @@ TEST(ParamTable, DefaultIsValidAndRoundTrips) {
   const ParameterTable t = default_parameter_table();
   EXPECT_EQ(validate(t), RejectReason::ok);
   const Bytes b = encode_table(t);
-  // Sections 1..5, then section 7 (sensor health, 24 bytes), then the CRC.
-  EXPECT_EQ(b.size(), 16U + (4 + 4) + (4 + 20) + (4 + 4 + 5 * 20) + (4 + 44) + (4 + 20) + (4 + 24) + 4U);
+  // Sections 1..5, section 7 (sensor health, 24 bytes), section 8 (the
+  // motion-resistance check, 20 bytes), then the CRC.
+  EXPECT_EQ(b.size(), 16U + (4 + 4) + (4 + 20) + (4 + 4 + 5 * 20) + (4 + 44) + (4 + 20) + (4 + 24) + (4 + 20) + 4U);
   ParameterTable back{};
   ASSERT_EQ(decode(b.data(), b.size(), back), RejectReason::ok);
   EXPECT_EQ(encode_table(back), b);
@@ -61,13 +62,65 @@ TEST(ParamTable, DefaultIsValidAndRoundTrips) {
   EXPECT_EQ(back.escape.freed_sinkage_m, t.escape.freed_sinkage_m);
   EXPECT_EQ(back.health.current_step_a, t.health.current_step_a);
   EXPECT_EQ(back.health.bridge_ms, t.health.bridge_ms);
+  EXPECT_EQ(back.traction.stop_coefficient, t.traction.stop_coefficient);
+  EXPECT_EQ(back.traction.trend_span_m, t.traction.trend_span_m);
+}
+
+TEST(ParamTable, ATableWithoutTheTractionSectionHasTheCheckOff) {
+  ParameterTable t = default_parameter_table();
+  t.traction = TractionParams{};
+  EXPECT_EQ(validate(t), RejectReason::ok);
+  const Bytes b = encode_table(t);
+  EXPECT_EQ(b[12], 6U);  // section 8 left out: a table written before it existed
+  ParameterTable back{};
+  ASSERT_EQ(decode(b.data(), b.size(), back), RejectReason::ok);
+  EXPECT_FALSE(traction_check_on(back.traction));
+  EXPECT_EQ(encode_table(back), b);
+}
+
+TEST(ParamTable, TractionLevelsAndDistancesOutsideTheirRangesAreRejected) {
+  struct Case {
+    const char* what;
+    void (*change)(TractionParams&);
+    RejectReason expected;
+  };
+  const Case cases[] = {
+      {"caution zero", [](TractionParams& p) { p.caution_coefficient = Ratio::zero(); },
+       RejectReason::traction_level_out_of_range},
+      {"caution above stop", [](TractionParams& p) { p.caution_coefficient = q<Ratio>(0.5); },
+       RejectReason::traction_level_out_of_range},
+      {"stop above 4", [](TractionParams& p) { p.stop_coefficient = q<Ratio>(4.5); },
+       RejectReason::traction_level_out_of_range},
+      {"hysteresis negative", [](TractionParams& p) { p.hysteresis = q<Ratio>(-0.01); },
+       RejectReason::traction_level_out_of_range},
+      {"hysteresis as large as caution", [](TractionParams& p) { p.hysteresis = p.caution_coefficient; },
+       RejectReason::traction_level_out_of_range},
+      {"lookahead negative", [](TractionParams& p) { p.lookahead_m = q<LengthM>(-1.0); },
+       RejectReason::traction_distance_out_of_range},
+      {"lookahead 11 m", [](TractionParams& p) { p.lookahead_m = q<LengthM>(11.0); },
+       RejectReason::traction_distance_out_of_range},
+      {"span 0.1 m", [](TractionParams& p) { p.trend_span_m = q<LengthM>(0.1); },
+       RejectReason::traction_distance_out_of_range},
+      {"span 6 m", [](TractionParams& p) { p.trend_span_m = q<LengthM>(6.0); },
+       RejectReason::traction_distance_out_of_range},
+  };
+  for (const Case& c : cases) {
+    ParameterTable t = default_parameter_table();
+    c.change(t.traction);
+    EXPECT_EQ(validate(t), c.expected) << c.what;
+    EXPECT_EQ(decode_bytes(encode_table(t)), c.expected) << c.what;
+  }
+  ParameterTable t = default_parameter_table();
+  t.traction.lookahead_m = LengthM::zero();  // the present coefficient only: allowed
+  EXPECT_EQ(validate(t), RejectReason::ok);
 }
 
 TEST(ParamTable, ATableWithoutTheHealthSectionHasEveryCheckOff) {
   ParameterTable t = default_parameter_table();
   t.health = HealthParams{};
+  t.traction = TractionParams{};
   const Bytes b = encode_table(t);
-  EXPECT_EQ(b[12], 5U);  // section 7 left out: a table written before it existed
+  EXPECT_EQ(b[12], 5U);  // sections 7 and 8 left out: a table written before they existed
   ParameterTable back{};
   ASSERT_EQ(decode(b.data(), b.size(), back), RejectReason::ok);
   EXPECT_EQ(back.health.policy, LossPolicy::stop);
@@ -79,6 +132,7 @@ TEST(ParamTable, ATableWithoutTheHealthSectionHasEveryCheckOff) {
 TEST(ParamTable, HealthSectionReservedBytesAndPolicyAreChecked) {
   const Bytes good = encode_table(default_parameter_table());
   std::vector<Section> secs = sections_of(good);
+  secs.pop_back();  // section 8: optional, not needed here
   ASSERT_EQ(secs.back().id, 7U);
   ParameterTable out{};
   Section bad_policy = secs.back();
@@ -104,7 +158,7 @@ TEST(ParamTable, ByteLayoutIsLittleEndianAsDocumented) {
   EXPECT_EQ(b[4], 1U);  // format version 1, little-endian
   EXPECT_EQ(b[5], 0U);
   EXPECT_EQ(b[8] | (b[9] << 8), static_cast<int>(b.size()));
-  EXPECT_EQ(b[12], 6U);  // five sections and section 7 (sensor health)
+  EXPECT_EQ(b[12], 7U);  // five sections, section 7 (sensor health) and 8 (motion resistance)
   // Section 1 at offset 16: id 1, length 4, radius 0.15 m in Q7.24 = 2516582 = 0x00266666.
   EXPECT_EQ(Bytes(b.begin() + 16, b.begin() + 24), (Bytes{1, 0, 4, 0, 0x66, 0x66, 0x26, 0x00}));
 }
@@ -115,7 +169,7 @@ TEST(ParamTable, RoverSectionIsCarriedTypedAndValidatedByDecode) {
   ParameterTable t = default_parameter_table();
   t.rover_geometry = RoverSection{true, moon_rover()};
   const Bytes b = encode_table(t);
-  EXPECT_EQ(b[12], 7U);  // sections 1..7
+  EXPECT_EQ(b[12], 8U);  // sections 1..8
   const std::vector<Section> secs = sections_of(b);
   ASSERT_EQ(secs[5].id, 6U);
   EXPECT_EQ(secs[5].payload.size(), kRoverSectionBytes);
@@ -279,7 +333,7 @@ TEST(ParamTable, TheSensorsWholeRangeMustGiveATorque) {
 TEST(ParamTable, FramingRejections) {
   const Bytes good = encode_table(default_parameter_table());
   const std::vector<Section> secs = sections_of(good);
-  ASSERT_EQ(secs.size(), 6U);  // sections 1..5 and 7
+  ASSERT_EQ(secs.size(), 7U);  // sections 1..5, 7 and 8
   ASSERT_EQ(frame(secs), good);  // the test's framer agrees with encode()
 
   ParameterTable out{};

@@ -171,12 +171,14 @@ TEST(ReplayCommand, MissingFileAndBadOptions) {
 TEST(ReplayCommand, UploadedTableIsUsedAndABadOneRejected) {
   namespace fl = sinkwatch::flight;
   const fs::path dir = temp_dir("table");
-  // A lower stop level must stop the rover earlier: a longer lead.
+  // Lower stop levels must stop the rover earlier: a longer lead. (The
+  // default stops on section 8's coefficient first: lower both.)
   fl::ParameterTable t = fl::default_parameter_table();
   t.table_version = 7;
   constexpr fl::SinkageM kLowerStop{sinkwatch::fx::constant<fl::LengthQ>(0.040)};
   t.monitor.stop_sinkage_m = kLowerStop;
   t.monitor.allowed_sinkage_m = t.monitor.stop_sinkage_m;
+  t.traction.stop_coefficient = fl::Ratio{sinkwatch::fx::constant<fl::RatioQ>(0.34)};
   ASSERT_EQ(fl::validate(t), fl::RejectReason::ok);
   std::vector<std::uint8_t> bytes(fl::kMaxTableBytes);
   const fl::EncodeResult enc = fl::encode(t, bytes.data(), bytes.size());
@@ -191,6 +193,7 @@ TEST(ReplayCommand, UploadedTableIsUsedAndABadOneRejected) {
   ASSERT_EQ(low.code, 0) << low.err;
   EXPECT_NE(low.out.find("version 7"), std::string::npos);
   EXPECT_NE(low.out.find("sinkage >= 40.0 mm"), std::string::npos) << low.out;
+  EXPECT_NE(low.out.find("reaches 0.34 (section 8)"), std::string::npos) << low.out;
   const auto stop_time = [](const std::string& out) {
     const std::size_t at = out.find("the first at ");
     return at == std::string::npos ? -1.0 : std::stod(out.substr(at + 13));

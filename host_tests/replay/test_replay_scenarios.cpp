@@ -29,9 +29,12 @@ sg::TelemetryLog embedded(const std::string& name) {
   return sg::parse_telemetry_text(text, name);
 }
 
-sg::ReplayResult replay(const sg::TelemetryLog& log) {
+/// The default table, or (`traction_check` false) the default without its
+/// section 8, so that a test sees the wheel monitors' own rules.
+sg::ReplayResult replay(const sg::TelemetryLog& log, bool traction_check = true) {
   sg::ReplayConfig config;
   config.gravity_mps2 = sg::log_gravity(log);
+  if (!traction_check) config.table.traction = fl::TractionParams{};
   return sg::run_replay(log, config);
 }
 
@@ -45,11 +48,34 @@ TEST(ReplayScenarios, EmbeddedCopiesAreTheShippedFiles) {
   }
 }
 
-TEST(ReplayScenarios, DefaultStopsBeforeTheSimulatedEmbedding) {
+// With section 8 (the default table) the motion-resistance check stops the
+// rover first, at least the 2 m the issue asks for ahead of the embedding
+// (docs/traction.md), before any wheel reaches the sinkage level; the
+// escape then finds the wheels free.
+TEST(ReplayScenarios, DefaultTractionCheckStopsTwoMetresBeforeTheEmbedding) {
+  const sg::TelemetryLog log = embedded("embedding");
+  const sg::ReplayResult r = replay(log);
+  ASSERT_TRUE(r.first_stop.has_value()) << "the flight code never stopped the rover";
+  const sg::CycleRecord& stop = r.cycles[*r.first_stop];
+  EXPECT_TRUE(stop.traction_stop_tripped) << "the first stop is not the motion-resistance check's";
+  EXPECT_TRUE(stop.new_events.empty()) << "a wheel tripped with it";
+  EXPECT_EQ(stop.traction_state, fl::TractionState::stop);
+  ASSERT_TRUE(stop.resistance_ahead.has_value());
+  EXPECT_GE(*stop.resistance_ahead, 0.38);
+  const std::optional<sg::Lead> lead = sg::stop_lead(log, r);
+  ASSERT_TRUE(lead.has_value());
+  EXPECT_GE(lead->distance_m, 2.0) << "stopped at x = " << stop.x_m << " m";
+  ASSERT_TRUE(r.escape_end.has_value());
+  EXPECT_EQ(r.cycles[*r.escape_end].escape_state, fl::EscapeState::freed);
+}
+
+// Without section 8 the default table's sinkage level stops the rover (the
+// paper's rule alone; docs/scenarios.md finding 1).
+TEST(ReplayScenarios, SinkageLevelAloneStopsBeforeTheSimulatedEmbedding) {
   const sg::TelemetryLog log = embedded("embedding");
   const std::optional<sg::EmbeddingTruth> embedding = sg::log_embedding(log);
   ASSERT_TRUE(embedding.has_value()) << "the embedding scenario must record where the rover embeds";
-  const sg::ReplayResult r = replay(log);
+  const sg::ReplayResult r = replay(log, false);
   ASSERT_TRUE(r.first_stop.has_value()) << "the flight code never stopped the rover";
   const sg::CycleRecord& stop = r.cycles[*r.first_stop];
   EXPECT_EQ(stop.decision, fl::RoverDecision::stop_and_replan);
@@ -72,8 +98,10 @@ TEST(ReplayScenarios, DefaultStopsBeforeTheSimulatedEmbedding) {
   EXPECT_LT(*at_stop.true_slip, 0.5);
 }
 
-TEST(ReplayScenarios, DefaultEscapeFollowsTheSequencerAndFreesTheRover) {
-  const sg::ReplayResult r = replay(embedded("embedding"));
+// The escape of an embedded rover: without section 8 the sinkage stop comes
+// with the wheels sunk beyond the freed level.
+TEST(ReplayScenarios, EscapeFollowsTheSequencerAndFreesTheRover) {
+  const sg::ReplayResult r = replay(embedded("embedding"), false);
   ASSERT_TRUE(r.first_stop.has_value());
   EXPECT_TRUE(r.cycles[*r.first_stop].escape_started);
   EXPECT_EQ(r.direction_mismatches, 0U) << "the log's wheel directions differ from the sequencer's commands";
@@ -98,15 +126,31 @@ TEST(ReplayScenarios, NominalTraverseNeverStops) {
 }
 
 // docs/scenarios.md findings 2 and 3: on the steep soft flank the default
-// table gives no lead (finding 2, still open), but once the wheels spin at
+// table's sinkage level gives no lead (finding 2; closed by section 8, above), but once the wheels spin at
 // or above the high-slip level the drawbar pull is only assumed (DP_max), so
 // the rover must stop on slip and no wheel may go back to NOMINAL while it
 // is stuck. Before the slip stop evidence the six wheels cleared to NOMINAL
 // 1 s after the embedding and the rover drove on.
-TEST(ReplayScenarios, SteepRippleStuckRoverStopsOnSlipAndStaysStopped) {
+// Finding 2 closed by the motion-resistance check: the default table now
+// stops the rover on the steep soft flank at least 1 m before it embeds.
+TEST(ReplayScenarios, SteepRippleTractionCheckStopsAheadOfTheEmbedding) {
   const sg::Scenario s = sg::generate_scenario(sg::steep_ripple_scenario(), "test");
   ASSERT_TRUE(s.truth.embedded);
   const sg::ReplayResult r = replay(s.log);
+  ASSERT_TRUE(r.first_stop.has_value()) << "the rover was never stopped";
+  const sg::CycleRecord& stop = r.cycles[*r.first_stop];
+  EXPECT_TRUE(stop.traction_stop_tripped);
+  EXPECT_LE(stop.x_m, s.truth.embed_x_m - 1.0) << "embedding at x = " << s.truth.embed_x_m << " m";
+}
+
+TEST(ReplayScenarios, SteepRippleStuckRoverStopsOnSlipAndStaysStopped) {
+  // The wheels' own rules, without section 8, in the generator's closed loop
+  // too (with it the generated rover stops ahead and never gets stuck).
+  sg::ScenarioSpec spec = sg::steep_ripple_scenario();
+  spec.flight.table.traction = fl::TractionParams{};
+  const sg::Scenario s = sg::generate_scenario(spec, "test");
+  ASSERT_TRUE(s.truth.embedded);
+  const sg::ReplayResult r = replay(s.log, false);
   ASSERT_TRUE(r.first_stop.has_value()) << "the stuck rover was never stopped";
   const sg::CycleRecord& stop = r.cycles[*r.first_stop];
   // Late, not early: finding 2 stands (no lead on this flank).

@@ -107,6 +107,8 @@ static_assert(SW_REJECT_HEALTH_BLIND_WHEELS_OUT_OF_RANGE == static_cast<int>(Rej
 static_assert(SW_REJECT_HEALTH_STEP_OUT_OF_RANGE == static_cast<int>(RejectReason::health_step_out_of_range), "C and C++ reject reasons differ");
 static_assert(SW_REJECT_HEALTH_BRIDGE_OUT_OF_RANGE == static_cast<int>(RejectReason::health_bridge_out_of_range), "C and C++ reject reasons differ");
 static_assert(SW_REJECT_ENVELOPE_OVERFLOW == static_cast<int>(RejectReason::envelope_overflow), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_TRACTION_LEVEL_OUT_OF_RANGE == static_cast<int>(RejectReason::traction_level_out_of_range), "C and C++ reject reasons differ");
+static_assert(SW_REJECT_TRACTION_DISTANCE_OUT_OF_RANGE == static_cast<int>(RejectReason::traction_distance_out_of_range), "C and C++ reject reasons differ");
 static_assert(SW_SENSOR_CHANNELS == sinkwatch::flight::kSensorChannelCount, "C and C++ sensor channels differ");
 static_assert(SW_CHANNEL_CLOCK == static_cast<int>(sinkwatch::flight::SensorChannel::clock), "C and C++ sensor channels differ");
 static_assert(SW_HEALTH_RECOVERING == static_cast<int>(sinkwatch::flight::SensorHealth::recovering), "C and C++ sensor health differs");

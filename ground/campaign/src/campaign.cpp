@@ -445,12 +445,17 @@ FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive,
         *detected_time_s = clean.time_s;
       }
     }
-    if (!v.caution_time_s && rec.worst_state() != flight::WheelState::nominal) {
+    const bool traction_caution = rec.traction_state == flight::TractionState::caution ||
+                                  rec.traction_state == flight::TractionState::stop;
+    if (!v.caution_time_s && (rec.worst_state() != flight::WheelState::nominal || traction_caution)) {
       v.caution_time_s = clean.time_s;
       v.caution_x_m = rec.x_m;
     }
     if (v.stop_reason == flight::StopReason::none && !rec.new_events.empty()) {
       v.stop_reason = rec.new_events.front().reason;
+    }
+    if (v.stop_reason == flight::StopReason::none && rec.traction_stop_tripped) {
+      v.stop_reason = flight::StopReason::traction;
     }
     if (rec.decision == flight::RoverDecision::stop_and_replan) {
       v.stop_time_s = clean.time_s;

@@ -193,6 +193,12 @@ CycleRecord record_of(const flight::RoverStepOutput& out, const TelemetryRow& ro
   for (std::size_t c = 0; c < kSensorChannelCount; ++c) rec.health[c] = out.health.channel[c];
   rec.wheels_blind = out.monitor.wheels_blind;
   rec.degraded = out.monitor.degraded;
+  rec.traction_state = out.traction.state;
+  rec.traction_stop_tripped = out.traction.stop_tripped;
+  if (out.traction.rho_valid) {
+    rec.resistance = to_d(out.traction.resistance_median);
+    rec.resistance_ahead = to_d(out.traction.resistance_ahead);
+  }
   for (std::size_t i = 0; i < kTelemetryWheels; ++i) {
     const WheelOutput& w = out.monitor.wheels[i];
     WheelCycle& c = rec.wheels[i];
@@ -393,6 +399,7 @@ const char* to_string(flight::StopReason r) {
     case flight::StopReason::sinkage: return "sinkage at the stop level";
     case flight::StopReason::telemetry: return "unusable telemetry";
     case flight::StopReason::slip: return "slip at or above the high-slip level";
+    case flight::StopReason::traction: return "motion resistance rising to the stop coefficient";
   }
   return "?";
 }

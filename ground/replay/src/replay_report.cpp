@@ -146,6 +146,14 @@ void print_heading(std::ostream& out, const TelemetryLog& log, const ReplayConfi
               to_d(mp.stop_sinkage_m) * 1000.0,
               static_cast<unsigned>(mp.trip_n), static_cast<unsigned>(mp.window_m),
               static_cast<unsigned>(mp.rover_stop_k));
+  const flight::TractionParams& tp = config.table.traction;
+  if (flight::traction_check_on(tp)) {
+    out << strf("  Stop also when the motion-resistance coefficient, carried %.1f m ahead along its rise over the "
+                "last %.1f m, reaches %.2f (section 8).\n",
+                to_d(tp.lookahead_m), to_d(tp.trend_span_m), to_d(tp.stop_coefficient));
+  } else {
+    out << "  The motion-resistance check is off (no section 8 in the table).\n";
+  }
   out << "\n      time       x   slip   deepest z  I/Imax  wheels               decision\n";
 }
 
@@ -197,6 +205,10 @@ void print_stop_events(std::ostream& out, const TelemetryLog& log, const CycleRe
                 truth ? strf(" (simulator: deepest wheel %.1f mm)", *truth).c_str() : "");
     wheel_table(out, c);
     for (const StopRecord& e : c.new_events) out << "      event record: " << event_text(e) << '\n';
+    if (c.traction_stop_tripped) {
+      out << strf("      the motion-resistance check stopped the rover: coefficient %.3f, carried ahead %.3f\n",
+                  c.resistance.value_or(0.0), c.resistance_ahead.value_or(0.0));
+    }
     out << '\n';
   } else if (!c.new_events.empty()) {
     std::string names;

@@ -112,7 +112,9 @@ typedef enum sw_reject_reason {
   SW_REJECT_HEALTH_STEP_OUT_OF_RANGE = 53,
   SW_REJECT_HEALTH_BRIDGE_OUT_OF_RANGE = 54,
   SW_REJECT_ENVELOPE_OVERFLOW = 55, /* the table's own numbers overflow within its envelope (sensor torque, current limit) */
-  SW_REJECT_REASON_COUNT = 56 /* not a reason: the number of reasons */
+  SW_REJECT_TRACTION_LEVEL_OUT_OF_RANGE = 56, /* section 8: caution/stop coefficients or hysteresis out of range */
+  SW_REJECT_TRACTION_DISTANCE_OUT_OF_RANGE = 57, /* section 8: lookahead or trend span out of range */
+  SW_REJECT_REASON_COUNT = 58 /* not a reason: the number of reasons */
 } sw_reject_reason;
 
 enum { SW_DIRECTION_FORWARD = 0, SW_DIRECTION_REVERSE = 1 };

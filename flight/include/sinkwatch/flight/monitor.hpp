@@ -58,7 +58,9 @@ constexpr std::uint8_t kSampleStatusCount = 9U;
 
 /// Why a wheel entered STOP. `slip`: its samples came at or above the rover's
 /// high-slip level, where the drawbar pull is assumed (DP_max), not measured.
-enum class StopReason : std::uint8_t { none = 0U, current = 1U, sinkage = 2U, telemetry = 3U, slip = 4U };
+/// `traction`: never a wheel's; the rover's motion-resistance check
+/// (traction.hpp) stopped it, reported by the ground beside the wheels'.
+enum class StopReason : std::uint8_t { none = 0U, current = 1U, sinkage = 2U, telemetry = 3U, slip = 4U, traction = 5U };
 
 /// One wheel's telemetry for one cycle.
 struct WheelInput {

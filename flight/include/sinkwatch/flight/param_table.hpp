@@ -12,7 +12,7 @@
 // integer, written byte by byte (never by memcpy of a struct, whose layout
 // and endianness belong to the compiler). Each section's fields are listed
 // once (param_table.cpp), and the encoder, the decoder and the size
-// computation walk that one list (src/table_codec.hpp). Sections 1..5 and 7
+// computation walk that one list (src/table_codec.hpp). Sections 1..5, 7 and 8
 // are this module's parameters; section 6, optional, is the rover geometry
 // (rover_geometry.hpp) as a typed section. A new section takes the next id.
 //
@@ -53,6 +53,7 @@ enum class SectionId : std::uint16_t {
   escape = 5U,          ///< EscapeParams
   rover_geometry = 6U,  ///< RoverSection; optional: absent means the Yutu-like rover on the Moon (load.hpp)
   health = 7U,          ///< HealthParams; optional: absent means every check off
+  traction = 8U,        ///< TractionParams; optional: absent means the check off
 };
 
 // Every field of the parameter structs defaults to zero: a zero count,
@@ -109,6 +110,23 @@ struct HealthParams {
   AngleRad joint_step_rad{};          ///< |joint change| beyond it: a spike (0: off)
 };
 
+/// Section 8: the motion-resistance check (traction.hpp, docs/traction.md).
+/// All zero (a table without section 8) switches it off, the behaviour
+/// before it existed.
+struct TractionParams {
+  Ratio caution_coefficient{};  ///< rho ahead at or above: CAUTION evidence
+  Ratio stop_coefficient{};     ///< rho ahead at or above: STOP evidence
+  Ratio hysteresis{};           ///< clear only below caution - hysteresis
+  LengthM lookahead_m{};        ///< how far ahead the rising trend is carried
+  LengthM trend_span_m{};       ///< the travelled distance the trend is measured over
+};
+
+/// True when section 8 switches the check on (any field non-zero).
+[[nodiscard]] constexpr bool traction_check_on(const TractionParams& p) noexcept {
+  return (p.caution_coefficient.raw() != 0) || (p.stop_coefficient.raw() != 0) || (p.hysteresis.raw() != 0) ||
+         (p.lookahead_m.raw() != 0) || (p.trend_span_m.raw() != 0);
+}
+
 /// Section 6: the rover geometry (rover_geometry.hpp, layout there), decoded
 /// and validated (validate_rover_params()) with the rest of the table.
 struct RoverSection {
@@ -125,6 +143,7 @@ struct ParameterTable {
   EscapeParams escape{};
   RoverSection rover_geometry{};  ///< section 6, written only when present
   HealthParams health{};  ///< section 7, written only when not all zero
+  TractionParams traction{};  ///< section 8, written only when the check is on
 };
 
 /// Why a table was refused. One reason per check, so the ground knows which
@@ -200,10 +219,14 @@ enum class RejectReason : std::uint8_t {
   // torque of the sensor's largest current, or the current limit somewhere
   // in [load_min_n, load_max_n]); appended, so that no value changes
   envelope_overflow,
+  // the motion-resistance check (section 8); appended
+  traction_level_out_of_range,
+  traction_distance_out_of_range,
 };
 
 /// Number of RejectReason values (for tests and telemetry tables).
-constexpr std::uint8_t kRejectReasonCount = static_cast<std::uint8_t>(RejectReason::envelope_overflow) + 1U;
+constexpr std::uint8_t kRejectReasonCount =
+    static_cast<std::uint8_t>(RejectReason::traction_distance_out_of_range) + 1U;
 
 /// The enumerator's name ("crc_mismatch"); "unknown" for a value outside the
 /// enum. Static storage.

@@ -10,6 +10,7 @@
 //             -> DP_max/W at each load    (corrections_at, Table 2's table)
 //             -> drawbar pulls DP_i       (drawbar_pull.hpp, force balance)
 //             -> RoverMonitor::step       (monitor.hpp: T, z, I_max, states, decision)
+//             -> TractionMonitor::step    (traction.hpp: the motion-resistance check)
 //
 // One bounded call: no allocation, no recursion, loops over the six wheels.
 // Every input is validated. A cycle whose loads or pulls cannot be computed
@@ -36,6 +37,7 @@
 #include "sinkwatch/flight/prepared_params.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/sensor_health.hpp"
+#include "sinkwatch/flight/traction.hpp"
 #include "sinkwatch/flight/units.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
 
@@ -96,7 +98,10 @@ struct RoverStepOutput {
   std::uint32_t lifting_wheel{kWheelCount};  ///< with tip_over: the wheel that lifts
   SensorHealthReport health{};             ///< every channel's health (sensor_health.hpp)
   RoverOutput monitor{};                   ///< per wheel: torque, sinkage, I_max, state
-  RoverDecision decision{RoverDecision::stop_and_replan};  ///< the monitor's, or stop on tip_over / bad table
+  TractionOutput traction{};               ///< the motion-resistance check (traction.hpp)
+  /// The monitor's, or stop on tip_over / bad table / the motion-resistance
+  /// check in STOP.
+  RoverDecision decision{RoverDecision::stop_and_replan};
 };
 
 class RoverStep {
@@ -109,8 +114,8 @@ class RoverStep {
   /// load by load() or prepare(): the step does no validation of its own.
   RoverStepOutput step(const RoverTelemetry& telemetry, TimeMs now, const PreparedParameters& prepared) noexcept;
 
-  /// The ground's acknowledgement after a re-plan (RoverMonitor::clear_stop);
-  /// the sensor health takes the next sample as every channel's reference
+  /// The ground's acknowledgement after a re-plan (RoverMonitor::clear_stop,
+  /// TractionMonitor::clear_stop); the sensor health takes the next sample as every channel's reference
   /// (SensorHealthMonitor::accept_levels).
   void clear_stop() noexcept;
 
@@ -140,6 +145,7 @@ class RoverStep {
               RoverStepOutput& out) noexcept;
 
   RoverMonitor monitor_;
+  TractionMonitor traction_;
   SensorHealthMonitor health_;
   SensorHealthReport last_health_{};
   bool have_time_{false};

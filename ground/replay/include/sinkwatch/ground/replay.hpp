@@ -143,6 +143,13 @@ struct CycleRecord {
   std::array<flight::SensorHealth, flight::kSensorChannelCount> health{};
   std::uint8_t wheels_blind = 0;
   bool degraded = false;
+  // The motion-resistance check (flight/traction.hpp): its state, whether it
+  // stopped the rover this cycle, and its median and carried-ahead
+  // coefficients when the cycle had them.
+  flight::TractionState traction_state = flight::TractionState::off;
+  bool traction_stop_tripped = false;
+  std::optional<double> resistance;
+  std::optional<double> resistance_ahead;
 
   /// Deepest valid sinkage estimate of the cycle.
   std::optional<double> max_sinkage_m() const;

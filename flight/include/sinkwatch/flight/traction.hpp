@@ -1,0 +1,154 @@
+// traction.hpp: the rover's motion-resistance check, a stop rule that does
+// not need Table 2 to match the soil (issue 14; docs/traction.md).
+//
+// The paper's section 7 stops near the maximum drive current; Eq. 15 turns
+// the current into a sinkage only through C1..C3 fitted on one soil. What
+// embeds a rover, whatever the soil, is that the wheels' torque goes more
+// and more into the soil's resistance (compaction, bulldozing, slip sinkage)
+// and less into pull. The rover measures that share directly: its torques
+// from the motor currents (motor.hpp), its weight on the wheels from the
+// statics (wheel_load.hpp) and the pull its slope and acceleration need
+// from the force balance (drawbar_pull.hpp). Each usable cycle:
+//
+//   rho       = (sum_i T_i / r - sum_i DP_i) / sum_i W_i    the motion-resistance coefficient
+//   rho_med   = median of the last kMedianSamples rho       (one noisy sample cannot trip)
+//   rise      = rho_med now - rho_med >= trend_span_m back  (travelled distance, odometry)
+//   rho_ahead = rho_med + lookahead_m * max(0, rise / distance)
+//
+// rho_ahead at or above stop_coefficient is STOP evidence, at or above
+// caution_coefficient CAUTION evidence; the state moves on the monitor's
+// N-of-M window (section 4's trip_n of window_m; clear_n below caution), and
+// STOP is latched until clear_stop(), like a wheel's. T_i and W_i are the
+// wheels' directed torques and loads (reverse drive: the torque that drives
+// the rover backwards, and the pulls' sign flipped).
+//
+// The history restarts whenever the rover stands (odometry below
+// kTractionStandingSpeed): a trend across a halt would compare two drives,
+// and the first trend_span_m of a drive (the start's acceleration) sets no
+// baseline. Evidence needs a full median (kTractionMedianSamples samples).
+//
+// A cycle is unusable for this check (no evidence, never clear) when fewer
+// than half the monitored wheels have a torque, when the pulls are assumed
+// (DP_max at high slip: table numbers, and the wheel monitor's slip rule
+// stops then), when the wheels do not all drive one way, or when the
+// arithmetic overflows. Section 8 of the table holds the levels; a table
+// without it leaves the check off (TractionState::off).
+#ifndef SINKWATCH_FLIGHT_TRACTION_HPP
+#define SINKWATCH_FLIGHT_TRACTION_HPP
+
+#include <cstdint>
+
+#include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/rover_geometry.hpp"
+#include "sinkwatch/flight/units.hpp"
+
+namespace sinkwatch {
+namespace flight {
+
+/// Samples of the running median (odd).
+constexpr std::uint8_t kTractionMedianSamples = 5U;
+/// Distance marks of the trend's history; one every trend_span_m / 8, so
+/// the history reaches back two spans.
+constexpr std::uint8_t kTractionTrendMarks = 16U;
+
+/// Below this ground speed the rover stands (Yutu drives at 0.055 m/s).
+constexpr SpeedMps kTractionStandingSpeed{fx::constant<SpeedQ>(0.005)};
+
+enum class TractionState : std::uint8_t { off = 0U, nominal = 1U, caution = 2U, stop = 3U };
+
+/// What became of this cycle's sample.
+enum class TractionSample : std::uint8_t {
+  ok = 0U,
+  check_off = 1U,        ///< the table has no section 8
+  too_few_wheels = 2U,   ///< fewer than half the monitored wheels have a torque
+  pull_assumed = 3U,     ///< the pulls are DP_max at high slip, not a force balance
+  mixed_direction = 4U,  ///< the wheels do not all drive the same way
+  overflow = 5U,         ///< an intermediate overflowed: no number
+  no_loads = 6U,         ///< the cycle has no loads or pulls (the step's status was not ok)
+  standing = 7U,         ///< the rover stands: the history restarts
+  filling = 8U,          ///< fewer than kTractionMedianSamples samples since the restart
+};
+
+/// One cycle's input, from the rover step's stages.
+struct TractionInput {
+  TimeMs time;
+  bool loads_valid{false};           ///< load_n and drawbar_pull_n hold this cycle's numbers
+  bool pull_assumed{false};          ///< drawbar pulls are DP_max at high slip
+  WheelLoadN load_n[kWheelCount];
+  DrawbarPullN drawbar_pull_n[kWheelCount];
+  bool torque_valid[kWheelCount]{};  ///< the wheel monitor's estimate_valid
+  TorqueNm torque_nm[kWheelCount];   ///< directed (motor.hpp)
+  DriveDirection direction[kWheelCount]{};
+  bool speed_valid{false};           ///< speed_mps is a measurement (odometry / VO)
+  SpeedMps speed_mps;                ///< signed; the distance travelled is |v| dt
+};
+
+struct TractionOutput {
+  TractionState state{TractionState::off};
+  TractionSample sample{TractionSample::check_off};
+  bool stop_tripped{false};    ///< entered STOP in this cycle
+  bool rho_valid{false};       ///< resistance and resistance_median hold this cycle's numbers
+  Ratio resistance;            ///< rho of this cycle
+  Ratio resistance_median;     ///< rho_med
+  bool trend_known{false};     ///< the history reaches trend_span_m back
+  Ratio resistance_ahead;      ///< rho_ahead (rho_med without a known trend)
+};
+
+class TractionMonitor {
+ public:
+  TractionMonitor() noexcept;
+
+  /// One cycle; `params` is the table's section 8 and `monitor` its section 4
+  /// (the N-of-M window). `wheel_radius_m` is the table's r.
+  TractionOutput step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
+                      LengthM wheel_radius_m) noexcept;
+
+  /// Back to NOMINAL with empty histories (the ground's re-plan).
+  void clear_stop() noexcept;
+
+  [[nodiscard]] TractionState state() const noexcept { return state_; }
+
+ private:
+  /// rho of this cycle into `rho`; the sample's verdict.
+  [[nodiscard]] static TractionSample resistance_of(const TractionInput& in, std::uint8_t wheels, LengthM radius,
+                                                    Ratio& rho) noexcept;
+  /// rho_med after pushing `rho`.
+  [[nodiscard]] Ratio push_median(Ratio rho) noexcept;
+  /// A sample with a resistance: the restart when standing, else the
+  /// median, the distance and rho_ahead into `out`; the sample's verdict.
+  TractionSample evaluate(const TractionInput& input, const TractionParams& params, Ratio rho,
+                          TractionOutput& out) noexcept;
+  /// Empties the median and the trend's history (the rover stands).
+  void restart() noexcept;
+  /// Adds |v| dt to the distance and, every trend_span_m / 8 after the
+  /// first trend_span_m, a mark.
+  void advance(const TractionInput& in, Ratio rho_med, const TractionParams& params) noexcept;
+  /// rho_ahead from the marks; false when the history is shorter than the span.
+  bool ahead_of(Ratio rho_med, const TractionParams& params, Ratio& ahead, fx::Status& st) const noexcept;
+  void push_history(bool caution, bool stop, bool clear) noexcept;
+  void transition(const MonitorParams& monitor, TractionOutput& out) noexcept;
+
+  TractionState state_{TractionState::nominal};
+  Ratio recent_[kTractionMedianSamples];  ///< the last rho, oldest overwritten
+  std::uint8_t recent_count_{0U};
+  std::uint8_t recent_next_{0U};
+  /// The trend's history: rho_med at each mark and the distance from the
+  /// previous mark to it (relative, so that no odometer can overflow).
+  Ratio mark_rho_[kTractionTrendMarks];
+  LengthM mark_gap_m_[kTractionTrendMarks];
+  std::uint8_t mark_count_{0U};
+  std::uint8_t mark_newest_{0U};
+  LengthM since_mark_m_;        ///< travelled since the newest mark
+  bool settled_{false};         ///< the first trend_span_m since the restart is behind
+  LengthM settling_m_;          ///< travelled since the restart, until settled
+  bool have_time_{false};
+  TimeMs last_time_{0U};
+  std::uint16_t caution_history_{0U};  ///< bit 0 is the newest sample
+  std::uint16_t stop_history_{0U};
+  std::uint16_t clear_history_{0U};
+};
+
+}  // namespace flight
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_FLIGHT_TRACTION_HPP
