@@ -133,7 +133,7 @@ struct SideLevers {
 /// whether each wheel is projected from its axle (its torque is usable).
 struct SideTorques {
   W couple[3];
-  bool from_axle[3];
+  bool from_axle[3]{};
 };
 /// The suspension's link vectors in the wide format, and the contact offset.
 struct Links {
@@ -187,13 +187,33 @@ W wheel_xt(Point contact, bool from_axle, W radius, W kx, fx::Status& st) noexce
   return project(contact.x, z, kx, st);
 }
 
+/// The lateral positions and the torque terms of one side (sections 3.5 and
+/// 12.2), from its contacts and its bogie's projected span.
+void side_lateral(const SideContacts& c, W y_side, W ky, W span, const SideTorques& tq, SideLevers& out,
+                  fx::Status& st) noexcept {
+  out.yt_front = project(y_side, c.front.z, ky, st);
+  const W yt_m = project(y_side, c.middle.z, ky, st);
+  const W yt_r = project(y_side, c.rear.z, ky, st);
+  // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
+  out.yt_bogie = fx::add(yt_r, fx::mul(out.beta, fx::sub(yt_m, yt_r, st), st), st);
+  out.front_couple = tq.couple[0];
+  out.bogie_shift = fx::div(fx::add(tq.couple[1], tq.couple[2], st), span, st);
+  out.yt_rear_minus_middle = fx::sub(yt_r, yt_m, st);
+}
+
+/// One side: its joint angles and the lateral position of its contacts.
+struct SidePose {
+  AngleRad rocker_rad;
+  AngleRad bogie_rad;
+  W y_side;
+};
+
 /// One side's projected levers; false when a lever collapsed.
-bool side_levers(const Links& l, AngleRad rocker_rad, AngleRad bogie_rad, W y_side, const GravityFrame& g,
-                 const SideTorques& tq, SideLevers& out, fx::Status& st) noexcept {
+bool side_levers(const Links& l, const SidePose& pose, const GravityFrame& g, const SideTorques& tq, SideLevers& out,
+                 fx::Status& st) noexcept {
   const W kx = g.kx;
-  const W ky = g.ky;
   const W radius = fx::neg(l.down.z, st);
-  const SideContacts c = side_contacts(l, rocker_rad, bogie_rad, st);
+  const SideContacts c = side_contacts(l, pose.rocker_rad, pose.bogie_rad, st);
   const W xt_f = wheel_xt(c.front, tq.from_axle[0], radius, kx, st);
   const W xt_m = wheel_xt(c.middle, tq.from_axle[1], radius, kx, st);
   const W xt_r = wheel_xt(c.rear, tq.from_axle[2], radius, kx, st);
@@ -205,14 +225,7 @@ bool side_levers(const Links& l, AngleRad rocker_rad, AngleRad bogie_rad, W y_si
     return false;
   }
   out.beta = fx::div(fx::sub(xt_b, xt_r, st), span, st);
-  out.yt_front = project(y_side, c.front.z, ky, st);
-  const W yt_m = project(y_side, c.middle.z, ky, st);
-  const W yt_r = project(y_side, c.rear.z, ky, st);
-  // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
-  out.yt_bogie = fx::add(yt_r, fx::mul(out.beta, fx::sub(yt_m, yt_r, st), st), st);
-  out.front_couple = tq.couple[0];
-  out.bogie_shift = fx::div(fx::add(tq.couple[1], tq.couple[2], st), span, st);
-  out.yt_rear_minus_middle = fx::sub(yt_r, yt_m, st);
+  side_lateral(c, pose.y_side, g.ky, span, tq, out, st);
   return true;
 }
 
@@ -275,7 +288,8 @@ bool both_sides(const RoverParams& params, const JointAnglesRad& joints, const G
                     Point{W::zero(), fx::neg(wide(params.wheel_radius_m, st), st)}};
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
     const W y_side = (s == 0U) ? half_track : fx::neg(half_track, st);
-    if (!side_levers(links, joints.rocker_rad[s], joints.bogie_rad[s], y_side, g, tq[s], side[s], st)) {
+    const SidePose pose{joints.rocker_rad[s], joints.bogie_rad[s], y_side};
+    if (!side_levers(links, pose, g, tq[s], side[s], st)) {
       return false;
     }
   }

@@ -148,6 +148,7 @@ LoadStatus check_load_inputs(const RoverGeometry& g, Attitude att, const JointAn
 struct GravityProjection {
   double kx;
   double ky;
+  double normal_fraction;  // cos(pitch) cos(roll): turns a torque into the support forces' units
 };
 
 // One side's levers in projected coordinates: front lever a, bogie lever b,
@@ -164,7 +165,7 @@ struct SideLevers {
 // Side s's contacts (recorded in `out`) and levers; false when a lever has
 // collapsed (shorter than k_min_lever_m).
 bool side_levers(const RoverGeometry& g, const JointAngles& joints, std::size_t s, GravityProjection proj,
-                 const DriveTorques& torques, double normal_fraction, WheelLoads& out, SideLevers& levers) {
+                 const DriveTorques& torques, WheelLoads& out, SideLevers& levers) {
   const double y_side = (s == 0U) ? 0.5 * g.track_width_m : -0.5 * g.track_width_m;
   const SideContacts c = side_contacts(g, joints.rocker_rad[s], joints.bogie_rad[s]);
   const std::size_t base = 3U * s;
@@ -179,7 +180,7 @@ bool side_levers(const RoverGeometry& g, const JointAngles& joints, std::size_t 
     return torques.usable[base + k] ? contact_z + g.wheel_radius_m : contact_z;
   };
   const auto couple = [&](std::size_t k) {
-    return torques.usable[base + k] ? torques.torque_nm[base + k] / normal_fraction : 0.0;
+    return torques.usable[base + k] ? torques.torque_nm[base + k] / proj.normal_fraction : 0.0;
   };
   const double xt_f = c.front.x_m - lever_z(0U, c.front.z_m) * proj.kx;
   const double xt_m = c.middle.x_m - lever_z(1U, c.middle.z_m) * proj.kx;
@@ -276,7 +277,8 @@ WheelLoads loads_of(const RoverGeometry& g, Attitude att, const JointAngles& joi
   // projected along gravity onto the ground plane (section 3.2).
   const double cos_pitch = std::cos(att.pitch_rad);
   const double cos_roll = std::cos(att.roll_rad);
-  const GravityProjection proj{std::sin(att.pitch_rad) / (cos_pitch * cos_roll), std::tan(att.roll_rad)};
+  const GravityProjection proj{std::sin(att.pitch_rad) / (cos_pitch * cos_roll), std::tan(att.roll_rad),
+                                    cos_pitch * cos_roll};
   const double weight_n = g.mass_kg * g.gravity_mps2;
   const double normal_fraction = cos_pitch * cos_roll;
   out.weight_normal_n = weight_n * normal_fraction;
@@ -290,7 +292,7 @@ WheelLoads loads_of(const RoverGeometry& g, Attitude att, const JointAngles& joi
 
   std::array<SideLevers, 2> sides{};
   for (std::size_t s = 0U; s < 2U; ++s) {
-    if (!side_levers(g, joints, s, proj, torques, normal_fraction, out, sides[s])) {
+    if (!side_levers(g, joints, s, proj, torques, out, sides[s])) {
       out.status = LoadStatus::degenerate;
       return out;
     }
