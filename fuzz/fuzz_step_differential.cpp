@@ -568,7 +568,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     out = step.step(t, t.time, prepared);
   }
   const sg::WheelLoads twin_loads =
-      sg::wheel_loads(rt::to_ground(rover), rt::to_ground(t.attitude), rt::to_ground(t.joints));
+      sg::wheel_loads(rt::to_ground(rover), rt::to_ground(t.attitude), rt::to_ground(t.joints), sg::k_no_drive_torques);
   const Context c{table, rover, t, out, twin_loads, d(rover.mass_kg) * d(rover.gravity_mps2)};
   check_motion_status(c);
   check_loads(c);  // the load stage runs before the motion check

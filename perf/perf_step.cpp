@@ -144,7 +144,7 @@ long run(long steps, std::int64_t& checksum) {
     sg::JointAngles joints;
     joints.rocker_rad = {r.rocker_l, r.rocker_r};
     joints.bogie_rad = {r.bogie_l, r.bogie_r};
-    const sg::WheelLoads loads = sg::wheel_loads(g, att, joints);
+    const sg::WheelLoads loads = sg::wheel_loads(g, att, joints, sg::k_no_drive_torques);
     sg::DrawbarParams dpp;
     dpp.high_slip = high_slip;
     for (std::size_t w = 0; w < sg::k_wheel_count; ++w) {

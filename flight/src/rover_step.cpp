@@ -55,7 +55,9 @@ bool motion_in_range(const RoverTelemetry& t) noexcept {
 /// Stage 2: the wheel loads into `out`; ok, tip_over or loads_failed.
 RoverStepStatus load_stage(const PreparedParameters& prepared, const RoverTelemetry& t, WheelLoadResult& loads,
                            RoverStepOutput& out) noexcept {
-  loads = wheel_loads(prepared, t.attitude, t.joints);
+  // Without the drive torques for now: with them the recorded scenarios'
+  // stops move (docs/rover-loads.md, section 12.8).
+  loads = wheel_loads(prepared, t.attitude, t.joints, kNoDriveTorques);
   out.load_status = loads.status;
   if (loads.status == WheelLoadStatus::tip_over) {
     out.lifting_wheel = loads.lifting_wheel;

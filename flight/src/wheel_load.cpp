@@ -31,6 +31,7 @@ constexpr AngleRad kMaxAttitudeLimit{fx::constant<AngleQ>(limits::kMaxAttitudeLi
 constexpr W kMinLever{fx::constant<W>(0.001)};
 constexpr W kHalf{fx::constant<W>(0.5)};
 constexpr Ratio kMaxHighSlip{fx::constant<RatioQ>(limits::kMaxHighSlip)};
+constexpr std::uint8_t kAllWheelsMask{0x3FU};
 
 bool within(LengthM v, LengthM limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
 bool within(AngleRad v, AngleRad limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
@@ -116,15 +117,24 @@ RoverParamStatus validate_suspension(const RoverParams& p) noexcept {
   return RoverParamStatus::ok;
 }
 
-/// The three lever quantities of one side (sections 3.3 to 3.5).
+/// The lever quantities of one side (sections 3.3 to 3.5 and 12).
 struct SideLevers {
   W a;          ///< x~_front - x~_pivot
   W b;          ///< x~_pivot - x~_bogie
   W beta;       ///< the middle wheel's share of the bogie
   W yt_front;   ///< y~ of the front contact
   W yt_bogie;   ///< y~ of the bogie's resultant
+  W front_couple;  ///< t_front: the front wheel's torque over cos(pitch) cos(roll)
+  W bogie_shift;   ///< (t_middle + t_rear) / span: moved from middle to rear
+  W yt_rear_minus_middle;  ///< y~_rear - y~_middle
 };
 
+/// One side's torques over cos(pitch) cos(roll) (zero where not usable) and
+/// whether each wheel is projected from its axle (its torque is usable).
+struct SideTorques {
+  W couple[3];
+  bool from_axle[3]{};
+};
 /// The suspension's link vectors in the wide format, and the contact offset.
 struct Links {
   Point rocker_front;
@@ -170,15 +180,43 @@ struct GravityFrame {
   W ky;               ///< tan(roll)
 };
 
+/// x~ of a wheel: from its axle when its torque is used (the soil force
+/// reaches the link there, section 12), else from its contact.
+W wheel_xt(Point contact, bool from_axle, W radius, W kx, fx::Status& st) noexcept {
+  const W z = from_axle ? fx::add(contact.z, radius, st) : contact.z;
+  return project(contact.x, z, kx, st);
+}
+
+/// The lateral positions and the torque terms of one side (sections 3.5 and
+/// 12.2), from its contacts and its bogie's projected span.
+void side_lateral(const SideContacts& c, W y_side, W ky, W span, const SideTorques& tq, SideLevers& out,
+                  fx::Status& st) noexcept {
+  out.yt_front = project(y_side, c.front.z, ky, st);
+  const W yt_m = project(y_side, c.middle.z, ky, st);
+  const W yt_r = project(y_side, c.rear.z, ky, st);
+  // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
+  out.yt_bogie = fx::add(yt_r, fx::mul(out.beta, fx::sub(yt_m, yt_r, st), st), st);
+  out.front_couple = tq.couple[0];
+  out.bogie_shift = fx::div(fx::add(tq.couple[1], tq.couple[2], st), span, st);
+  out.yt_rear_minus_middle = fx::sub(yt_r, yt_m, st);
+}
+
+/// One side: its joint angles and the lateral position of its contacts.
+struct SidePose {
+  AngleRad rocker_rad;
+  AngleRad bogie_rad;
+  W y_side;
+};
+
 /// One side's projected levers; false when a lever collapsed.
-bool side_levers(const Links& l, AngleRad rocker_rad, AngleRad bogie_rad, W y_side, const GravityFrame& g,
-                 SideLevers& out, fx::Status& st) noexcept {
+bool side_levers(const Links& l, const SidePose& pose, const GravityFrame& g, const SideTorques& tq, SideLevers& out,
+                 fx::Status& st) noexcept {
   const W kx = g.kx;
-  const W ky = g.ky;
-  const SideContacts c = side_contacts(l, rocker_rad, bogie_rad, st);
-  const W xt_f = project(c.front.x, c.front.z, kx, st);
-  const W xt_m = project(c.middle.x, c.middle.z, kx, st);
-  const W xt_r = project(c.rear.x, c.rear.z, kx, st);
+  const W radius = fx::neg(l.down.z, st);
+  const SideContacts c = side_contacts(l, pose.rocker_rad, pose.bogie_rad, st);
+  const W xt_f = wheel_xt(c.front, tq.from_axle[0], radius, kx, st);
+  const W xt_m = wheel_xt(c.middle, tq.from_axle[1], radius, kx, st);
+  const W xt_r = wheel_xt(c.rear, tq.from_axle[2], radius, kx, st);
   const W xt_b = project(c.pivot_b.x, c.pivot_b.z, kx, st);
   out.a = xt_f;
   out.b = fx::neg(xt_b, st);
@@ -187,11 +225,7 @@ bool side_levers(const Links& l, AngleRad rocker_rad, AngleRad bogie_rad, W y_si
     return false;
   }
   out.beta = fx::div(fx::sub(xt_b, xt_r, st), span, st);
-  out.yt_front = project(y_side, c.front.z, ky, st);
-  const W yt_m = project(y_side, c.middle.z, ky, st);
-  const W yt_r = project(y_side, c.rear.z, ky, st);
-  // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
-  out.yt_bogie = fx::add(yt_r, fx::mul(out.beta, fx::sub(yt_m, yt_r, st), st), st);
+  side_lateral(c, pose.y_side, g.ky, span, tq, out, st);
   return true;
 }
 
@@ -247,53 +281,100 @@ Body body_of(const RoverParams& params, const GravityFrame& g, fx::Status& st) n
 
 /// Both sides' levers; false when one collapsed.
 bool both_sides(const RoverParams& params, const JointAnglesRad& joints, const GravityFrame& g,
-                SideLevers (&side)[kSideCount], fx::Status& st) noexcept {
+                const SideTorques (&tq)[kSideCount], SideLevers (&side)[kSideCount], fx::Status& st) noexcept {
   const W half_track = fx::mul(kHalf, wide(params.track_width_m, st), st);
   const Links links{wide(params.rocker_front_axle, st), wide(params.rocker_bogie_pivot, st),
                     wide(params.bogie_middle_axle, st), wide(params.bogie_rear_axle, st),
                     Point{W::zero(), fx::neg(wide(params.wheel_radius_m, st), st)}};
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
     const W y_side = (s == 0U) ? half_track : fx::neg(half_track, st);
-    if (!side_levers(links, joints.rocker_rad[s], joints.bogie_rad[s], y_side, g, side[s], st)) {
+    const SidePose pose{joints.rocker_rad[s], joints.bogie_rad[s], y_side};
+    if (!side_levers(links, pose, g, tq[s], side[s], st)) {
       return false;
     }
   }
   return true;
 }
 
-/// Roll balance (section 3.5), the rockers and the bogies: each wheel's
-/// support force along gravity. False when the lateral span collapsed.
-bool support_forces(const SideLevers (&side)[kSideCount], const Body& body, W (&support)[kWheelCount],
-                    fx::Status& st) noexcept {
+/// Each side's pivot moment less its front couple, M - t_front (section 12).
+W side_moment(const Body& body, const SideLevers& side, fx::Status& st) noexcept {
+  return fx::sub(body.pivot_moment, side.front_couple, st);
+}
+
+/// Roll balance (sections 3.5 and 12): the left side's support force; false
+/// when the lateral span collapsed.
+bool left_side_total(const SideLevers (&side)[kSideCount], const Body& body, W& left, fx::Status& st) noexcept {
   W big_y[kSideCount]{};
   W big_z[kSideCount]{};
+  // sum_s (q_s - t_front,s Z_s): exactly zero without torques, so that the
+  // loads then keep the bits of the statics without torques.
+  W torque_terms = W::zero();
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
     const W lever = fx::add(side[s].a, side[s].b, st);
     const W moment = fx::add(fx::mul(side[s].b, side[s].yt_front, st), fx::mul(side[s].a, side[s].yt_bogie, st), st);
     big_y[s] = fx::div(moment, lever, st);
     big_z[s] = fx::div(fx::sub(side[s].yt_front, side[s].yt_bogie, st), lever, st);
+    torque_terms = fx::add(torque_terms, fx::mul(side[s].bogie_shift, side[s].yt_rear_minus_middle, st), st);
+    torque_terms = fx::sub(torque_terms, fx::mul(side[s].front_couple, big_z[s], st), st);
   }
   const W lateral_span = fx::sub(big_y[0], big_y[1], st);
   if (lateral_span < kMinLever) {
     return false;
   }
-  W side_total[kSideCount]{};
-  const W roll_moment = fx::sub(fx::sub(fx::mul(body.weight_n, body.com_yt, st),
-                                        fx::mul(body.pivot_moment, fx::add(big_z[0], big_z[1], st), st), st),
+  const W roll_moment = fx::sub(fx::sub(fx::sub(fx::mul(body.weight_n, body.com_yt, st),
+                                                fx::mul(body.pivot_moment, fx::add(big_z[0], big_z[1], st), st), st),
+                                        torque_terms, st),
                                 fx::mul(body.weight_n, big_y[1], st), st);
-  side_total[0] = fx::div(roll_moment, lateral_span, st);
-  side_total[1] = fx::sub(body.weight_n, side_total[0], st);
+  left = fx::div(roll_moment, lateral_span, st);
+  return true;
+}
 
+/// The roll balance, the rockers and the bogies: each wheel's support force
+/// along gravity. False when the lateral span collapsed.
+bool support_forces(const SideLevers (&side)[kSideCount], const Body& body, W (&support)[kWheelCount],
+                    fx::Status& st) noexcept {
+  W side_total[kSideCount]{};
+  if (!left_side_total(side, body, side_total[0], st)) {
+    return false;
+  }
+  side_total[1] = fx::sub(body.weight_n, side_total[0], st);
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
     const W lever = fx::add(side[s].a, side[s].b, st);
-    const W front = fx::div(fx::add(body.pivot_moment, fx::mul(side[s].b, side_total[s], st), st), lever, st);
+    const W front =
+        fx::div(fx::add(side_moment(body, side[s], st), fx::mul(side[s].b, side_total[s], st), st), lever, st);
     const W bogie = fx::sub(side_total[s], front, st);
-    const W middle = fx::mul(side[s].beta, bogie, st);
+    const W middle = fx::sub(fx::mul(side[s].beta, bogie, st), side[s].bogie_shift, st);
     support[(3U * s) + 0U] = front;
     support[(3U * s) + 1U] = middle;
     support[(3U * s) + 2U] = fx::sub(bogie, middle, st);
   }
   return true;
+}
+
+/// The wheels whose torque is not usable (bit i: wheel i).
+std::uint8_t fallback_mask(const DriveTorques& torques) noexcept {
+  std::uint32_t mask = 0U;
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    if (!torques.usable[i]) {
+      mask |= (1U << i);
+    }
+  }
+  return static_cast<std::uint8_t>(mask);
+}
+
+/// The usable torques over cos(pitch) cos(roll), in the support forces' units
+/// (section 12); zero and projected from the contact where not usable.
+void side_torques(const DriveTorques& torques, const GravityFrame& g, SideTorques (&tq)[kSideCount],
+                  fx::Status& st) noexcept {
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    SideTorques& side = tq[i / 3U];
+    const std::uint32_t k = i % 3U;
+    side.from_axle[k] = torques.usable[i];
+    side.couple[k] = W::zero();
+    if (torques.usable[i]) {
+      side.couple[k] = fx::div(fx::rescale<W>(torques.torque_nm[i].q(), st), g.normal_fraction, st);
+    }
+  }
 }
 
 /// The normal loads from the support forces: tip_over when one is negative.
@@ -327,8 +408,8 @@ WheelLoadResult normal_loads(const W (&support)[kWheelCount], const Body& body, 
 }
 
 /// The loads for parameters that passed validate_rover_params().
-WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& attitude,
-                               const JointAnglesRad& joints) noexcept {
+WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& attitude, const JointAnglesRad& joints,
+                               const DriveTorques& torques) noexcept {
   const WheelLoadStatus input_status = check_inputs(params, attitude, joints);
   if (input_status != WheelLoadStatus::ok) {
     return failed(input_status);
@@ -336,15 +417,31 @@ WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& a
   fx::Status st;
   const GravityFrame g = gravity_frame(attitude, st);
   const Body body = body_of(params, g, st);
+  SideTorques tq[kSideCount]{};
+  side_torques(torques, g, tq, st);
   SideLevers side[kSideCount]{};
   W support[kWheelCount]{};
-  if (!both_sides(params, joints, g, side, st) || !support_forces(side, body, support, st)) {
+  if (!both_sides(params, joints, g, tq, side, st) || !support_forces(side, body, support, st)) {
     return failed(st.ok() ? WheelLoadStatus::degenerate : WheelLoadStatus::overflow);
   }
   if (!st.ok()) {
     return failed(WheelLoadStatus::overflow);
   }
   return normal_loads(support, body, g, attitude.pitch_rad, st);
+}
+
+/// The loads with the torques; when the torques alone would lift a wheel,
+/// the loads without them, flagged (section 12.4). At most two evaluations.
+WheelLoadResult loads_with_torques(const RoverParams& params, const RoverAttitude& attitude,
+                                   const JointAnglesRad& joints, const DriveTorques& torques) noexcept {
+  WheelLoadResult r = loads_of_valid(params, attitude, joints, torques);
+  r.torque_fallback_mask = fallback_mask(torques);
+  if ((r.status == WheelLoadStatus::tip_over) && (r.torque_fallback_mask != kAllWheelsMask)) {
+    r = loads_of_valid(params, attitude, joints, kNoDriveTorques);
+    r.torque_fallback_mask = kAllWheelsMask;
+    r.torque_overload = (r.status == WheelLoadStatus::ok);
+  }
+  return r;
 }
 
 }  // namespace
@@ -354,20 +451,24 @@ RoverParamStatus validate_rover_params(const RoverParams& p) noexcept {
   return (body != RoverParamStatus::ok) ? body : validate_suspension(p);
 }
 
-WheelLoadResult wheel_loads(const RoverParams& params, const RoverAttitude& attitude,
-                            const JointAnglesRad& joints) noexcept {
+WheelLoadResult wheel_loads(const RoverParams& params, const RoverAttitude& attitude, const JointAnglesRad& joints,
+                            const DriveTorques& torques) noexcept {
   if (validate_rover_params(params) != RoverParamStatus::ok) {
-    return failed(WheelLoadStatus::invalid_params);
+    WheelLoadResult r = failed(WheelLoadStatus::invalid_params);
+    r.torque_fallback_mask = fallback_mask(torques);
+    return r;
   }
-  return loads_of_valid(params, attitude, joints);
+  return loads_with_torques(params, attitude, joints, torques);
 }
 
 WheelLoadResult wheel_loads(const PreparedParameters& prepared, const RoverAttitude& attitude,
-                            const JointAnglesRad& joints) noexcept {
+                            const JointAnglesRad& joints, const DriveTorques& torques) noexcept {
   if (!prepared.ready()) {
-    return failed(WheelLoadStatus::invalid_params);
+    WheelLoadResult r = failed(WheelLoadStatus::invalid_params);
+    r.torque_fallback_mask = fallback_mask(torques);
+    return r;
   }
-  return loads_of_valid(prepared.rover(), attitude, joints);
+  return loads_with_torques(prepared.rover(), attitude, joints, torques);
 }
 
 }  // namespace flight

@@ -29,13 +29,13 @@ int main() {
     const sf::RoverAttitude att{sf::AngleRad::from_raw((i % 1000) * 100000), sf::AngleRad::from_raw((i % 700) * -90000)};
     sf::JointAnglesRad j{};
     j.rocker_rad[0] = sf::AngleRad::from_raw((i % 300) * 100000);
-    checksum += sf::wheel_loads(rover, att, j).load_n[0].raw();
+    checksum += sf::wheel_loads(rover, att, j, sf::kNoDriveTorques).load_n[0].raw();
   }
   auto t1 = std::chrono::steady_clock::now();
   std::printf("wheel_loads:    %.2f us per call\n",
               std::chrono::duration<double, std::micro>(t1 - t0).count() / kCalls);
 
-  const sf::WheelLoadResult loads = sf::wheel_loads(rover, sf::RoverAttitude{}, sf::JointAnglesRad{});
+  const sf::WheelLoadResult loads = sf::wheel_loads(rover, sf::RoverAttitude{}, sf::JointAnglesRad{}, sf::kNoDriveTorques);
   sf::DrawbarInput in{};
   for (sf::Ratio& r : in.dp_max_ratio) r = kDpMaxRatio;
   t0 = std::chrono::steady_clock::now();

@@ -15,13 +15,17 @@
 namespace sinkwatch {
 namespace rover_golden {
 
-constexpr std::uint32_t kCaseCount = 48U;
+constexpr std::uint32_t kCaseCount = 72U;
+/// Cases from here on carry drive torques (the first 48 keep their inputs
+/// and bits from before the statics took torques: none).
+constexpr std::uint32_t kFirstTorqueCase = 48U;
 
 struct Case {
   flight::RoverParams params;
   flight::RoverAttitude attitude;
   flight::JointAnglesRad joints;
   flight::DrawbarInput drawbar;
+  flight::DriveTorques torques;
 };
 
 /// A small linear congruential generator: the same sequence everywhere.
@@ -59,6 +63,15 @@ inline Case make_case(std::uint32_t index) {
   for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
     c.drawbar.dp_max_ratio[i] = flight::Ratio::from_raw((1 << 22) + static_cast<std::int32_t>(next(state) >> 1));
   }
+  // Drawn last, so that the earlier cases' inputs do not move: each wheel's
+  // torque usable with probability 5/6, within +-20 N m (beyond traction on
+  // the Moon: the overload fallback is among the cases).
+  if (index >= kFirstTorqueCase) {
+    for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+      c.torques.usable[i] = (next(state) % 6U) != 0U;
+      c.torques.torque_nm[i] = flight::TorqueNm::from_raw(c.torques.usable[i] ? spread(state, 20 << 16) : 0);
+    }
+  }
   return c;
 }
 
@@ -75,7 +88,7 @@ struct Expected {
 };
 
 inline Expected evaluate(const Case& c) {
-  const flight::WheelLoadResult loads = flight::wheel_loads(c.params, c.attitude, c.joints);
+  const flight::WheelLoadResult loads = flight::wheel_loads(c.params, c.attitude, c.joints, c.torques);
   const flight::DrawbarResult dp = flight::drawbar_pulls(c.params, loads, c.drawbar);
   Expected e{};
   e.load_status = static_cast<std::uint8_t>(loads.status);

@@ -61,6 +61,12 @@ inline ground::JointAngles to_ground(const flight::JointAnglesRad& j) {
 /// docs/rover-loads.md, section 7.2: |W_fixed - W_ref| <= 2^-17 N + 2^-25 m g.
 inline double load_bound_n(double weight_n) { return std::ldexp(1.0, -17) + std::ldexp(weight_n, -25); }
 
+/// docs/rover-loads.md, section 12.5: the bound with drive torques adds
+/// 2^-24 (1/m) x the sum of the used torques' magnitudes [N m].
+inline double load_bound_with_torques_n(double weight_n, double torque_abs_sum_nm) {
+  return load_bound_n(weight_n) + std::ldexp(torque_abs_sum_nm, -24);
+}
+
 /// docs/rover-loads.md, section 7.3.
 inline double drawbar_bound_n(double weight_n, double total_n) {
   return std::ldexp(1.0, -17) + std::ldexp(weight_n + std::fabs(total_n), -28);

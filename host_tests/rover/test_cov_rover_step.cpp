@@ -70,11 +70,11 @@ AngleRad last_roll_before_tip_over(const RoverParams& p) {
   std::int32_t ok_raw = 0;
   std::int32_t tip_raw = q<AngleRad>(0.99).raw();
   const JointAnglesRad joints{};
-  EXPECT_EQ(wheel_loads(p, RoverAttitude{AngleRad::zero(), AngleRad::from_raw(tip_raw)}, joints).status,
+  EXPECT_EQ(wheel_loads(p, RoverAttitude{AngleRad::zero(), AngleRad::from_raw(tip_raw)}, joints, kNoDriveTorques).status,
             WheelLoadStatus::tip_over);
   while (tip_raw - ok_raw > 1) {
     const std::int32_t mid = ok_raw + ((tip_raw - ok_raw) / 2);
-    const WheelLoadStatus s = wheel_loads(p, RoverAttitude{AngleRad::zero(), AngleRad::from_raw(mid)}, joints).status;
+    const WheelLoadStatus s = wheel_loads(p, RoverAttitude{AngleRad::zero(), AngleRad::from_raw(mid)}, joints, kNoDriveTorques).status;
     if (s == WheelLoadStatus::ok) {
       ok_raw = mid;
     } else {
@@ -90,7 +90,7 @@ TEST(RoverStepDrawbar, WheelCarryingExactlyZeroNewtonsFailsTheDrawbarStage) {
   rover.com_z_m = q<LengthM>(0.60);  // a high centre of mass tips within the attitude limit
   ASSERT_EQ(validate_rover_params(rover), RoverParamStatus::ok);
   const AngleRad roll = last_roll_before_tip_over(rover);
-  const WheelLoadResult loads = wheel_loads(rover, RoverAttitude{AngleRad::zero(), roll}, JointAnglesRad{});
+  const WheelLoadResult loads = wheel_loads(rover, RoverAttitude{AngleRad::zero(), roll}, JointAnglesRad{}, kNoDriveTorques);
   ASSERT_EQ(loads.status, WheelLoadStatus::ok);
   std::int32_t lowest = loads.load_n[0].raw();
   for (const WheelLoadN& l : loads.load_n) {

@@ -42,7 +42,7 @@ TEST(WheelLoadAtTheEdgeOfTheRanges, IntermediateBeyondQ31_32IsOverflowNotLoads) 
   joints.rocker_rad[1] = AngleRad::from_raw(-60749518);   // -0.226 rad
   joints.bogie_rad[0] = AngleRad::from_raw(-131018337);   // -0.488 rad
   joints.bogie_rad[1] = AngleRad::from_raw(121485577);    // 0.453 rad
-  const WheelLoadResult r = wheel_loads(p, attitude, joints);
+  const WheelLoadResult r = wheel_loads(p, attitude, joints, kNoDriveTorques);
   EXPECT_EQ(r.status, WheelLoadStatus::overflow);
   for (const WheelLoadN& l : r.load_n) {
     EXPECT_EQ(l, WheelLoadN::zero());
@@ -50,7 +50,7 @@ TEST(WheelLoadAtTheEdgeOfTheRanges, IntermediateBeyondQ31_32IsOverflowNotLoads) 
   EXPECT_EQ(r.lifting_wheel, kWheelCount);
   // Level, with the joints at rest, the same rover gives a status that is not
   // overflow: the edge is in the combination, not in one value.
-  const WheelLoadResult level = wheel_loads(p, RoverAttitude{}, JointAnglesRad{});
+  const WheelLoadResult level = wheel_loads(p, RoverAttitude{}, JointAnglesRad{}, kNoDriveTorques);
   EXPECT_NE(level.status, WheelLoadStatus::overflow);
 }
 

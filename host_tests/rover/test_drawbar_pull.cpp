@@ -26,7 +26,7 @@ struct Scene {
 
 Scene scene(double pitch, double roll) {
   Scene s{flight::yutu_like_rover_params(flight::kGravityMoon), {}, 0.0};
-  s.loads = flight::wheel_loads(s.params, rover_test::attitude(pitch, roll), rover_test::joints(0.1, -0.1, 0.2, -0.05));
+  s.loads = flight::wheel_loads(s.params, rover_test::attitude(pitch, roll), rover_test::joints(0.1, -0.1, 0.2, -0.05), flight::kNoDriveTorques);
   s.mg = d(s.params.mass_kg) * d(s.params.gravity_mps2);
   return s;
 }
@@ -146,7 +146,7 @@ TEST(RoverDrawbarPull, InvalidInputsReturnStatusNotNumber) {
     for (const flight::DrawbarPullN dp : r.dp_n) EXPECT_EQ(dp.raw(), 0);
   };
   const flight::WheelLoadResult tipped =
-      flight::wheel_loads(s.params, rover_test::attitude(0.0, 0.8), rover_test::joints(0, 0, 0, 0));
+      flight::wheel_loads(s.params, rover_test::attitude(0.0, 0.8), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
   ASSERT_EQ(tipped.status, flight::WheelLoadStatus::tip_over);
   expect_invalid(tipped, input(0.0, 0.0, 0.3), DrawbarStatus::invalid_loads);
   expect_invalid(s.loads, input(10.5, 0.0, 0.3), DrawbarStatus::invalid_input);

@@ -74,10 +74,10 @@ TEST_F(PreparedTest, UnpreparedParametersStopTheRover) {
 
   // The prepared overloads of the stages refuse them too.
   const flight::WheelLoadResult loads = flight::wheel_loads(none, rover_test::attitude(0.0, 0.0),
-                                                            rover_test::joints(0, 0, 0, 0));
+                                                            rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
   EXPECT_EQ(loads.status, flight::WheelLoadStatus::invalid_params);
   flight::WheelLoadResult good = flight::wheel_loads(rover, rover_test::attitude(0.0, 0.0),
-                                                     rover_test::joints(0, 0, 0, 0));
+                                                     rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
   ASSERT_EQ(good.status, flight::WheelLoadStatus::ok);
   flight::DrawbarInput in{};
   for (flight::Ratio& r : in.dp_max_ratio) {
@@ -164,7 +164,7 @@ TEST_F(PreparedTest, StepEqualsItsStagesChainedByHand) {
     const flight::RoverStepOutput out = step.step(t, t.time, p);
     ASSERT_EQ(out.status, RoverStepStatus::ok) << k;
 
-    const flight::WheelLoadResult loads = flight::wheel_loads(rover, t.attitude, t.joints);
+    const flight::WheelLoadResult loads = flight::wheel_loads(rover, t.attitude, t.joints, flight::kNoDriveTorques);
     ASSERT_EQ(loads.status, flight::WheelLoadStatus::ok) << k;
     flight::DrawbarInput in{};
     in.accel_mps2 = t.accel_mps2;

@@ -1,5 +1,5 @@
 // Golden vectors of the rover functions: the exact output bits of
-// wheel_loads and drawbar_pulls for 48 fixed cases (rover_golden_cases.hpp),
+// wheel_loads and drawbar_pulls for 72 fixed cases (24 with drive torques) (rover_golden_cases.hpp),
 // recorded on the host. The same test runs on 32-bit ARM under qemu, so the
 // fixed-point code must give the same bits on both.
 #include <gtest/gtest.h>

@@ -58,7 +58,7 @@ TEST_F(RoverStepTest, NominalCycleGivesEveryNumberAndMatchesTheChain) {
   EXPECT_EQ(out.decision, flight::RoverDecision::continue_drive);
 
   // The same chain, one function at a time.
-  const flight::WheelLoadResult loads = flight::wheel_loads(rover, t.attitude, t.joints);
+  const flight::WheelLoadResult loads = flight::wheel_loads(rover, t.attitude, t.joints, flight::kNoDriveTorques);
   ASSERT_EQ(loads.status, flight::WheelLoadStatus::ok);
   flight::DrawbarInput in{};
   in.accel_mps2 = t.accel_mps2;

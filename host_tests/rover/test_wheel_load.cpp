@@ -37,10 +37,10 @@ TEST(RoverWheelLoad, FlatGroundDefaultGivesEqualSixths) {
   for (const flight::AccelMps2 g : {flight::kGravityMoon, flight::kGravityMars, flight::kGravityEarth}) {
     const RoverParams p = flight::yutu_like_rover_params(g);
     const double sixth = weight(p) / 6.0;
-    const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0));
+    const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
     ASSERT_EQ(r.status, WheelLoadStatus::ok);
     const ground::WheelLoads ref =
-        ground::wheel_loads(rover_test::to_ground(p), ground::Attitude{}, ground::JointAngles{});
+        ground::wheel_loads(rover_test::to_ground(p), ground::Attitude{}, ground::JointAngles{}, ground::k_no_drive_torques);
     ASSERT_EQ(ref.status, ground::LoadStatus::ok);
     for (std::size_t i = 0; i < 6; ++i) {
       EXPECT_NEAR(ref.load_n[i], sixth, 1e-9 * sixth) << "wheel " << i;
@@ -73,8 +73,8 @@ TEST(RoverWheelLoad, FlatGroundOffCentreMatchesAnalyticSplit) {
     expected[3 * s + 1] = beta * (side[s] - front);
     expected[3 * s + 2] = (1.0 - beta) * (side[s] - front);
   }
-  const ground::WheelLoads ref = ground::wheel_loads(g, ground::Attitude{}, ground::JointAngles{});
-  const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0));
+  const ground::WheelLoads ref = ground::wheel_loads(g, ground::Attitude{}, ground::JointAngles{}, ground::k_no_drive_torques);
+  const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
   ASSERT_EQ(ref.status, ground::LoadStatus::ok);
   ASSERT_EQ(r.status, WheelLoadStatus::ok);
   for (std::size_t i = 0; i < 6; ++i) {
@@ -100,14 +100,14 @@ TEST(RoverWheelLoad, LoadsSumToNormalWeightComponent) {
     const flight::JointAnglesRad j =
         rover_test::joints(0.35 * unit(rng), 0.35 * unit(rng), 0.5 * unit(rng), 0.5 * unit(rng));
     const double expected = mg * std::cos(d(att.pitch_rad)) * std::cos(d(att.roll_rad));
-    const ground::WheelLoads ref = ground::wheel_loads(g, rover_test::to_ground(att), rover_test::to_ground(j));
+    const ground::WheelLoads ref = ground::wheel_loads(g, rover_test::to_ground(att), rover_test::to_ground(j), ground::k_no_drive_torques);
     if (ref.status == ground::LoadStatus::degenerate) {
       continue;
     }
     double ref_sum = 0.0;
     for (const double w : ref.load_n) ref_sum += w;  // holds for tip_over numbers too
     EXPECT_NEAR(ref_sum, expected, 1e-9 * mg);
-    const flight::WheelLoadResult r = flight::wheel_loads(p, att, j);
+    const flight::WheelLoadResult r = flight::wheel_loads(p, att, j, flight::kNoDriveTorques);
     if (r.status != WheelLoadStatus::ok) {
       continue;
     }
@@ -136,7 +136,7 @@ TEST(RoverWheelLoad, PurePitchMatchesHandComputation) {
     const double bogie = mg / 2.0 - front;
     const double expected[3] = {front * std::cos(th), beta * bogie * std::cos(th),
                                 (1.0 - beta) * bogie * std::cos(th)};
-    const flight::WheelLoadResult r = flight::wheel_loads(p, att, rover_test::joints(0, 0, 0, 0));
+    const flight::WheelLoadResult r = flight::wheel_loads(p, att, rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
     ASSERT_EQ(r.status, WheelLoadStatus::ok) << theta;
     for (std::size_t s = 0; s < 2; ++s) {
       for (std::size_t k = 0; k < 3; ++k) {
@@ -145,7 +145,7 @@ TEST(RoverWheelLoad, PurePitchMatchesHandComputation) {
     }
   }
   // The numbers quoted in the document (0.3 rad, Earth).
-  const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0.3, 0.0), rover_test::joints(0, 0, 0, 0));
+  const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0.3, 0.0), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
   ASSERT_EQ(r.status, WheelLoadStatus::ok);
   EXPECT_NEAR(d(r.load_n[0]), 134.40, 0.005);
   EXPECT_NEAR(d(r.load_n[1]), 164.00, 0.005);
@@ -160,7 +160,7 @@ TEST(RoverWheelLoad, PureRollMatchesHandComputation) {
     const double ph = d(att.roll_rad);
     const double left = mg * (0.45 - 0.55 * std::tan(ph)) / 0.9;
     const double right = mg - left;
-    const flight::WheelLoadResult r = flight::wheel_loads(p, att, rover_test::joints(0, 0, 0, 0));
+    const flight::WheelLoadResult r = flight::wheel_loads(p, att, rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
     ASSERT_EQ(r.status, WheelLoadStatus::ok) << phi;
     for (std::size_t k = 0; k < 3; ++k) {
       EXPECT_NEAR(d(r.load_n[k]), left / 3.0 * std::cos(ph), rover_test::load_bound_n(mg)) << phi;
@@ -177,7 +177,7 @@ double bisect_limit(const ground::RoverGeometry& g, bool pitch_axis, double sign
   for (int i = 0; i < 60; ++i) {
     const double mid = 0.5 * (lo + hi);
     const ground::Attitude a = pitch_axis ? ground::Attitude{sign * mid, 0.0} : ground::Attitude{0.0, sign * mid};
-    (ground::wheel_loads(g, a, ground::JointAngles{}).status == ground::LoadStatus::ok ? lo : hi) = mid;
+    (ground::wheel_loads(g, a, ground::JointAngles{}, ground::k_no_drive_torques).status == ground::LoadStatus::ok ? lo : hi) = mid;
   }
   return lo;
 }
@@ -211,9 +211,9 @@ TEST(RoverWheelLoad, BeyondStabilityLimitReturnsStatusNotNumber) {
   };
   for (const Case& c : cases) {
     const flight::WheelLoadResult inside =
-        flight::wheel_loads(p, rover_test::attitude(c.pitch * 0.98, c.roll * 0.98), zero);
+        flight::wheel_loads(p, rover_test::attitude(c.pitch * 0.98, c.roll * 0.98), zero, flight::kNoDriveTorques);
     EXPECT_EQ(inside.status, WheelLoadStatus::ok) << c.pitch << " " << c.roll;
-    const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(c.pitch, c.roll), zero);
+    const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(c.pitch, c.roll), zero, flight::kNoDriveTorques);
     EXPECT_EQ(r.status, WheelLoadStatus::tip_over) << c.pitch << " " << c.roll;
     EXPECT_TRUE(r.lifting_wheel == c.lifting_first || r.lifting_wheel == c.lifting_second) << r.lifting_wheel;
     for (const flight::WheelLoadN w : r.load_n) EXPECT_EQ(w.raw(), 0);
@@ -221,8 +221,8 @@ TEST(RoverWheelLoad, BeyondStabilityLimitReturnsStatusNotNumber) {
   }
   // A rocker at its limit brings the pitch limit down (section 4: 26 deg).
   const flight::JointAnglesRad rocked = rover_test::joints(0.35, -0.35, 0, 0);
-  EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(0.44, 0.0), rocked).status, WheelLoadStatus::ok);
-  EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(0.47, 0.0), rocked).status, WheelLoadStatus::tip_over);
+  EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(0.44, 0.0), rocked, flight::kNoDriveTorques).status, WheelLoadStatus::ok);
+  EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(0.47, 0.0), rocked, flight::kNoDriveTorques).status, WheelLoadStatus::tip_over);
 }
 
 // ------------------------------------------------------------ input statuses
@@ -230,17 +230,17 @@ TEST(RoverWheelLoad, BeyondStabilityLimitReturnsStatusNotNumber) {
 TEST(RoverWheelLoad, AttitudeAndJointsBeyondLimitsAreRejected) {
   const RoverParams p = earth();
   const flight::JointAnglesRad zero = rover_test::joints(0, 0, 0, 0);
-  EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(1.01, 0), zero).status, WheelLoadStatus::attitude_out_of_range);
-  EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(0, -1.01), zero).status, WheelLoadStatus::attitude_out_of_range);
+  EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(1.01, 0), zero, flight::kNoDriveTorques).status, WheelLoadStatus::attitude_out_of_range);
+  EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(0, -1.01), zero, flight::kNoDriveTorques).status, WheelLoadStatus::attitude_out_of_range);
   flight::RoverAttitude extreme{flight::AngleRad{flight::AngleQ::min()}, flight::AngleRad::zero()};
-  EXPECT_EQ(flight::wheel_loads(p, extreme, zero).status, WheelLoadStatus::attitude_out_of_range);
+  EXPECT_EQ(flight::wheel_loads(p, extreme, zero, flight::kNoDriveTorques).status, WheelLoadStatus::attitude_out_of_range);
   const flight::RoverAttitude level = rover_test::attitude(0, 0);
-  EXPECT_EQ(flight::wheel_loads(p, level, rover_test::joints(0.36, 0, 0, 0)).status,
+  EXPECT_EQ(flight::wheel_loads(p, level, rover_test::joints(0.36, 0, 0, 0), flight::kNoDriveTorques).status,
             WheelLoadStatus::joint_out_of_range);
-  EXPECT_EQ(flight::wheel_loads(p, level, rover_test::joints(0, 0, 0, -0.51)).status,
+  EXPECT_EQ(flight::wheel_loads(p, level, rover_test::joints(0, 0, 0, -0.51), flight::kNoDriveTorques).status,
             WheelLoadStatus::joint_out_of_range);
   // The limits themselves are inside.
-  EXPECT_EQ(flight::wheel_loads(p, level, rover_test::joints(0.35, -0.35, 0.5, -0.5)).status, WheelLoadStatus::ok);
+  EXPECT_EQ(flight::wheel_loads(p, level, rover_test::joints(0.35, -0.35, 0.5, -0.5), flight::kNoDriveTorques).status, WheelLoadStatus::ok);
 }
 
 TEST(RoverWheelLoad, EveryParameterRuleHasItsReason) {
@@ -272,7 +272,7 @@ TEST(RoverWheelLoad, EveryParameterRuleHasItsReason) {
     RoverParams p = good;
     m.apply(p);
     EXPECT_EQ(flight::validate_rover_params(p), m.expected);
-    EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0)).status,
+    EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques).status,
               WheelLoadStatus::invalid_params);
   }
 }
@@ -284,9 +284,9 @@ TEST(RoverWheelLoad, CollapsedLeverIsDegenerateNotANumber) {
   p.bogie_middle_axle = flight::SidePointM{q<flight::LengthM>(0.0005), q<flight::LengthM>(0.10)};
   p.bogie_rear_axle = flight::SidePointM{q<flight::LengthM>(-0.0001), q<flight::LengthM>(-0.30)};
   ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
-  const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0));
+  const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
   EXPECT_EQ(r.status, WheelLoadStatus::degenerate);
-  EXPECT_EQ(ground::wheel_loads(rover_test::to_ground(p), ground::Attitude{}, ground::JointAngles{}).status,
+  EXPECT_EQ(ground::wheel_loads(rover_test::to_ground(p), ground::Attitude{}, ground::JointAngles{}, ground::k_no_drive_torques).status,
             ground::LoadStatus::degenerate);
 }
 
@@ -295,6 +295,86 @@ TEST(RoverWheelLoad, CollapsedLeverIsDegenerateNotANumber) {
 // docs/rover-loads.md, section 7.2 builds the error bound on the largest
 // sensitivities of the loads to an angle (S_a <= 1.75 /rad) and to a position
 // (S_p <= 1.3 /m), per unit weight, over the default envelope's stable part.
+// ------------------------------------------------------------ drive torques
+
+flight::DriveTorques all_torques(double torque_nm) {
+  flight::DriveTorques t{};
+  for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+    t.torque_nm[i] = q<flight::TorqueNm>(torque_nm);
+    t.usable[i] = true;
+  }
+  return t;
+}
+
+TEST(RoverWheelLoad, DriveTorqueLiftsTheFrontAndPressesTheRear) {
+  // Level ground, equal sixths without torques; 10 N m forward on every
+  // wheel (section 12.3): front - 10/0.75, middle - 20/0.5, rear + 20/0.5
+  // N per side before the roll balance (which is symmetric here).
+  const RoverParams p = earth();
+  const flight::JointAnglesRad zero = rover_test::joints(0, 0, 0, 0);
+  const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0, 0), zero, all_torques(10.0));
+  ASSERT_EQ(r.status, WheelLoadStatus::ok);
+  EXPECT_EQ(r.torque_fallback_mask, 0U);
+  EXPECT_FALSE(r.torque_overload);
+  const double sixth = weight(p) / 6.0;
+  // Projected from the axles on level ground: the same levers.
+  EXPECT_NEAR(d(r.load_n[0]), sixth - 10.0 / 0.75, 1e-4);
+  EXPECT_NEAR(d(r.load_n[1]), sixth + 10.0 / 0.75 / 2.0 - 20.0 / 0.5, 1e-4);
+  EXPECT_NEAR(d(r.load_n[2]), sixth + 10.0 / 0.75 / 2.0 + 20.0 / 0.5, 1e-4);
+  double sum = 0.0;
+  for (const flight::WheelLoadN w : r.load_n) sum += d(w);
+  EXPECT_NEAR(sum, weight(p), 1e-3);
+}
+
+TEST(RoverWheelLoad, UnusableTorqueFallsBackToTheStaticsAndSaysSo) {
+  const RoverParams p = earth();
+  const flight::RoverAttitude att = rover_test::attitude(0.15, -0.05);
+  const flight::JointAnglesRad j = rover_test::joints(0.05, -0.05, 0.1, -0.1);
+  const flight::WheelLoadResult none = flight::wheel_loads(p, att, j, flight::kNoDriveTorques);
+  EXPECT_EQ(none.torque_fallback_mask, 0x3FU);
+  flight::DriveTorques torques = all_torques(12.0);
+  for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) torques.usable[i] = false;
+  // Unusable wheels ignore whatever torque value they carry: the old statics, bit for bit.
+  const flight::WheelLoadResult ignored = flight::wheel_loads(p, att, j, torques);
+  EXPECT_EQ(ignored.torque_fallback_mask, 0x3FU);
+  for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) EXPECT_EQ(ignored.load_n[i], none.load_n[i]) << i;
+  // One wheel's current is bad: only its bit, and its loads follow the twin.
+  torques = all_torques(12.0);
+  torques.usable[4] = false;
+  const flight::WheelLoadResult one = flight::wheel_loads(p, att, j, torques);
+  ASSERT_EQ(one.status, WheelLoadStatus::ok);
+  EXPECT_EQ(one.torque_fallback_mask, 1U << 4U);
+  ground::DriveTorques gt{};
+  for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+    gt.usable[i] = torques.usable[i];
+    gt.torque_nm[i] = d(torques.torque_nm[i]);
+  }
+  const ground::WheelLoads ref =
+      ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att), rover_test::to_ground(j), gt);
+  for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+    EXPECT_NEAR(d(one.load_n[i]), ref.load_n[i], rover_test::load_bound_with_torques_n(weight(p), 60.0)) << i;
+  }
+}
+
+TEST(RoverWheelLoad, TorquesThatWouldLiftAWheelFallBackToTheWeightAlone) {
+  // 100 N m forward on 229 N wheels (r W = 34 N m: far beyond traction)
+  // would lift the middle wheels (229 - 3.33 x 100 N < 0, section 12.3): the loads are those without torques, flagged;
+  // stability stays the weight's decision (not tip_over).
+  const RoverParams p = earth();
+  const flight::JointAnglesRad zero = rover_test::joints(0, 0, 0, 0);
+  const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0, 0), zero, all_torques(100.0));
+  ASSERT_EQ(r.status, WheelLoadStatus::ok);
+  EXPECT_TRUE(r.torque_overload);
+  EXPECT_EQ(r.torque_fallback_mask, 0x3FU);
+  const flight::WheelLoadResult none = flight::wheel_loads(p, rover_test::attitude(0, 0), zero, flight::kNoDriveTorques);
+  for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) EXPECT_EQ(r.load_n[i], none.load_n[i]) << i;
+  // Beyond the weight's own stability limit it is still tip_over.
+  const flight::WheelLoadResult tipped =
+      flight::wheel_loads(p, rover_test::attitude(0.0, 0.8), zero, all_torques(100.0));
+  EXPECT_EQ(tipped.status, WheelLoadStatus::tip_over);
+  EXPECT_FALSE(tipped.torque_overload);
+}
+
 TEST(RoverWheelLoad, SensitivitiesBehindTheErrorBoundHold) {
   const ground::RoverGeometry g = rover_test::to_ground(earth());
   const double mg = g.mass_kg * g.gravity_mps2;
@@ -310,7 +390,7 @@ TEST(RoverWheelLoad, SensitivitiesBehindTheErrorBoundHold) {
       j.rocker_rad[s] = 0.35 * unit(rng);
       j.bogie_rad[s] = 0.5 * unit(rng);
     }
-    const ground::WheelLoads base = ground::wheel_loads(g, a, j);
+    const ground::WheelLoads base = ground::wheel_loads(g, a, j, ground::k_no_drive_torques);
     if (base.status != ground::LoadStatus::ok) continue;
     for (int k = 0; k < 6; ++k) {
       ground::Attitude a2 = a;
@@ -318,7 +398,7 @@ TEST(RoverWheelLoad, SensitivitiesBehindTheErrorBoundHold) {
       double* angle[6] = {&a2.pitch_rad, &a2.roll_rad, &j2.rocker_rad[0], &j2.rocker_rad[1], &j2.bogie_rad[0],
                           &j2.bogie_rad[1]};
       *angle[k] += h;
-      const ground::WheelLoads r = ground::wheel_loads(g, a2, j2);
+      const ground::WheelLoads r = ground::wheel_loads(g, a2, j2, ground::k_no_drive_torques);
       if (r.status != ground::LoadStatus::ok) continue;
       for (std::size_t i = 0; i < 6; ++i) s_angle = std::max(s_angle, std::fabs(r.load_n[i] - base.load_n[i]) / h / mg);
     }
@@ -326,7 +406,7 @@ TEST(RoverWheelLoad, SensitivitiesBehindTheErrorBoundHold) {
       ground::RoverGeometry g2 = g;
       double* pos[4] = {&g2.com_x_m, &g2.com_y_m, &g2.com_z_m, &g2.track_width_m};
       *pos[k] += h;
-      const ground::WheelLoads r = ground::wheel_loads(g2, a, j);
+      const ground::WheelLoads r = ground::wheel_loads(g2, a, j, ground::k_no_drive_torques);
       if (r.status != ground::LoadStatus::ok) continue;
       for (std::size_t i = 0; i < 6; ++i) s_pos = std::max(s_pos, std::fabs(r.load_n[i] - base.load_n[i]) / h / mg);
     }

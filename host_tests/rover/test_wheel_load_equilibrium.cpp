@@ -89,7 +89,7 @@ TEST(RoverWheelLoad, ReferenceMatchesIndependentEquilibriumSolve) {
     }
     const double pitch = 0.7 * unit(rng);
     const double roll = 0.7 * unit(rng);
-    const ground::WheelLoads ref = ground::wheel_loads(g, ground::Attitude{pitch, roll}, j);
+    const ground::WheelLoads ref = ground::wheel_loads(g, ground::Attitude{pitch, roll}, j, ground::k_no_drive_torques);
     if (ref.status != ground::LoadStatus::ok && ref.status != ground::LoadStatus::tip_over) {
       continue;
     }

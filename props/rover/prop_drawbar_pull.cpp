@@ -37,7 +37,7 @@ RC_GTEST_PROP(RoverDrawbarPullProp, FixedPointWithinBoundOfReference, ()) {
   const flight::AngleRad pitch = raw_within(flight::AngleRad{flight::AngleQ::from_raw(-pitch_limit.raw())}, pitch_limit);
   const flight::AngleRad roll = raw_within(flight::AngleRad{flight::AngleQ::from_raw(-pitch_limit.raw())}, pitch_limit);
   const flight::JointAnglesRad joints = rover_test::joints(0.1, -0.1, 0.0, 0.2);
-  const flight::WheelLoadResult loads = flight::wheel_loads(p, flight::RoverAttitude{pitch, roll}, joints);
+  const flight::WheelLoadResult loads = flight::wheel_loads(p, flight::RoverAttitude{pitch, roll}, joints, flight::kNoDriveTorques);
   RC_PRE(loads.status == flight::WheelLoadStatus::ok);
 
   flight::DrawbarInput in{};

@@ -51,9 +51,9 @@ RC_GTEST_PROP(RoverWheelLoadProp, FixedPointWithinBoundOfReference, ()) {
     j.rocker_rad[s] = angle_within(p.rocker_limit_rad);
     j.bogie_rad[s] = angle_within(p.bogie_limit_rad);
   }
-  const flight::WheelLoadResult r = flight::wheel_loads(p, att, j);
+  const flight::WheelLoadResult r = flight::wheel_loads(p, att, j, flight::kNoDriveTorques);
   const ground::WheelLoads ref =
-      ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att), rover_test::to_ground(j));
+      ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att), rover_test::to_ground(j), ground::k_no_drive_torques);
   const double mg = d(p.mass_kg) * d(p.gravity_mps2);
   const double bound = rover_test::load_bound_n(mg);
 
@@ -84,6 +84,76 @@ RC_GTEST_PROP(RoverWheelLoadProp, FixedPointWithinBoundOfReference, ()) {
   }
 }
 
+/// Torques for the six wheels: each usable with probability 5/6, up to a
+/// third of the rover's weight times the wheel radius (beyond any traction:
+/// the overload fallback is exercised too), in any LSB.
+flight::DriveTorques envelope_torques(const flight::RoverParams& p) {
+  const double weight_n = d(p.mass_kg) * d(p.gravity_mps2);
+  const std::int32_t max_raw = rover_test::q<flight::TorqueNm>(weight_n * d(p.wheel_radius_m) / 3.0).raw();
+  flight::DriveTorques t{};
+  for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+    t.usable[i] = uniform_in(0, 5) != 0;
+    t.torque_nm[i] = flight::TorqueNm::from_raw(t.usable[i] ? uniform_in(-max_raw, max_raw) : 0);
+  }
+  return t;
+}
+
+ground::DriveTorques to_ground(const flight::DriveTorques& t) {
+  ground::DriveTorques g{};
+  for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+    g.usable[i] = t.usable[i];
+    g.torque_nm[i] = d(t.torque_nm[i]);
+  }
+  return g;
+}
+
+// With drive torques: the bound of section 12.5, the fallback mask, and the
+// two stability decisions (the torques' overload, then the weight's) outside
+// their bands.
+RC_GTEST_PROP(RoverWheelLoadProp, WithTorquesWithinBoundOfReference, ()) {
+  const flight::RoverParams p = envelope_params();
+  const flight::RoverAttitude att{angle_within(p.attitude_limit_rad), angle_within(p.attitude_limit_rad)};
+  flight::JointAnglesRad j{};
+  for (std::uint32_t s = 0U; s < flight::kSideCount; ++s) {
+    j.rocker_rad[s] = angle_within(p.rocker_limit_rad);
+    j.bogie_rad[s] = angle_within(p.bogie_limit_rad);
+  }
+  const flight::DriveTorques torques = envelope_torques(p);
+  const flight::WheelLoadResult r = flight::wheel_loads(p, att, j, torques);
+  const ground::WheelLoads ref = ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att),
+                                                     rover_test::to_ground(j), to_ground(torques));
+  double torque_sum = 0.0;
+  std::uint32_t mask = 0U;
+  for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+    torque_sum += std::fabs(d(torques.torque_nm[i]));
+    mask |= torques.usable[i] ? 0U : (1U << i);
+  }
+  const double bound = rover_test::load_bound_with_torques_n(d(p.mass_kg) * d(p.gravity_mps2), torque_sum);
+  RC_ASSERT(r.status != flight::WheelLoadStatus::overflow);
+  RC_ASSERT((ref.status == ground::LoadStatus::degenerate) == (r.status == flight::WheelLoadStatus::degenerate));
+  if (r.status == flight::WheelLoadStatus::degenerate) {
+    return;
+  }
+  // The torques' decision: fall back exactly when they would lift a wheel.
+  const bool torques_clear = ref.torque_min_load_n > bound;
+  const bool torques_lift = ref.torque_min_load_n < -bound;
+  if (torques_clear) {
+    RC_ASSERT(!r.torque_overload);
+    RC_ASSERT(r.torque_fallback_mask == mask);
+  } else if (torques_lift && (mask != 0x3FU)) {
+    RC_ASSERT(r.torque_fallback_mask == 0x3FU);
+  }
+  RC_CLASSIFY(r.torque_overload, "torque overload");
+  if ((r.status == flight::WheelLoadStatus::ok) && (r.torque_overload == ref.torque_overload) &&
+      (ref.status == ground::LoadStatus::ok)) {
+    for (std::size_t i = 0; i < flight::kWheelCount; ++i) {
+      RC_ASSERT(r.load_n[i].raw() >= 0);
+      RC_ASSERT(std::fabs(d(r.load_n[i]) - ref.load_n[i]) <= bound);
+    }
+  }
+  RC_CLASSIFY(r.status == flight::WheelLoadStatus::ok && !r.torque_overload, "stable with torques");
+}
+
 // Near the stability limit: attitudes drawn close to the pure-pitch and
 // pure-roll limits, where the smallest load crosses zero.
 RC_GTEST_PROP(RoverWheelLoadProp, StabilityDecisionAgreesOutsideTheBand, ()) {
@@ -96,9 +166,9 @@ RC_GTEST_PROP(RoverWheelLoadProp, StabilityDecisionAgreesOutsideTheBand, ()) {
   const flight::RoverAttitude att =
       pitch_axis ? rover_test::attitude(angle, 0.0) : rover_test::attitude(0.0, angle);
   const flight::JointAnglesRad zero = rover_test::joints(0, 0, 0, 0);
-  const flight::WheelLoadResult r = flight::wheel_loads(p, att, zero);
+  const flight::WheelLoadResult r = flight::wheel_loads(p, att, zero, flight::kNoDriveTorques);
   const ground::WheelLoads ref =
-      ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att), rover_test::to_ground(zero));
+      ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att), rover_test::to_ground(zero), ground::k_no_drive_torques);
   const double bound = rover_test::load_bound_n(d(p.mass_kg) * d(p.gravity_mps2));
   if (ref.min_load_n > bound) {
     RC_ASSERT(r.status == flight::WheelLoadStatus::ok);

@@ -148,6 +148,7 @@ LoadStatus check_load_inputs(const RoverGeometry& g, Attitude att, const JointAn
 struct GravityProjection {
   double kx;
   double ky;
+  double normal_fraction;  // cos(pitch) cos(roll): turns a torque into the support forces' units
 };
 
 // One side's levers in projected coordinates: front lever a, bogie lever b,
@@ -156,12 +157,15 @@ struct GravityProjection {
 struct SideLevers {
   double a, b, beta;
   double yt_front, yt_bogie;
+  double front_couple = 0.0;          // t_front = T_front / (cos pitch cos roll)
+  double bogie_shift = 0.0;           // (t_middle + t_rear) / bogie span
+  double yt_rear_minus_middle = 0.0;
 };
 
 // Side s's contacts (recorded in `out`) and levers; false when a lever has
 // collapsed (shorter than k_min_lever_m).
-bool side_levers(const RoverGeometry& g, const JointAngles& joints, std::size_t s,
-                 GravityProjection proj, WheelLoads& out, SideLevers& levers) {
+bool side_levers(const RoverGeometry& g, const JointAngles& joints, std::size_t s, GravityProjection proj,
+                 const DriveTorques& torques, WheelLoads& out, SideLevers& levers) {
   const double y_side = (s == 0U) ? 0.5 * g.track_width_m : -0.5 * g.track_width_m;
   const SideContacts c = side_contacts(g, joints.rocker_rad[s], joints.bogie_rad[s]);
   const std::size_t base = 3U * s;
@@ -170,9 +174,17 @@ bool side_levers(const RoverGeometry& g, const JointAngles& joints, std::size_t 
     out.contact_x_m[base + k] = pts[k].x_m;
     out.contact_z_m[base + k] = pts[k].z_m;
   }
-  const double xt_f = c.front.x_m - c.front.z_m * proj.kx;
-  const double xt_m = c.middle.x_m - c.middle.z_m * proj.kx;
-  const double xt_r = c.rear.x_m - c.rear.z_m * proj.kx;
+  // A wheel whose torque is used hands its link the soil force at the axle
+  // (section 12); without it the free-rolling couple puts it at the contact.
+  const auto lever_z = [&](std::size_t k, double contact_z) {
+    return torques.usable[base + k] ? contact_z + g.wheel_radius_m : contact_z;
+  };
+  const auto couple = [&](std::size_t k) {
+    return torques.usable[base + k] ? torques.torque_nm[base + k] / proj.normal_fraction : 0.0;
+  };
+  const double xt_f = c.front.x_m - lever_z(0U, c.front.z_m) * proj.kx;
+  const double xt_m = c.middle.x_m - lever_z(1U, c.middle.z_m) * proj.kx;
+  const double xt_r = c.rear.x_m - lever_z(2U, c.rear.z_m) * proj.kx;
   const double xt_b = c.bogie_pivot.x_m - c.bogie_pivot.z_m * proj.kx;
   const double a = xt_f;
   const double b = -xt_b;
@@ -184,7 +196,8 @@ bool side_levers(const RoverGeometry& g, const JointAngles& joints, std::size_t 
   const double yt_f = y_side - c.front.z_m * proj.ky;
   const double yt_m = y_side - c.middle.z_m * proj.ky;
   const double yt_r = y_side - c.rear.z_m * proj.ky;
-  levers = SideLevers{a, b, beta, yt_f, beta * yt_m + (1.0 - beta) * yt_r};
+  levers = SideLevers{a, b, beta, yt_f, beta * yt_m + (1.0 - beta) * yt_r,
+                      couple(0U), (couple(1U) + couple(2U)) / bogie_span, yt_r - yt_m};
   return true;
 }
 
@@ -202,26 +215,28 @@ struct BodyLoad {
 bool split_supports(const std::array<SideLevers, 2>& sides, BodyLoad body, WheelLoads& out) {
   std::array<double, 2> big_y{};
   std::array<double, 2> big_z{};
+  double torque_terms = 0.0;  // sum_s (q_s - t_front,s Z_s), section 12
   for (std::size_t s = 0U; s < 2U; ++s) {
     const SideLevers& d = sides[s];
     big_y[s] = (d.b * d.yt_front + d.a * d.yt_bogie) / (d.a + d.b);
     big_z[s] = (d.yt_front - d.yt_bogie) / (d.a + d.b);
+    torque_terms += d.bogie_shift * d.yt_rear_minus_middle - d.front_couple * big_z[s];
   }
   const double lateral_span = big_y[0] - big_y[1];
   if (lateral_span < k_min_lever_m) {
     return false;
   }
   std::array<double, 2> side_total{};
-  side_total[0] = (body.weight_n * body.com_yt - body.pivot_moment_nm * (big_z[0] + big_z[1]) -
+  side_total[0] = (body.weight_n * body.com_yt - body.pivot_moment_nm * (big_z[0] + big_z[1]) - torque_terms -
                    body.weight_n * big_y[1]) /
                   lateral_span;
   side_total[1] = body.weight_n - side_total[0];
 
   for (std::size_t s = 0U; s < 2U; ++s) {
     const SideLevers& d = sides[s];
-    const double front = (body.pivot_moment_nm + d.b * side_total[s]) / (d.a + d.b);
+    const double front = (body.pivot_moment_nm - d.front_couple + d.b * side_total[s]) / (d.a + d.b);
     const double bogie = side_total[s] - front;
-    const double middle = d.beta * bogie;
+    const double middle = d.beta * bogie - d.bogie_shift;
     const double rear = bogie - middle;
     out.support_n[3U * s + 0U] = front;
     out.support_n[3U * s + 1U] = middle;
@@ -232,7 +247,26 @@ bool split_supports(const std::array<SideLevers, 2>& sides, BodyLoad body, Wheel
 
 }  // namespace
 
-WheelLoads wheel_loads(const RoverGeometry& g, Attitude att, const JointAngles& joints) {
+namespace {
+WheelLoads loads_of(const RoverGeometry& g, Attitude att, const JointAngles& joints, const DriveTorques& torques);
+}  // namespace
+
+WheelLoads wheel_loads(const RoverGeometry& g, Attitude att, const JointAngles& joints, const DriveTorques& torques) {
+  // Stability is the weight's decision: torques that alone would lift a
+  // wheel are beyond what the links react quasi-statically (section 12.4).
+  WheelLoads out = loads_of(g, att, joints, torques);
+  const double torque_min_load_n = out.min_load_n;
+  const bool any_torque = std::any_of(torques.usable.begin(), torques.usable.end(), [](bool u) { return u; });
+  if (out.status == LoadStatus::tip_over && any_torque) {
+    out = loads_of(g, att, joints, k_no_drive_torques);
+    out.torque_overload = (out.status == LoadStatus::ok);
+  }
+  out.torque_min_load_n = torque_min_load_n;
+  return out;
+}
+
+namespace {
+WheelLoads loads_of(const RoverGeometry& g, Attitude att, const JointAngles& joints, const DriveTorques& torques) {
   WheelLoads out;
   out.status = check_load_inputs(g, att, joints);
   if (out.status != LoadStatus::ok) {
@@ -243,7 +277,8 @@ WheelLoads wheel_loads(const RoverGeometry& g, Attitude att, const JointAngles& 
   // projected along gravity onto the ground plane (section 3.2).
   const double cos_pitch = std::cos(att.pitch_rad);
   const double cos_roll = std::cos(att.roll_rad);
-  const GravityProjection proj{std::sin(att.pitch_rad) / (cos_pitch * cos_roll), std::tan(att.roll_rad)};
+  const GravityProjection proj{std::sin(att.pitch_rad) / (cos_pitch * cos_roll), std::tan(att.roll_rad),
+                                    cos_pitch * cos_roll};
   const double weight_n = g.mass_kg * g.gravity_mps2;
   const double normal_fraction = cos_pitch * cos_roll;
   out.weight_normal_n = weight_n * normal_fraction;
@@ -257,7 +292,7 @@ WheelLoads wheel_loads(const RoverGeometry& g, Attitude att, const JointAngles& 
 
   std::array<SideLevers, 2> sides{};
   for (std::size_t s = 0U; s < 2U; ++s) {
-    if (!side_levers(g, joints, s, proj, out, sides[s])) {
+    if (!side_levers(g, joints, s, proj, torques, out, sides[s])) {
       out.status = LoadStatus::degenerate;
       return out;
     }
@@ -273,6 +308,7 @@ WheelLoads wheel_loads(const RoverGeometry& g, Attitude att, const JointAngles& 
   out.status = (out.min_load_n < 0.0) ? LoadStatus::tip_over : LoadStatus::ok;
   return out;
 }
+}  // namespace
 
 const char* to_string(DrawbarStatus s) {
   switch (s) {

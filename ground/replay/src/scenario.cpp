@@ -109,7 +109,7 @@ class World {
 
   // The flight code's statics at this attitude (contact forces parallel to gravity).
   std::array<double, kN> statics_loads(double pitch_deg, double roll_deg) const {
-    const WheelLoads w = wheel_loads(geometry_, Attitude{pitch_deg * kDeg, roll_deg * kDeg}, JointAngles{});
+    const WheelLoads w = wheel_loads(geometry_, Attitude{pitch_deg * kDeg, roll_deg * kDeg}, JointAngles{}, k_no_drive_torques);
     if (w.status != LoadStatus::ok) throw std::runtime_error("scenario: wheel loads failed at the path's slope");
     std::array<double, kN> out{};
     for (std::size_t i = 0; i < kN; ++i) out[i] = w.load_n[i];

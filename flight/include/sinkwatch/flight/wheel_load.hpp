@@ -9,11 +9,22 @@
 //   contact points  from the link geometry and the rocker/bogie angles;
 //   projection      x~ = x - z tan(pitch)/cos(roll), y~ = y - z tan(roll)
 //                   (contact forces parallel to gravity, section 2);
+//   drive torques   each wheel's tangential soil force is its share of the
+//                   slope's pull, split by load (the drawbar-pull split), and
+//                   its motor's torque T_i acts on its link as the couple
+//                   -T_i; a wheel with a usable torque is projected from its
+//                   axle and adds t_i = T_i / (cos(pitch) cos(roll)) to the
+//                   moments, a wheel without one keeps the free-rolling couple
+//                   (T = r F, the old statics: projected from its contact);
 //   differential    M = m g x~_com / 2 about each rocker pivot;
-//   roll balance    S_left = (m g y~_com - M (Z_L + Z_R) - m g Y_R) / (Y_L - Y_R);
-//   rocker          F_front = (M + b S) / (a + b), F_bogie = S - F_front;
-//   bogie           F_middle = beta F_bogie, F_rear = F_bogie - F_middle;
+//   roll balance    S_left = (m g y~_com - sum_s ((M - t_f,s) Z_s + q_s) - m g Y_R) / (Y_L - Y_R),
+//                   q_s = (t_m + t_r)/span_s (y~_rear - y~_middle);
+//   rocker          F_front = (M - t_front + b S) / (a + b), F_bogie = S - F_front;
+//   bogie           F_middle = beta F_bogie - (t_m + t_r)/span, F_rear = F_bogie - F_middle;
 //   normal load     W_i = F_i cos(pitch) cos(roll).
+//
+// docs/rover-loads.md, section 12 ("Drive torques in the flight statics"),
+// derives this from the six equations of section 11.2.
 //
 // The six loads sum to m g cos(pitch) cos(roll). An attitude at which any
 // wheel would need a negative load is beyond the stability (tip-over or
@@ -49,6 +60,20 @@ struct JointAnglesRad {
   AngleRad bogie_rad[kSideCount];
 };
 
+/// Each wheel's drive torque from its motor current (torque_from_current,
+/// positive driving the rover forward) and whether it may be used. A wheel
+/// whose current is invalid or faulty is given `usable = false`: the statics
+/// then take its couple as the free-rolling one (torque = radius x its share
+/// of the pull, the statics without torques) and report it in
+/// WheelLoadResult::torque_fallback_mask, never silently.
+struct DriveTorques {
+  TorqueNm torque_nm[kWheelCount];
+  bool usable[kWheelCount]{};
+};
+
+/// No torque known for any wheel (every wheel falls back, mask 0x3F).
+inline constexpr DriveTorques kNoDriveTorques{};
+
 enum class WheelLoadStatus : std::uint8_t {
   ok = 0U,
   invalid_params = 1U,         ///< validate_rover_params() failed
@@ -71,17 +96,26 @@ struct WheelLoadResult {
   /// together or not at all.
   AngleRad pitch_rad;
   fx::Q1_30 sin_pitch;
+  /// Bit i set: wheel i's torque was not usable and the free-rolling couple
+  /// was taken instead. Set whatever the status.
+  std::uint8_t torque_fallback_mask{0U};
+  /// The torques would lift a wheel that the weight alone keeps down: more
+  /// than the links react quasi-statically (a stalled or spinning wheel). The
+  /// loads are then those without torques (mask 0x3F); stability is decided
+  /// by the weight alone (docs/rover-loads.md, section 12.4).
+  bool torque_overload{false};
   WheelLoadStatus status{WheelLoadStatus::invalid_params};  ///< a default result is never usable
 };
 
-/// The quasi-static wheel loads; bounded, no allocation, every input checked.
+/// The quasi-static wheel loads with the drive torques' reactions; bounded,
+/// no allocation, every input checked.
 [[nodiscard]] WheelLoadResult wheel_loads(const RoverParams& params, const RoverAttitude& attitude,
-                                          const JointAnglesRad& joints) noexcept;
+                                          const JointAnglesRad& joints, const DriveTorques& torques) noexcept;
 
 /// The same for parameters checked once per load (prepared_params.hpp):
 /// invalid_params unless prepared.ready(), and no validation per call.
 [[nodiscard]] WheelLoadResult wheel_loads(const PreparedParameters& prepared, const RoverAttitude& attitude,
-                                          const JointAnglesRad& joints) noexcept;
+                                          const JointAnglesRad& joints, const DriveTorques& torques) noexcept;
 
 }  // namespace flight
 }  // namespace sinkwatch

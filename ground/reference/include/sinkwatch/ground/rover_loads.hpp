@@ -108,10 +108,30 @@ struct WheelLoads {
   /// Wheel contact points in the body frame [m], for the diagnosis.
   std::array<double, k_wheel_count> contact_x_m{};
   std::array<double, k_wheel_count> contact_z_m{};
+  /// The torques would lift a wheel the weight alone keeps down: the loads are
+  /// those without torques (docs/rover-loads.md, section 12.4).
+  bool torque_overload{false};
+  /// The smallest load the torques gave (equal to min_load_n unless
+  /// torque_overload), for the properties' stability band.
+  double torque_min_load_n{0.0};
 };
 
-/// The quasi-static loads (docs/rover-loads.md, section 3).
-[[nodiscard]] WheelLoads wheel_loads(const RoverGeometry& g, Attitude att, const JointAngles& joints);
+/// Each wheel's drive torque (+ driving forward) [N m] and whether it is
+/// known; the twin of flight::DriveTorques. A wheel whose torque is unknown
+/// keeps the free-rolling couple (radius x its share of the pull).
+struct DriveTorques {
+  std::array<double, k_wheel_count> torque_nm{};
+  std::array<bool, k_wheel_count> usable{};
+};
+
+/// No torque known for any wheel: the statics of section 3.
+inline constexpr DriveTorques k_no_drive_torques{};
+
+/// The quasi-static loads with the drive torques' reactions (docs/rover-loads.md,
+/// sections 3 and 12): each wheel's tangential force is its share of
+/// m g sin(pitch) split by load, each usable torque acts on its link.
+[[nodiscard]] WheelLoads wheel_loads(const RoverGeometry& g, Attitude att, const JointAngles& joints,
+                                     const DriveTorques& torques);
 
 /// Wheel contact positions (x, z) of one side in the body frame.
 struct SideContacts {
