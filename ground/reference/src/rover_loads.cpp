@@ -2,6 +2,7 @@
 #include "sinkwatch/ground/rover_loads.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 #include <cmath>
 
 namespace sinkwatch {
@@ -477,6 +478,26 @@ ForceBalanceLoads force_balance_loads(const RoverGeometry& g, const ForceBalance
   out.min_load_n = *std::min_element(out.load_n.begin(), out.load_n.end());
   out.status = (out.min_load_n < 0.0) ? LoadStatus::tip_over : LoadStatus::ok;
   return out;
+}
+
+double resistance_coefficient(const std::array<double, k_wheel_count>& torque_nm,
+                              const std::array<double, k_wheel_count>& drawbar_pull_n,
+                              const std::array<double, k_wheel_count>& load_n, double radius_m) {
+  double torque = 0.0;
+  double pull = 0.0;
+  double load = 0.0;
+  for (std::size_t i = 0; i < k_wheel_count; ++i) {
+    torque += torque_nm[i];
+    pull += drawbar_pull_n[i];
+    load += load_n[i];
+  }
+  if (!(radius_m > 0.0) || !(load > 0.0)) throw std::invalid_argument("resistance_coefficient: r and sum W must be > 0");
+  return (torque / radius_m - pull) / load;
+}
+
+double resistance_ahead(double rho_med, double rho_back, double distance_m, double lookahead_m) {
+  if (!(distance_m > 0.0)) throw std::invalid_argument("resistance_ahead: distance must be > 0");
+  return rho_med + lookahead_m * std::max(0.0, (rho_med - rho_back) / distance_m);
 }
 
 }  // namespace ground

@@ -220,6 +220,19 @@ struct ForceBalanceLoads {
 /// traction on level ground it equals wheel_loads().
 [[nodiscard]] ForceBalanceLoads force_balance_loads(const RoverGeometry& g, const ForceBalanceInput& in);
 
+// ------------------------------------------------- motion-resistance check
+// The twin of flight/traction.hpp's arithmetic (docs/traction.md).
+
+/// rho = (sum T / r - sum DP) / sum W over the wheels given (directed torques
+/// and pulls). Throws std::invalid_argument when r <= 0 or sum W <= 0.
+[[nodiscard]] double resistance_coefficient(const std::array<double, k_wheel_count>& torque_nm,
+                                            const std::array<double, k_wheel_count>& drawbar_pull_n,
+                                            const std::array<double, k_wheel_count>& load_n, double radius_m);
+
+/// rho_ahead = rho_med + lookahead * max(0, (rho_med - rho_back) / distance).
+/// Throws std::invalid_argument when distance <= 0.
+[[nodiscard]] double resistance_ahead(double rho_med, double rho_back, double distance_m, double lookahead_m);
+
 }  // namespace ground
 }  // namespace sinkwatch
 
