@@ -187,6 +187,7 @@ TEST(TableInfo, ShowsEverySectionAndTheRover) {
   const CommandRun r = table_info({out.string()});
   ASSERT_EQ(r.code, 0) << r.err;
   for (const char* part : {"section 1", "section 2", "section 3", "section 4", "section 5", "section 6", "section 7",
+                           "section 8 traction    motion-resistance coefficient carried 2 m ahead", "STOP at 0.38",
                            "CRC-32 0x", "133.5 kg"}) {
     EXPECT_NE(r.out.find(part), std::string::npos) << part << "\n" << r.out;
   }

@@ -62,6 +62,14 @@ std::string health(const flight::HealthParams& h) {
               static_cast<unsigned>(h.bridge_ms), d(h.current_step_a), d(h.attitude_step_rad), d(h.joint_step_rad));
 }
 
+std::string traction(const flight::TractionParams& p) {
+  if (!flight::traction_check_on(p)) return "  section 8 traction    absent: the motion-resistance check is off\n";
+  return strf("  section 8 traction    motion-resistance coefficient carried %.4g m ahead along its rise over %.4g m: "
+              "CAUTION at %.4g, STOP at %.4g, clear below %.4g (docs/traction.md)\n",
+              d(p.lookahead_m), d(p.trend_span_m), d(p.caution_coefficient), d(p.stop_coefficient),
+              d(p.caution_coefficient) - d(p.hysteresis));
+}
+
 }  // namespace
 
 std::string describe_table(const LoadedTable& t) {
@@ -77,6 +85,7 @@ std::string describe_table(const LoadedTable& t) {
          describe_rover(flight::yutu_like_rover_params(flight::kGravityMoon));
   }
   s += health(t.table.health);
+  s += traction(t.table.traction);
   return s;
 }
 
