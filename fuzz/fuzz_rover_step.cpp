@@ -257,8 +257,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const bool too_blind =
         (table.health.policy == sf::LossPolicy::continue_degraded) && (blind > table.health.max_blind_wheels);
     check((o.monitor.decision == sf::RoverDecision::stop_and_replan) == ((in_stop >= stop_k) || too_blind));
+    // The rover stops on the wheels' decision, tip-over, or the
+    // motion-resistance check in STOP (traction.hpp), and on nothing else.
+    const bool traction_stop = o.traction.state == sf::TractionState::stop;
+    check(u(o.traction.state) <= u(sf::TractionState::stop));
+    if (o.status != sf::RoverStepStatus::invalid_table) {
+      check((o.traction.state == sf::TractionState::off) == !sf::traction_check_on(table.traction));
+    }
     if (o.status != sf::RoverStepStatus::tip_over) {
-      check(o.decision == o.monitor.decision);
+      check((o.decision == sf::RoverDecision::stop_and_replan) ==
+            ((o.monitor.decision == sf::RoverDecision::stop_and_replan) || traction_stop));
     }
   }
   return 0;

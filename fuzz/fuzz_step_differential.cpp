@@ -524,7 +524,9 @@ void check_completed(const Context& c) {
   }
   const int k = c.table.monitor.rover_stop_k;
   const bool stop = c.out.decision == sf::RoverDecision::stop_and_replan;
-  if ((stop && max_stop < k) || (!stop && min_stop >= k)) {
+  // The motion-resistance check stops the rover on its own (traction.hpp).
+  const bool traction_stop = c.out.traction.state == sf::TractionState::stop;
+  if ((stop && max_stop < k && !traction_stop) || (!stop && (min_stop >= k || traction_stop))) {
     disagree("rover decision (wheels that may / must be in STOP)", -1, stop ? 1.0 : 0.0,
              static_cast<double>(stop ? max_stop : min_stop), static_cast<double>(k));
   }
