@@ -110,6 +110,35 @@ TEST_F(CampaignCases, AbsurdlyLowStopLevelStopsAnOrdinaryDrive) {
   EXPECT_EQ(flight_verdict(*ordinary_, table, kMoon).outcome, TraverseOutcome::false_stop);
 }
 
+TEST_F(CampaignCases, AHigherTractionStopCoefficientNeverStopsEarlier) {
+  // Section 8's sweep (docs/traction.md): the same drive at rising stop
+  // coefficients; the sinkage levels as the default has them.
+  std::optional<double> previous;
+  bool any_stop = false;
+  for (const double c : {0.30, 0.34, 0.38, 0.42, 0.46, 0.50}) {
+    const auto table = table_at_traction_level(default_parameter_table(), c);
+    EXPECT_NEAR(sinkwatch::fx::to_double(table.traction.stop_coefficient.q()), c, 1e-7);
+    const FlightVerdict v = flight_verdict(*embedding_, table, kMoon);
+    ASSERT_TRUE(v.stop_time_s) << c;  // the sinkage level stops it at the latest
+    any_stop = true;
+    if (previous) {
+      EXPECT_GE(*v.stop_time_s, *previous) << "coefficient " << c;
+    }
+    previous = v.stop_time_s;
+  }
+  EXPECT_TRUE(any_stop);
+}
+
+TEST(CampaignTractionSweep, NeedsSection8AndAValidLevel) {
+  sinkwatch::flight::ParameterTable off = default_parameter_table();
+  off.traction = sinkwatch::flight::TractionParams{};
+  EXPECT_THROW(table_at_traction_level(off, 0.4), std::invalid_argument);
+  EXPECT_THROW(table_at_traction_level(default_parameter_table(), 5.0), std::invalid_argument);
+  const auto t = table_at_traction_level(default_parameter_table(), 0.50);
+  // caution / stop kept (0.30 / 0.38 in the default).
+  EXPECT_NEAR(sinkwatch::fx::to_double(t.traction.caution_coefficient.q()), 0.50 * 0.30 / 0.38, 1e-7);
+}
+
 TEST_F(CampaignCases, DefaultTableLetsAnOrdinaryDriveThrough) {
   const FlightVerdict v = flight_verdict(*ordinary_, default_parameter_table(), kMoon);
   EXPECT_EQ(v.outcome, TraverseOutcome::ok_no_stop);

@@ -361,6 +361,26 @@ TraverseDraw draw_traverse(CampaignFamily family, std::uint64_t seed, std::size_
   return d;
 }
 
+flight::ParameterTable table_at_traction_level(const flight::ParameterTable& table, double stop_coefficient) {
+  if (!flight::traction_check_on(table.traction)) {
+    throw std::invalid_argument("table_at_traction_level: the table has no section 8");
+  }
+  flight::ParameterTable t = table;
+  flight::TractionParams& p = t.traction;
+  const double caution =
+      fx::to_double(p.caution_coefficient.q()) * stop_coefficient / fx::to_double(p.stop_coefficient.q());
+  const double hysteresis = std::min(fx::to_double(p.hysteresis.q()), 0.5 * caution);
+  fx::Status st;
+  p.stop_coefficient = flight::Ratio{fx::from_double<flight::RatioQ>(stop_coefficient, st)};
+  p.caution_coefficient = flight::Ratio{fx::from_double<flight::RatioQ>(caution, st)};
+  p.hysteresis = flight::Ratio{fx::from_double<flight::RatioQ>(hysteresis, st)};
+  if (!st.ok() || flight::validate(t) != flight::RejectReason::ok) {
+    throw std::invalid_argument("table_at_traction_level: the flight code refuses stop coefficient " +
+                                std::to_string(stop_coefficient));
+  }
+  return t;
+}
+
 flight::ParameterTable table_at_stop_level(const flight::ParameterTable& table, double stop_m) {
   flight::ParameterTable t = table;
   flight::MonitorParams& m = t.monitor;
@@ -558,6 +578,12 @@ TraverseResult evaluate_traverse(const TraverseDraw& draw, const CampaignOptions
     const flight::ParameterTable level = table_at_stop_level(options.table, level_mm / 1000.0);
     out.sweep.push_back(flight_verdict(drive, traverse_flight_config(draw, options, level)));
     out.sweep_ideal.push_back(ideal_verdict(drive, level_mm / 1000.0));
+  }
+  if (flight::traction_check_on(options.table.traction)) {
+    for (const double coefficient : options.sweep_traction_stop) {
+      const flight::ParameterTable level = table_at_traction_level(options.table, coefficient);
+      out.traction_sweep.push_back(flight_verdict(drive, traverse_flight_config(draw, options, level)));
+    }
   }
   for (const FaultClass c : options.faults) out.faults.push_back(fault_verdict(c, draw, drive, config));
   return out;

@@ -87,14 +87,38 @@ std::string traverses_csv(const CampaignResult& r) {
   return out.str();
 }
 
+namespace {
+
+std::string numbers_json(const std::vector<double>& values, int digits) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < values.size(); ++i) out += (i ? ", " : "") + fixed(values[i], digits);
+  return out + "]";
+}
+
+/// A sweep's verdicts as a JSON array, with the ideal sensor's lead at each
+/// level when `ideal` is given.
+std::string verdicts_json(const std::vector<FlightVerdict>& verdicts, const std::vector<IdealVerdict>* ideal) {
+  std::ostringstream out;
+  out << "[";
+  for (std::size_t i = 0; i < verdicts.size(); ++i) {
+    out << (i ? ", " : "") << "{\"outcome\": " << json_string(outcome_name(verdicts[i].outcome))
+        << ", \"stop_time_s\": " << json_opt(verdicts[i].stop_time_s, 1)
+        << ", \"lead_m\": " << json_opt(verdicts[i].lead_m, 3);
+    if (ideal) out << ", \"ideal_lead_m\": " << json_opt((*ideal)[i].lead_m, 3);
+    out << "}";
+  }
+  out << "]";
+  return out.str();
+}
+
+}  // namespace
+
 std::string traverses_json(const CampaignResult& r) {
   std::ostringstream out;
   out << "{\"seed\": " << r.options.seed << ", \"table\": " << json_string(r.options.table_source)
-      << ", \"flight_mass\": " << json_string(flight_mass_name(r.options.flight_mass)) << ", \"sweep_stop_mm\": [";
-  for (std::size_t i = 0; i < r.options.sweep_stop_mm.size(); ++i) {
-    out << (i ? ", " : "") << fixed(r.options.sweep_stop_mm[i], 1);
-  }
-  out << "],\n \"traverses\": [\n";
+      << ", \"flight_mass\": " << json_string(flight_mass_name(r.options.flight_mass))
+      << ", \"sweep_stop_mm\": " << numbers_json(r.options.sweep_stop_mm, 1)
+      << ", \"sweep_traction_stop\": " << numbers_json(r.options.sweep_traction_stop, 2) << ",\n \"traverses\": [\n";
   const std::vector<std::string>& columns = traverse_csv_columns();
   for (std::size_t k = 0; k < r.traverses.size(); ++k) {
     const TraverseResult& t = r.traverses[k];
@@ -105,14 +129,9 @@ std::string traverses_json(const CampaignResult& r) {
       out << (i ? ", " : "") << json_string(columns[i]) << ": "
           << (number ? fields[i] : (fields[i].empty() ? std::string("null") : json_string(fields[i])));
     }
-    out << ", \"sweep\": [";
-    for (std::size_t i = 0; i < t.sweep.size(); ++i) {
-      out << (i ? ", " : "") << "{\"outcome\": " << json_string(outcome_name(t.sweep[i].outcome))
-          << ", \"stop_time_s\": " << json_opt(t.sweep[i].stop_time_s, 1)
-          << ", \"lead_m\": " << json_opt(t.sweep[i].lead_m, 3)
-          << ", \"ideal_lead_m\": " << json_opt(t.sweep_ideal[i].lead_m, 3) << "}";
-    }
-    out << "]}" << (k + 1 < r.traverses.size() ? "," : "") << '\n';
+    out << ", \"sweep\": " << verdicts_json(t.sweep, &t.sweep_ideal)
+        << ", \"traction_sweep\": " << verdicts_json(t.traction_sweep, nullptr);
+    out << "}" << (k + 1 < r.traverses.size() ? "," : "") << '\n';
   }
   out << " ]}\n";
   return out.str();
@@ -134,11 +153,13 @@ std::optional<double> median(std::vector<double> values) {
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
-GroupStats group_stats(const std::vector<const TraverseResult*>& group, std::optional<std::size_t> level) {
+GroupStats group_stats(const std::vector<const TraverseResult*>& group, std::optional<std::size_t> level,
+                       Sweep sweep) {
   GroupStats g;
+  const bool traction = sweep == Sweep::traction_coefficient;
   for (const TraverseResult* t : group) {
-    const FlightVerdict& f = level ? t->sweep[*level] : t->flight;
-    const IdealVerdict& ideal = level ? t->sweep_ideal[*level] : t->ideal;
+    const FlightVerdict& f = level ? (traction ? t->traction_sweep[*level] : t->sweep[*level]) : t->flight;
+    const IdealVerdict& ideal = (level && !traction) ? t->sweep_ideal[*level] : t->ideal;
     ++g.traverses;
     ++g.outcomes[static_cast<std::size_t>(f.outcome)];
     g.rear_excess.push_back(t->rear_load_excess);
@@ -199,17 +220,22 @@ std::string outcome_table(const CampaignResult& r) {
   return md.str();
 }
 
-std::string levels_table(const CampaignResult& r) {
+/// One sweep's table: per level and group, the false-stop rate, near-miss
+/// stops, the share stopped before the embedding and the median leads.
+std::string sweep_table(const CampaignResult& r, Sweep sweep) {
+  const bool traction = sweep == Sweep::traction_coefficient;
+  const std::vector<double>& levels = traction ? r.options.sweep_traction_stop : r.options.sweep_stop_mm;
   std::ostringstream md;
-  md << "| stop level [mm] | group | false-stop rate (clear drives) | near-miss stops | stopped before embedding | "
+  md << (traction ? "| stop coefficient" : "| stop level [mm]")
+     << " | group | false-stop rate (clear drives) | near-miss stops | stopped before embedding | "
         "median lead [m] | median ideal-sensor lead [m] |\n|---|---|---|---|---|---|---|\n";
-  for (std::size_t k = 0; k < r.options.sweep_stop_mm.size(); ++k) {
+  for (std::size_t k = 0; k < levels.size(); ++k) {
     for (const bool held : {false, true}) {
       const auto group = select_traverses(r, [&](const TraverseResult& t) { return t.held_out == held; });
       if (group.empty()) continue;
-      const GroupStats g = group_stats(group, k);
+      const GroupStats g = group_stats(group, k, sweep);
       const std::size_t before = g.outcomes[0] + g.outcomes[1];
-      md << "| " << fixed(r.options.sweep_stop_mm[k], 0) << " | " << (held ? "held out" : "tuning") << " | "
+      md << "| " << fixed(levels[k], traction ? 2 : 0) << " | " << (held ? "held out" : "tuning") << " | "
          << percent(g.outcomes[static_cast<std::size_t>(TraverseOutcome::false_stop)], clear_drives(g)) << " | "
          << g.outcomes[static_cast<std::size_t>(TraverseOutcome::near_miss_stop)] << " of " << g.near_misses << " | "
          << percent(before, g.embeddings) << " | " << opt(median(g.leads), 2, "–") << " | "
@@ -331,7 +357,12 @@ std::string campaign_summary(const CampaignResult& r, const std::string& command
      << "\nStop-level sweep (caution, stop and allowed sinkage scaled together; the flight code re-run on the same "
         "open-loop rows per level; false-stop rate over the clear drives, the traverses that never embed and "
         "never came within 5 % of the weight of it; near-miss stops apart):\n\n"
-     << levels_table(r)
+     << sweep_table(r, Sweep::stop_level)
+     << (r.traverses.empty() || r.traverses.front().traction_sweep.empty()
+             ? std::string()
+             : "\nMotion-resistance sweep (section 8's stop coefficient, caution scaled with it; the sinkage levels "
+               "as the table has them; docs/traction.md):\n\n" +
+                   sweep_table(r, Sweep::traction_coefficient))
      << (r.options.faults.empty()
              ? std::string()
              : "\nSensor faults (docs/fault-injection.md): one fault of each class per traverse, at the table's "

@@ -165,6 +165,9 @@ struct TraverseResult {
   std::optional<double> min_reserve_frac;  // ScenarioTruth::min_reserve_frac of the open-loop drive
   std::vector<FlightVerdict> sweep;  // one per CampaignOptions::sweep_stop_mm
   std::vector<IdealVerdict> sweep_ideal;
+  // One per CampaignOptions::sweep_traction_stop; empty when the table has
+  // no section 8 (the motion-resistance check off).
+  std::vector<FlightVerdict> traction_sweep;
   std::vector<FaultVerdict> faults;  // one per CampaignOptions::faults
   std::size_t rows = 0;
 };
@@ -195,6 +198,10 @@ struct CampaignOptions {
   /// Stop levels of the sweep [mm]: caution, stop and allowed (z_max) levels
   /// scaled together from the table's (docs/campaign.md).
   std::vector<double> sweep_stop_mm{25, 30, 35, 40, 45, 50, 55, 60, 70};
+  /// Stop coefficients of the motion-resistance check's sweep (section 8;
+  /// caution scaled with it, docs/traction.md); run only when the table has
+  /// section 8.
+  std::vector<double> sweep_traction_stop{0.30, 0.34, 0.38, 0.42, 0.46, 0.50};
   /// Per traverse, one run with one fault of each class (at the table's levels).
   std::vector<FaultClass> faults;
   /// Called from worker threads (serialised) with (done, total).
@@ -206,6 +213,12 @@ struct CampaignOptions {
 /// hysteresis capped below the caution). Throws std::invalid_argument when the
 /// flight code's validate() refuses the result.
 flight::ParameterTable table_at_stop_level(const flight::ParameterTable& table, double stop_m);
+
+/// The table with section 8's stop coefficient at `stop_coefficient` and its
+/// caution coefficient scaled with it (caution/stop kept; the hysteresis
+/// capped below the caution). Throws std::invalid_argument when the table has
+/// no section 8 or validate() refuses the result.
+flight::ParameterTable table_at_traction_level(const flight::ParameterTable& table, double stop_coefficient);
 
 /// The flight code's configuration for a traverse with `table`: the drawn
 /// gravity, the options' rover (the table's section 6, else Yutu-like) and,

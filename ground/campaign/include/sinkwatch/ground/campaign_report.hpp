@@ -47,8 +47,13 @@ struct GroupStats {
   std::size_t lead_at_80pct_of_ideal = 0;  // embeddings whose stop lead >= 0.8 ideal lead
 };
 
-/// The group at the campaign table's verdict, or at sweep level `level`.
-GroupStats group_stats(const std::vector<const TraverseResult*>& group, std::optional<std::size_t> level);
+/// Which sweep a level indexes: the sinkage level's or section 8's stop
+/// coefficient's (the ideal sensor stays at the table's stop level then).
+enum class Sweep { stop_level, traction_coefficient };
+
+/// The group at the campaign table's verdict, or at level `level` of `sweep`.
+GroupStats group_stats(const std::vector<const TraverseResult*>& group, std::optional<std::size_t> level,
+                       Sweep sweep = Sweep::stop_level);
 
 /// Drives that never embed and never came near it (no near miss): what a
 /// false stop is counted against.
