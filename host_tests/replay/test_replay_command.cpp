@@ -178,7 +178,8 @@ TEST(ReplayCommand, UploadedTableIsUsedAndABadOneRejected) {
   constexpr fl::SinkageM kLowerStop{sinkwatch::fx::constant<fl::LengthQ>(0.040)};
   t.monitor.stop_sinkage_m = kLowerStop;
   t.monitor.allowed_sinkage_m = t.monitor.stop_sinkage_m;
-  t.traction.stop_coefficient = fl::Ratio{sinkwatch::fx::constant<fl::RatioQ>(0.34)};
+  constexpr fl::Ratio kLowerTractionStop{sinkwatch::fx::constant<fl::RatioQ>(0.34)};
+  t.traction.stop_coefficient = kLowerTractionStop;
   ASSERT_EQ(fl::validate(t), fl::RejectReason::ok);
   std::vector<std::uint8_t> bytes(fl::kMaxTableBytes);
   const fl::EncodeResult enc = fl::encode(t, bytes.data(), bytes.size());
