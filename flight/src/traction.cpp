@@ -83,7 +83,6 @@ void TractionMonitor::restart() noexcept {
   mark_count_ = 0U;
   since_mark_m_ = LengthM::zero();
   settled_ = false;
-  settling_m_ = LengthM::zero();
 }
 
 TractionSample TractionMonitor::resistance_of(const TractionInput& in, std::uint8_t wheels, LengthM radius,
@@ -133,13 +132,16 @@ void TractionMonitor::advance(const TractionInput& in, Ratio rho_med, const Trac
   if (!st.ok()) {
     return;  // GCOVR_EXCL_LINE defensive: |v| <= 128 m/s for <= 2 s fits Q7.24 (docs/traction.md)
   }
+  since_mark_m_ = travelled;
   if (!settled_) {
-    // The start's acceleration: the first span sets no baseline.
-    settling_m_ = LengthM(fx::add(settling_m_.q(), fx::rescale<LengthQ>(step_m, st), st));
-    settled_ = st.ok() && (settling_m_ >= params.trend_span_m);
+    // The start's acceleration: the first span sets no baseline (the
+    // distance so far counts towards it, and no mark is kept).
+    settled_ = since_mark_m_ >= params.trend_span_m;
+    if (settled_) {
+      since_mark_m_ = LengthM::zero();
+    }
     return;
   }
-  since_mark_m_ = travelled;
   // span / 8 (validate(): the span is positive, so the quotient truncates
   // towards zero by less than one LSB).
   const LengthM spacing = LengthM::from_raw(params.trend_span_m.raw() / kMarksPerSpan);

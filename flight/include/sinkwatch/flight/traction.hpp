@@ -138,9 +138,8 @@ class TractionMonitor {
   LengthM mark_gap_m_[kTractionTrendMarks];
   std::uint8_t mark_count_{0U};
   std::uint8_t mark_newest_{0U};
-  LengthM since_mark_m_;        ///< travelled since the newest mark
+  LengthM since_mark_m_;        ///< travelled since the newest mark (since the restart, until settled)
   bool settled_{false};         ///< the first trend_span_m since the restart is behind
-  LengthM settling_m_;          ///< travelled since the restart, until settled
   bool have_time_{false};
   TimeMs last_time_{0U};
   std::uint16_t caution_history_{0U};  ///< bit 0 is the newest sample
