@@ -19,7 +19,11 @@
 // (STOP, else CAUTION, else NOMINAL) and the twin can predict it. Each stage
 // is compared on the flight step's own inputs to it, as the documented bounds
 // are defined (docs/assurance.md, "Differential harness"):
-//   loads        twin on the same quantised attitude and joints, 2^-17 N + 2^-25 m g   (rover-loads.md 7.2)
+//   loads        twin on the same quantised attitude, joints and drive torques (each wheel's
+//                torque from its current where the health stage passed the current),
+//                2^-17 N + 2^-25 m g + 2^-24 sum|T| / 1 m                          (rover-loads.md 7.2, 12.5)
+//   torques      the fallback mask is the unusable currents' while the twin's torque loads are
+//                > +bound; all six fall back when they are < -bound (rover-loads.md 12.3, 12.4)
 //   stability    flight tip_over only when the twin's smallest load is < +bound, ok only when > -bound
 //   slip         1 - v/v_rim clamped to [-1, 1]: 0.5 LSB of Q7.24 + 2 u              (one division, one rescale)
 //   drawbar      twin on the flight's loads, slip and DP_max/W, 2^-17 N + 2^-28 (m g + |sum DP|)  (7.3)
@@ -44,6 +48,7 @@
 #include "rover_test_support.hpp"
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/drawbar_pull.hpp"
+#include "sinkwatch/flight/motor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/prepared_params.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
@@ -274,16 +279,46 @@ struct Context {
   const sf::RoverParams& rover;
   const sf::RoverTelemetry& t;
   const sf::RoverStepOutput& out;
-  const sg::WheelLoads& twin_loads;  ///< the twin on the same attitude and joints
+  const sg::WheelLoads& twin_loads;  ///< the twin on the same attitude, joints and torques
   double weight_n;
+  std::uint8_t torque_mask;  ///< the wheels whose current gives the loads no torque
+  double torque_abs_sum_nm;  ///< sum |T_i| of the usable torques: the bound's torque term
 };
+
+/// The load bound of docs/rover-loads.md 12.5 for this cycle's torques.
+double load_bound(const Context& c) { return rt::load_bound_with_torques_n(c.weight_n, c.torque_abs_sum_nm); }
 
 // -------------------------------------------------------------- rover level
 
-/// Loads and stability (docs/rover-loads.md 7.2).
+/// Whether the flight and the twin took the same loads, both with or both
+/// without the torques (they may differ only inside the band of the bound).
+bool same_torque_choice(const Context& c) {
+  constexpr std::uint8_t kAllWheels = 0x3FU;
+  const bool any_torque = c.torque_mask != kAllWheels;
+  const bool flight_fell_back = any_torque && (c.out.torque_fallback_mask == kAllWheels);
+  const bool twin_fell_back = any_torque && (c.twin_loads.torque_min_load_n < 0.0);
+  return flight_fell_back == twin_fell_back;
+}
+
+/// The torques' decision (docs/rover-loads.md 12.3, 12.4): outside the band
+/// of the bound, the flight falls back for exactly the unusable currents, or
+/// for all six wheels when the torque loads would lift one.
+void check_torque_decision(const Context& c, double bound) {
+  constexpr std::uint8_t kAllWheels = 0x3FU;
+  const double torque_min = c.twin_loads.torque_min_load_n;
+  if ((torque_min > bound) && (c.out.torque_fallback_mask != c.torque_mask)) {
+    disagree("torque fallback mask with the twin's torque loads positive", -1,
+             static_cast<double>(c.out.torque_fallback_mask), static_cast<double>(c.torque_mask), 0.0);
+  }
+  if ((c.torque_mask != kAllWheels) && (torque_min < -bound) && (c.out.torque_fallback_mask != kAllWheels)) {
+    inconsistent("torques kept with the twin's torque loads lifting a wheel", -1, torque_min, 0.0, bound);
+  }
+}
+
+/// Loads and stability (docs/rover-loads.md 7.2, 12).
 void check_loads(const Context& c) {
   const sg::WheelLoads& twin = c.twin_loads;
-  const double bound = rt::load_bound_n(c.weight_n);
+  const double bound = load_bound(c);
   const sf::WheelLoadStatus s = c.out.load_status;
   if (s == sf::WheelLoadStatus::attitude_out_of_range || s == sf::WheelLoadStatus::joint_out_of_range ||
       s == sf::WheelLoadStatus::degenerate) {
@@ -303,6 +338,10 @@ void check_loads(const Context& c) {
   if (twin.status != sg::LoadStatus::ok && twin.status != sg::LoadStatus::tip_over) {
     disagree("load status (twin refused, flight did not)", -1, static_cast<double>(s), static_cast<double>(twin.status),
              0.0);
+  }
+  check_torque_decision(c, bound);
+  if (!same_torque_choice(c)) {
+    return;  // one side kept the torques inside the band: different loads, both allowed
   }
   if (s == sf::WheelLoadStatus::tip_over && twin.min_load_n >= bound) {
     inconsistent("tip_over with the twin stable", -1, twin.min_load_n, 0.0, bound);
@@ -455,7 +494,10 @@ AllowedStates evidence(const Context& c, const WheelTwin& tw, std::uint32_t i) {
 /// inside by more than the bound, the flight must have accepted the load;
 /// outside by more than the bound, it must have refused it.
 void check_load_range(const Context& c, std::uint32_t i, bool flight_accepted) {
-  const double bound = rt::load_bound_n(c.weight_n);
+  const double bound = load_bound(c);
+  if (!same_torque_choice(c)) {
+    return;  // the twin's loads are the other choice's (inside the band)
+  }
   const double lo = d(c.table.monitor.load_min_n);
   const double hi = d(c.table.monitor.load_max_n);
   const double twin = c.twin_loads.load_n[i];
@@ -569,9 +611,22 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     t.time = sf::TimeMs{100U * (k + 1U)};
     out = step.step(t, t.time, prepared);
   }
+  // The twin takes each wheel's torque where the step's health stage passed
+  // the current and the motor model gives one (docs/rover-loads.md 12.3).
+  sg::DriveTorques torques{};
+  std::uint8_t torque_mask = 0U;
+  double torque_abs_sum_nm = 0.0;
+  for (std::uint32_t i = 0U; i < sf::kWheelCount; ++i) {
+    const sf::TorqueResult torque = sf::torque_from_current(table.motor, t.current_a[i], t.direction[i]);
+    torques.usable[i] = out.health.current_usable[i] && (torque.status == sf::EstimateStatus::ok);
+    torques.torque_nm[i] = torques.usable[i] ? d(torque.torque_nm) : 0.0;
+    torque_mask = static_cast<std::uint8_t>(torque_mask | (torques.usable[i] ? 0U : (1U << i)));
+    torque_abs_sum_nm += std::fabs(torques.torque_nm[i]);
+  }
   const sg::WheelLoads twin_loads =
-      sg::wheel_loads(rt::to_ground(rover), rt::to_ground(t.attitude), rt::to_ground(t.joints), sg::k_no_drive_torques);
-  const Context c{table, rover, t, out, twin_loads, d(rover.mass_kg) * d(rover.gravity_mps2)};
+      sg::wheel_loads(rt::to_ground(rover), rt::to_ground(t.attitude), rt::to_ground(t.joints), torques);
+  const Context c{table, rover, t, out, twin_loads, d(rover.mass_kg) * d(rover.gravity_mps2), torque_mask,
+                  torque_abs_sum_nm};
   check_motion_status(c);
   check_loads(c);  // the load stage runs before the motion check
   switch (out.status) {

@@ -139,12 +139,19 @@ long run(long steps, std::int64_t& checksum) {
   long full = 0;
   for (long i = 0; i < steps; ++i) {
     const Record& r = kRecordsSi.r[i % kRecords];
-    // Wheel loads, DP_max/W at each load, drawbar pulls.
+    // Each wheel's torque from its current, then the wheel loads with the
+    // torques (as the flight step: docs/rover-loads.md 12), DP_max/W at each
+    // load, drawbar pulls.
+    sg::DriveTorques torques;
+    for (std::size_t w = 0; w < sg::k_wheel_count; ++w) {
+      torques.torque_nm[w] = ref::torque_nm(p.motor, r.current[w], sf::DriveDirection::forward);
+      torques.usable[w] = true;
+    }
     const sg::Attitude att{r.pitch, r.roll};
     sg::JointAngles joints;
     joints.rocker_rad = {r.rocker_l, r.rocker_r};
     joints.bogie_rad = {r.bogie_l, r.bogie_r};
-    const sg::WheelLoads loads = sg::wheel_loads(g, att, joints, sg::k_no_drive_torques);
+    const sg::WheelLoads loads = sg::wheel_loads(g, att, joints, torques);
     sg::DrawbarParams dpp;
     dpp.high_slip = high_slip;
     for (std::size_t w = 0; w < sg::k_wheel_count; ++w) {
@@ -159,7 +166,7 @@ long run(long steps, std::int64_t& checksum) {
     full += (loads.status == sg::LoadStatus::ok && dp.status != sg::DrawbarStatus::invalid_input) ? 1 : 0;
     // Per wheel: torque, Eq. 11, the current limit and the monitor's tests.
     for (std::size_t w = 0; w < sg::k_wheel_count; ++w) {
-      const double torque = ref::torque_nm(p.motor, r.current[w], sf::DriveDirection::forward);
+      const double torque = torques.torque_nm[w];
       const ref::Corrections c = ref::corrections_at(p.correction, loads.load_n[w]);
       const double z = ref::sinkage_m(c.coefficients, p.wheel_radius_m, loads.load_n[w], torque, dp.dp_n[w]);
       const double limit =

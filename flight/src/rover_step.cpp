@@ -6,6 +6,7 @@
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
 #include "sinkwatch/flight/correction.hpp"
+#include "sinkwatch/flight/motor.hpp"
 
 namespace sinkwatch {
 namespace flight {
@@ -52,13 +53,27 @@ bool motion_in_range(const RoverTelemetry& t) noexcept {
          (!t.rim_speed_valid || within(t.rim_speed_mps, kMaxAbsSpeed));
 }
 
+/// Each wheel's drive torque from its current (the monitor's own
+/// torque_from_current), usable when the health monitor passes the current
+/// and the torque exists; otherwise the statics fall back for that wheel.
+DriveTorques drive_torques(const PreparedParameters& prepared, const RoverTelemetry& t,
+                           const SensorHealthReport& health) noexcept {
+  DriveTorques torques{};
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    const TorqueResult torque = torque_from_current(prepared.table().motor, t.current_a[i], t.direction[i]);
+    torques.usable[i] = health.current_usable[i] && (torque.status == EstimateStatus::ok);
+    torques.torque_nm[i] = torques.usable[i] ? torque.torque_nm : TorqueNm::zero();
+  }
+  return torques;
+}
+
 /// Stage 2: the wheel loads into `out`; ok, tip_over or loads_failed.
 RoverStepStatus load_stage(const PreparedParameters& prepared, const RoverTelemetry& t, WheelLoadResult& loads,
                            RoverStepOutput& out) noexcept {
-  // Without the drive torques for now: with them the recorded scenarios'
-  // stops move (docs/rover-loads.md, section 12.8).
-  loads = wheel_loads(prepared, t.attitude, t.joints, kNoDriveTorques);
+  loads = wheel_loads(prepared, t.attitude, t.joints, drive_torques(prepared, t, out.health));
   out.load_status = loads.status;
+  out.torque_fallback_mask = loads.torque_fallback_mask;
+  out.torque_overload = loads.torque_overload;
   if (loads.status == WheelLoadStatus::tip_over) {
     out.lifting_wheel = loads.lifting_wheel;
     return RoverStepStatus::tip_over;

@@ -164,8 +164,17 @@ TEST_F(PreparedTest, StepEqualsItsStagesChainedByHand) {
     const flight::RoverStepOutput out = step.step(t, t.time, p);
     ASSERT_EQ(out.status, RoverStepStatus::ok) << k;
 
-    const flight::WheelLoadResult loads = flight::wheel_loads(rover, t.attitude, t.joints, flight::kNoDriveTorques);
+    // Each wheel's torque from its current, where the step's health stage
+    // passed the current.
+    flight::DriveTorques torques{};
+    for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+      const flight::TorqueResult torque = flight::torque_from_current(table.motor, t.current_a[i], t.direction[i]);
+      torques.usable[i] = out.health.current_usable[i] && (torque.status == flight::EstimateStatus::ok);
+      torques.torque_nm[i] = torques.usable[i] ? torque.torque_nm : flight::TorqueNm::zero();
+    }
+    const flight::WheelLoadResult loads = flight::wheel_loads(rover, t.attitude, t.joints, torques);
     ASSERT_EQ(loads.status, flight::WheelLoadStatus::ok) << k;
+    EXPECT_EQ(out.torque_fallback_mask, loads.torque_fallback_mask) << k;
     flight::DrawbarInput in{};
     in.accel_mps2 = t.accel_mps2;
     in.pitch_rad = t.attitude.pitch_rad;

@@ -57,9 +57,17 @@ TEST_F(RoverStepTest, NominalCycleGivesEveryNumberAndMatchesTheChain) {
   ASSERT_TRUE(out.drawbar_valid);
   EXPECT_EQ(out.decision, flight::RoverDecision::continue_drive);
 
-  // The same chain, one function at a time.
-  const flight::WheelLoadResult loads = flight::wheel_loads(rover, t.attitude, t.joints, flight::kNoDriveTorques);
+  // The same chain, one function at a time: every current is healthy, so
+  // every wheel's torque enters the statics.
+  flight::DriveTorques torques{};
+  for (std::size_t i = 0; i < flight::kWheelCount; ++i) {
+    torques.torque_nm[i] = flight::torque_from_current(table.motor, t.current_a[i], t.direction[i]).torque_nm;
+    torques.usable[i] = true;
+  }
+  const flight::WheelLoadResult loads = flight::wheel_loads(rover, t.attitude, t.joints, torques);
   ASSERT_EQ(loads.status, flight::WheelLoadStatus::ok);
+  EXPECT_EQ(out.torque_fallback_mask, 0U);
+  EXPECT_FALSE(out.torque_overload);
   flight::DrawbarInput in{};
   in.accel_mps2 = t.accel_mps2;
   in.pitch_rad = t.attitude.pitch_rad;
@@ -83,11 +91,19 @@ TEST_F(RoverStepTest, NominalCycleGivesEveryNumberAndMatchesTheChain) {
                                                               loads.load_n[i], torque.torque_nm, dp.dp_n[i]);
     EXPECT_EQ(w.torque_nm, torque.torque_nm) << i;
     EXPECT_EQ(w.sinkage_m, z.sinkage_m) << i;
-    // The same 0.35 A on every wheel while climbing 0.12 rad: the uphill
-    // drawbar pull is not covered by that torque on the loaded rear wheels,
-    // so their estimates go negative (no sinkage) while staying small.
+    // The same 0.35 A on every wheel while climbing 0.12 rad: the estimates
+    // stay small either way.
     EXPECT_LT(std::fabs(d(w.sinkage_m)), 0.03) << i;
   }
+}
+
+TEST_F(RoverStepTest, ACurrentBeyondTheSensorRangeGivesNoTorqueToTheLoads) {
+  flight::RoverTelemetry t = telemetry(3000U);
+  t.current_a[4] = q<flight::CurrentA>(d(table.motor.current_abs_max_a) + 0.5);
+  const flight::RoverStepOutput out = step.step(t, flight::TimeMs{3000U}, test::prepared_of(table, rover));
+  ASSERT_TRUE(out.loads_valid);
+  EXPECT_EQ(out.torque_fallback_mask, 1U << 4U);
+  EXPECT_FALSE(out.torque_overload);
 }
 
 TEST_F(RoverStepTest, AccelerationFromTheSpeedDifference) {
@@ -255,6 +271,10 @@ TEST_F(RoverStepTest, HighCurrentTripsStopThroughTheMonitor) {
   }
   EXPECT_EQ(out.monitor.wheels[2].state, flight::WheelState::stop);
   EXPECT_EQ(out.monitor.wheels[0].state, flight::WheelState::nominal);
+  // 5 A is far beyond traction: its torque would lift the middle wheel, so
+  // the loads are taken without torques, flagged, and the step goes on.
+  EXPECT_TRUE(out.torque_overload);
+  EXPECT_EQ(out.torque_fallback_mask, 0x3FU);
   EXPECT_EQ(out.decision, flight::RoverDecision::stop_and_replan);
   step.clear_stop();
   const flight::RoverStepOutput after = step.step(telemetry(11000U), flight::TimeMs{11000U}, test::prepared_of(table, rover));

@@ -11,6 +11,7 @@
 
 #include "rover_test_support.hpp"
 #include "prepared_support.hpp"
+#include "sinkwatch/flight/motor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/rover_step.hpp"
 
@@ -103,6 +104,21 @@ RC_GTEST_PROP(RoverStepProp, NeverANumberFromInvalidInputAndAlwaysConsistent, ()
       }
     }
     if (out.loads_valid) {
+      // A wheel's torque enters the loads only from a current the health
+      // stage passed (docs/rover-loads.md 12.3); an overload takes none (12.4).
+      double torque_abs_sum_nm = 0.0;
+      for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+        const bool fell_back = ((out.torque_fallback_mask >> i) & 1U) != 0U;
+        RC_ASSERT(fell_back || out.health.current_usable[i]);
+        if (!fell_back) {
+          const flight::TorqueResult torque = flight::torque_from_current(table.motor, t.current_a[i], t.direction[i]);
+          RC_ASSERT(torque.status == flight::EstimateStatus::ok);
+          torque_abs_sum_nm += std::fabs(d(torque.torque_nm));
+        }
+      }
+      RC_ASSERT(!out.torque_overload || (out.torque_fallback_mask == 0x3FU));
+      RC_CLASSIFY(out.torque_fallback_mask == 0U, "every torque in the loads");
+      // The couples are internal: the loads still sum to the weight's normal part.
       const flight::RoverAttitude& a = out.health.attitude;
       const double mg = d(rover.mass_kg) * d(rover.gravity_mps2);
       const double normal = mg * std::cos(d(a.pitch_rad)) * std::cos(d(a.roll_rad));
@@ -111,7 +127,8 @@ RC_GTEST_PROP(RoverStepProp, NeverANumberFromInvalidInputAndAlwaysConsistent, ()
         RC_ASSERT(w.raw() >= 0);
         sum += d(w);
       }
-      RC_ASSERT(std::fabs(sum - normal) <= 6.0 * rover_test::load_bound_n(mg) + 1e-6 * mg);
+      RC_ASSERT(std::fabs(sum - normal) <=
+                6.0 * rover_test::load_bound_with_torques_n(mg, torque_abs_sum_nm) + 1e-6 * mg);
     }
     if (out.drawbar_valid) {
       // The default table's DP_max/W is 0.5 at every load: the cap holds.
