@@ -34,15 +34,26 @@ using sinkwatch::ground::test::run;
 
 constexpr double kYutuMassKg = 140.0;
 
-// The shipped embedding scenario with "# mass_kg: <value>" after its gravity
-// line; `line` gets that line's number.
+// The shipped embedding scenario with its "# mass_kg:" line (the generator
+// writes the 140 kg it ran with) saying `value` instead; `line` gets that
+// line's number.
 std::string with_mass_line(const std::string& value, std::size_t* line = nullptr) {
   const std::string text = sg::embedded_scenario_text("embedding");
   EXPECT_FALSE(text.empty());
-  const std::size_t at = text.find("# gravity_mps2:");
+  const std::size_t at = text.find("# mass_kg:");
+  EXPECT_NE(at, std::string::npos) << "the shipped log has no mass_kg line";
   const std::size_t end = text.find('\n', at) + 1;
-  if (line) *line = static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<long>(end), '\n')) + 1;
-  return text.substr(0, end) + "# mass_kg: " + value + "\n" + text.substr(end);
+  if (line) *line = static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n')) + 1;
+  return text.substr(0, at) + "# mass_kg: " + value + "\n" + text.substr(end);
+}
+
+// The shipped embedding scenario without its "# mass_kg:" line: a log that
+// does not say the rover's mass.
+std::string without_mass_line() {
+  const std::string text = sg::embedded_scenario_text("embedding");
+  const std::size_t at = text.find("# mass_kg:");
+  EXPECT_NE(at, std::string::npos) << "the shipped log has no mass_kg line";
+  return text.substr(0, at) + text.substr(text.find('\n', at) + 1);
 }
 
 // One directory per test: ctest runs the tests of this file in parallel, and
@@ -102,9 +113,14 @@ TEST(ReplayRoverMass, ReportNamesTheMassAndWhereItCameFrom) {
   EXPECT_NE(header.out.find("120.0 kg (from the log's mass_kg (line " + std::to_string(line) + "))"),
             std::string::npos)
       << header.out;
+  // The shipped log says the 140 kg it was made with; a log that says
+  // nothing gets the Yutu-like default.
   const CommandRun builtin = run({});
   ASSERT_EQ(builtin.code, 0) << builtin.err;
-  EXPECT_NE(builtin.out.find("140.0 kg (from the Yutu-like default"), std::string::npos) << builtin.out;
+  EXPECT_NE(builtin.out.find("140.0 kg (from the log's mass_kg (line "), std::string::npos) << builtin.out;
+  const CommandRun silent = run({write_temp("no_mass.csv", without_mass_line()).string()});
+  ASSERT_EQ(silent.code, 0) << silent.err;
+  EXPECT_NE(silent.out.find("140.0 kg (from the Yutu-like default"), std::string::npos) << silent.out;
 }
 
 TEST(ReplayRoverMass, OptionOverridesTheHeader) {
@@ -152,7 +168,9 @@ TEST(ReplayRoverMass, BadOptionMassIsAUsageError) {
 TEST(ReplayRoverMass, TableWithARoverSectionIsUsed) {
   const sg::RoverTable t160 = sg::build_rover_table(sg::default_table(), {{"mass-kg", 160.0}});
   const fs::path table = write_table("m160.tbl", t160);
-  const CommandRun r = run({"--table", table.string()});
+  // A log without a mass of its own (the shipped one says 140 kg, which
+  // would come first: HeaderOverridesTheTablesMassWithANote).
+  const CommandRun r = run({write_temp("no_mass.csv", without_mass_line()).string(), "--table", table.string()});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("the table's section 6 geometry, 160.0 kg (from the table's section 6)"), std::string::npos)
       << r.out;

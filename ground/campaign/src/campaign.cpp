@@ -158,7 +158,6 @@ void campaign_settings(ScenarioSpec& s, double path_length_m) {
   s.end_x_m = path_length_m;
   s.stuck_tail_s = 10.0;
   s.max_time_s = 60.0 * path_length_m / s.speed_mps;
-  s.load_model = ScenarioLoadModel::force_balance;
   s.quadrature_rel_tol = 1e-6;
   s.slip_refine = SlipRefine::illinois;
   s.slip_bisections = 12;

@@ -105,9 +105,8 @@ class World {
   SideSoil soil(double x, double gain) const {
     return SideSoil{soil_scale(x) * gain, interpolate(x, &TerrainKnot::right_soil_factor)};
   }
-  bool force_balance() const { return spec_.load_model == ScenarioLoadModel::force_balance; }
-
-  // The flight code's statics at this attitude (contact forces parallel to gravity).
+  // The flight code's statics without torques at this attitude (contact
+  // forces parallel to gravity): what CycleLoads::flight_statics_n compares with.
   std::array<double, kN> statics_loads(double pitch_deg, double roll_deg) const {
     const WheelLoads w = wheel_loads(geometry_, Attitude{pitch_deg * kDeg, roll_deg * kDeg}, JointAngles{}, k_no_drive_torques);
     if (w.status != LoadStatus::ok) throw std::runtime_error("scenario: wheel loads failed at the path's slope");
@@ -116,11 +115,11 @@ class World {
     return out;
   }
 
-  // The loads of the spec's load model; the fuller balance with the wheels'
-  // pulls and soil torques (`traction`, body frame) and the acceleration.
+  // The simulated rover's loads: the fuller balance with the wheels' pulls
+  // and soil torques (`traction`, body frame) and the acceleration
+  // (docs/rover-loads.md section 11).
   std::array<double, kN> loads(double pitch_deg, double roll_deg, double accel_mps2,
                                const WheelTraction& traction) const {
-    if (!force_balance()) return statics_loads(pitch_deg, roll_deg);
     ForceBalanceInput in;
     in.attitude = Attitude{pitch_deg * kDeg, roll_deg * kDeg};
     in.accel_mps2 = accel_mps2;
@@ -349,7 +348,7 @@ struct Motion {
   double a = 0.0;     // signed
   double hint = 0.0;  // last slip
   double gain = 1.0;  // soil improvement from escape reversals
-  WheelTraction traction{};  // last cycle's pulls and soil torques, body frame (force_balance)
+  WheelTraction traction{};  // last cycle's pulls and soil torques, body frame
 };
 
 struct CycleTruth {
@@ -401,7 +400,7 @@ double max_abs_difference(const std::array<double, kN>& a, const std::array<doub
   return m;
 }
 
-// Loads <-> simulator to a fixed point (force_balance only): the loads from
+// Loads <-> simulator to a fixed point: the loads from
 // the last cycle's forces, the slip at them, the loads from the new forces,
 // until they change by less than this, at most spec.load_iterations times.
 constexpr double kLoadFixedPointN = 0.05;
@@ -416,7 +415,7 @@ CycleTruth advance(const World& world, const ScenarioSpec& spec, Motion& m, int 
   if (u > 1e-6) {
     double a = m.a;
     SlipSolution s = carry(world, spec, m, c, d, u, a);
-    for (int it = 0; s.ok && world.force_balance() && it < spec.load_iterations; ++it) {
+    for (int it = 0; s.ok && it < spec.load_iterations; ++it) {
       const std::array<double, kN> w = world.loads(c.pitch_deg, c.roll_deg, a, traction_of(s.wheels, d));
       if (max_abs_difference(w, c.load_n) < kLoadFixedPointN) break;
       c.load_n = w;
@@ -766,7 +765,8 @@ void describe_scenario(const ScenarioSpec& spec, const std::string& command_line
   log.comments = {
       "sinkwatch telemetry scenario '" + spec.name + "': " + spec.description,
       "made by the reference wheel-soil simulator (Wong-Reece, soil " + spec.soil +
-          ", slip-sinkage on) with the flight code in the loop; docs/scenarios.md",
+          ", slip-sinkage on; wheel loads from the fuller force balance) with the flight code in the loop; "
+          "docs/scenarios.md",
       "x_m, true_slip, true_sinkage_mm and phase are simulator truth: the flight code never sees them",
   };
   log.metadata["scenario"] = spec.name;

@@ -46,12 +46,6 @@ struct TerrainKnot {
 /// simulator calls for the same slip resolution).
 enum class SlipRefine { bisection, illinois };
 
-/// How the generator gets the six wheel loads (docs/rover-loads.md).
-enum class ScenarioLoadModel {
-  flight_statics,  // the flight code's own statics (contact forces parallel to gravity): the shipped scenarios
-  force_balance,   // the fuller balance: each wheel's drawbar pull and drive-torque reaction (section 11)
-};
-
 struct ScenarioNoise {
   double current_abs_a = 0.004;   // motor-current sensor: sigma = hypot(abs, rel * |I|)
   double current_rel = 0.01;
@@ -83,8 +77,10 @@ struct ScenarioSpec {
                                                 // (the flight code in the loop runs with it too)
   std::optional<SoilParameters> soil_parameters;  // a drawn soil in place of the preset `soil`
   std::optional<EffectSettings> effects;        // the simulator's effects; none: slip_sinkage only
-  ScenarioLoadModel load_model = ScenarioLoadModel::flight_statics;
-  int load_iterations = 4;           // force_balance: loads <-> simulator passes per cycle (at most)
+  // The wheel loads are always the fuller balance (docs/rover-loads.md
+  // section 11: each wheel's drawbar pull and drive-torque reaction), iterated
+  // with the simulator up to this many passes per cycle.
+  int load_iterations = 4;
   double quadrature_rel_tol = kDefaultQuadratureRelTol;  // the simulator's quadrature goal
   int slip_bisections = 14;          // refinement steps of the rover's slip (at most, for illinois)
   double slip_step_down = 0.04;      // bracketing the slip: steps down from the last slip, then up
