@@ -514,9 +514,17 @@ void plot_markers(std::ostream& s, const TelemetryLog& log, const ReplayResult& 
   }
   const std::optional<EmbeddingTruth> emb = log_embedding(log);
   if (emb) {
+    // A rover stopped well ahead ends its log before the embedding's time:
+    // widen the time axis so that the marker lies on the panels, not on the
+    // key, and write its label on the marker's left.
+    const bool after_log = !log.rows.empty() && (emb->time_s > log.rows.back().time_s);
+    if (after_log) {
+      s << strf("set xrange [*:%.3f]\n", emb->time_s + 0.02 * (emb->time_s - log.rows.front().time_s));
+    }
     s << strf("set arrow 2 from %.3f, graph 0 to %.3f, graph 1 nohead", emb->time_s, emb->time_s)
       << level(PlotLevel::embedding) << '\n';
-    s << strf("set label 2 'simulated embedding' at %.3f, graph 0.85 left offset 0.5,0 tc", emb->time_s)
+    s << strf("set label 2 'simulated embedding' at %.3f, graph 0.85 %s tc", emb->time_s,
+              after_log ? "right offset -0.5,0" : "left offset 0.5,0")
       << level(PlotLevel::embedding) << '\n';
   }
 }
