@@ -558,6 +558,16 @@ void truth_statistics(const Scenario& drive, TraverseResult& out) {
 
 }  // namespace
 
+flight::ParameterTable table_at_levels(const flight::ParameterTable& table, const LevelPair& levels) {
+  const flight::ParameterTable at_stop = table_at_stop_level(table, levels.stop_mm / 1000.0);
+  if (!levels.traction_stop) {
+    flight::ParameterTable off = at_stop;
+    off.traction = flight::TractionParams{};
+    return off;
+  }
+  return table_at_traction_level(at_stop, *levels.traction_stop);
+}
+
 TraverseResult evaluate_traverse(const TraverseDraw& draw, const CampaignOptions& options) {
   TraverseResult out;
   out.draw = draw;
@@ -584,6 +594,10 @@ TraverseResult evaluate_traverse(const TraverseDraw& draw, const CampaignOptions
       const flight::ParameterTable level = table_at_traction_level(options.table, coefficient);
       out.traction_sweep.push_back(flight_verdict(drive, traverse_flight_config(draw, options, level)));
     }
+  }
+  for (const LevelPair& point : options.choice_grid) {
+    out.choice.push_back(flight_verdict(drive, traverse_flight_config(draw, options, table_at_levels(options.table, point))));
+    out.choice_ideal.push_back(ideal_verdict(drive, point.stop_mm / 1000.0));
   }
   for (const FaultClass c : options.faults) out.faults.push_back(fault_verdict(c, draw, drive, config));
   return out;

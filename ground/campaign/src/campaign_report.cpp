@@ -153,13 +153,31 @@ std::optional<double> median(std::vector<double> values) {
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
+namespace {
+
+const FlightVerdict& verdict_at(const TraverseResult& t, std::optional<std::size_t> level, Sweep sweep) {
+  if (!level) return t.flight;
+  switch (sweep) {
+    case Sweep::traction_coefficient: return t.traction_sweep.at(*level);
+    case Sweep::choice: return t.choice.at(*level);
+    case Sweep::stop_level: break;
+  }
+  return t.sweep.at(*level);
+}
+
+const IdealVerdict& ideal_at(const TraverseResult& t, std::optional<std::size_t> level, Sweep sweep) {
+  if (!level || sweep == Sweep::traction_coefficient) return t.ideal;
+  return sweep == Sweep::choice ? t.choice_ideal.at(*level) : t.sweep_ideal.at(*level);
+}
+
+}  // namespace
+
 GroupStats group_stats(const std::vector<const TraverseResult*>& group, std::optional<std::size_t> level,
                        Sweep sweep) {
   GroupStats g;
-  const bool traction = sweep == Sweep::traction_coefficient;
   for (const TraverseResult* t : group) {
-    const FlightVerdict& f = level ? (traction ? t->traction_sweep[*level] : t->sweep[*level]) : t->flight;
-    const IdealVerdict& ideal = (level && !traction) ? t->sweep_ideal[*level] : t->ideal;
+    const FlightVerdict& f = verdict_at(*t, level, sweep);
+    const IdealVerdict& ideal = ideal_at(*t, level, sweep);
     ++g.traverses;
     ++g.outcomes[static_cast<std::size_t>(f.outcome)];
     g.rear_excess.push_back(t->rear_load_excess);
