@@ -449,12 +449,25 @@ ReplayConfig traverse_flight_config(const TraverseDraw& draw, const CampaignOpti
   return config;
 }
 
+namespace {
+
+// The event record's sinkages at the stop, beside the simulator's deepest wheel.
+void record_event(const std::optional<StopRecord>& event, const TelemetryRow& stop_row, FlightVerdict& v) {
+  v.true_sinkage_at_stop_mm = stop_row.true_sinkage_mm;
+  if (!event) return;
+  if (event->peak_sinkage_m) v.event_peak_sinkage_mm = 1000.0 * *event->peak_sinkage_m;
+  if (event->max_estimated_sinkage_m) v.event_max_estimate_mm = 1000.0 * *event->max_estimated_sinkage_m;
+}
+
+}  // namespace
+
 FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive, const ReplayConfig& flight_config,
                                 unsigned watch, std::optional<double>* detected_time_s) {
   ReplayConfig config = flight_config;
   config.run_escape = false;
   OnboardLoop loop(config);
   FlightVerdict v;
+  std::optional<StopRecord> first_event;
   const std::size_t rows = std::min(seen.rows.size(), drive.log.rows.size());
   for (std::size_t i = 0; i < rows; ++i) {
     const TelemetryRow& clean = drive.log.rows[i];
@@ -473,6 +486,7 @@ FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive,
     }
     if (v.stop_reason == flight::StopReason::none && !rec.new_events.empty()) {
       v.stop_reason = rec.new_events.front().reason;
+      first_event = rec.new_events.front();
     }
     if (v.stop_reason == flight::StopReason::none && rec.traction_stop_tripped) {
       v.stop_reason = flight::StopReason::traction;
@@ -480,6 +494,7 @@ FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive,
     if (rec.decision == flight::RoverDecision::stop_and_replan) {
       v.stop_time_s = clean.time_s;
       v.stop_x_m = rec.x_m;
+      record_event(first_event, clean, v);
       break;
     }
   }

@@ -130,6 +130,10 @@ struct FlightVerdict {
   flight::StopReason stop_reason = flight::StopReason::none;
   std::optional<double> lead_m, lead_s;  // embedding minus stop, when both exist
   TraverseOutcome outcome = TraverseOutcome::ok_no_stop;
+  // At the stop, when a wheel's event record stopped the rover: its sinkage at
+  // the episode's peak current (section 7: Eq. 11 with DP = DP_max) and its
+  // largest per-cycle estimate; and the simulator's deepest wheel then.
+  std::optional<double> event_peak_sinkage_mm, event_max_estimate_mm, true_sinkage_at_stop_mm;
 };
 
 /// One injected fault's effect on a traverse (the campaign's table).
