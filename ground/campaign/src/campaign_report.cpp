@@ -47,7 +47,7 @@ std::vector<std::string> csv_fields(const TraverseResult& t) {
           fixed(t.rear_load_excess, 4), fixed(t.front_load_excess, 4), opt(t.min_reserve_frac, 4),
           opt(t.reserve_ideal.cross_x_m, 3), opt(t.reserve_ideal.lead_m, 3),
           std::to_string(t.rows), opt(f.event_peak_sinkage_mm, 1), opt(f.event_max_estimate_mm, 1),
-          opt(f.true_sinkage_at_stop_mm, 1)};
+          opt(f.true_sinkage_at_stop_mm, 1), opt(f.recent_estimate_mm, 1)};
 }
 
 std::string csv_field(const std::string& s) {
@@ -73,7 +73,7 @@ const std::vector<std::string>& traverse_csv_columns() {
       "caution_x_m", "stop_time_s", "stop_x_m", "stop_reason", "lead_m", "lead_s", "outcome", "ideal_cross_time_s",
       "ideal_cross_x_m", "ideal_lead_m", "ideal_lead_s", "max_true_sinkage_mm", "rear_load_excess",
       "front_load_excess", "min_reserve_frac", "reserve_cross_x_m", "reserve_lead_m", "rows",
-      "event_peak_sinkage_mm", "event_max_estimate_mm", "true_sinkage_at_stop_mm"};
+      "event_peak_sinkage_mm", "event_max_estimate_mm", "true_sinkage_at_stop_mm", "recent_estimate_mm"};
   return columns;
 }
 
@@ -363,6 +363,7 @@ namespace {
 struct EventAccuracy {
   std::size_t stops = 0, with_record = 0;
   std::vector<double> peak_ratio, estimate_ratio;  // event sinkage / true deepest sinkage
+  std::vector<double> recent_ratio;                // FlightVerdict::recent_estimate_mm / true, every stop
 };
 
 std::string accuracy_cells(const std::vector<double>& ratios, std::size_t of) {
@@ -374,23 +375,25 @@ std::string accuracy_cells(const std::vector<double>& ratios, std::size_t of) {
 std::string event_accuracy_table(const CampaignResult& r) {
   std::ostringstream md;
   md << "| group | stops | with a wheel's event record | peak-current sinkage / true: median | within 20 % | largest "
-        "estimate / true: median | within 20 % |\n|---|---|---|---|---|---|---|\n";
+        "estimate / true: median | within 20 % | every stop: deepest wheel's recent median estimate / true: median "
+        "| within 20 % |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const bool held : {false, true}) {
     EventAccuracy a;
     for (const TraverseResult& t : r.traverses) {
       const FlightVerdict& f = t.flight;
       if (t.held_out != held || !f.stop_time_s) continue;
       ++a.stops;
+      const double truth = f.true_sinkage_at_stop_mm.value_or(0.0);
+      if (truth > 0.0 && f.recent_estimate_mm) a.recent_ratio.push_back(*f.recent_estimate_mm / truth);
       if (!f.event_max_estimate_mm && !f.event_peak_sinkage_mm) continue;
       ++a.with_record;
-      const double truth = f.true_sinkage_at_stop_mm.value_or(0.0);
       if (truth <= 0.0) continue;
       if (f.event_peak_sinkage_mm) a.peak_ratio.push_back(*f.event_peak_sinkage_mm / truth);
       if (f.event_max_estimate_mm) a.estimate_ratio.push_back(*f.event_max_estimate_mm / truth);
     }
     md << "| " << (held ? "held out" : "tuning") << " | " << a.stops << " | " << a.with_record << " | "
        << accuracy_cells(a.peak_ratio, a.with_record) << " | " << accuracy_cells(a.estimate_ratio, a.with_record)
-       << " |\n";
+       << " | " << accuracy_cells(a.recent_ratio, a.stops) << " |\n";
   }
   return md.str();
 }
