@@ -72,34 +72,11 @@ std::vector<FaultClass> fault_classes_of(const std::vector<std::string>& names) 
   return out;
 }
 
-CampaignOptions options_of(const CampaignArgs& a) {
-  CampaignOptions o;
-  if (a.traverses == 0) throw_usage_error("--traverses must be at least 1");
-  o.traverses_per_family = a.traverses;
-  o.seed = a.seed;
-  if (!a.families.empty()) o.families = families_of(a.families);
-  if (o.families.empty()) throw_usage_error("--families names no family");
-  if (!a.held_out.empty()) o.held_out = families_of(a.held_out);
+// The sweeps' and the choice's levels (--levels, --traction-levels,
+// --choose-levels), each checked against the table before any work.
+void set_levels(const CampaignArgs& a, CampaignOptions& o) {
   if (!a.levels_mm.empty()) o.sweep_stop_mm = a.levels_mm;
   if (!a.traction_levels.empty()) o.sweep_traction_stop = a.traction_levels;
-  o.faults = fault_classes_of(a.faults);
-  o.threads = a.jobs;
-  o.path_length_m = a.path_length_m;
-  if (!a.table.empty()) {
-    ReplayConfig config;
-    load_parameter_table(a.table, config);
-    o.table = config.table;
-    o.table_source = a.table;
-    o.rover = config.rover;
-  }
-  o.flight_mass = flight_mass_from_name(a.flight_mass);
-  if (!a.loss_policy.empty()) {
-    try {
-      set_loss_policy(a.loss_policy, o.table, o.table_source);
-    } catch (const std::invalid_argument& e) {
-      throw_usage_error(e.what());
-    }
-  }
   if (a.choose_levels) {
     o.choice_grid = choice_grid(o.table, a.levels_mm.empty() ? choice_grid_mm(o.table) : a.levels_mm,
                                 o.sweep_traction_stop);
@@ -125,6 +102,35 @@ CampaignOptions options_of(const CampaignArgs& a) {
   } catch (const std::invalid_argument& e) {
     throw_usage_error(std::string("--traction-levels: ") + e.what());
   }
+}
+
+CampaignOptions options_of(const CampaignArgs& a) {
+  CampaignOptions o;
+  if (a.traverses == 0) throw_usage_error("--traverses must be at least 1");
+  o.traverses_per_family = a.traverses;
+  o.seed = a.seed;
+  if (!a.families.empty()) o.families = families_of(a.families);
+  if (o.families.empty()) throw_usage_error("--families names no family");
+  if (!a.held_out.empty()) o.held_out = families_of(a.held_out);
+  o.faults = fault_classes_of(a.faults);
+  o.threads = a.jobs;
+  o.path_length_m = a.path_length_m;
+  if (!a.table.empty()) {
+    ReplayConfig config;
+    load_parameter_table(a.table, config);
+    o.table = config.table;
+    o.table_source = a.table;
+    o.rover = config.rover;
+  }
+  o.flight_mass = flight_mass_from_name(a.flight_mass);
+  if (!a.loss_policy.empty()) {
+    try {
+      set_loss_policy(a.loss_policy, o.table, o.table_source);
+    } catch (const std::invalid_argument& e) {
+      throw_usage_error(e.what());
+    }
+  }
+  set_levels(a, o);
   return o;
 }
 
