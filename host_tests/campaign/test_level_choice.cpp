@@ -51,7 +51,7 @@ CampaignResult made_up(const std::vector<double>& levels_mm, std::size_t ordinar
                        const std::vector<std::size_t>& false_stops,
                        const std::vector<std::size_t>& held_out_false_stops = {}) {
   CampaignResult r;
-  r.options.sweep_stop_mm = levels_mm;
+  for (const double level_mm : levels_mm) r.options.choice_grid.push_back(LevelPair{level_mm, std::nullopt});
   const auto add = [&](bool held_out, bool embedded, const std::vector<bool>& stops) {
     TraverseResult t;
     t.draw.family = held_out ? CampaignFamily::one_side : CampaignFamily::gradual;
@@ -68,8 +68,8 @@ CampaignResult made_up(const std::vector<double>& levels_mm, std::size_t ordinar
       } else if (stops[k]) {
         f.outcome = TraverseOutcome::false_stop;
       }
-      t.sweep.push_back(f);
-      t.sweep_ideal.push_back(ideal);
+      t.choice.push_back(f);
+      t.choice_ideal.push_back(ideal);
     }
     r.traverses.push_back(t);
   };
@@ -154,7 +154,7 @@ TEST(LevelChoiceRule, StopsOnNearMissesAreNotFalseStops) {
     TraverseResult t = r.traverses.front();
     ASSERT_FALSE(t.embedded);
     t.min_reserve_frac = 0.5 * kNearMissReserve;
-    for (FlightVerdict& f : t.sweep) f.outcome = TraverseOutcome::near_miss_stop;
+    for (FlightVerdict& f : t.choice) f.outcome = TraverseOutcome::near_miss_stop;
     r.traverses.push_back(t);
   }
   const LevelChoice c = choose_levels(r, 0.01);
@@ -171,10 +171,102 @@ TEST(LevelChoiceRule, RefusesAChoiceWithNothingToMeasureOn) {
   EXPECT_THROW((void)choose_levels(r, 0.01), std::invalid_argument);
 }
 
+// A made-up campaign over pairs of a sinkage level and a section-8 stop
+// coefficient: at point k, false_stops[k] of `ordinary` tuning clear drives
+// stop falsely, and stopped_before[k] of 10 embeddings are stopped 2 m ahead
+// (the others late).
+struct MadeUpPoint {
+  LevelPair levels;
+  std::size_t false_stops = 0, stopped_before = 0;
+};
+
+CampaignResult made_up_pairs(const std::vector<MadeUpPoint>& points, std::size_t ordinary) {
+  CampaignResult r;
+  for (const MadeUpPoint& p : points) r.options.choice_grid.push_back(p.levels);
+  const auto add = [&](bool embedded, std::size_t index) {
+    TraverseResult t;
+    t.draw.family = CampaignFamily::gradual;
+    t.embedded = embedded;
+    t.embed_x_m = 8.0;
+    for (const MadeUpPoint& p : points) {
+      FlightVerdict f;
+      if (embedded) {
+        const bool before = index < p.stopped_before;
+        f.outcome = before ? TraverseOutcome::stopped_ahead : TraverseOutcome::late;
+        f.lead_m = before ? 2.0 : -0.5;
+      } else if (index < p.false_stops) {
+        f.outcome = TraverseOutcome::false_stop;
+      }
+      t.choice.push_back(f);
+      t.choice_ideal.push_back(IdealVerdict{});
+    }
+    r.traverses.push_back(t);
+  };
+  for (std::size_t i = 0; i < ordinary; ++i) add(false, i);
+  for (std::size_t i = 0; i < 10; ++i) add(true, i);
+  return r;
+}
+
+TEST(LevelChoiceRule, PairsTakeTheCertifiedPointThatStopsTheMostEmbeddingsBeforeThem) {
+  // 1000 clear drives: k_max(1000, 1 %) = 4, k_max(1000, 0.5 %) = 1.
+  const std::vector<MadeUpPoint> points = {
+      {LevelPair{45.0, std::nullopt}, 2, 6},  // sinkage rule alone
+      {LevelPair{45.0, 0.38}, 4, 9},          // both rules: more embeddings, more false stops
+      {LevelPair{45.0, 0.30}, 30, 10},        // too many false stops
+      {LevelPair{60.0, 0.38}, 3, 9},          // as good for embeddings, fewer false stops
+  };
+  const CampaignResult r = made_up_pairs(points, 1000);
+  const LevelChoice c = choose_levels(r, 0.01);
+  EXPECT_EQ(c.basis, ChoiceBasis::certified);
+  EXPECT_EQ(c.level, 3U);
+  EXPECT_NEAR(c.stop_mm, 60.0, 1e-4);
+  ASSERT_TRUE(c.traction_stop);
+  EXPECT_NEAR(*c.traction_stop, 0.38, 1e-6);
+  // Tighter: every point has more than 1 false stop, so none is certified;
+  // the fallback is the fewest false stops: the sinkage rule alone.
+  const LevelChoice tight = choose_levels(r, 0.005);
+  EXPECT_EQ(tight.basis, ChoiceBasis::fewest_false_stops);
+  EXPECT_EQ(tight.level, 0U);
+  EXPECT_FALSE(tight.traction_stop);
+  EXPECT_LE(tight.tuning[tight.level].stopped_before, c.tuning[c.level].stopped_before);
+  // Looser: the point that stops every embedding before it.
+  EXPECT_EQ(choose_levels(r, 0.05).level, 2U);
+}
+
+TEST(LevelChoiceTable, TheChosenPairIsWhatTheTableCarries) {
+  const CampaignResult r = made_up_pairs({{LevelPair{40.0, std::nullopt}, 0, 5}, {LevelPair{50.0, 0.42}, 0, 8}}, 400);
+  const LevelChoice c = choose_levels(r, 0.01);
+  ASSERT_EQ(c.level, 1U);
+  const EncodedTable written = encode_chosen_table(r, c);
+  ASSERT_TRUE(sinkwatch::flight::traction_check_on(written.table.traction));
+  EXPECT_NEAR(fx::to_double(written.table.traction.stop_coefficient.q()), 0.42, 1e-6);
+  EXPECT_NEAR(1000.0 * fx::to_double(written.table.monitor.stop_sinkage_m.q()), 50.0, 1e-4);
+  // Caution keeps the default table's section-8 ratio (0.30 / 0.38).
+  EXPECT_NEAR(fx::to_double(written.table.traction.caution_coefficient.q()), 0.42 * 0.30 / 0.38, 1e-6);
+  // The other point: section 8 removed, the rest as the default table.
+  LevelChoice off = c;
+  off.level = 0;
+  const EncodedTable without = encode_chosen_table(r, off);
+  EXPECT_FALSE(sinkwatch::flight::traction_check_on(without.table.traction));
+  EXPECT_LT(without.bytes.size(), written.bytes.size());
+}
+
+TEST(LevelChoiceTable, TheGridPairsEverySinkageLevelWithEveryCoefficientAndWithTheCheckOff) {
+  const auto table = sinkwatch::flight::default_parameter_table();
+  const std::vector<LevelPair> grid = choice_grid(table, {30, 45}, {0.34, 0.42});
+  ASSERT_EQ(grid.size(), 6U);
+  EXPECT_FALSE(grid[0].traction_stop);
+  EXPECT_EQ(grid[1].stop_mm, 45.0);
+  EXPECT_EQ(grid[5].traction_stop, std::optional<double>(0.42));
+  auto without = table;
+  without.traction = sinkwatch::flight::TractionParams{};
+  EXPECT_EQ(choice_grid(without, {30, 45}, {0.34, 0.42}).size(), 2U);  // the sinkage levels alone
+}
+
 TEST(LevelChoiceTable, ALevelTheFlightCodeRefusesIsNotWritten) {
   CampaignResult r = made_up({30, 40}, 400, {0, 0});
   LevelChoice c = choose_levels(r, 0.01);
-  r.options.sweep_stop_mm[c.level] = 400.0;  // beyond the 0.15 m wheel radius
+  r.options.choice_grid[c.level].stop_mm = 400.0;  // beyond the 0.15 m wheel radius
   EXPECT_THROW((void)encode_chosen_table(r, c), std::invalid_argument);
 }
 
@@ -214,9 +306,10 @@ class ChooseLevelsCommand : public ::testing::Test {
   }
   static int run(const std::vector<std::string>& extra, const std::filesystem::path& out, std::string* text = nullptr,
                  const std::string& jobs = "2") {
+    // One section-8 coefficient besides "off" keeps the grid (and the sanitizer build's time) small.
     std::vector<std::string> args = {"--families", "gradual,abrupt,stepwise,one-side", "--held-out", "one-side",
                                      "--traverses", "2", "--seed", "5", "--path-length", "7", "-j", jobs, "-q",
-                                     "--choose-levels", "--out", out.string()};
+                                     "--traction-levels", "0.38", "--choose-levels", "--out", out.string()};
     args.insert(args.end(), extra.begin(), extra.end());
     std::ostringstream o, e;
     const int rc = run_campaign_command(args, o, e);
@@ -236,6 +329,19 @@ TEST_F(ChooseLevelsCommand, WritesATableThatLoadsAndCarriesTheChosenLevels) {
   char want[64];
   std::snprintf(want, sizeof want, "\"stop_mm\": %.3f, \"caution_mm\": %.3f", stop_mm, caution_mm);
   EXPECT_NE(json.find(want), std::string::npos) << want << "\n" << json;
+  // Section 8's coefficient was chosen with them: the table carries the one choice.json names.
+  const std::size_t at = json.find("\"traction_stop\": ");
+  ASSERT_NE(at, std::string::npos) << json;
+  if (json.compare(at + 17, 4, "null") == 0) {
+    EXPECT_FALSE(sinkwatch::flight::traction_check_on(table.table.traction));
+  } else {
+    ASSERT_TRUE(sinkwatch::flight::traction_check_on(table.table.traction));
+    EXPECT_NEAR(std::stod(json.substr(at + 17)), fx::to_double(table.table.traction.stop_coefficient.q()), 1e-4);
+  }
+  // The grid: the 6 sinkage levels with the check off and with run()'s one coefficient.
+  std::size_t points = 0;
+  for (std::size_t p = json.find("{\"stop_mm\": "); p != std::string::npos; p = json.find("{\"stop_mm\": ", p + 1)) ++points;
+  EXPECT_EQ(points, 6U * 2U + 1U) << json;  // + the base table's block
   // Everything but the levels is the base (default) table's.
   const auto base = sinkwatch::flight::default_parameter_table();
   EXPECT_EQ(table.table.correction.rows[0].c3.q().raw(), base.correction.rows[0].c3.q().raw());
@@ -258,8 +364,12 @@ TEST_F(ChooseLevelsCommand, MeetsItsTargetOnItsOwnDataAndTighterTargetsNeverGoLo
   EXPECT_NE(b.find("\"certified\": false"), std::string::npos) << b;
   EXPECT_NE(read(tight / "summary.md").find("NOT CERTIFIED"), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(tight.parent_path() / "tight.tbl"));
-  const auto stop = [](const std::string& json) { return std::stod(json.substr(json.find("\"stop_mm\": ") + 11)); };
-  EXPECT_GE(stop(b), stop(a));
+  // A tighter target never stops more tuning embeddings before the embedding
+  // (the tuning block comes first in choice.json).
+  const auto stopped_before = [](const std::string& json) {
+    return std::stoul(json.substr(json.find("\"stopped_before\": ") + 18));
+  };
+  EXPECT_LE(stopped_before(b), stopped_before(a));
   if (a.find("\"certified\": true") != std::string::npos) {
     const auto bound = [](const std::string& json) {
       return std::stod(json.substr(json.find("\"false_stop_upper_95\": ") + 23));
@@ -276,7 +386,8 @@ TEST_F(ChooseLevelsCommand, HeldOutFamiliesDoNotChangeTheChoiceAndTheSameSeedGiv
   EXPECT_EQ(read(one / "chosen.tbl"), read(two / "chosen.tbl"));
   // Another held-out family in place of one-side: same tuning traverses, same choice and table.
   std::vector<std::string> args = {"--families", "gradual,abrupt,stepwise,drawn-soil", "--held-out", "drawn-soil",
-                                   "--traverses", "2", "--seed", "5", "--path-length", "7", "-q", "--choose-levels",
+                                   "--traverses", "2", "--seed", "5", "--path-length", "7", "-q",
+                                   "--traction-levels", "0.38", "--choose-levels",
                                    "--max-false-stop", "0.3", "--levels", "30,45,90", "--out", other.string()};
   std::ostringstream o, e;
   ASSERT_EQ(run_campaign_command(args, o, e), 0) << e.str();
@@ -302,6 +413,8 @@ TEST(ChooseLevelsOptions, AreCheckedBeforeAnyWork) {
   EXPECT_EQ(rc({"--choose-levels", "--max-false-stop", "0"}), usage);
   EXPECT_EQ(rc({"--choose-levels", "--max-false-stop", "0.01", "--table-out", "-"}), usage);
   EXPECT_EQ(rc({"--table-out", "x.tbl"}), usage);
+  EXPECT_EQ(rc({"--choose-levels", "--max-false-stop", "0.01", "--traction-levels", "0.4,5"}), usage);  // > 4
+  EXPECT_EQ(rc({"--traction-levels", "0"}), usage);
   EXPECT_EQ(rc({"--choose-levels", "--max-false-stop", "0.01", "--families", "one-side"}), usage);  // all held out
   EXPECT_EQ(rc({"--choose-levels", "--max-false-stop", "0.01", "--table-out", "/nonexistent/dir/t.tbl"}),
             exit_status(ExitCode::data_error));

@@ -13,6 +13,8 @@
 // for the same answer.
 #include <atomic>
 #include <chrono>
+#include <map>
+#include <mutex>
 #include <ctime>
 #include <cstdio>
 #include <cstdlib>
@@ -35,7 +37,7 @@ struct Options {
   double ftol = sg::DiagnosisSettings{}.function_tolerance;
   double ptol = sg::DiagnosisSettings{}.parameter_tolerance;
   int repeat = 1;
-  bool fits = false;  // --fits: each candidate's first-split fit (iterations, solver message)
+  bool fits = false;  // --fits: each candidate's first-split fit (iterations, solver message) and predictions
 };
 
 Options parse(int argc, char** argv) {
@@ -79,19 +81,34 @@ class CountingModel final : public sg::DiagnosisModel {
   }
   bool predict(const sg::Candidate* candidate, const std::vector<double>& params, const sg::DiagnosisRow& row,
                std::vector<double>& out) const override {
-    ++count_;
+    tally(candidate);
     return inner_.predict(candidate, params, row, out);
   }
   bool predict_warm(const sg::Candidate* candidate, const std::vector<double>& params, const sg::DiagnosisRow& row,
                     std::vector<double>& out, std::vector<double>& warm) const override {
-    ++count_;
+    tally(candidate);
     return inner_.predict_warm(candidate, params, row, out, warm);
   }
   std::size_t count() const { return count_.load(); }
+  // Predictions per candidate ("base" for none), counted when per_candidate is set.
+  std::map<std::string, std::size_t> by_candidate() const {
+    const std::lock_guard<std::mutex> lock(lock_);
+    return by_candidate_;
+  }
+  bool per_candidate = false;
 
  private:
+  void tally(const sg::Candidate* candidate) const {
+    ++count_;
+    if (per_candidate) {
+      const std::lock_guard<std::mutex> lock(lock_);
+      ++by_candidate_[candidate != nullptr ? candidate->name : "base"];
+    }
+  }
   const sg::DiagnosisModel& inner_;
   mutable std::atomic<std::size_t> count_{0};
+  mutable std::mutex lock_;
+  mutable std::map<std::string, std::size_t> by_candidate_;
 };
 
 // The withheld-effect check's campaign (test_diagnosis_withheld.cpp).
@@ -132,7 +149,8 @@ int main(int argc, char** argv) {
   sg::SimParameters start = sg::default_parameters("hit-lss1");
   start.quadrature_rel_tol = o.tol;
   const sg::WongReeceModel simulator(start);
-  const CountingModel model(simulator);
+  CountingModel model(simulator);
+  model.per_candidate = o.fits;
   sg::DiagnosisSettings settings;
   settings.threads = o.threads;
   settings.function_tolerance = o.ftol;
@@ -152,10 +170,16 @@ int main(int argc, char** argv) {
                 top != nullptr ? top->heldout_rms_after : 0.0, top != nullptr ? top->shrink_pct : 0.0,
                 sg::verdict_name(r.verdict));
     if (o.fits) {
-      std::printf("  base: %d iterations, %s\n", r.base.iterations, r.base.solver_message.c_str());
+      const std::map<std::string, std::size_t> counts = model.by_candidate();
+      const auto count_of = [&](const std::string& name) {
+        const auto it = counts.find(name);
+        return it != counts.end() ? it->second : std::size_t{0};
+      };
+      std::printf("  base: %d iterations, %zu predictions, %s\n", r.base.iterations, count_of("base"),
+                  r.base.solver_message.c_str());
       for (const sg::RankedEffect& e : r.ranking) {
-        std::printf("  %-32s after %.4f  %d iterations, %s\n", e.effect.c_str(), e.heldout_rms_after, e.fit.iterations,
-                    e.fit.solver_message.c_str());
+        std::printf("  %-32s after %.4f  %d iterations, %zu predictions, %s\n", e.effect.c_str(), e.heldout_rms_after,
+                    e.fit.iterations, count_of(e.effect), e.fit.solver_message.c_str());
       }
     }
   }

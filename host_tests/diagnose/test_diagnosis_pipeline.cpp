@@ -430,7 +430,9 @@ TEST(DiagnoseCommandSmallData, FiveRowsWriteTheNotEnoughDataReportWithEverySetti
   for (const char* key : {"\"verdict\": \"not_enough_data\"", "\"gravity (m/s^2)\": \"1.62\"",
                           "\"soil preset (start of the fit)\": \"hit-lss1\"", "\"wheel radius (m)\": \"0.15\"",
                           "\"wheel width (m)\": \"0.15\"", "\"gap threshold (x noise)\"",
-                          "\"candidate starts (x initial size)\": \"1, 4\"", "add rows at loads 15 N and 60 N"}) {
+                          "\"candidate starts (x initial size)\": \"1, 4\"", "add rows at loads 15 N and 60 N",
+                          "\"base parameters fitted\": \"soil.kphi,soil.n,soil.c_pa,soil.phi_deg,soil.K_m\"",
+                          "\"simulator quadrature tolerance (relative)\""}) {
     EXPECT_NE(json.str().find(key), std::string::npos) << key << "\n" << json.str();
   }
 }
@@ -448,6 +450,10 @@ TEST(DiagnoseCommandSmallData, OneLoadTenRowFileRunsWithTheEstimator) {
   EXPECT_EQ(json.str().find("not_enough_data"), std::string::npos) << json.str();
   EXPECT_NE(json.str().find("\"cv_folds\": 4"), std::string::npos);
   EXPECT_NE(json.str().find("\"noise\": [{\"channel\": \"traction_coeff\""), std::string::npos);
+  // The noise model (floor and relative part) and the fitted parameters are stated.
+  for (const char* key : {"\"floor\": ", "\"relative\": ", "\"base_fit\"", "\"split_rule\""}) {
+    EXPECT_NE(json.str().find(key), std::string::npos) << key;
+  }
 }
 
 }  // namespace

@@ -448,16 +448,60 @@ ReplayConfig traverse_flight_config(const TraverseDraw& draw, const CampaignOpti
   return config;
 }
 
+namespace {
+
+// Each wheel's last kRecentEstimates valid sinkage estimates [m].
+class RecentEstimates {
+ public:
+  void push(const CycleRecord& rec) {
+    if (wheels_.size() < rec.wheels.size()) wheels_.resize(rec.wheels.size());
+    for (std::size_t w = 0; w < rec.wheels.size(); ++w) {
+      if (!rec.wheels[w].estimate_valid) continue;
+      std::vector<double>& last = wheels_[w];
+      last.push_back(rec.wheels[w].sinkage_m);
+      if (last.size() > kRecentEstimates) last.erase(last.begin());
+    }
+  }
+  // The deepest wheel's median [mm]; none before any valid estimate.
+  std::optional<double> deepest_median_mm() const {
+    std::optional<double> deepest;
+    for (std::vector<double> last : wheels_) {
+      if (last.empty()) continue;
+      std::sort(last.begin(), last.end());
+      const std::size_t n = last.size();
+      const double median = n % 2 ? last[n / 2] : 0.5 * (last[n / 2 - 1] + last[n / 2]);
+      if (!deepest || median > *deepest) deepest = median;
+    }
+    return deepest ? std::optional<double>(1000.0 * *deepest) : std::nullopt;
+  }
+
+ private:
+  std::vector<std::vector<double>> wheels_;
+};
+
+// The event record's sinkages at the stop, beside the simulator's deepest wheel.
+void record_event(const std::optional<StopRecord>& event, const TelemetryRow& stop_row, FlightVerdict& v) {
+  v.true_sinkage_at_stop_mm = stop_row.true_sinkage_mm;
+  if (!event) return;
+  if (event->peak_sinkage_m) v.event_peak_sinkage_mm = 1000.0 * *event->peak_sinkage_m;
+  if (event->max_estimated_sinkage_m) v.event_max_estimate_mm = 1000.0 * *event->max_estimated_sinkage_m;
+}
+
+}  // namespace
+
 FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive, const ReplayConfig& flight_config,
                                 unsigned watch, std::optional<double>* detected_time_s) {
   ReplayConfig config = flight_config;
   config.run_escape = false;
   OnboardLoop loop(config);
   FlightVerdict v;
+  std::optional<StopRecord> first_event;
+  RecentEstimates recent;
   const std::size_t rows = std::min(seen.rows.size(), drive.log.rows.size());
   for (std::size_t i = 0; i < rows; ++i) {
     const TelemetryRow& clean = drive.log.rows[i];
     const CycleRecord rec = loop.step(seen.rows[i], seen.source, clean.x_m.value_or(0.0));
+    recent.push(rec);
     for (std::size_t ch = 0; ch < flight::kSensorChannelCount; ++ch) {
       const bool watched = ((watch >> ch) & 1U) != 0U;
       if (watched && detected_time_s && !*detected_time_s && rec.health[ch] != flight::SensorHealth::ok) {
@@ -472,6 +516,7 @@ FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive,
     }
     if (v.stop_reason == flight::StopReason::none && !rec.new_events.empty()) {
       v.stop_reason = rec.new_events.front().reason;
+      first_event = rec.new_events.front();
     }
     if (v.stop_reason == flight::StopReason::none && rec.traction_stop_tripped) {
       v.stop_reason = flight::StopReason::traction;
@@ -479,6 +524,8 @@ FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive,
     if (rec.decision == flight::RoverDecision::stop_and_replan) {
       v.stop_time_s = clean.time_s;
       v.stop_x_m = rec.x_m;
+      record_event(first_event, clean, v);
+      v.recent_estimate_mm = recent.deepest_median_mm();
       break;
     }
   }
@@ -557,6 +604,16 @@ void truth_statistics(const Scenario& drive, TraverseResult& out) {
 
 }  // namespace
 
+flight::ParameterTable table_at_levels(const flight::ParameterTable& table, const LevelPair& levels) {
+  const flight::ParameterTable at_stop = table_at_stop_level(table, levels.stop_mm / 1000.0);
+  if (!levels.traction_stop) {
+    flight::ParameterTable off = at_stop;
+    off.traction = flight::TractionParams{};
+    return off;
+  }
+  return table_at_traction_level(at_stop, *levels.traction_stop);
+}
+
 TraverseResult evaluate_traverse(const TraverseDraw& draw, const CampaignOptions& options) {
   TraverseResult out;
   out.draw = draw;
@@ -583,6 +640,10 @@ TraverseResult evaluate_traverse(const TraverseDraw& draw, const CampaignOptions
       const flight::ParameterTable level = table_at_traction_level(options.table, coefficient);
       out.traction_sweep.push_back(flight_verdict(drive, traverse_flight_config(draw, options, level)));
     }
+  }
+  for (const LevelPair& point : options.choice_grid) {
+    out.choice.push_back(flight_verdict(drive, traverse_flight_config(draw, options, table_at_levels(options.table, point))));
+    out.choice_ideal.push_back(ideal_verdict(drive, point.stop_mm / 1000.0));
   }
   for (const FaultClass c : options.faults) out.faults.push_back(fault_verdict(c, draw, drive, config));
   return out;

@@ -31,6 +31,7 @@ struct CampaignArgs {
   unsigned jobs = 0;
   std::string out_dir;
   std::vector<double> levels_mm;
+  std::vector<double> traction_levels;
   std::vector<std::string> faults;
   std::string loss_policy;
   std::string flight_mass = "true";
@@ -71,6 +72,38 @@ std::vector<FaultClass> fault_classes_of(const std::vector<std::string>& names) 
   return out;
 }
 
+// The sweeps' and the choice's levels (--levels, --traction-levels,
+// --choose-levels), each checked against the table before any work.
+void set_levels(const CampaignArgs& a, CampaignOptions& o) {
+  if (!a.levels_mm.empty()) o.sweep_stop_mm = a.levels_mm;
+  if (!a.traction_levels.empty()) o.sweep_traction_stop = a.traction_levels;
+  if (a.choose_levels) {
+    o.choice_grid = choice_grid(o.table, a.levels_mm.empty() ? choice_grid_mm(o.table) : a.levels_mm,
+                                o.sweep_traction_stop);
+  }
+  if (a.choose_levels && std::all_of(o.families.begin(), o.families.end(), [&](CampaignFamily f) {
+        return std::find(o.held_out.begin(), o.held_out.end(), f) != o.held_out.end();
+      })) {
+    throw_usage_error("--choose-levels: every family of --families is --held-out; the choice needs tuning families");
+  }
+  try {
+    for (const double level : o.sweep_stop_mm) (void)table_at_stop_level(o.table, level / 1000.0);
+    for (const LevelPair& point : o.choice_grid) (void)table_at_levels(o.table, point);
+  } catch (const std::invalid_argument& e) {
+    throw_usage_error(std::string("--levels: ") + e.what());
+  }
+  if (!a.traction_levels.empty() && !flight::traction_check_on(o.table.traction)) {
+    throw_usage_error("--traction-levels: the table has no section 8 (the motion-resistance check is off)");
+  }
+  try {
+    if (flight::traction_check_on(o.table.traction)) {
+      for (const double c : o.sweep_traction_stop) (void)table_at_traction_level(o.table, c);
+    }
+  } catch (const std::invalid_argument& e) {
+    throw_usage_error(std::string("--traction-levels: ") + e.what());
+  }
+}
+
 CampaignOptions options_of(const CampaignArgs& a) {
   CampaignOptions o;
   if (a.traverses == 0) throw_usage_error("--traverses must be at least 1");
@@ -79,7 +112,6 @@ CampaignOptions options_of(const CampaignArgs& a) {
   if (!a.families.empty()) o.families = families_of(a.families);
   if (o.families.empty()) throw_usage_error("--families names no family");
   if (!a.held_out.empty()) o.held_out = families_of(a.held_out);
-  if (!a.levels_mm.empty()) o.sweep_stop_mm = a.levels_mm;
   o.faults = fault_classes_of(a.faults);
   o.threads = a.jobs;
   o.path_length_m = a.path_length_m;
@@ -98,19 +130,7 @@ CampaignOptions options_of(const CampaignArgs& a) {
       throw_usage_error(e.what());
     }
   }
-  if (a.choose_levels && a.levels_mm.empty()) o.sweep_stop_mm = choice_grid_mm(o.table);
-  if (a.choose_levels && std::all_of(o.families.begin(), o.families.end(), [&](CampaignFamily f) {
-        return std::find(o.held_out.begin(), o.held_out.end(), f) != o.held_out.end();
-      })) {
-    throw_usage_error("--choose-levels: every family of --families is --held-out; the choice needs tuning families");
-  }
-  for (const double level : o.sweep_stop_mm) {
-    try {
-      (void)table_at_stop_level(o.table, level / 1000.0);
-    } catch (const std::invalid_argument& e) {
-      throw_usage_error(std::string("--levels: ") + e.what());
-    }
-  }
+  set_levels(a, o);
   return o;
 }
 
@@ -174,7 +194,8 @@ void add_choice_options(CLI::App* sub, CampaignArgs& a) {
   CLI::Option* choose = sub->add_flag(
       "--choose-levels", a.choose_levels,
       "choose the caution and stop levels on the tuning families for --max-false-stop and write the flight table "
-      "(docs/campaign.md, 'Choosing the levels'); the sweep's grid becomes 20 mm to the wheel radius in 2.5 mm steps "
+      "(docs/campaign.md, 'Choosing the levels'); with section 8 in the table, its stop coefficient is chosen with "
+      "them (the --traction-levels, or off); the sinkage grid is 20 mm to the wheel radius in 2.5 mm steps "
       "unless --levels is given");
   CLI::Option* target = sub->add_option("--max-false-stop", a.max_false_stop,
                                         "target false-stop rate over traverses that never embed, in (0, 1)")
@@ -207,6 +228,11 @@ void add_options(CLI::App* sub, CampaignArgs& a) {
   non_empty_list(sub->add_option("--levels", a.levels_mm, "stop levels of the sweep [mm] (default 25,30,...,70)")
                      ->delimiter(',')
                      ->check(positive_finite_number("mm")));
+  non_empty_list(sub->add_option("--traction-levels", a.traction_levels,
+                                 "section 8's stop coefficients for its sweep and for --choose-levels "
+                                 "(default 0.30,0.34,...,0.50)")
+                     ->delimiter(',')
+                     ->check(positive_finite_number()));
   sub->add_option("--path-length", a.path_length_m, "length of every traverse [m]")
       ->check(positive_finite_number("m"))
       ->check(CLI::Range(4.0, 200.0))

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -45,7 +46,8 @@ std::vector<std::string> csv_fields(const TraverseResult& t) {
           opt(t.ideal.cross_x_m, 3), opt(t.ideal.lead_m, 3), opt(t.ideal.lead_s, 1), fixed(t.max_true_sinkage_mm, 1),
           fixed(t.rear_load_excess, 4), fixed(t.front_load_excess, 4), opt(t.min_reserve_frac, 4),
           opt(t.reserve_ideal.cross_x_m, 3), opt(t.reserve_ideal.lead_m, 3),
-          std::to_string(t.rows)};
+          std::to_string(t.rows), opt(f.event_peak_sinkage_mm, 1), opt(f.event_max_estimate_mm, 1),
+          opt(f.true_sinkage_at_stop_mm, 1), opt(f.recent_estimate_mm, 1)};
 }
 
 std::string csv_field(const std::string& s) {
@@ -70,7 +72,8 @@ const std::vector<std::string>& traverse_csv_columns() {
       "noise_scale", "effects", "embedded", "embed_x_m", "embed_time_s", "embed_reason", "caution_time_s",
       "caution_x_m", "stop_time_s", "stop_x_m", "stop_reason", "lead_m", "lead_s", "outcome", "ideal_cross_time_s",
       "ideal_cross_x_m", "ideal_lead_m", "ideal_lead_s", "max_true_sinkage_mm", "rear_load_excess",
-      "front_load_excess", "min_reserve_frac", "reserve_cross_x_m", "reserve_lead_m", "rows"};
+      "front_load_excess", "min_reserve_frac", "reserve_cross_x_m", "reserve_lead_m", "rows",
+      "event_peak_sinkage_mm", "event_max_estimate_mm", "true_sinkage_at_stop_mm", "recent_estimate_mm"};
   return columns;
 }
 
@@ -153,13 +156,31 @@ std::optional<double> median(std::vector<double> values) {
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
+namespace {
+
+const FlightVerdict& verdict_at(const TraverseResult& t, std::optional<std::size_t> level, Sweep sweep) {
+  if (!level) return t.flight;
+  switch (sweep) {
+    case Sweep::traction_coefficient: return t.traction_sweep.at(*level);
+    case Sweep::choice: return t.choice.at(*level);
+    case Sweep::stop_level: break;
+  }
+  return t.sweep.at(*level);
+}
+
+const IdealVerdict& ideal_at(const TraverseResult& t, std::optional<std::size_t> level, Sweep sweep) {
+  if (!level || sweep == Sweep::traction_coefficient) return t.ideal;
+  return sweep == Sweep::choice ? t.choice_ideal.at(*level) : t.sweep_ideal.at(*level);
+}
+
+}  // namespace
+
 GroupStats group_stats(const std::vector<const TraverseResult*>& group, std::optional<std::size_t> level,
                        Sweep sweep) {
   GroupStats g;
-  const bool traction = sweep == Sweep::traction_coefficient;
   for (const TraverseResult* t : group) {
-    const FlightVerdict& f = level ? (traction ? t->traction_sweep[*level] : t->sweep[*level]) : t->flight;
-    const IdealVerdict& ideal = (level && !traction) ? t->sweep_ideal[*level] : t->ideal;
+    const FlightVerdict& f = verdict_at(*t, level, sweep);
+    const IdealVerdict& ideal = ideal_at(*t, level, sweep);
     ++g.traverses;
     ++g.outcomes[static_cast<std::size_t>(f.outcome)];
     g.rear_excess.push_back(t->rear_load_excess);
@@ -336,6 +357,49 @@ std::string fault_table(const CampaignResult& r) {
   return md.str();
 }
 
+namespace {
+
+// One group's event records against the simulator's deepest wheel at the stop.
+struct EventAccuracy {
+  std::size_t stops = 0, with_record = 0;
+  std::vector<double> peak_ratio, estimate_ratio;  // event sinkage / true deepest sinkage
+  std::vector<double> recent_ratio;                // FlightVerdict::recent_estimate_mm / true, every stop
+};
+
+std::string accuracy_cells(const std::vector<double>& ratios, std::size_t of) {
+  std::size_t within = 0;
+  for (const double q : ratios) within += std::fabs(q - 1.0) <= 0.2 ? 1U : 0U;
+  return opt(median(ratios), 2, "–") + " | " + std::to_string(within) + " of " + std::to_string(of);
+}
+
+std::string event_accuracy_table(const CampaignResult& r) {
+  std::ostringstream md;
+  md << "| group | stops | with a wheel's event record | peak-current sinkage / true: median | within 20 % | largest "
+        "estimate / true: median | within 20 % | every stop: deepest wheel's recent median estimate / true: median "
+        "| within 20 % |\n|---|---|---|---|---|---|---|---|---|\n";
+  for (const bool held : {false, true}) {
+    EventAccuracy a;
+    for (const TraverseResult& t : r.traverses) {
+      const FlightVerdict& f = t.flight;
+      if (t.held_out != held || !f.stop_time_s) continue;
+      ++a.stops;
+      const double truth = f.true_sinkage_at_stop_mm.value_or(0.0);
+      if (truth > 0.0 && f.recent_estimate_mm) a.recent_ratio.push_back(*f.recent_estimate_mm / truth);
+      if (!f.event_max_estimate_mm && !f.event_peak_sinkage_mm) continue;
+      ++a.with_record;
+      if (truth <= 0.0) continue;
+      if (f.event_peak_sinkage_mm) a.peak_ratio.push_back(*f.event_peak_sinkage_mm / truth);
+      if (f.event_max_estimate_mm) a.estimate_ratio.push_back(*f.event_max_estimate_mm / truth);
+    }
+    md << "| " << (held ? "held out" : "tuning") << " | " << a.stops << " | " << a.with_record << " | "
+       << accuracy_cells(a.peak_ratio, a.with_record) << " | " << accuracy_cells(a.estimate_ratio, a.with_record)
+       << " | " << accuracy_cells(a.recent_ratio, a.stops) << " |\n";
+  }
+  return md.str();
+}
+
+}  // namespace
+
 std::string campaign_summary(const CampaignResult& r, const std::string& command_line, bool plots) {
   std::ostringstream md;
   md << "# sinkwatch campaign\n\n`" << command_line << "`\n\n"
@@ -363,6 +427,10 @@ std::string campaign_summary(const CampaignResult& r, const std::string& command
              : "\nMotion-resistance sweep (section 8's stop coefficient, caution scaled with it; the sinkage levels "
                "as the table has them; docs/traction.md):\n\n" +
                    sweep_table(r, Sweep::traction_coefficient))
+     << "\nThe event record at the stop against the simulator (the campaign's table; a stop by a wheel's rule "
+        "leaves an event record, a stop by section 8 none; true = the simulator's deepest wheel at the stop; "
+        "peak-current sinkage: section 7's Eq. 11 at the episode's peak current with DP = DP_max):\n\n"
+     << event_accuracy_table(r)
      << (r.options.faults.empty()
              ? std::string()
              : "\nSensor faults (docs/fault-injection.md): one fault of each class per traverse, at the table's "

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 
@@ -78,6 +79,19 @@ std::vector<double> choice_grid_mm(const flight::ParameterTable& table) {
   return grid;
 }
 
+std::vector<LevelPair> choice_grid(const flight::ParameterTable& table, const std::vector<double>& levels_mm,
+                                   const std::vector<double>& traction_stops) {
+  std::vector<std::optional<double>> coefficients{std::nullopt};
+  if (flight::traction_check_on(table.traction)) {
+    coefficients.insert(coefficients.end(), traction_stops.begin(), traction_stops.end());
+  }
+  std::vector<LevelPair> grid;
+  for (const std::optional<double>& coefficient : coefficients) {
+    for (const double level_mm : levels_mm) grid.push_back(LevelPair{level_mm, coefficient});
+  }
+  return grid;
+}
+
 const char* choice_basis_name(ChoiceBasis b) {
   return b == ChoiceBasis::certified ? "certified" : "fewest_false_stops";
 }
@@ -85,7 +99,7 @@ const char* choice_basis_name(ChoiceBasis b) {
 LevelOutcome level_outcome(const CampaignResult& r, std::optional<std::size_t> level, bool held_out) {
   const std::vector<const TraverseResult*> group =
       select_traverses(r, [held_out](const TraverseResult& t) { return t.held_out == held_out; });
-  const GroupStats g = group_stats(group, level);
+  const GroupStats g = group_stats(group, level, Sweep::choice);
   LevelOutcome o;
   o.traverses = g.traverses;
   o.embeddings = g.embeddings;
@@ -101,7 +115,7 @@ LevelOutcome level_outcome(const CampaignResult& r, std::optional<std::size_t> l
   o.median_ideal_lead_m = median(g.ideal_leads);
   std::vector<double> caution_leads;
   for (const TraverseResult* t : group) {
-    const FlightVerdict& f = level ? t->sweep.at(*level) : t->flight;
+    const FlightVerdict& f = level ? t->choice.at(*level) : t->flight;
     const bool clear = !t->embedded && !(t->min_reserve_frac && *t->min_reserve_frac < kNearMissReserve);
     if (clear && f.caution_time_s) ++o.false_cautions;
     if (t->embedded && f.caution_x_m) caution_leads.push_back(t->embed_x_m - *f.caution_x_m);
@@ -110,50 +124,73 @@ LevelOutcome level_outcome(const CampaignResult& r, std::optional<std::size_t> l
   return o;
 }
 
+namespace {
+
+// True when grid point a is better for embeddings than b (level_choice.hpp,
+// "The rule"): more stopped before, more >= 1 m ahead, longer median lead,
+// fewer false stops, then the lower stop level and coefficient (off last).
+bool better_for_embeddings(const CampaignResult& r, const LevelChoice& c, std::size_t a, std::size_t b) {
+  const LevelOutcome& x = c.tuning[a];
+  const LevelOutcome& y = c.tuning[b];
+  if (x.stopped_before != y.stopped_before) return x.stopped_before > y.stopped_before;
+  if (x.stopped_ahead != y.stopped_ahead) return x.stopped_ahead > y.stopped_ahead;
+  const double lead_x = x.median_lead_m.value_or(-1e300), lead_y = y.median_lead_m.value_or(-1e300);
+  if (lead_x != lead_y) return lead_x > lead_y;
+  if (x.false_stops != y.false_stops) return x.false_stops < y.false_stops;
+  const LevelPair& p = r.options.choice_grid[a];
+  const LevelPair& q = r.options.choice_grid[b];
+  if (p.stop_mm != q.stop_mm) return p.stop_mm < q.stop_mm;
+  return p.traction_stop.value_or(1e300) < q.traction_stop.value_or(1e300);
+}
+
+// The best point, by better_for_embeddings(), of those `keep` accepts; none if none.
+std::optional<std::size_t> best_point(const CampaignResult& r, const LevelChoice& c,
+                                      const std::function<bool(std::size_t)>& keep) {
+  std::optional<std::size_t> best;
+  for (std::size_t k = 0; k < c.tuning.size(); ++k) {
+    if (keep(k) && (!best || better_for_embeddings(r, c, k, *best))) best = k;
+  }
+  return best;
+}
+
+}  // namespace
+
 LevelChoice choose_levels(const CampaignResult& r, double max_false_stop) {
-  const std::size_t levels = r.options.sweep_stop_mm.size();
-  if (levels == 0) throw std::invalid_argument("no stop level to choose from");
+  const std::size_t points = r.options.choice_grid.size();
+  if (points == 0) throw std::invalid_argument("no stop level to choose from");
   LevelChoice c;
   c.max_false_stop = max_false_stop;
-  for (std::size_t k = 0; k < levels; ++k) c.tuning.push_back(level_outcome(r, k, false));
-  const std::size_t n = c.tuning.front().clear_drives;  // the same traverses at every level
+  for (std::size_t k = 0; k < points; ++k) c.tuning.push_back(level_outcome(r, k, false));
+  const std::size_t n = c.tuning.front().clear_drives;  // the same traverses at every point
   if (n == 0) {
     throw std::invalid_argument("no traverse of the tuning families stays clear of embedding: no false-stop rate to "
                                 "choose on (more traverses, or other families)");
   }
   c.certifiable = certifiable_false_stops(n, max_false_stop);
   c.needed_without_false_stop = traverses_needed(max_false_stop);
-  // The levels in increasing order; the lowest certified, else the lowest with the fewest false stops.
-  std::vector<std::size_t> order(levels);
-  for (std::size_t k = 0; k < levels; ++k) order[k] = k;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return r.options.sweep_stop_mm[a] < r.options.sweep_stop_mm[b];
-  });
-  std::size_t fewest = order.front();
-  for (const std::size_t k : order) {
-    if (c.tuning[k].false_stops < c.tuning[fewest].false_stops) fewest = k;
-  }
-  c.basis = ChoiceBasis::fewest_false_stops;
-  c.level = fewest;
-  const auto certified = std::find_if(order.begin(), order.end(), [&](std::size_t k) {
+  const std::optional<std::size_t> certified = best_point(r, c, [&](std::size_t k) {
     return c.certifiable && c.tuning[k].false_stops <= *c.certifiable;
   });
-  if (certified != order.end()) {
-    c.basis = ChoiceBasis::certified;
-    c.level = *certified;
-  }
+  std::size_t fewest = c.tuning.front().false_stops;
+  for (const LevelOutcome& o : c.tuning) fewest = std::min(fewest, o.false_stops);
+  c.basis = certified ? ChoiceBasis::certified : ChoiceBasis::fewest_false_stops;
+  c.level = certified ? *certified : *best_point(r, c, [&](std::size_t k) { return c.tuning[k].false_stops == fewest; });
   c.held_out = level_outcome(r, c.level, true);
   c.base_tuning = level_outcome(r, std::nullopt, false);
   c.base_held_out = level_outcome(r, std::nullopt, true);
-  const flight::MonitorParams m = chosen_table(r, c).monitor;
-  c.stop_mm = q_mm(m.stop_sinkage_m);
-  c.caution_mm = q_mm(m.caution_sinkage_m);
-  c.allowed_mm = q_mm(m.allowed_sinkage_m);
+  const flight::ParameterTable chosen = chosen_table(r, c);
+  c.stop_mm = q_mm(chosen.monitor.stop_sinkage_m);
+  c.caution_mm = q_mm(chosen.monitor.caution_sinkage_m);
+  c.allowed_mm = q_mm(chosen.monitor.allowed_sinkage_m);
+  if (flight::traction_check_on(chosen.traction)) {
+    c.traction_stop = fx::to_double(chosen.traction.stop_coefficient.q());
+    c.traction_caution = fx::to_double(chosen.traction.caution_coefficient.q());
+  }
   return c;
 }
 
 flight::ParameterTable chosen_table(const CampaignResult& r, const LevelChoice& c) {
-  return table_at_stop_level(r.options.table, r.options.sweep_stop_mm.at(c.level) / 1000.0);
+  return table_at_levels(r.options.table, r.options.choice_grid.at(c.level));
 }
 
 EncodedTable encode_chosen_table(const CampaignResult& r, const LevelChoice& c) {
@@ -162,8 +199,13 @@ EncodedTable encode_chosen_table(const CampaignResult& r, const LevelChoice& c) 
   const flight::MonitorParams& want = table.monitor;
   const flight::MonitorParams& got = written.table.monitor;
   const auto same = [](const flight::SinkageM& a, const flight::SinkageM& b) { return a.q().raw() == b.q().raw(); };
+  const flight::TractionParams& want_t = table.traction;
+  const flight::TractionParams& got_t = written.table.traction;
+  const bool same_traction = want_t.stop_coefficient.q().raw() == got_t.stop_coefficient.q().raw() &&
+                             want_t.caution_coefficient.q().raw() == got_t.caution_coefficient.q().raw() &&
+                             flight::traction_check_on(want_t) == flight::traction_check_on(got_t);
   if (!same(want.stop_sinkage_m, got.stop_sinkage_m) || !same(want.caution_sinkage_m, got.caution_sinkage_m) ||
-      !same(want.allowed_sinkage_m, got.allowed_sinkage_m)) {
+      !same(want.allowed_sinkage_m, got.allowed_sinkage_m) || !same_traction) {
     throw std::invalid_argument("the table loaded back does not carry the chosen levels");
   }
   return written;
@@ -198,7 +240,8 @@ std::string verdict_text(const LevelChoice& c, std::size_t n) {
     md << "**Certified**: " << at.false_stops << " false stops of " << n
        << " tuning clear drives; the one-sided 95 % upper bound on the false-stop rate, "
        << number(100.0 * at.false_stop_bound, 2) << " %, meets the target " << number(100.0 * c.max_false_stop, 2)
-       << " %. No lower level of the grid does.\n";
+       << " %; of the grid's points that meet it, it stops the most embeddings before the embedding (then: ≥ 1 m "
+          "ahead, median lead).\n";
     return md.str();
   }
   md << "**NOT CERTIFIED.** ";
@@ -211,26 +254,39 @@ std::string verdict_text(const LevelChoice& c, std::size_t n) {
     md << "Up to " << *c.certifiable << " false stops of " << n << " would certify the target, but every level of "
        << "the grid has more. ";
   }
-  md << "Fallback rule: the lowest level with the fewest false stops (" << at.false_stops << " of " << n
-     << ", upper bound " << number(100.0 * at.false_stop_bound, 1) << " %)";
+  md << "Fallback rule: of the points with the fewest false stops (" << at.false_stops << " of " << n
+     << ", upper bound " << number(100.0 * at.false_stop_bound, 1) << " %), the best for embeddings";
   const double rate = static_cast<double>(at.false_stops) / static_cast<double>(n);
   if (rate >= c.max_false_stop) md << "; its observed rate is at or above the target: more traverses would not certify it";
   md << ".\n";
   return md.str();
 }
 
+std::string coefficient_text(const std::optional<double>& c) { return c ? number(*c, 2) : std::string("off"); }
+
 std::string levels_rows(const CampaignResult& r, const LevelChoice& c) {
   std::ostringstream md;
-  md << "| stop level [mm] | false stops (tuning clear drives) | 95 % upper bound | meets the target | stopped before the "
-        "embedding | median lead [m] |\n|---|---|---|---|---|---|\n";
+  md << "| stop level [mm] | section 8 stop coefficient | false stops (tuning clear drives) | 95 % upper bound | meets "
+        "the target | stopped before the embedding | median lead [m] |\n|---|---|---|---|---|---|---|\n";
   for (std::size_t k = 0; k < c.tuning.size(); ++k) {
     const LevelOutcome& o = c.tuning[k];
-    md << "| " << number(r.options.sweep_stop_mm[k], 1) << (k == c.level ? " **(chosen)**" : "") << " | "
-       << o.false_stops << " of " << o.clear_drives << " | " << number(100.0 * o.false_stop_bound, 1) << " % | "
-       << (o.false_stop_bound <= c.max_false_stop ? "yes" : "no") << " | " << share(o.stopped_before, o.embeddings)
-       << " | " << median_text(o.median_lead_m) << " |\n";
+    const LevelPair& p = r.options.choice_grid[k];
+    md << "| " << number(p.stop_mm, 1) << (k == c.level ? " **(chosen)**" : "") << " | "
+       << coefficient_text(p.traction_stop) << " | " << o.false_stops << " of " << o.clear_drives << " | "
+       << number(100.0 * o.false_stop_bound, 1) << " % | " << (o.false_stop_bound <= c.max_false_stop ? "yes" : "no")
+       << " | " << share(o.stopped_before, o.embeddings) << " | " << median_text(o.median_lead_m) << " |\n";
   }
   return md.str();
+}
+
+// The campaign's table's levels, in words.
+std::string base_levels_text(const flight::ParameterTable& t) {
+  const bool traction = flight::traction_check_on(t.traction);
+  return "the campaign's table (stop " + number(q_mm(t.monitor.stop_sinkage_m), 1) + " mm, caution " +
+         number(q_mm(t.monitor.caution_sinkage_m), 1) + " mm, section 8 " +
+         (traction ? "stop coefficient " + number(fx::to_double(t.traction.stop_coefficient.q()), 2)
+                   : std::string("off")) +
+         ")";
 }
 
 }  // namespace
@@ -239,17 +295,22 @@ std::string level_choice_markdown(const CampaignResult& r, const LevelChoice& c,
                                   std::uint32_t table_crc) {
   std::ostringstream md;
   const std::size_t n = c.tuning[c.level].clear_drives;
-  const flight::MonitorParams& base = r.options.table.monitor;
-  const std::string base_levels = "the campaign's table (stop " + number(q_mm(base.stop_sinkage_m), 1) +
-                                  " mm, caution " + number(q_mm(base.caution_sinkage_m), 1) + " mm)";
+  const std::string base_levels = base_levels_text(r.options.table);
   md << "\n## Level choice (--choose-levels --max-false-stop " << number(c.max_false_stop, 4) << ")\n\n"
-     << "Chosen on the tuning families only: the lowest stop level whose one-sided 95 % Clopper–Pearson upper bound "
-        "on the false-stop rate (over the tuning clear drives: traverses that never embed nor come within 5 % of "
-        "the weight of it; near-miss stops apart) meets the target; if none, the lowest "
-        "level with the fewest false stops, not certified. Caution keeps the base table's caution/stop ratio; the "
-        "allowed sinkage (section 7) scales with the stop level, as in the sweep.\n\n"
+     << "Chosen on the tuning families only, over every pair of a sinkage stop level and a section-8 stop "
+        "coefficient (or the motion-resistance check off; the sinkage levels alone when the table has no section 8): "
+        "of the points whose one-sided 95 % Clopper–Pearson upper bound on the false-stop rate (over the tuning "
+        "clear drives: traverses that never embed nor come within 5 % of the weight of it; near-miss stops apart) "
+        "meets the target, the one that stops the most embeddings before the embedding (then ≥ 1 m ahead, median "
+        "lead); if none meets it, the same order among the points with the fewest false stops, not certified. "
+        "Cautions keep the base table's caution/stop ratios; the allowed sinkage (section 7) scales with the stop "
+        "level, as in the sweep.\n\n"
      << "Stop level " << number(c.stop_mm, 2) << " mm, caution " << number(c.caution_mm, 2) << " mm, allowed sinkage "
-     << number(c.allowed_mm, 2) << " mm (" << choice_basis_name(c.basis) << "); table written to " << table_path
+     << number(c.allowed_mm, 2) << " mm; section 8 "
+     << (c.traction_stop ? "stop coefficient " + number(*c.traction_stop, 3) + ", caution " +
+                               number(c.traction_caution.value_or(0.0), 3)
+                         : std::string("off"))
+     << " (" << choice_basis_name(c.basis) << "); table written to " << table_path
      << " (CRC-32 " << strf("0x%08x", static_cast<unsigned>(table_crc)) << "; every other value from "
      << r.options.table_source << "; loaded back through flight::load()).\n\n"
      << verdict_text(c, n) << "\nThe price: at the chosen level " << share(c.tuning[c.level].stopped_before,
@@ -294,17 +355,24 @@ std::string level_choice_json(const CampaignResult& r, const LevelChoice& c, con
   j << "{\"max_false_stop\": " << number(c.max_false_stop, 6) << ", \"confidence\": 0.95, \"basis\": \""
     << choice_basis_name(c.basis) << "\", \"certified\": " << (c.basis == ChoiceBasis::certified ? "true" : "false")
     << ",\n \"stop_mm\": " << number(c.stop_mm, 3) << ", \"caution_mm\": " << number(c.caution_mm, 3)
-    << ", \"allowed_mm\": " << number(c.allowed_mm, 3)
-    << ", \"caution_rule\": \"base table's caution/stop ratio\", \"table\": " << json_string(table_path) << ", \"table_crc\": " << table_crc << ",\n"
+    << ", \"allowed_mm\": " << number(c.allowed_mm, 3) << ", \"traction_stop\": " << json_number(c.traction_stop, 4)
+    << ", \"traction_caution\": " << json_number(c.traction_caution, 4)
+    << ", \"caution_rule\": \"base table's caution/stop ratios\", \"table\": " << json_string(table_path) << ", \"table_crc\": " << table_crc << ",\n"
     << " \"certifiable_false_stops\": " << (c.certifiable ? std::to_string(*c.certifiable) : std::string("null"))
     << ", \"needed_without_false_stop\": " << c.needed_without_false_stop << ",\n"
     << " \"tuning\": " << outcome_json(c.tuning[c.level]) << ",\n \"held_out\": " << outcome_json(c.held_out)
     << ",\n \"base_table\": {\"stop_mm\": " << number(q_mm(r.options.table.monitor.stop_sinkage_m), 3)
+    << ", \"traction_stop\": "
+    << (flight::traction_check_on(r.options.table.traction)
+            ? number(fx::to_double(r.options.table.traction.stop_coefficient.q()), 4)
+            : std::string("null"))
     << ", \"tuning\": " << outcome_json(c.base_tuning) << ", \"held_out\": " << outcome_json(c.base_held_out) << "}"
     << ",\n \"levels\": [";
   for (std::size_t k = 0; k < c.tuning.size(); ++k) {
-    j << (k ? ",\n  " : "\n  ") << "{\"stop_mm\": " << number(r.options.sweep_stop_mm[k], 3)
-      << ", \"tuning\": " << outcome_json(c.tuning[k]) << "}";
+    const LevelPair& p = r.options.choice_grid[k];
+    j << (k ? ",\n  " : "\n  ") << "{\"stop_mm\": " << number(p.stop_mm, 3)
+      << ", \"traction_stop\": " << json_number(p.traction_stop, 4) << ", \"tuning\": " << outcome_json(c.tuning[k])
+      << "}";
   }
   j << "]}\n";
   return j.str();

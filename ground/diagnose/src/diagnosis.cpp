@@ -333,33 +333,58 @@ RankedEffect unscored(const Candidate& candidate, const DiagnosisResult& r) {
   return effect;
 }
 
-// Several starts for the candidate's own terms (multiples of its initial
-// value), each from the fitted base; the lowest training cost wins. A local
-// minimum would otherwise read as "no shrink". False when no start fitted.
-bool fit_from_starts(const Job& job, const Candidate& candidate, RankedEffect& effect) {
-  std::string failure;
-  bool fitted = false;
+// The starts of a candidate's own terms (multiples of its initial value,
+// each from the fitted base; duplicates after clamping dropped): a local
+// minimum would otherwise read as "no shrink". Each is fitted on its own
+// (candidate_stage runs them as separate tasks) and the lowest training cost
+// wins (best_start).
+std::vector<Candidate> candidate_starts(const DiagnosisSettings& settings, const Candidate& candidate) {
+  std::vector<Candidate> starts;
   std::vector<std::vector<double>> tried;
-  for (double multiple : job.settings.start_multiples) {
+  for (double multiple : settings.start_multiples) {
     Candidate start = candidate;
     std::vector<double> extra_start;
     for (ParameterSpec& spec : start.extra) {
       spec.initial = std::clamp(multiple * spec.initial, spec.lower, spec.upper);
       extra_start.push_back(spec.initial);
     }
-    if (std::find(tried.begin(), tried.end(), extra_start) != tried.end()) {
-      continue;
+    if (std::find(tried.begin(), tried.end(), extra_start) == tried.end()) {
+      tried.push_back(extra_start);
+      starts.push_back(std::move(start));
     }
-    tried.push_back(extra_start);
-    try {
-      FitResult fit = detail::run_fit(
-          request_for(job, &start, job.result.folds.front(), job.result.base.values, job.fixed));
-      if (!fitted || fit.train_chi2 < effect.fit.train_chi2) {
-        effect.fit = std::move(fit);
-        fitted = true;
-      }
-    } catch (const DiagnosisError& e) {
-      failure = e.what();
+  }
+  return starts;
+}
+
+// One start's fit on the first split, or why it failed.
+struct StartFit {
+  bool fitted = false;
+  FitResult fit;
+  std::string failure;
+};
+
+StartFit fit_start(const Job& job, const Candidate& start) {
+  StartFit out;
+  try {
+    out.fit = detail::run_fit(request_for(job, &start, job.result.folds.front(), job.result.base.values, job.fixed));
+    out.fitted = true;
+  } catch (const DiagnosisError& e) {
+    out.failure = e.what();
+  }
+  return out;
+}
+
+// The fitted start with the lowest training cost (the first of equals), in
+// the starts' order; false, with the last failure as the note, when none fitted.
+bool best_start(std::vector<StartFit>& starts, RankedEffect& effect) {
+  std::string failure;
+  bool fitted = false;
+  for (StartFit& start : starts) {
+    if (!start.fitted) {
+      failure = start.failure;
+    } else if (!fitted || start.fit.train_chi2 < effect.fit.train_chi2) {
+      effect.fit = std::move(start.fit);
+      fitted = true;
     }
   }
   if (!fitted) {
@@ -381,13 +406,13 @@ void set_scores(RankedEffect& effect, const PooledHeldout& after, bool scored, s
   }
 }
 
-// Stage 3 for one candidate: fitted from several starts on the first split,
-// refitted on every other fold, scored on the pooled held-out rows.
-RankedEffect assess(const Job& job, const Candidate& candidate) {
+// Stage 3 for one candidate, given its starts' fits on the first split: the
+// best start refitted on every other fold, scored on the pooled held-out rows.
+RankedEffect assess(const Job& job, const Candidate& candidate, std::vector<StartFit>& starts) {
   const DiagnosisResult& r = job.result;
   RankedEffect effect = unscored(candidate, r);
   if (effect.identifiable) {
-    effect.identifiable = fit_from_starts(job, candidate, effect);
+    effect.identifiable = best_start(starts, effect);
   }
   PooledHeldout after;
   if (effect.identifiable) {
@@ -454,14 +479,44 @@ std::size_t thread_count(const DiagnosisSettings& settings) {
   return std::max<std::size_t>(1, std::thread::hardware_concurrency());
 }
 
-// Stage 3: every candidate, in parallel; in the model's order.
+// Stage 3: every candidate, in the model's order. The tasks run in parallel
+// are the candidates' starts (fit_start), not whole candidates, so that the
+// threads run out of work at most one start fit apart; the thread that
+// finishes a candidate's last start refits it on the other folds and scores
+// it (assess). Every result has its own slot: the outcome does not depend
+// on the schedule.
 std::vector<RankedEffect> candidate_stage(const Job& job) {
   const std::vector<Candidate> candidates = job.model.candidates(detail::select(job.result.rows, job.result.train));
+  constexpr std::size_t kNoStart = static_cast<std::size_t>(-1);
+  std::vector<std::vector<Candidate>> starts(candidates.size());
+  std::vector<std::vector<StartFit>> fits(candidates.size());
+  std::vector<std::pair<std::size_t, std::size_t>> tasks;  // (candidate, start), kNoStart: nothing to fit
+  std::vector<std::atomic<std::size_t>> unfinished(candidates.size());
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (candidates[i].identifiable) {
+      starts[i] = candidate_starts(job.settings, candidates[i]);
+    }
+    fits[i].resize(starts[i].size());
+    unfinished[i] = starts[i].size();
+    for (std::size_t k = 0; k < starts[i].size(); ++k) {
+      tasks.emplace_back(i, k);
+    }
+    if (starts[i].empty()) {
+      tasks.emplace_back(i, kNoStart);
+    }
+  }
   std::vector<RankedEffect> effects(candidates.size());
   std::mutex progress_lock;
   std::size_t done = 0;
-  parallel_for(candidates.size(), thread_count(job.settings), [&](std::size_t i) {
-    effects[i] = assess(job, candidates[i]);
+  parallel_for(tasks.size(), thread_count(job.settings), [&](std::size_t t) {
+    const auto [i, k] = tasks[t];
+    if (k != kNoStart) {
+      fits[i][k] = fit_start(job, starts[i][k]);
+      if (--unfinished[i] > 0) {
+        return;
+      }
+    }
+    effects[i] = assess(job, candidates[i], fits[i]);
     const std::lock_guard<std::mutex> lock(progress_lock);
     ++done;
     if (job.settings.progress) {

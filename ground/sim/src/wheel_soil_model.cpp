@@ -209,7 +209,7 @@ struct Contact {
   double s = 0;                        // slip
   double theta1 = 0, theta2 = 0, thetam = 0;
   double front_width = 0, rear_width = 0;  // theta1 - thetam, thetam - theta2
-  double sin1 = 0;                     // sin(theta1)
+  double sin1 = 0, cos1 = 0;           // sin(theta1), cos(theta1)
   bool load_dependent = false;         // load_dependence, form friction_angle
   double dphi_rad = 0, sigma_ref = 1;
   bool stiffening = false;             // load_dependence, form stiffness
@@ -259,13 +259,14 @@ struct Contact {
     // theta1 - theta on the front side, exact in u.
     const double gap = u * front_width;
     // cos(theta_f) - cos(theta1) and sin(theta1) - sin(theta_f) as products,
-    // so that they keep their relative accuracy as u -> 0; theta_f = mid -
-    // gap/2 by the angle sum from the same sines and cosines (one sincos less).
+    // so that they keep their relative accuracy as u -> 0. The mid angle
+    // theta1 - gap/2 and theta_f = mid - gap/2 come by the angle sum from
+    // theta1's and the half gap's sines and cosines: one sincos per node
+    // instead of three (mid >= theta1/2, so its sine keeps its relative accuracy).
     const double half_gap_sin = std::sin(0.5 * gap);
     const double half_gap_cos = std::cos(0.5 * gap);
-    const double mid = theta1 - 0.5 * gap;
-    const double sin_mid = std::sin(mid);
-    const double cos_mid = std::cos(mid);
+    const double sin_mid = sin1 * half_gap_cos - cos1 * half_gap_sin;
+    const double cos_mid = cos1 * half_gap_cos + sin1 * half_gap_sin;
     const double d = 2.0 * sin_mid * half_gap_sin;
     const double dsin = 2.0 * cos_mid * half_gap_sin;
     sm.sigma = pressure(d);
@@ -372,6 +373,7 @@ Contact make_contact(const SimParameters& p, double sinkage_m, double slip) {
   ct.front_width = ct.theta1 - ct.thetam;
   ct.rear_width = ct.thetam - ct.theta2;
   ct.sin1 = std::sin(ct.theta1);
+  ct.cos1 = std::cos(ct.theta1);
   ct.j0 = lug_entry_shear(p, ct, sinkage_m);
   set_shear_law(p, ct);
   // Lyasko: a softer k by f^(n + 1/2) scales Bekker's wheel sinkage,
@@ -460,6 +462,11 @@ KronrodSamples kronrod_samples(const Contact& ct) {
   return samples;
 }
 
+// The size of an integrand value in the Kronrod rule's error test: |v|, and
+// |re| + |im| for a pair (the L1 norm on the plane; no hypot per node).
+double norm1(double v) { return std::fabs(v); }
+double norm1(const std::complex<double>& v) { return std::fabs(v.real()) + std::fabs(v.imag()); }
+
 // The Kronrod value of g over the samples; false when its estimate is not
 // below kKronrodAccept x the tolerance (then tanh-sinh).
 template <class G, class Value>
@@ -472,10 +479,10 @@ bool kronrod_integral(const Contact& ct, const KronrodSamples& samples, G g, Val
     const Value v = g(samples[i]);
     kronrod += rule.kronrod[i] * v;
     gauss += rule.gauss[i] * v;
-    l1 += rule.kronrod[i] * std::abs(v);
+    l1 += rule.kronrod[i] * norm1(v);
   }
   out = kronrod;
-  return std::isfinite(std::abs(kronrod)) && std::abs(kronrod - gauss) <= kKronrodAccept * ct.rel_tol * l1;
+  return std::isfinite(norm1(kronrod)) && norm1(kronrod - gauss) <= kKronrodAccept * ct.rel_tol * l1;
 }
 
 // Integral over the contact of g(sample); the integrands of one contact share
@@ -663,12 +670,25 @@ double lug_face_thrust(const SimParameters& p, const Contact& ct, double z) {
   return engaged * per_lug * (-std::expm1(-0.5 * j_exit / ct.K));
 }
 
+// The two complex output integrals of fill_state (a complex integrand carries
+// two real ones on the same nodes): (thrust, compaction resistance) / (r b),
+// and (the shear stress, whose moment is the soil torque, the vertical force
+// / (r b)).
+struct OutputIntegrals {
+  std::complex<double> h_rc;
+  std::complex<double> tau_w;
+};
+
 struct SinkageRoot {
   SimStatus status = SimStatus::ok;
   std::string message;
   double sinkage_m = 0.0;
   int iterations = 0;
   double log_slope = 0.0;  // d ln W / d ln z near the root
+  // The warm search's output integrals at the root, interpolated from its
+  // iterates (fill_state then needs no samples at the root); none otherwise.
+  bool has_outputs = false;
+  OutputIntegrals outputs;
 };
 
 // Bracket of ln W(z) = ln load in x = ln z: one residual at Bekker's
@@ -756,37 +776,100 @@ SinkageRoot solve_sinkage_cold(const SimParameters& p, double load_n, double sli
 // path takes over, when the steps do not settle or leave (0, r].
 constexpr double kWarmStepTol = 1e-12;
 constexpr int kWarmMaxResiduals = 6;
+// A root reached from the hint's point itself (one residual) takes that
+// point's outputs when the last step is below this: off by the step times
+// d ln(output)/d ln z, a few 1e-15 (the cold search's own error is 3e-13).
+constexpr double kSingleIterateStep = 1e-15;
+
+// One secant iterate of the warm search: ln W - ln load at x = ln z, and the
+// output integrals on the same samples (Kronrod values only: `outputs_ok`
+// false when their error test fails, and then the root's own samples decide).
+struct WarmIterate {
+  double x = 0.0;
+  double f = 0.0;
+  OutputIntegrals outputs;
+  bool outputs_ok = false;
+};
+
+template <class G>
+std::complex<double> kronrod_pair(const Contact& ct, const KronrodSamples& samples, G g, bool& ok) {
+  std::complex<double> value;
+  ok = kronrod_integral(ct, samples, g, value) && ok;
+  return value;
+}
+
+// The integrands of fill_state's two passes.
+std::complex<double> h_rc_integrand(const Contact& ct, const Contact::Sample& sm) {
+  return {ct.front_width * sm.front.tau * sm.front.cos_t + ct.rear_width * sm.rear.tau * sm.rear.cos_t,
+          sm.sigma * (ct.front_width * sm.front.sin_t + ct.rear_width * sm.rear.sin_t)};
+}
+
+std::complex<double> tau_w_integrand(const Contact& ct, const Contact::Sample& sm) {
+  return {ct.front_width * sm.front.tau + ct.rear_width * sm.rear.tau,
+          ct.front_width * (sm.sigma * sm.front.cos_t + sm.front.tau * sm.front.sin_t) +
+              ct.rear_width * (sm.sigma * sm.rear.cos_t + sm.rear.tau * sm.rear.sin_t)};
+}
+
+WarmIterate warm_iterate(const SimParameters& p, double slip, double log_load, double x) {
+  const Contact ct = make_contact(p, std::exp(x), slip);
+  const KronrodSamples samples = kronrod_samples(ct);
+  WarmIterate it;
+  it.x = x;
+  const double w = ct.r * ct.b * integrate_contact(ct, samples, [&ct](const Contact::Sample& sm) {
+    return ct.front_width * (sm.sigma * sm.front.cos_t + sm.front.tau * sm.front.sin_t) +
+           ct.rear_width * (sm.sigma * sm.rear.cos_t + sm.rear.tau * sm.rear.sin_t);
+  });
+  it.f = std::log(std::max(w, 1e-300)) - log_load;
+  it.outputs_ok = true;
+  it.outputs.h_rc = kronrod_pair(ct, samples, [&ct](const Contact::Sample& sm) { return h_rc_integrand(ct, sm); },
+                                 it.outputs_ok);
+  it.outputs.tau_w = kronrod_pair(ct, samples, [&ct](const Contact::Sample& sm) { return tau_w_integrand(ct, sm); },
+                                  it.outputs_ok);
+  return it;
+}
+
+// The outputs at the root x + step: linear in x through the last two
+// iterates (their error, step x (x - previous) x the curvature, is far below
+// rounding), or the last iterate's own when the step is rounding-sized.
+void set_root_outputs(const WarmIterate& last, const WarmIterate* previous, double step, SinkageRoot& root) {
+  if (previous != nullptr && previous->outputs_ok && last.outputs_ok) {
+    const double t = step / (last.x - previous->x);
+    root.outputs.h_rc = last.outputs.h_rc + t * (last.outputs.h_rc - previous->outputs.h_rc);
+    root.outputs.tau_w = last.outputs.tau_w + t * (last.outputs.tau_w - previous->outputs.tau_w);
+    root.has_outputs = true;
+  } else if (previous == nullptr && last.outputs_ok && std::fabs(step) < kSingleIterateStep) {
+    root.outputs = last.outputs;
+    root.has_outputs = true;
+  }
+}
 
 bool solve_sinkage_warm(const SimParameters& p, double load_n, double slip, const SinkageHint& hint,
                         SinkageRoot& root) {
   const double x_max = std::log(p.wheel.radius_m);
   const double log_load = std::log(load_n);
-  auto residual = [&](double x) {
-    const double w = vertical_force(make_contact(p, std::exp(x), slip));
-    return std::log(std::max(w, 1e-300)) - log_load;
-  };
-  double x = std::log(hint.sinkage_m);
   double slope = hint.log_slope;
-  if (!(x < x_max) || !std::isfinite(x) || !(slope > 0.0) || !std::isfinite(slope)) return false;
-  double f = residual(x);
+  const double x0 = std::log(hint.sinkage_m);
+  if (!(x0 < x_max) || !std::isfinite(x0) || !(slope > 0.0) || !std::isfinite(slope)) return false;
+  WarmIterate previous;
+  WarmIterate current = warm_iterate(p, slip, log_load, x0);
   for (int i = 1; i < kWarmMaxResiduals; ++i) {
-    const double step = -f / slope;
+    const double step = -current.f / slope;
     if (!std::isfinite(step)) return false;
     if (std::fabs(step) < kWarmStepTol) {
-      root.sinkage_m = std::exp(x + step);
+      root.sinkage_m = std::exp(current.x + step);
       root.iterations = i;
       root.log_slope = slope;
+      set_root_outputs(current, i > 1 ? &previous : nullptr, step, root);
       return true;
     }
-    const double x_new = x + step;
+    const double x_new = current.x + step;
     if (!(x_new < x_max)) return false;
-    const double f_new = residual(x_new);
+    previous = current;
+    current = warm_iterate(p, slip, log_load, x_new);
     // A secant over a step near the residual's rounding (~1e-15) would be
     // noise: keep the slope then (the next step is rounding-sized anyway).
-    if (std::fabs(step) > 1e-10) slope = (f_new - f) / step;
+    if (std::fabs(step) > 1e-10) slope = (current.f - previous.f) / step;
     if (!(slope > 0.0) || !std::isfinite(slope)) return false;
-    x = x_new;
-    f = f_new;
   }
   return false;
 }
@@ -801,23 +884,23 @@ SinkageRoot solve_sinkage(const SimParameters& p, double load_n, double slip, co
 
 // The four remaining integrals at the solved sinkage, in two passes: a
 // complex integrand carries two real ones on the same nodes (tanh-sinh takes
-// any value type); then the effects' forces and torques.
-void fill_state(const SimParameters& p, double load_n, double slip, double z, WheelSoilState& st) {
+// any value type).
+OutputIntegrals output_integrals(const Contact& ct) {
+  const KronrodSamples samples = kronrod_samples(ct);
+  return {integrate_contact(ct, samples, [&ct](const Contact::Sample& sm) { return h_rc_integrand(ct, sm); }),
+          integrate_contact(ct, samples, [&ct](const Contact::Sample& sm) { return tau_w_integrand(ct, sm); })};
+}
+
+// The state at the solved sinkage z: the contact integrals (the warm search's,
+// interpolated to the root, or computed there), then the effects' forces
+// and torques.
+void fill_state(const SimParameters& p, double load_n, double slip, const SinkageRoot& root, WheelSoilState& st) {
+  const double z = root.sinkage_m;
   const Contact ct = make_contact(p, z, slip);
   const double rb = ct.r * ct.b;
-  using Pair = std::complex<double>;
-  const double wf = ct.front_width;
-  const double wr = ct.rear_width;
-  const KronrodSamples samples = kronrod_samples(ct);
-  const Pair h_rc = rb * integrate_contact(ct, samples, [wf, wr](const Contact::Sample& sm) {
-    return Pair(wf * sm.front.tau * sm.front.cos_t + wr * sm.rear.tau * sm.rear.cos_t,
-                sm.sigma * (wf * sm.front.sin_t + wr * sm.rear.sin_t));
-  });
-  const Pair tau_w = integrate_contact(ct, samples, [wf, wr](const Contact::Sample& sm) {
-    return Pair(wf * sm.front.tau + wr * sm.rear.tau,
-                wf * (sm.sigma * sm.front.cos_t + sm.front.tau * sm.front.sin_t) +
-                    wr * (sm.sigma * sm.rear.cos_t + sm.rear.tau * sm.rear.sin_t));
-  });
+  const OutputIntegrals integrals = root.has_outputs ? root.outputs : output_integrals(ct);
+  const std::complex<double> h_rc = rb * integrals.h_rc;
+  const std::complex<double>& tau_w = integrals.tau_w;
   st.sinkage_m = z;
   st.entry_angle_rad = ct.theta1;
   st.exit_angle_rad = ct.theta2;
@@ -1074,7 +1157,7 @@ Evaluation evaluate(const SimParameters& p, double load_n, double slip, const Si
       ev.message = root.message;
       return ev;
     }
-    fill_state(p, load_n, slip, root.sinkage_m, ev.state);
+    fill_state(p, load_n, slip, root, ev.state);
     ev.state.root_iterations = root.iterations;
     ev.state.sinkage_log_slope = root.log_slope;
   } catch (const QuadratureFailure& e) {

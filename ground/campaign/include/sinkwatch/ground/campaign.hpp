@@ -130,7 +130,15 @@ struct FlightVerdict {
   flight::StopReason stop_reason = flight::StopReason::none;
   std::optional<double> lead_m, lead_s;  // embedding minus stop, when both exist
   TraverseOutcome outcome = TraverseOutcome::ok_no_stop;
+  // At the stop, when a wheel's event record stopped the rover: its sinkage at
+  // the episode's peak current (section 7: Eq. 11 with DP = DP_max) and its
+  // largest per-cycle estimate; and the simulator's deepest wheel then.
+  std::optional<double> event_peak_sinkage_mm, event_max_estimate_mm, true_sinkage_at_stop_mm;
+  // At any stop: the deepest wheel's median per-cycle estimate over its last
+  // kRecentEstimates valid samples (what a rover-level record could hold).
+  std::optional<double> recent_estimate_mm;
 };
+inline constexpr std::size_t kRecentEstimates = 10;
 
 /// One injected fault's effect on a traverse (the campaign's table).
 struct FaultVerdict {
@@ -168,6 +176,9 @@ struct TraverseResult {
   // One per CampaignOptions::sweep_traction_stop; empty when the table has
   // no section 8 (the motion-resistance check off).
   std::vector<FlightVerdict> traction_sweep;
+  // One per CampaignOptions::choice_grid (--choose-levels); empty otherwise.
+  std::vector<FlightVerdict> choice;
+  std::vector<IdealVerdict> choice_ideal;  // the ideal sinkage sensor at each point's stop level
   std::vector<FaultVerdict> faults;  // one per CampaignOptions::faults
   std::size_t rows = 0;
 };
@@ -182,6 +193,14 @@ enum class FlightMass {
 const char* flight_mass_name(FlightMass m);
 /// Throws std::invalid_argument for a name other than "true" or "default".
 FlightMass flight_mass_from_name(const std::string& name);
+
+/// One point of the level choice's grid (--choose-levels): the sinkage stop
+/// level and section 8's stop coefficient; no coefficient: the
+/// motion-resistance check off (section 8 removed from the table).
+struct LevelPair {
+  double stop_mm = 45.0;
+  std::optional<double> traction_stop;
+};
 
 struct CampaignOptions {
   std::size_t traverses_per_family = 8;
@@ -202,6 +221,9 @@ struct CampaignOptions {
   /// caution scaled with it, docs/traction.md); run only when the table has
   /// section 8.
   std::vector<double> sweep_traction_stop{0.30, 0.34, 0.38, 0.42, 0.46, 0.50};
+  /// The level choice's grid (--choose-levels, level_choice.hpp): the flight
+  /// code re-run per point with table_at_levels(); empty: not run.
+  std::vector<LevelPair> choice_grid;
   /// Per traverse, one run with one fault of each class (at the table's levels).
   std::vector<FaultClass> faults;
   /// Called from worker threads (serialised) with (done, total).
@@ -219,6 +241,11 @@ flight::ParameterTable table_at_stop_level(const flight::ParameterTable& table, 
 /// capped below the caution). Throws std::invalid_argument when the table has
 /// no section 8 or validate() refuses the result.
 flight::ParameterTable table_at_traction_level(const flight::ParameterTable& table, double stop_coefficient);
+
+/// The table at a point of the level choice's grid: table_at_stop_level(),
+/// then section 8 at the pair's coefficient (table_at_traction_level()) or
+/// removed when it has none. Throws std::invalid_argument as those do.
+flight::ParameterTable table_at_levels(const flight::ParameterTable& table, const LevelPair& levels);
 
 /// The flight code's configuration for a traverse with `table`: the drawn
 /// gravity, the options' rover (the table's section 6, else Yutu-like) and,

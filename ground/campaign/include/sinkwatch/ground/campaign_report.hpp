@@ -47,9 +47,10 @@ struct GroupStats {
   std::size_t lead_at_80pct_of_ideal = 0;  // embeddings whose stop lead >= 0.8 ideal lead
 };
 
-/// Which sweep a level indexes: the sinkage level's or section 8's stop
-/// coefficient's (the ideal sensor stays at the table's stop level then).
-enum class Sweep { stop_level, traction_coefficient };
+/// Which sweep a level indexes: the sinkage level's, section 8's stop
+/// coefficient's (the ideal sensor stays at the table's stop level then) or
+/// the level choice's grid of pairs (CampaignOptions::choice_grid).
+enum class Sweep { stop_level, traction_coefficient, choice };
 
 /// The group at the campaign table's verdict, or at level `level` of `sweep`.
 GroupStats group_stats(const std::vector<const TraverseResult*>& group, std::optional<std::size_t> level,

@@ -4,23 +4,35 @@
 // families only, with the expected lead at the chosen level and the
 // held-out families' outcomes at it reported apart as the check.
 //
-// The rule. The campaign's stop-level sweep (CampaignOptions::sweep_stop_mm)
-// re-runs the flight code per level on the same open-loop rows, so each
-// level's false stops are exact for the table table_at_stop_level() makes.
-// Over the n tuning clear drives (traverses that never embed nor come within
-// kNearMissReserve of it, campaign.hpp; a stop on a near miss is counted
-// apart, not as a false stop), a level with k false stops
-// has a one-sided 95 % Clopper-Pearson upper bound on its false-stop rate;
-// n is the same at every level, so the bound meets the target F exactly when
-// k <= k_max(n, F). The chosen stop level is the lowest (the longest lead)
-// with k <= k_max: "certified". When even k = 0 cannot meet F with this n
-// (n < ln 0.05 / ln(1 - F)), or no level has k <= k_max, the choice falls
-// back to the lowest level among those with the fewest false stops, marked
-// not certified, with the number of non-embedding traverses that would be
-// needed. Either way a tighter target never gives a lower stop level.
+// The grid. With a table that has section 8 (the motion-resistance check,
+// docs/traction.md) the rover stops when either rule says so, so the two
+// levels are chosen together: the grid is every pair of a sinkage stop level
+// (choice_grid_mm(), or --levels) and a section-8 stop coefficient
+// (CampaignOptions::sweep_traction_stop, or the check off). Without section 8
+// the grid is the sinkage levels alone. The campaign re-runs the flight code
+// per point on the same open-loop rows (CampaignOptions::choice_grid), so
+// each point's verdicts are exact for the table table_at_levels() makes.
 //
-// The caution level keeps the base table's caution/stop ratio (as every
-// sweep level does): CAUTION stops nothing, and the ratio keeps its warning
+// The rule. Over the n tuning clear drives (traverses that never embed nor
+// come within kNearMissReserve of it, campaign.hpp; a stop on a near miss is
+// counted apart, not as a false stop), a point with k false stops has a
+// one-sided 95 % Clopper-Pearson upper bound on its false-stop rate; n is the
+// same at every point, so the bound meets the target F exactly when
+// k <= k_max(n, F). Among the points that meet it ("certified") the choice is
+// the best for embeddings: the most tuning embeddings stopped before the
+// embedding, then the most >= 1 m ahead, then the longest median lead, then
+// the fewest false stops, then the lower stop level and coefficient. When no
+// point meets F (too few traverses: n < ln 0.05 / ln(1 - F), or every point
+// stops too often), the fallback is the best by the same order among the
+// points with the fewest false stops, marked not certified, with the number
+// of clear drives that would be needed. Either way a tighter target never
+// gives a choice that is better for embeddings (the certified set only
+// shrinks, and it holds the fewest-false-stop points while it is not empty).
+// On a sinkage-only grid this is the lowest certified level: a lower level
+// stops no later on the same rows.
+//
+// The caution levels keep the base table's caution/stop ratios (as every
+// sweep point does): CAUTION stops nothing, and the ratio keeps its warning
 // margin in proportion; its false-caution rate is reported.
 #pragma once
 
@@ -51,6 +63,12 @@ std::size_t traverses_needed(double target, double confidence = 0.95);
 /// 2.5 mm steps, the levels table_at_stop_level() accepts.
 std::vector<double> choice_grid_mm(const flight::ParameterTable& table);
 
+/// The choice's grid for `table`: every sinkage level of `levels_mm` with
+/// each of section 8's stop coefficients `traction_stops` and with the check
+/// off, when the table has section 8; else the sinkage levels alone (check off).
+std::vector<LevelPair> choice_grid(const flight::ParameterTable& table, const std::vector<double>& levels_mm,
+                                   const std::vector<double>& traction_stops);
+
 /// How the stop level was chosen.
 enum class ChoiceBasis {
   certified,           // the lowest level whose false-stop bound meets the target
@@ -73,34 +91,35 @@ struct LevelOutcome {
   std::optional<double> median_lead_m, median_ideal_lead_m, median_caution_lead_m;
 };
 
-/// The tuning or held-out traverses' outcome at sweep level `level`, or
-/// with the campaign's (base) table when `level` is empty.
+/// The tuning or held-out traverses' outcome at point `level` of the
+/// choice's grid, or with the campaign's (base) table when `level` is empty.
 LevelOutcome level_outcome(const CampaignResult& r, std::optional<std::size_t> level, bool held_out);
 
 struct LevelChoice {
   double max_false_stop = 0.01;
   ChoiceBasis basis = ChoiceBasis::certified;
-  std::size_t level = 0;  // index into the sweep
+  std::size_t level = 0;  // index into CampaignOptions::choice_grid
   double stop_mm = 0.0, caution_mm = 0.0, allowed_mm = 0.0;
+  std::optional<double> traction_stop, traction_caution;  // section 8's coefficients; none: off
   std::optional<std::size_t> certifiable;  // k_max(n, F) over the tuning traverses
   std::size_t needed_without_false_stop = 0;  // n with which k = 0 would certify F
-  std::vector<LevelOutcome> tuning;        // every sweep level
+  std::vector<LevelOutcome> tuning;        // every point of the grid
   LevelOutcome held_out;                   // at the chosen level only
   LevelOutcome base_tuning, base_held_out;  // with the campaign's table, for comparison
 };
 
 /// The choice on the tuning families of `r` (held-out traverses are not read
-/// for it). Throws std::invalid_argument when the sweep is empty or no tuning
+/// for it). Throws std::invalid_argument when the grid is empty or no tuning
 /// traverse is ordinary (nothing to measure a false-stop rate on), and when
 /// the chosen level's table is refused by the flight code.
 LevelChoice choose_levels(const CampaignResult& r, double max_false_stop);
 
-/// The base table at the chosen levels (table_at_stop_level()).
+/// The base table at the chosen levels (table_at_levels()).
 flight::ParameterTable chosen_table(const CampaignResult& r, const LevelChoice& c);
 
 /// The chosen table written through the one table writer (encode_table():
 /// flight::encode(), loaded back by flight::load()), and checked to carry the
-/// chosen levels bit for bit. Throws (std::invalid_argument, RoverTableError)
+/// chosen levels (sinkage and section 8) bit for bit. Throws (std::invalid_argument, RoverTableError)
 /// when the flight code refuses it or the levels did not survive.
 EncodedTable encode_chosen_table(const CampaignResult& r, const LevelChoice& c);
 
