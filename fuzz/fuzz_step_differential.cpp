@@ -293,9 +293,8 @@ double load_bound(const Context& c) { return rt::load_bound_with_torques_n(c.wei
 /// Whether the flight and the twin took the same loads, both with or both
 /// without the torques (they may differ only inside the band of the bound).
 bool same_torque_choice(const Context& c) {
-  constexpr std::uint8_t kAllWheels = 0x3FU;
-  const bool any_torque = c.torque_mask != kAllWheels;
-  const bool flight_fell_back = any_torque && (c.out.torque_fallback_mask == kAllWheels);
+  const bool any_torque = c.torque_mask != sf::kEveryTorqueFallsBack;
+  const bool flight_fell_back = any_torque && (c.out.torque_fallback_mask == sf::kEveryTorqueFallsBack);
   const bool twin_fell_back = any_torque && (c.twin_loads.torque_min_load_n < 0.0);
   return flight_fell_back == twin_fell_back;
 }
@@ -304,13 +303,13 @@ bool same_torque_choice(const Context& c) {
 /// of the bound, the flight falls back for exactly the unusable currents, or
 /// for all six wheels when the torque loads would lift one.
 void check_torque_decision(const Context& c, double bound) {
-  constexpr std::uint8_t kAllWheels = 0x3FU;
   const double torque_min = c.twin_loads.torque_min_load_n;
   if ((torque_min > bound) && (c.out.torque_fallback_mask != c.torque_mask)) {
     disagree("torque fallback mask with the twin's torque loads positive", -1,
              static_cast<double>(c.out.torque_fallback_mask), static_cast<double>(c.torque_mask), 0.0);
   }
-  if ((c.torque_mask != kAllWheels) && (torque_min < -bound) && (c.out.torque_fallback_mask != kAllWheels)) {
+  const bool any_torque = c.torque_mask != sf::kEveryTorqueFallsBack;
+  if (any_torque && (torque_min < -bound) && (c.out.torque_fallback_mask != sf::kEveryTorqueFallsBack)) {
     inconsistent("torques kept with the twin's torque loads lifting a wheel", -1, torque_min, 0.0, bound);
   }
 }

@@ -31,7 +31,6 @@ constexpr AngleRad kMaxAttitudeLimit{fx::constant<AngleQ>(limits::kMaxAttitudeLi
 constexpr W kMinLever{fx::constant<W>(0.001)};
 constexpr W kHalf{fx::constant<W>(0.5)};
 constexpr Ratio kMaxHighSlip{fx::constant<RatioQ>(limits::kMaxHighSlip)};
-constexpr std::uint8_t kAllWheelsMask{0x3FU};
 
 bool within(LengthM v, LengthM limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
 bool within(AngleRad v, AngleRad limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
@@ -436,9 +435,9 @@ WheelLoadResult loads_with_torques(const RoverParams& params, const RoverAttitud
                                    const JointAnglesRad& joints, const DriveTorques& torques) noexcept {
   WheelLoadResult r = loads_of_valid(params, attitude, joints, torques);
   r.torque_fallback_mask = fallback_mask(torques);
-  if ((r.status == WheelLoadStatus::tip_over) && (r.torque_fallback_mask != kAllWheelsMask)) {
+  if ((r.status == WheelLoadStatus::tip_over) && (r.torque_fallback_mask != kEveryTorqueFallsBack)) {
     r = loads_of_valid(params, attitude, joints, kNoDriveTorques);
-    r.torque_fallback_mask = kAllWheelsMask;
+    r.torque_fallback_mask = kEveryTorqueFallsBack;
     r.torque_overload = (r.status == WheelLoadStatus::ok);
   }
   return r;

@@ -97,8 +97,8 @@ struct RoverStepOutput {
   Ratio slip;                              ///< limited to [-1, 1]
   std::uint32_t lifting_wheel{kWheelCount};  ///< with tip_over: the wheel that lifts
   /// Bit i: wheel i's current gave no usable torque, so the loads took its
-  /// free-rolling couple (wheel_load.hpp DriveTorques). 0x3F until the loads run.
-  std::uint8_t torque_fallback_mask{0x3FU};
+  /// free-rolling couple (wheel_load.hpp DriveTorques). All set until the loads run.
+  std::uint8_t torque_fallback_mask{kEveryTorqueFallsBack};
   bool torque_overload{false};  ///< WheelLoadResult::torque_overload: loads taken without torques
   SensorHealthReport health{};             ///< every channel's health (sensor_health.hpp)
   RoverOutput monitor{};                   ///< per wheel: torque, sinkage, I_max, state

@@ -71,7 +71,11 @@ struct DriveTorques {
   bool usable[kWheelCount]{};
 };
 
-/// No torque known for any wheel (every wheel falls back, mask 0x3F).
+/// WheelLoadResult::torque_fallback_mask when every wheel falls back.
+inline constexpr std::uint8_t kEveryTorqueFallsBack{0x3FU};
+static_assert(kEveryTorqueFallsBack == ((1U << kWheelCount) - 1U), "one bit per wheel");
+
+/// No torque known for any wheel (every wheel falls back: kEveryTorqueFallsBack).
 inline constexpr DriveTorques kNoDriveTorques{};
 
 enum class WheelLoadStatus : std::uint8_t {
@@ -101,7 +105,7 @@ struct WheelLoadResult {
   std::uint8_t torque_fallback_mask{0U};
   /// The torques would lift a wheel that the weight alone keeps down: more
   /// than the links react quasi-statically (a stalled or spinning wheel). The
-  /// loads are then those without torques (mask 0x3F); stability is decided
+  /// loads are then those without torques (kEveryTorqueFallsBack); stability is decided
   /// by the weight alone (docs/rover-loads.md, section 12.4).
   bool torque_overload{false};
   WheelLoadStatus status{WheelLoadStatus::invalid_params};  ///< a default result is never usable
