@@ -86,9 +86,11 @@ void set_levels(const CampaignArgs& a, CampaignOptions& o) {
       })) {
     throw_usage_error("--choose-levels: every family of --families is --held-out; the choice needs tuning families");
   }
+  // Each sinkage level and each coefficient checked alone, so that the
+  // message names the option at fault; the choice's grid is their pairs.
   try {
     for (const double level : o.sweep_stop_mm) (void)table_at_stop_level(o.table, level / 1000.0);
-    for (const LevelPair& point : o.choice_grid) (void)table_at_levels(o.table, point);
+    for (const LevelPair& point : o.choice_grid) (void)table_at_stop_level(o.table, point.stop_mm / 1000.0);
   } catch (const std::invalid_argument& e) {
     throw_usage_error(std::string("--levels: ") + e.what());
   }
@@ -101,6 +103,11 @@ void set_levels(const CampaignArgs& a, CampaignOptions& o) {
     }
   } catch (const std::invalid_argument& e) {
     throw_usage_error(std::string("--traction-levels: ") + e.what());
+  }
+  try {
+    for (const LevelPair& point : o.choice_grid) (void)table_at_levels(o.table, point);
+  } catch (const std::invalid_argument& e) {
+    throw_usage_error(std::string("--levels with --traction-levels: ") + e.what());
   }
 }
 
