@@ -614,6 +614,22 @@ flight::ParameterTable table_at_levels(const flight::ParameterTable& table, cons
   return table_at_traction_level(at_stop, *levels.traction_stop);
 }
 
+namespace {
+
+// The traverse's table: the options' table, or that table calibrated to the
+// traverse's soil (recorded in `out`).
+flight::ParameterTable traverse_table(const TraverseDraw& draw, const CampaignOptions& options, TraverseResult& out) {
+  if (options.calibration == CalibrationSoil::none) return options.table;
+  const SoilCalibration c =
+      calibrate_to_soil(draw.spec, draw.min_soil_scale, options.calibration, options.table, mix(draw.seed ^ 0x5011B1CULL));
+  out.calibration_soil_scale = c.soil_scale;
+  out.calibration_c3 = c.c3_at_mean_load;
+  out.calibration_dp_max = c.dp_max_at_mean_load;
+  return c.table;
+}
+
+}  // namespace
+
 TraverseResult evaluate_traverse(const TraverseDraw& draw, const CampaignOptions& options) {
   TraverseResult out;
   out.draw = draw;
@@ -626,23 +642,24 @@ TraverseResult evaluate_traverse(const TraverseDraw& draw, const CampaignOptions
   out.embed_reason = drive.truth.embed_reason;
   out.min_reserve_frac = drive.truth.min_reserve_frac;
   truth_statistics(drive, out);
-  const ReplayConfig config = traverse_flight_config(draw, options, options.table);
+  const flight::ParameterTable table = traverse_table(draw, options, out);
+  const ReplayConfig config = traverse_flight_config(draw, options, table);
   out.flight = flight_verdict(drive, config);
-  out.ideal = ideal_verdict(drive, fx::to_double(options.table.monitor.stop_sinkage_m.q()));
+  out.ideal = ideal_verdict(drive, fx::to_double(table.monitor.stop_sinkage_m.q()));
   out.reserve_ideal = reserve_verdict(drive, draw.spec.mass_kg * draw.spec.gravity_mps2);
   for (const double level_mm : options.sweep_stop_mm) {
-    const flight::ParameterTable level = table_at_stop_level(options.table, level_mm / 1000.0);
+    const flight::ParameterTable level = table_at_stop_level(table, level_mm / 1000.0);
     out.sweep.push_back(flight_verdict(drive, traverse_flight_config(draw, options, level)));
     out.sweep_ideal.push_back(ideal_verdict(drive, level_mm / 1000.0));
   }
-  if (flight::traction_check_on(options.table.traction)) {
+  if (flight::traction_check_on(table.traction)) {
     for (const double coefficient : options.sweep_traction_stop) {
-      const flight::ParameterTable level = table_at_traction_level(options.table, coefficient);
+      const flight::ParameterTable level = table_at_traction_level(table, coefficient);
       out.traction_sweep.push_back(flight_verdict(drive, traverse_flight_config(draw, options, level)));
     }
   }
   for (const LevelPair& point : options.choice_grid) {
-    out.choice.push_back(flight_verdict(drive, traverse_flight_config(draw, options, table_at_levels(options.table, point))));
+    out.choice.push_back(flight_verdict(drive, traverse_flight_config(draw, options, table_at_levels(table, point))));
     out.choice_ideal.push_back(ideal_verdict(drive, point.stop_mm / 1000.0));
   }
   for (const FaultClass c : options.faults) out.faults.push_back(fault_verdict(c, draw, drive, config));

@@ -35,6 +35,7 @@ struct CampaignArgs {
   std::vector<std::string> faults;
   std::string loss_policy;
   std::string flight_mass = "true";
+  std::string calibrate = "none";
   double path_length_m = 16.0;
   bool choose_levels = false;
   double max_false_stop = 0.0;
@@ -130,6 +131,10 @@ CampaignOptions options_of(const CampaignArgs& a) {
     o.rover = config.rover;
   }
   o.flight_mass = flight_mass_from_name(a.flight_mass);
+  o.calibration = calibration_soil_from_name(a.calibrate);
+  if (o.calibration != CalibrationSoil::none) {
+    o.table_source += ", calibrated to each traverse's " + std::string(calibration_soil_name(o.calibration)) + " soil";
+  }
   if (!a.loss_policy.empty()) {
     try {
       set_loss_policy(a.loss_policy, o.table, o.table_source);
@@ -214,6 +219,14 @@ void add_choice_options(CLI::App* sub, CampaignArgs& a) {
                                 "in (0, 1)"));
   CLI::Option* table_out = non_empty_value(sub->add_option(
       "--table-out", a.table_out, "where --choose-levels writes the chosen flight table (default: OUT/chosen.tbl)"));
+  CLI::Option* calibrate = sub->add_option(
+      "--calibrate", a.calibrate,
+      "each traverse's table calibrated to its soil by a simulated soil-bin test (docs/campaign.md, 'A table "
+      "calibrated to the soil'): site (the soil at scale 1), softest (the path's softest soil that still gives a "
+      "soil-bin pull), or none");
+  calibrate->check(CLI::IsMember({"none", "site", "softest"}))->capture_default_str();
+  // One table per traverse: there is no one calibrated table to choose levels for.
+  choose->excludes(calibrate);
   choose->needs(target);
   target->needs(choose);
   table_out->needs(choose);

@@ -47,7 +47,8 @@ std::vector<std::string> csv_fields(const TraverseResult& t) {
           fixed(t.rear_load_excess, 4), fixed(t.front_load_excess, 4), opt(t.min_reserve_frac, 4),
           opt(t.reserve_ideal.cross_x_m, 3), opt(t.reserve_ideal.lead_m, 3),
           std::to_string(t.rows), opt(f.event_peak_sinkage_mm, 1), opt(f.event_max_estimate_mm, 1),
-          opt(f.true_sinkage_at_stop_mm, 1), opt(f.recent_estimate_mm, 1)};
+          opt(f.true_sinkage_at_stop_mm, 1), opt(f.recent_estimate_mm, 1), opt(t.calibration_soil_scale, 4),
+          opt(t.calibration_c3, 4), opt(t.calibration_dp_max, 4)};
 }
 
 std::string csv_field(const std::string& s) {
@@ -73,7 +74,8 @@ const std::vector<std::string>& traverse_csv_columns() {
       "caution_x_m", "stop_time_s", "stop_x_m", "stop_reason", "lead_m", "lead_s", "outcome", "ideal_cross_time_s",
       "ideal_cross_x_m", "ideal_lead_m", "ideal_lead_s", "max_true_sinkage_mm", "rear_load_excess",
       "front_load_excess", "min_reserve_frac", "reserve_cross_x_m", "reserve_lead_m", "rows",
-      "event_peak_sinkage_mm", "event_max_estimate_mm", "true_sinkage_at_stop_mm", "recent_estimate_mm"};
+      "event_peak_sinkage_mm", "event_max_estimate_mm", "true_sinkage_at_stop_mm", "recent_estimate_mm",
+      "calibration_soil_scale", "calibration_c3", "calibration_dp_max"};
   return columns;
 }
 
@@ -120,6 +122,7 @@ std::string traverses_json(const CampaignResult& r) {
   std::ostringstream out;
   out << "{\"seed\": " << r.options.seed << ", \"table\": " << json_string(r.options.table_source)
       << ", \"flight_mass\": " << json_string(flight_mass_name(r.options.flight_mass))
+      << ", \"calibration\": " << json_string(calibration_soil_name(r.options.calibration))
       << ", \"sweep_stop_mm\": " << numbers_json(r.options.sweep_stop_mm, 1)
       << ", \"sweep_traction_stop\": " << numbers_json(r.options.sweep_traction_stop, 2) << ",\n \"traverses\": [\n";
   const std::vector<std::string>& columns = traverse_csv_columns();
@@ -398,6 +401,34 @@ std::string event_accuracy_table(const CampaignResult& r) {
   return md.str();
 }
 
+// With --calibrate: what the soil-bin fits gave, embeddings and the others apart.
+std::string calibration_table(const CampaignResult& r) {
+  if (r.options.calibration == CalibrationSoil::none) return {};
+  std::ostringstream md;
+  md << "Tables calibrated to each traverse's " << calibration_soil_name(r.options.calibration)
+     << " soil (simulated soil bin, C1 = C2 = 1, C3 and DP_max/W per load; medians [min, max] at m g / 6):\n\n"
+     << "| traverses | n | soil scale | C3 | DP_max/W |\n|---|---|---|---|---|\n";
+  for (const bool embeds : {true, false}) {
+    std::vector<double> scale, c3, dp;
+    for (const TraverseResult& t : r.traverses) {
+      if (t.embedded != embeds || !t.calibration_soil_scale) continue;
+      scale.push_back(*t.calibration_soil_scale);
+      c3.push_back(*t.calibration_c3);
+      dp.push_back(*t.calibration_dp_max);
+    }
+    md << "| " << (embeds ? "embedding" : "never embedding") << " | " << scale.size();
+    for (const std::vector<double>* v : {&scale, &c3, &dp}) {
+      md << " | " << opt(median(*v), 3, "–");
+      if (!v->empty()) {
+        md << " [" << fixed(*std::min_element(v->begin(), v->end()), 3) << ", "
+           << fixed(*std::max_element(v->begin(), v->end()), 3) << "]";
+      }
+    }
+    md << " |\n";
+  }
+  return md.str() + "\n";
+}
+
 }  // namespace
 
 std::string campaign_summary(const CampaignResult& r, const std::string& command_line, bool plots) {
@@ -413,6 +444,7 @@ std::string campaign_summary(const CampaignResult& r, const std::string& command
              : std::string(" (the flight code keeps its rover's mass whatever the drawn mass: ") +
                    (r.options.rover ? "the table's section 6" : "Yutu-like, 140 kg"))
      << ").\n\n"
+     << calibration_table(r)
      << "Outcomes with the table (lead = embedding − stop along the path; the ideal sensor stops where the "
         "simulator's deepest wheel first reaches the table's stop level; the ideal reserve sensor where the "
         "traction reserve first falls below 5 % of the weight; a near miss is a drive that never embeds but "

@@ -16,6 +16,14 @@
 namespace sinkwatch::ground {
 namespace {
 
+// The soil with its moduli and cohesion scaled (softer below 1).
+SimParameters scaled_soil(SimParameters p, double scale) {
+  p.soil.kc *= scale;
+  p.soil.kphi *= scale;
+  p.soil.cohesion_pa *= scale;
+  return p;
+}
+
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 constexpr std::size_t kN = kTelemetryWheels;
@@ -94,7 +102,7 @@ struct SlipSolution {
 class World {
  public:
   explicit World(const ScenarioSpec& spec)
-      : spec_(spec), base_(base_parameters(spec)), geometry_(yutu_like_geometry(spec.gravity_mps2)) {
+      : spec_(spec), base_(scenario_soil(spec, 1.0)), geometry_(yutu_like_geometry(spec.gravity_mps2)) {
     geometry_.mass_kg = spec.mass_kg;
     if (spec.terrain.empty()) throw std::invalid_argument("scenario '" + spec.name + "' has no terrain");
   }
@@ -268,29 +276,8 @@ class World {
     return SlipSolution{true, "", b.hi, b.hi_w};
   }
 
-  static SimParameters base_parameters(const ScenarioSpec& spec) {
-    SimParameters p = default_parameters(spec.soil_parameters ? std::string("hit-lss1") : spec.soil);
-    if (spec.soil_parameters) p.soil = *spec.soil_parameters;
-    p.gravity_m_s2 = spec.gravity_mps2;
-    p.quadrature_rel_tol = spec.quadrature_rel_tol;
-    if (spec.effects) {
-      p.effects = *spec.effects;
-    } else {
-      // Sinkage grows with slip (Ding et al.): the slip-sinkage the paper's
-      // soil-bin tests show and Purgatory's dig-in needs.
-      p.effects.slip_sinkage.enabled = true;
-    }
-    return p;
-  }
-
   // The soil with its moduli and cohesion scaled (softer below 1).
-  SimParameters scaled_one(double scale) const {
-    SimParameters p = base_;
-    p.soil.kc *= scale;
-    p.soil.kphi *= scale;
-    p.soil.cohesion_pa *= scale;
-    return p;
-  }
+  SimParameters scaled_one(double scale) const { return scaled_soil(base_, scale); }
 
   SideParams scaled(SideSoil soil) const {
     SideParams p{scaled_one(soil.scale), {}, soil.right_factor == 1.0};
@@ -817,6 +804,21 @@ Scenario generate_open_loop_drive(const ScenarioSpec& spec) {
     if (r) out.truth.min_reserve_frac = std::min(out.truth.min_reserve_frac.value_or(*r / weight_n), *r / weight_n);
   }
   return out;
+}
+
+SimParameters scenario_soil(const ScenarioSpec& spec, double soil_scale) {
+  SimParameters p = default_parameters(spec.soil_parameters ? std::string("hit-lss1") : spec.soil);
+  if (spec.soil_parameters) p.soil = *spec.soil_parameters;
+  p.gravity_m_s2 = spec.gravity_mps2;
+  p.quadrature_rel_tol = spec.quadrature_rel_tol;
+  if (spec.effects) {
+    p.effects = *spec.effects;
+  } else {
+    // Sinkage grows with slip (Ding et al.): the slip-sinkage the paper's
+    // soil-bin tests show and Purgatory's dig-in needs.
+    p.effects.slip_sinkage.enabled = true;
+  }
+  return scaled_soil(p, soil_scale);
 }
 
 }  // namespace sinkwatch::ground

@@ -21,6 +21,7 @@
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/ground/fault_injection.hpp"
 #include "sinkwatch/ground/scenario.hpp"
+#include "sinkwatch/ground/soil_calibration.hpp"
 
 #include <array>
 #include <cstddef>
@@ -181,6 +182,9 @@ struct TraverseResult {
   std::vector<IdealVerdict> choice_ideal;  // the ideal sinkage sensor at each point's stop level
   std::vector<FaultVerdict> faults;  // one per CampaignOptions::faults
   std::size_t rows = 0;
+  // With CampaignOptions::calibration: the soil the traverse's table was
+  // calibrated on and what the fit gave at m g / 6 (soil_calibration.hpp).
+  std::optional<double> calibration_soil_scale, calibration_c3, calibration_dp_max;
 };
 
 /// The mass the flight code in the loop is given (--flight-mass).
@@ -209,6 +213,9 @@ struct CampaignOptions {
   std::vector<CampaignFamily> held_out = default_held_out_families();
   flight::ParameterTable table = flight::default_parameter_table();
   std::string table_source = "built-in default";
+  /// Each traverse's table calibrated to its soil (soil_calibration.hpp):
+  /// `table`'s correction rows replaced, its other sections kept.
+  CalibrationSoil calibration = CalibrationSoil::none;
   /// The table's section 6 (its rover geometry), when it has one; else the Yutu-like rover.
   std::optional<flight::RoverParams> rover;
   FlightMass flight_mass = FlightMass::true_mass;

@@ -91,6 +91,12 @@ struct ScenarioSpec {
   int reserve_every_rows = 0;
 };
 
+/// The simulator's parameters of the spec's soil at `soil_scale` (kc, kphi
+/// and the cohesion of the base soil times the scale), with the spec's
+/// gravity, quadrature goal and effects: what the generator evaluates a
+/// wheel with on that soil, and what a soil-bin test of it would be run on.
+SimParameters scenario_soil(const ScenarioSpec& spec, double soil_scale);
+
 /// From firm ground into a soft ripple until the wheels would embed
 /// (after Opportunity at Purgatory, sol 446), then the escape.
 ScenarioSpec embedding_scenario();
