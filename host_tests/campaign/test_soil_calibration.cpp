@@ -3,6 +3,7 @@
 // soil gives, `softest` moves to a firmer soil only where the soft one gives
 // no soil-bin pull, the base table's other sections are kept, the draws are
 // deterministic, and the command reports the calibration.
+#include "sinkwatch/ground/calibration.hpp"
 #include "sinkwatch/ground/campaign.hpp"
 #include "sinkwatch/ground/campaign_command.hpp"
 #include "sinkwatch/ground/cli_conventions.hpp"
@@ -88,6 +89,26 @@ TEST(SoilCalibration, SoftestTakesTheSoftSoilWhereItGivesAPullAndAFirmerOneWhere
   // The softer the soil, the smaller its soil-bin pull.
   EXPECT_LT(soft.dp_max_at_mean_load,
             calibrate_to_soil(draw.spec, 1.0, CalibrationSoil::site, fl::default_parameter_table(), 5).dp_max_at_mean_load);
+}
+
+TEST(SoilCalibration, ASoilWithoutAnySoilBinPullIsRefusedAndTheTraverseKeepsTheGivenTable) {
+  // effects-0 of seed 16 has bulldozing on: no slip gives a positive pull
+  // even at scale 1 (docs/scenarios.md finding 9), so DP_max cannot be fitted.
+  const TraverseDraw draw = draw_traverse(CampaignFamily::effects, 16, 0, 4.0);
+  ASSERT_NE(draw.effects.find("bulldozing"), std::string::npos) << draw.effects;
+  for (const CalibrationSoil soil : {CalibrationSoil::site, CalibrationSoil::softest}) {
+    EXPECT_THROW((void)calibrate_to_soil(draw.spec, draw.min_soil_scale, soil, fl::default_parameter_table(), 1),
+                 CalibrationError);
+  }
+  CampaignOptions options;
+  options.calibration = CalibrationSoil::site;
+  options.sweep_stop_mm.clear();
+  options.sweep_traction_stop.clear();
+  const TraverseResult r = evaluate_traverse(draw, options);
+  EXPECT_TRUE(r.calibration_failed);
+  EXPECT_FALSE(r.calibration_soil_scale);
+  options.calibration = CalibrationSoil::none;
+  EXPECT_EQ(evaluate_traverse(draw, options).flight.stop_time_s, r.flight.stop_time_s);  // the given table's verdict
 }
 
 TEST(SoilCalibration, IsAPureFunctionOfItsSeed) {

@@ -2,6 +2,8 @@
 // docs/campaign.md).
 #include "sinkwatch/ground/campaign.hpp"
 
+#include "sinkwatch/ground/calibration.hpp"
+
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/ground/flight_table.hpp"
 #include "sinkwatch/ground/soil_presets.hpp"
@@ -620,8 +622,17 @@ namespace {
 // traverse's soil (recorded in `out`).
 flight::ParameterTable traverse_table(const TraverseDraw& draw, const CampaignOptions& options, TraverseResult& out) {
   if (options.calibration == CalibrationSoil::none) return options.table;
-  const SoilCalibration c =
-      calibrate_to_soil(draw.spec, draw.min_soil_scale, options.calibration, options.table, mix(draw.seed ^ 0x5011B1CULL));
+  SoilCalibration c;
+  try {
+    c = calibrate_to_soil(draw.spec, draw.min_soil_scale, options.calibration, options.table,
+                          mix(draw.seed ^ 0x5011B1CULL));
+  } catch (const CalibrationError&) {
+    // No soil-bin pull even at scale 1 (bulldozing effects traverses that
+    // cannot start, docs/scenarios.md finding 9): no table can be fitted,
+    // the traverse runs with the given one and is counted in the summary.
+    out.calibration_failed = true;
+    return options.table;
+  }
   out.calibration_soil_scale = c.soil_scale;
   out.calibration_c3 = c.c3_at_mean_load;
   out.calibration_dp_max = c.dp_max_at_mean_load;

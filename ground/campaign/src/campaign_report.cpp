@@ -407,10 +407,13 @@ std::string calibration_table(const CampaignResult& r) {
   std::ostringstream md;
   md << "Tables calibrated to each traverse's " << calibration_soil_name(r.options.calibration)
      << " soil (simulated soil bin, C1 = C2 = 1, C3 and DP_max/W per load; medians [min, max] at m g / 6):\n\n"
-     << "| traverses | n | soil scale | C3 | DP_max/W |\n|---|---|---|---|---|\n";
+     << "| traverses | calibrated | soil scale | C3 | DP_max/W | not calibrated (no soil-bin pull at scale 1: run "
+        "with the given table) |\n|---|---|---|---|---|---|\n";
   for (const bool embeds : {true, false}) {
     std::vector<double> scale, c3, dp;
+    std::size_t failed = 0;
     for (const TraverseResult& t : r.traverses) {
+      if (t.embedded == embeds && t.calibration_failed) ++failed;
       if (t.embedded != embeds || !t.calibration_soil_scale) continue;
       scale.push_back(*t.calibration_soil_scale);
       c3.push_back(*t.calibration_c3);
@@ -424,7 +427,7 @@ std::string calibration_table(const CampaignResult& r) {
            << fixed(*std::max_element(v->begin(), v->end()), 3) << "]";
       }
     }
-    md << " |\n";
+    md << " | " << failed << " |\n";
   }
   return md.str() + "\n";
 }

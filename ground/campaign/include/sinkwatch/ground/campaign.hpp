@@ -185,6 +185,7 @@ struct TraverseResult {
   // With CampaignOptions::calibration: the soil the traverse's table was
   // calibrated on and what the fit gave at m g / 6 (soil_calibration.hpp).
   std::optional<double> calibration_soil_scale, calibration_c3, calibration_dp_max;
+  bool calibration_failed = false;  // no table could be fitted: run with the campaign's table
 };
 
 /// The mass the flight code in the loop is given (--flight-mass).
