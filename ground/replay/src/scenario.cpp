@@ -113,10 +113,11 @@ class World {
   SideSoil soil(double x, double gain) const {
     return SideSoil{soil_scale(x) * gain, interpolate(x, &TerrainKnot::right_soil_factor)};
   }
-  // The flight code's statics without torques at this attitude (contact
-  // forces parallel to gravity): what CycleLoads::flight_statics_n compares with.
-  std::array<double, kN> statics_loads(double pitch_deg, double roll_deg) const {
-    const WheelLoads w = wheel_loads(geometry_, Attitude{pitch_deg * kDeg, roll_deg * kDeg}, JointAngles{}, k_no_drive_torques);
+  // The flight code's statics at this attitude with `torques` (each wheel's
+  // torque from its logged current, as the step takes it: docs/rover-loads.md
+  // 12.8): what CycleLoads::flight_statics_n compares with.
+  std::array<double, kN> statics_loads(double pitch_deg, double roll_deg, const DriveTorques& torques) const {
+    const WheelLoads w = wheel_loads(geometry_, Attitude{pitch_deg * kDeg, roll_deg * kDeg}, JointAngles{}, torques);
     if (w.status != LoadStatus::ok) throw std::runtime_error("scenario: wheel loads failed at the path's slope");
     std::array<double, kN> out{};
     for (std::size_t i = 0; i < kN; ++i) out[i] = w.load_n[i];
@@ -519,7 +520,8 @@ class ScenarioRun {
       const TelemetryRow row = telemetry_row(c, cmd);
       if (open_loop_) {
         out_.log.rows.push_back(row);
-        out_.cycle_loads.push_back(CycleLoads{c.load_n, world_.statics_loads(c.pitch_deg, c.roll_deg), reserve(c, k)});
+        out_.cycle_loads.push_back(
+            CycleLoads{c.load_n, world_.statics_loads(c.pitch_deg, c.roll_deg, logged_torques(row)), reserve(c, k)});
         next_open_loop_mode();
         continue;
       }
@@ -651,6 +653,19 @@ class ScenarioRun {
       }
     }
     return true;
+  }
+
+  // Each wheel's drive torque from the row's current through the flight
+  // motor model (T = N eta Kt (I - d I0)), as the step computes it; a
+  // current beyond the sensor's range leaves the wheel without a torque.
+  DriveTorques logged_torques(const TelemetryRow& row) const {
+    DriveTorques t;
+    const flight::DriveDirection d = row.reverse ? flight::DriveDirection::reverse : flight::DriveDirection::forward;
+    for (std::size_t i = 0; i < kN; ++i) {
+      t.usable[i] = std::fabs(row.current_a[i]) <= motor_.current_abs_max_a;
+      t.torque_nm[i] = t.usable[i] ? reference::torque_nm(motor_, row.current_a[i], d) : 0.0;
+    }
+    return t;
   }
 
   // The telemetry row: the truth plus sensor noise, rounded through the

@@ -123,7 +123,10 @@ struct ScenarioTruth {
 };
 
 /// One cycle's wheel loads in the simulated world and what the flight
-/// code's statics (wheel_loads(), same mass, attitude and joints) give there.
+/// code's statics give there: wheel_loads() at the same mass, the true
+/// attitude and joints, with each wheel's drive torque from the row's logged
+/// current through the flight motor model, as the per-cycle step takes them
+/// (docs/rover-loads.md 12.8; the sensor-health gate is not replayed).
 struct CycleLoads {
   std::array<double, kTelemetryWheels> true_n{};
   std::array<double, kTelemetryWheels> flight_statics_n{};
