@@ -222,6 +222,29 @@ TEST(CampaignOutcomes, AStopOnADriveThatNearlyEmbedsIsANearMissNotAFalseStop) {
   EXPECT_EQ(flight_verdict(drive, table, kMoon).outcome, TraverseOutcome::near_miss_stop);
 }
 
+TEST(CampaignOutcomes, AnEmbeddingAtTheStartIsCountedApartFromTheOthers) {
+  // Three embeddings: one at x = 0.05 m (late: nothing could stop before it),
+  // one stopped 2 m ahead, one late at 6 m; and a clear drive.
+  std::vector<TraverseResult> ts(4);
+  ts[0].embedded = true;
+  ts[0].embed_x_m = 0.05;
+  ts[0].flight.outcome = TraverseOutcome::late;
+  ts[1].embedded = true;
+  ts[1].embed_x_m = 8.0;
+  ts[1].flight.outcome = TraverseOutcome::stopped_ahead;
+  ts[2].embedded = true;
+  ts[2].embed_x_m = 6.0;
+  ts[2].flight.outcome = TraverseOutcome::late;
+  ts[3].flight.outcome = TraverseOutcome::ok_no_stop;
+  EXPECT_TRUE(embeds_at_start(ts[0]));
+  EXPECT_FALSE(embeds_at_start(ts[2]));
+  EXPECT_FALSE(embeds_at_start(ts[3]));
+  const GroupStats g = group_stats({&ts[0], &ts[1], &ts[2], &ts[3]}, {});
+  EXPECT_EQ(g.embeddings, 3U);
+  EXPECT_EQ(g.embeddings_at_start, 1U);
+  EXPECT_EQ(g.along_drive_stopped_before, 1U);  // of the 2 along the drive
+}
+
 TEST(CampaignDraws, AreAPureFunctionOfSeedFamilyAndIndex) {
   const TraverseDraw a = draw_traverse(CampaignFamily::bumps, 5, 3);
   const TraverseDraw b = draw_traverse(CampaignFamily::bumps, 5, 3);

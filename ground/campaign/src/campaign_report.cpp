@@ -194,9 +194,16 @@ GroupStats group_stats(const std::vector<const TraverseResult*>& group, std::opt
     if (ideal.lead_m) g.ideal_leads.push_back(*ideal.lead_m);
     if (t->reserve_ideal.lead_m) g.reserve_leads.push_back(*t->reserve_ideal.lead_m);
     if (f.lead_m && ideal.lead_m && *f.lead_m >= 0.8 * *ideal.lead_m) ++g.lead_at_80pct_of_ideal;
+    if (embeds_at_start(*t)) {
+      ++g.embeddings_at_start;
+    } else if (f.outcome == TraverseOutcome::stopped_ahead || f.outcome == TraverseOutcome::stopped_close) {
+      ++g.along_drive_stopped_before;
+    }
   }
   return g;
 }
+
+bool embeds_at_start(const TraverseResult& t) { return t.embedded && t.embed_x_m < kStartEmbedM; }
 
 std::size_t clear_drives(const GroupStats& g) { return g.traverses - g.embeddings - g.near_misses; }
 
@@ -221,7 +228,8 @@ std::string family_row(const std::string& name, const GroupStats& g) {
   const std::optional<double> rear = median(g.rear_excess);
   row << " | " << opt(median(g.leads), 2, "–") << " | " << opt(median(g.ideal_leads), 2, "–") << " | "
       << opt(median(g.reserve_leads), 2, "–") << " | " << percent(g.lead_at_80pct_of_ideal, g.embeddings) << " | "
-      << (rear ? fixed(100.0 * *rear, 1) + " %" : "–") << " |\n";
+      << (rear ? fixed(100.0 * *rear, 1) + " %" : "–") << " | " << g.embeddings_at_start << " | "
+      << g.along_drive_stopped_before << " of " << g.embeddings - g.embeddings_at_start << " |\n";
   return row.str();
 }
 
@@ -230,7 +238,8 @@ std::string outcome_table(const CampaignResult& r) {
   md << "| family | traverses | embeddings | stopped ≥ 1 m ahead | stopped < 1 m ahead | late | missed | "
         "false stop | near-miss stop | ok, no stop | median lead [m] | median ideal-sensor lead [m] | "
         "median ideal-reserve lead [m] | lead ≥ 80 % of ideal | "
-        "median rear-load excess |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "median rear-load excess | embeddings at the start (x < 0.1 m) | the others: stopped before the embedding "
+        "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const bool held : {false, true}) {
     for (const CampaignFamily f : r.options.families) {
       const auto group = select_traverses(r, [&](const TraverseResult& t) { return t.draw.family == f && t.held_out == held; });
@@ -451,7 +460,9 @@ std::string campaign_summary(const CampaignResult& r, const std::string& command
      << "Outcomes with the table (lead = embedding − stop along the path; the ideal sensor stops where the "
         "simulator's deepest wheel first reaches the table's stop level; the ideal reserve sensor where the "
         "traction reserve first falls below 5 % of the weight; a near miss is a drive that never embeds but "
-        "whose reserve fell below that; medians over the embeddings that have one; rear-load excess = the fuller balance's rear loads over the flight statics', − 1):\n\n"
+        "whose reserve fell below that; medians over the embeddings that have one; rear-load excess = the fuller balance's rear loads over the flight statics', − 1; "
+        "an embedding at the start comes within the first 0.1 m, where the soil cannot carry the rover at all and no stop can "
+        "come before it; the last column counts the other embeddings stopped before them):\n\n"
      << outcome_table(r)
      << "\nStop-level sweep (caution, stop and allowed sinkage scaled together; the flight code re-run on the same "
         "open-loop rows per level; false-stop rate over the clear drives, the traverses that never embed and "

@@ -45,7 +45,17 @@ struct GroupStats {
   std::vector<double> leads, ideal_leads, rear_excess;
   std::vector<double> reserve_leads;  // the ideal traction-reserve sensor's, embeddings only
   std::size_t lead_at_80pct_of_ideal = 0;  // embeddings whose stop lead >= 0.8 ideal lead
+  // Embeddings at the start (embeds_at_start()), and of the others, those
+  // stopped before the embedding.
+  std::size_t embeddings_at_start = 0, along_drive_stopped_before = 0;
 };
+
+/// A traverse that embeds within its first kStartEmbedM (the soil cannot
+/// carry the rover from the start: the `effects` traverses with bulldozing
+/// on, docs/scenarios.md finding 9): no stop can come before it, the ideal
+/// sensor's neither. Counted apart in summary.md's outcome table.
+inline constexpr double kStartEmbedM = 0.1;
+bool embeds_at_start(const TraverseResult& t);
 
 /// Which sweep a level indexes: the sinkage level's, section 8's stop
 /// coefficient's (the ideal sensor stays at the table's stop level then) or
