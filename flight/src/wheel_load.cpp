@@ -123,13 +123,14 @@ struct SideLevers {
   W beta;       ///< the middle wheel's share of the bogie
   W yt_front;   ///< y~ of the front contact
   W yt_bogie;   ///< y~ of the bogie's resultant
-  W front_couple;  ///< t_front: the front wheel's torque over cos(pitch) cos(roll)
+  W front_couple;  ///< T_front: the front wheel's torque (normal-load units, section 12.5)
   W bogie_shift;   ///< (t_middle + t_rear) / span: moved from middle to rear
   W yt_rear_minus_middle;  ///< y~_rear - y~_middle
 };
 
-/// One side's torques over cos(pitch) cos(roll) (zero where not usable) and
-/// whether each wheel is projected from its axle (its torque is usable).
+/// One side's torques (zero where not usable) and whether each wheel is
+/// projected from its axle (its torque is usable). In the normal-load units
+/// of the balances (section 12.5) a couple is the torque itself.
 struct SideTorques {
   W couple[3];
   bool from_axle[3]{};
@@ -174,7 +175,7 @@ SideContacts side_contacts(const Links& l, AngleRad rocker_rad, AngleRad bogie_r
 /// Gravity's direction in the body frame (section 3.2).
 struct GravityFrame {
   fx::Q1_30 sin_pitch;  ///< kept for the drawbar pulls (WheelLoadResult::sin_pitch)
-  W normal_fraction;  ///< cos(pitch) cos(roll)
+  W normal_fraction;  ///< cos(pitch) cos(roll): the weight's share normal to the ground
   W kx;               ///< tan(pitch) / cos(roll)
   W ky;               ///< tan(roll)
 };
@@ -262,16 +263,21 @@ GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexce
   return g;
 }
 
-/// The weight and where it acts.
+/// The weight and where it acts. Every balance is solved in normal-load
+/// units (section 12.5): the weight's normal component m g cos(pitch)
+/// cos(roll) and the torques as they are, so that the support forces are the
+/// normal loads themselves (no division of each torque by cos(pitch) cos(roll)
+/// and no product of each support force with it).
 struct Body {
-  W weight_n;
+  W weight_n;      ///< m g cos(pitch) cos(roll)
   W com_yt;        ///< projected lateral position of the centre of mass
   W pivot_moment;  ///< each rocker pivot's moment, equal by the differential (3.4)
 };
 
 Body body_of(const RoverParams& params, const GravityFrame& g, fx::Status& st) noexcept {
   Body b{};
-  b.weight_n = fx::mul<W>(params.mass_kg.q(), params.gravity_mps2.q(), st);
+  const W weight_n = fx::mul<W>(params.mass_kg.q(), params.gravity_mps2.q(), st);
+  b.weight_n = fx::mul(weight_n, g.normal_fraction, st);
   const W com_xt = project(wide(params.com_x_m, st), wide(params.com_z_m, st), g.kx, st);
   b.com_yt = project(wide(params.com_y_m, st), wide(params.com_z_m, st), g.ky, st);
   b.pivot_moment = fx::mul(fx::mul(kHalf, b.weight_n, st), com_xt, st);
@@ -361,22 +367,22 @@ std::uint8_t fallback_mask(const DriveTorques& torques) noexcept {
   return static_cast<std::uint8_t>(mask);
 }
 
-/// The usable torques over cos(pitch) cos(roll), in the support forces' units
-/// (section 12); zero and projected from the contact where not usable.
-void side_torques(const DriveTorques& torques, const GravityFrame& g, SideTorques (&tq)[kSideCount],
-                  fx::Status& st) noexcept {
+/// The usable torques, exact in the normal-load units of the balances
+/// (section 12.5); zero and projected from the contact where not usable.
+void side_torques(const DriveTorques& torques, SideTorques (&tq)[kSideCount], fx::Status& st) noexcept {
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     SideTorques& side = tq[i / 3U];
     const std::uint32_t k = i % 3U;
     side.from_axle[k] = torques.usable[i];
     side.couple[k] = W::zero();
     if (torques.usable[i]) {
-      side.couple[k] = fx::div(fx::rescale<W>(torques.torque_nm[i].q(), st), g.normal_fraction, st);
+      side.couple[k] = fx::rescale<W>(torques.torque_nm[i].q(), st);
     }
   }
 }
 
-/// The normal loads from the support forces: tip_over when one is negative.
+/// The normal loads (the support forces in normal-load units): tip_over
+/// when one is negative.
 WheelLoadResult normal_loads(const W (&support)[kWheelCount], const Body& body, const GravityFrame& g,
                              AngleRad pitch_rad, fx::Status& st) noexcept {
   std::uint32_t lowest = 0U;
@@ -392,9 +398,9 @@ WheelLoadResult normal_loads(const W (&support)[kWheelCount], const Body& body, 
   }
   WheelLoadResult r{};
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    r.load_n[i] = WheelLoadN{fx::rescale<LoadQ>(fx::mul(support[i], g.normal_fraction, st), st)};
+    r.load_n[i] = WheelLoadN{fx::rescale<LoadQ>(support[i], st)};
   }
-  r.weight_normal_n = WheelLoadN{fx::rescale<LoadQ>(fx::mul(body.weight_n, g.normal_fraction, st), st)};
+  r.weight_normal_n = WheelLoadN{fx::rescale<LoadQ>(body.weight_n, st)};
   r.pitch_rad = pitch_rad;
   r.sin_pitch = g.sin_pitch;
   if (!st.ok()) {
@@ -417,7 +423,7 @@ WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& a
   const GravityFrame g = gravity_frame(attitude, st);
   const Body body = body_of(params, g, st);
   SideTorques tq[kSideCount]{};
-  side_torques(torques, g, tq, st);
+  side_torques(torques, tq, st);
   SideLevers side[kSideCount]{};
   W support[kWheelCount]{};
   if (!both_sides(params, joints, g, tq, side, st) || !support_forces(side, body, support, st)) {
