@@ -30,6 +30,7 @@ constexpr AngleRad kMaxAttitudeLimit{fx::constant<AngleQ>(limits::kMaxAttitudeLi
 /// than divide by it.
 constexpr W kMinLever{fx::constant<W>(0.001)};
 constexpr W kHalf{fx::constant<W>(0.5)};
+constexpr W kOne{fx::constant<W>(1.0)};
 constexpr Ratio kMaxHighSlip{fx::constant<RatioQ>(limits::kMaxHighSlip)};
 
 bool within(LengthM v, LengthM limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
@@ -120,6 +121,7 @@ RoverParamStatus validate_suspension(const RoverParams& p) noexcept {
 struct SideLevers {
   W a;          ///< x~_front - x~_pivot
   W b;          ///< x~_pivot - x~_bogie
+  W inv_lever;  ///< 1 / (a + b): the rocker's three quotients as products (section 12.5)
   W beta;       ///< the middle wheel's share of the bogie
   W yt_front;   ///< y~ of the front contact
   W yt_bogie;   ///< y~ of the bogie's resultant
@@ -189,7 +191,7 @@ W wheel_xt(Point contact, bool from_axle, W radius, W kx, fx::Status& st) noexce
 
 /// The lateral positions and the torque terms of one side (sections 3.5 and
 /// 12.2), from its contacts and its bogie's projected span.
-void side_lateral(const SideContacts& c, W y_side, W ky, W span, const SideTorques& tq, SideLevers& out,
+void side_lateral(const SideContacts& c, W y_side, W ky, W inv_span, const SideTorques& tq, SideLevers& out,
                   fx::Status& st) noexcept {
   out.yt_front = project(y_side, c.front.z, ky, st);
   const W yt_m = project(y_side, c.middle.z, ky, st);
@@ -197,7 +199,7 @@ void side_lateral(const SideContacts& c, W y_side, W ky, W span, const SideTorqu
   // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
   out.yt_bogie = fx::add(yt_r, fx::mul(out.beta, fx::sub(yt_m, yt_r, st), st), st);
   out.front_couple = tq.couple[0];
-  out.bogie_shift = fx::div(fx::add(tq.couple[1], tq.couple[2], st), span, st);
+  out.bogie_shift = fx::mul(fx::add(tq.couple[1], tq.couple[2], st), inv_span, st);
   out.yt_rear_minus_middle = fx::sub(yt_r, yt_m, st);
 }
 
@@ -221,11 +223,16 @@ bool side_levers(const Links& l, const SidePose& pose, const GravityFrame& g, co
   out.a = xt_f;
   out.b = fx::neg(xt_b, st);
   const W span = fx::sub(xt_m, xt_r, st);
-  if ((fx::add(out.a, out.b, st) < kMinLever) || (span < kMinLever)) {
+  const W lever = fx::add(out.a, out.b, st);
+  if ((lever < kMinLever) || (span < kMinLever)) {
     return false;
   }
-  out.beta = fx::div(fx::sub(xt_b, xt_r, st), span, st);
-  side_lateral(c, pose.y_side, g.ky, span, tq, out, st);
+  // One division per lever, its quotients as products (section 12.5): both
+  // levers are at least 1 mm, so each reciprocal is at most 1000.
+  out.inv_lever = fx::div(kOne, lever, st);
+  const W inv_span = fx::div(kOne, span, st);
+  out.beta = fx::mul(fx::sub(xt_b, xt_r, st), inv_span, st);
+  side_lateral(c, pose.y_side, g.ky, inv_span, tq, out, st);
   return true;
 }
 
@@ -315,10 +322,9 @@ bool left_side_total(const SideLevers (&side)[kSideCount], const Body& body, W& 
   // loads then keep the bits of the statics without torques.
   W torque_terms = W::zero();
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    const W lever = fx::add(side[s].a, side[s].b, st);
     const W moment = fx::add(fx::mul(side[s].b, side[s].yt_front, st), fx::mul(side[s].a, side[s].yt_bogie, st), st);
-    big_y[s] = fx::div(moment, lever, st);
-    big_z[s] = fx::div(fx::sub(side[s].yt_front, side[s].yt_bogie, st), lever, st);
+    big_y[s] = fx::mul(moment, side[s].inv_lever, st);
+    big_z[s] = fx::mul(fx::sub(side[s].yt_front, side[s].yt_bogie, st), side[s].inv_lever, st);
     torque_terms = fx::add(torque_terms, fx::mul(side[s].bogie_shift, side[s].yt_rear_minus_middle, st), st);
     torque_terms = fx::sub(torque_terms, fx::mul(side[s].front_couple, big_z[s], st), st);
   }
@@ -344,9 +350,8 @@ bool support_forces(const SideLevers (&side)[kSideCount], const Body& body, W (&
   }
   side_total[1] = fx::sub(body.weight_n, side_total[0], st);
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    const W lever = fx::add(side[s].a, side[s].b, st);
-    const W front =
-        fx::div(fx::add(side_moment(body, side[s], st), fx::mul(side[s].b, side_total[s], st), st), lever, st);
+    const W front = fx::mul(fx::add(side_moment(body, side[s], st), fx::mul(side[s].b, side_total[s], st), st),
+                            side[s].inv_lever, st);
     const W bogie = fx::sub(side_total[s], front, st);
     const W middle = fx::sub(fx::mul(side[s].beta, bogie, st), side[s].bogie_shift, st);
     support[(3U * s) + 0U] = front;
