@@ -4,6 +4,7 @@
 // same order so that a difference points at one line.
 #include "sinkwatch/flight/wheel_load.hpp"
 
+#include "sinkwatch/flight/constant_divisor.hpp"
 #include "sinkwatch/flight/rover_limits.hpp"
 
 #include "sinkwatch/fixedpoint/literal.hpp"
@@ -30,7 +31,6 @@ constexpr AngleRad kMaxAttitudeLimit{fx::constant<AngleQ>(limits::kMaxAttitudeLi
 /// than divide by it.
 constexpr W kMinLever{fx::constant<W>(0.001)};
 constexpr W kHalf{fx::constant<W>(0.5)};
-constexpr W kOne{fx::constant<W>(1.0)};
 constexpr Ratio kMaxHighSlip{fx::constant<RatioQ>(limits::kMaxHighSlip)};
 
 bool within(LengthM v, LengthM limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
@@ -203,6 +203,12 @@ void side_lateral(const SideContacts& c, W y_side, W ky, W inv_span, const SideT
   out.yt_rear_minus_middle = fx::sub(yt_r, yt_m, st);
 }
 
+/// 1 / v for a lever v >= kMinLever: fx::div(1, v)'s bits from one 64-bit
+/// division (rounded_reciprocal_q32); v >= 2^22 raw, so 1 / v <= 2^42 raw.
+W reciprocal(W v) noexcept {
+  return W::from_raw(static_cast<std::int64_t>(rounded_reciprocal_q32(static_cast<std::uint64_t>(v.raw()))));
+}
+
 /// One side: its joint angles and the lateral position of its contacts.
 struct SidePose {
   AngleRad rocker_rad;
@@ -229,8 +235,8 @@ bool side_levers(const Links& l, const SidePose& pose, const GravityFrame& g, co
   }
   // One division per lever, its quotients as products (section 12.5): both
   // levers are at least 1 mm, so each reciprocal is at most 1000.
-  out.inv_lever = fx::div(kOne, lever, st);
-  const W inv_span = fx::div(kOne, span, st);
+  out.inv_lever = reciprocal(lever);
+  const W inv_span = reciprocal(span);
   out.beta = fx::mul(fx::sub(xt_b, xt_r, st), inv_span, st);
   side_lateral(c, pose.y_side, g.ky, inv_span, tq, out, st);
   return true;
