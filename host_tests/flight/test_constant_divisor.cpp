@@ -144,6 +144,11 @@ TEST(ConstantDivisor, ReciprocalOfAQ31_32ValueHasFxDivsBits) {
   }
   EXPECT_EQ(bad, 0U);
   EXPECT_EQ(flight::rounded_reciprocal_q32(4U), std::uint64_t{1U} << 62U);  // r = d: exact
+  // Below 3 the quotient leaves Q31.32: its largest value, as fx::div saturates.
+  fx::Status st;
+  EXPECT_EQ(flight::rounded_reciprocal_q32(2U), static_cast<std::uint64_t>(fx::div(one, W::from_raw(2), st).raw()));
+  EXPECT_FALSE(st.ok());
+  EXPECT_EQ(flight::rounded_reciprocal_q32(0U), std::uint64_t{0x7FFFFFFFFFFFFFFFU});
   EXPECT_EQ(flight::rounded_reciprocal_q32(3U), 6148914691236517205U);  // 2^64 / 3 = ...205.33
 }
 

@@ -82,7 +82,12 @@ constexpr fx::wide::DivMod<std::uint64_t> divide_by_reciprocal(std::uint64_t n, 
 /// fx::div(one, v) for v >= 3 raw (smaller v leave Q31.32), from one 64-bit division of 2^64 - 1 and a
 /// fix-up of its remainder (2^64 = q d + r with 1 <= r <= d) instead of the
 /// 128-bit long division. Per cycle: the wheel-load statics' 1/lever.
+/// d < 3 (never given by the statics, whose levers are >= 2^22 raw) returns
+/// 2^63 - 1, the largest Q31.32 raw value, which fx::div saturates to.
 [[nodiscard]] constexpr std::uint64_t rounded_reciprocal_q32(std::uint64_t d) noexcept {
+  if (d < 3U) {
+    return ~std::uint64_t{0U} >> 1U;
+  }
   std::uint64_t q = ~std::uint64_t{0U} / d;
   std::uint64_t r = (~std::uint64_t{0U} % d) + 1U;
   if (r == d) {
