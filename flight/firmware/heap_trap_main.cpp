@@ -100,6 +100,7 @@ void exercise_step(const fl::PreparedParameters& prepared) {
   inputs[0].current_a = fl::CurrentA::from_raw(g_raw_in[4]);
   inputs[0].load_n = fl::WheelLoadN::from_raw(g_raw_in[5]);
   inputs[0].valid = true;
+  inputs[0].drive_torque = fl::torque_from_current(prepared.table().motor, inputs[0].current_a, inputs[0].direction);
   keep(static_cast<std::int64_t>(g_monitor.step(inputs, t.time, prepared).decision));
   keep(g_wheel.step(inputs[0], t.time, prepared).current_limit_a.raw());
 }

@@ -61,7 +61,8 @@ SampleStatus classify_sample(const WheelInput& input, TimeMs now, bool have_last
 /// them has no number.
 bool estimate(const WheelInput& input, const PreparedParameters& prepared, WheelOutput& out) noexcept {
   const ParameterTable& table = prepared.table();
-  const TorqueResult torque = torque_from_current(table.motor, input.current_a, input.direction);
+  // The caller's torque (WheelInput::drive_torque), the one the loads used.
+  const TorqueResult& torque = input.drive_torque;
   const CorrectionResult corr =
       (input.corrections != nullptr)
           ? *input.corrections

@@ -53,24 +53,31 @@ bool motion_in_range(const RoverTelemetry& t) noexcept {
          (!t.rim_speed_valid || within(t.rim_speed_mps, kMaxAbsSpeed));
 }
 
-/// Each wheel's drive torque from its current (the monitor's own
-/// torque_from_current), usable when the health monitor passes the current
+/// Each wheel's drive torque from its current, once per cycle: the loads
+/// and the monitor (WheelInput::drive_torque) take the same result.
+void wheel_torques(const PreparedParameters& prepared, const RoverTelemetry& t,
+                   TorqueResult (&torque)[kWheelCount]) noexcept {
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    torque[i] = torque_from_current(prepared.table().motor, t.current_a[i], t.direction[i]);
+  }
+}
+
+/// The loads' torques: usable when the health monitor passes the current
 /// and the torque exists; otherwise the statics fall back for that wheel.
-DriveTorques drive_torques(const PreparedParameters& prepared, const RoverTelemetry& t,
-                           const SensorHealthReport& health) noexcept {
+DriveTorques drive_torques(const TorqueResult (&torque)[kWheelCount], const SensorHealthReport& health) noexcept {
   DriveTorques torques{};
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    const TorqueResult torque = torque_from_current(prepared.table().motor, t.current_a[i], t.direction[i]);
-    torques.usable[i] = health.current_usable[i] && (torque.status == EstimateStatus::ok);
-    torques.torque_nm[i] = torques.usable[i] ? torque.torque_nm : TorqueNm::zero();
+    torques.usable[i] = health.current_usable[i] && (torque[i].status == EstimateStatus::ok);
+    torques.torque_nm[i] = torques.usable[i] ? torque[i].torque_nm : TorqueNm::zero();
   }
   return torques;
 }
 
 /// Stage 2: the wheel loads into `out`; ok, tip_over or loads_failed.
-RoverStepStatus load_stage(const PreparedParameters& prepared, const RoverTelemetry& t, WheelLoadResult& loads,
+RoverStepStatus load_stage(const PreparedParameters& prepared, const RoverTelemetry& t,
+                           const TorqueResult (&torque)[kWheelCount], WheelLoadResult& loads,
                            RoverStepOutput& out) noexcept {
-  loads = wheel_loads(prepared, t.attitude, t.joints, drive_torques(prepared, t, out.health));
+  loads = wheel_loads(prepared, t.attitude, t.joints, drive_torques(torque, out.health));
   out.load_status = loads.status;
   out.torque_fallback_mask = loads.torque_fallback_mask;
   out.torque_overload = loads.torque_overload;
@@ -238,11 +245,12 @@ void RoverStep::assess(const RoverTelemetry& t, const PreparedParameters& prepar
   out.health = last_health_;
 }
 
-RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParameters& prepared,
-                                   CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept {
-  // 2. Wheel loads.
+RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParameters& prepared, WheelTerms& terms,
+                                   RoverStepOutput& out) noexcept {
+  // 2. The drive torques (once, for the loads and the monitor), the loads.
+  wheel_torques(prepared, t, terms.torque);
   WheelLoadResult loads{};
-  RoverStepStatus status = load_stage(prepared, t, loads, out);
+  RoverStepStatus status = load_stage(prepared, t, terms.torque, loads, out);
   // 3. Motion. Kept up to date even when the loads failed, so that the speed
   //    difference is ready on the next good cycle.
   if (!motion_in_range(t)) {
@@ -256,12 +264,12 @@ RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParame
     return RoverStepStatus::no_acceleration;
   }
   // 4. DP_max/W and the drawbar pulls.
-  status = drawbar_stage(prepared, t, loads, corr, out);
+  status = drawbar_stage(prepared, t, loads, terms.corr, out);
   return status;
 }
 
 void RoverStep::monitor_stage(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared,
-                              const CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept {
+                              const WheelTerms& terms, RoverStepOutput& out) noexcept {
   // The monitor sees every cycle: numbers when they all exist, else an
   // invalid sample it counts (and a stale one it classifies itself).
   const bool usable_sample = (out.status == RoverStepStatus::ok);
@@ -274,7 +282,10 @@ void RoverStep::monitor_stage(const RoverTelemetry& t, TimeMs now, const Prepare
     inputs[i].valid = usable_sample || pass_as_stale;
     inputs[i].load_n = usable_sample ? out.load_n[i] : WheelLoadN::zero();
     inputs[i].drawbar_pull_n = usable_sample ? out.drawbar_pull_n[i] : DrawbarPullN::zero();
-    inputs[i].corrections = usable_sample ? &corr[i] : nullptr;
+    inputs[i].corrections = usable_sample ? &terms.corr[i] : nullptr;
+    if (usable_sample) {
+      inputs[i].drive_torque = terms.torque[i];
+    }
     inputs[i].drawbar_assumed = usable_sample && (out.drawbar_status == DrawbarStatus::saturated);
     inputs[i].sensor_fault = usable_sample && !out.health.current_usable[i];
   }
@@ -305,7 +316,7 @@ RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const Prepa
       have_time_ && (elapsed_ms(last_time_, t.time) > prepared.table().monitor.stale_timeout_ms);
   out.status = admit(t, now, prepared);
   assess(t, prepared, clock_jump, out);
-  CorrectionResult corr[kWheelCount]{};
+  WheelTerms terms{};
   if ((out.status == RoverStepStatus::ok) && !(out.health.attitude_usable && out.health.joints_usable)) {
     out.status = RoverStepStatus::sensor_lost;
   }
@@ -313,10 +324,10 @@ RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const Prepa
     RoverTelemetry measured = t;
     measured.attitude = out.health.attitude;
     measured.joints = out.health.joints;
-    out.status = compute(measured, prepared, corr, out);
+    out.status = compute(measured, prepared, terms, out);
   }
   // 5. The monitor.
-  monitor_stage(t, now, prepared, corr, out);
+  monitor_stage(t, now, prepared, terms, out);
   return out;
 }
 

@@ -4,6 +4,7 @@
 // same order so that a difference points at one line.
 #include "sinkwatch/flight/wheel_load.hpp"
 
+#include "sinkwatch/flight/constant_divisor.hpp"
 #include "sinkwatch/flight/rover_limits.hpp"
 
 #include "sinkwatch/fixedpoint/literal.hpp"
@@ -120,16 +121,18 @@ RoverParamStatus validate_suspension(const RoverParams& p) noexcept {
 struct SideLevers {
   W a;          ///< x~_front - x~_pivot
   W b;          ///< x~_pivot - x~_bogie
+  W inv_lever;  ///< 1 / (a + b): the rocker's three quotients as products (section 12.5)
   W beta;       ///< the middle wheel's share of the bogie
   W yt_front;   ///< y~ of the front contact
   W yt_bogie;   ///< y~ of the bogie's resultant
-  W front_couple;  ///< t_front: the front wheel's torque over cos(pitch) cos(roll)
+  W front_couple;  ///< T_front: the front wheel's torque (normal-load units, section 12.5)
   W bogie_shift;   ///< (t_middle + t_rear) / span: moved from middle to rear
   W yt_rear_minus_middle;  ///< y~_rear - y~_middle
 };
 
-/// One side's torques over cos(pitch) cos(roll) (zero where not usable) and
-/// whether each wheel is projected from its axle (its torque is usable).
+/// One side's torques (zero where not usable) and whether each wheel is
+/// projected from its axle (its torque is usable). In the normal-load units
+/// of the balances (section 12.5) a couple is the torque itself.
 struct SideTorques {
   W couple[3];
   bool from_axle[3]{};
@@ -174,7 +177,7 @@ SideContacts side_contacts(const Links& l, AngleRad rocker_rad, AngleRad bogie_r
 /// Gravity's direction in the body frame (section 3.2).
 struct GravityFrame {
   fx::Q1_30 sin_pitch;  ///< kept for the drawbar pulls (WheelLoadResult::sin_pitch)
-  W normal_fraction;  ///< cos(pitch) cos(roll)
+  W normal_fraction;  ///< cos(pitch) cos(roll): the weight's share normal to the ground
   W kx;               ///< tan(pitch) / cos(roll)
   W ky;               ///< tan(roll)
 };
@@ -188,7 +191,7 @@ W wheel_xt(Point contact, bool from_axle, W radius, W kx, fx::Status& st) noexce
 
 /// The lateral positions and the torque terms of one side (sections 3.5 and
 /// 12.2), from its contacts and its bogie's projected span.
-void side_lateral(const SideContacts& c, W y_side, W ky, W span, const SideTorques& tq, SideLevers& out,
+void side_lateral(const SideContacts& c, W y_side, W ky, W inv_span, const SideTorques& tq, SideLevers& out,
                   fx::Status& st) noexcept {
   out.yt_front = project(y_side, c.front.z, ky, st);
   const W yt_m = project(y_side, c.middle.z, ky, st);
@@ -196,8 +199,14 @@ void side_lateral(const SideContacts& c, W y_side, W ky, W span, const SideTorqu
   // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
   out.yt_bogie = fx::add(yt_r, fx::mul(out.beta, fx::sub(yt_m, yt_r, st), st), st);
   out.front_couple = tq.couple[0];
-  out.bogie_shift = fx::div(fx::add(tq.couple[1], tq.couple[2], st), span, st);
+  out.bogie_shift = fx::mul(fx::add(tq.couple[1], tq.couple[2], st), inv_span, st);
   out.yt_rear_minus_middle = fx::sub(yt_r, yt_m, st);
+}
+
+/// 1 / v for a lever v >= kMinLever: fx::div(1, v)'s bits from one 64-bit
+/// division (rounded_reciprocal_q32); v >= 2^22 raw, so 1 / v <= 2^42 raw.
+W reciprocal(W v) noexcept {
+  return W::from_raw(static_cast<std::int64_t>(rounded_reciprocal_q32(static_cast<std::uint64_t>(v.raw()))));
 }
 
 /// One side: its joint angles and the lateral position of its contacts.
@@ -220,11 +229,16 @@ bool side_levers(const Links& l, const SidePose& pose, const GravityFrame& g, co
   out.a = xt_f;
   out.b = fx::neg(xt_b, st);
   const W span = fx::sub(xt_m, xt_r, st);
-  if ((fx::add(out.a, out.b, st) < kMinLever) || (span < kMinLever)) {
+  const W lever = fx::add(out.a, out.b, st);
+  if ((lever < kMinLever) || (span < kMinLever)) {
     return false;
   }
-  out.beta = fx::div(fx::sub(xt_b, xt_r, st), span, st);
-  side_lateral(c, pose.y_side, g.ky, span, tq, out, st);
+  // One division per lever, its quotients as products (section 12.5): both
+  // levers are at least 1 mm, so each reciprocal is at most 1000.
+  out.inv_lever = reciprocal(lever);
+  const W inv_span = reciprocal(span);
+  out.beta = fx::mul(fx::sub(xt_b, xt_r, st), inv_span, st);
+  side_lateral(c, pose.y_side, g.ky, inv_span, tq, out, st);
   return true;
 }
 
@@ -262,16 +276,21 @@ GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexce
   return g;
 }
 
-/// The weight and where it acts.
+/// The weight and where it acts. Every balance is solved in normal-load
+/// units (section 12.5): the weight's normal component m g cos(pitch)
+/// cos(roll) and the torques as they are, so that the support forces are the
+/// normal loads themselves (no division of each torque by cos(pitch) cos(roll)
+/// and no product of each support force with it).
 struct Body {
-  W weight_n;
+  W weight_n;      ///< m g cos(pitch) cos(roll)
   W com_yt;        ///< projected lateral position of the centre of mass
   W pivot_moment;  ///< each rocker pivot's moment, equal by the differential (3.4)
 };
 
 Body body_of(const RoverParams& params, const GravityFrame& g, fx::Status& st) noexcept {
   Body b{};
-  b.weight_n = fx::mul<W>(params.mass_kg.q(), params.gravity_mps2.q(), st);
+  const W weight_n = fx::mul<W>(params.mass_kg.q(), params.gravity_mps2.q(), st);
+  b.weight_n = fx::mul(weight_n, g.normal_fraction, st);
   const W com_xt = project(wide(params.com_x_m, st), wide(params.com_z_m, st), g.kx, st);
   b.com_yt = project(wide(params.com_y_m, st), wide(params.com_z_m, st), g.ky, st);
   b.pivot_moment = fx::mul(fx::mul(kHalf, b.weight_n, st), com_xt, st);
@@ -309,10 +328,9 @@ bool left_side_total(const SideLevers (&side)[kSideCount], const Body& body, W& 
   // loads then keep the bits of the statics without torques.
   W torque_terms = W::zero();
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    const W lever = fx::add(side[s].a, side[s].b, st);
     const W moment = fx::add(fx::mul(side[s].b, side[s].yt_front, st), fx::mul(side[s].a, side[s].yt_bogie, st), st);
-    big_y[s] = fx::div(moment, lever, st);
-    big_z[s] = fx::div(fx::sub(side[s].yt_front, side[s].yt_bogie, st), lever, st);
+    big_y[s] = fx::mul(moment, side[s].inv_lever, st);
+    big_z[s] = fx::mul(fx::sub(side[s].yt_front, side[s].yt_bogie, st), side[s].inv_lever, st);
     torque_terms = fx::add(torque_terms, fx::mul(side[s].bogie_shift, side[s].yt_rear_minus_middle, st), st);
     torque_terms = fx::sub(torque_terms, fx::mul(side[s].front_couple, big_z[s], st), st);
   }
@@ -338,9 +356,8 @@ bool support_forces(const SideLevers (&side)[kSideCount], const Body& body, W (&
   }
   side_total[1] = fx::sub(body.weight_n, side_total[0], st);
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    const W lever = fx::add(side[s].a, side[s].b, st);
-    const W front =
-        fx::div(fx::add(side_moment(body, side[s], st), fx::mul(side[s].b, side_total[s], st), st), lever, st);
+    const W front = fx::mul(fx::add(side_moment(body, side[s], st), fx::mul(side[s].b, side_total[s], st), st),
+                            side[s].inv_lever, st);
     const W bogie = fx::sub(side_total[s], front, st);
     const W middle = fx::sub(fx::mul(side[s].beta, bogie, st), side[s].bogie_shift, st);
     support[(3U * s) + 0U] = front;
@@ -361,22 +378,22 @@ std::uint8_t fallback_mask(const DriveTorques& torques) noexcept {
   return static_cast<std::uint8_t>(mask);
 }
 
-/// The usable torques over cos(pitch) cos(roll), in the support forces' units
-/// (section 12); zero and projected from the contact where not usable.
-void side_torques(const DriveTorques& torques, const GravityFrame& g, SideTorques (&tq)[kSideCount],
-                  fx::Status& st) noexcept {
+/// The usable torques, exact in the normal-load units of the balances
+/// (section 12.5); zero and projected from the contact where not usable.
+void side_torques(const DriveTorques& torques, SideTorques (&tq)[kSideCount], fx::Status& st) noexcept {
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     SideTorques& side = tq[i / 3U];
     const std::uint32_t k = i % 3U;
     side.from_axle[k] = torques.usable[i];
     side.couple[k] = W::zero();
     if (torques.usable[i]) {
-      side.couple[k] = fx::div(fx::rescale<W>(torques.torque_nm[i].q(), st), g.normal_fraction, st);
+      side.couple[k] = fx::rescale<W>(torques.torque_nm[i].q(), st);
     }
   }
 }
 
-/// The normal loads from the support forces: tip_over when one is negative.
+/// The normal loads (the support forces in normal-load units): tip_over
+/// when one is negative.
 WheelLoadResult normal_loads(const W (&support)[kWheelCount], const Body& body, const GravityFrame& g,
                              AngleRad pitch_rad, fx::Status& st) noexcept {
   std::uint32_t lowest = 0U;
@@ -392,9 +409,9 @@ WheelLoadResult normal_loads(const W (&support)[kWheelCount], const Body& body, 
   }
   WheelLoadResult r{};
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    r.load_n[i] = WheelLoadN{fx::rescale<LoadQ>(fx::mul(support[i], g.normal_fraction, st), st)};
+    r.load_n[i] = WheelLoadN{fx::rescale<LoadQ>(support[i], st)};
   }
-  r.weight_normal_n = WheelLoadN{fx::rescale<LoadQ>(fx::mul(body.weight_n, g.normal_fraction, st), st)};
+  r.weight_normal_n = WheelLoadN{fx::rescale<LoadQ>(body.weight_n, st)};
   r.pitch_rad = pitch_rad;
   r.sin_pitch = g.sin_pitch;
   if (!st.ok()) {
@@ -417,7 +434,7 @@ WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& a
   const GravityFrame g = gravity_frame(attitude, st);
   const Body body = body_of(params, g, st);
   SideTorques tq[kSideCount]{};
-  side_torques(torques, g, tq, st);
+  side_torques(torques, tq, st);
   SideLevers side[kSideCount]{};
   W support[kWheelCount]{};
   if (!both_sides(params, joints, g, tq, side, st) || !support_forces(side, body, support, st)) {

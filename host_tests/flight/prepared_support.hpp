@@ -12,6 +12,7 @@
 
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/current_limit.hpp"
+#include "sinkwatch/flight/monitor.hpp"
 #include "sinkwatch/flight/motor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/prepared_params.hpp"
@@ -37,6 +38,21 @@ inline flight::CurrentLimitResult current_limit_of(const flight::CorrectionTable
                                                    flight::WheelLoadN load_n, flight::SinkageM allowed_sinkage_m) {
   return flight::current_limit(corrections_of(table, load_n), motor, flight::make_motor_divisors(motor), radius_m,
                                load_n, allowed_sinkage_m);
+}
+
+/// The sample with its drive torque from its own current and direction, as
+/// RoverStep computes it once per cycle (WheelInput::drive_torque): for tests
+/// that feed the monitor directly.
+inline flight::WheelInput with_drive_torque(flight::WheelInput in, const flight::MotorParams& motor) {
+  in.drive_torque = flight::torque_from_current(motor, in.current_a, in.direction);
+  return in;
+}
+
+/// Every wheel's sample with its drive torque (with_drive_torque).
+inline void set_drive_torques(flight::WheelInput (&inputs)[flight::kMaxWheels], const flight::MotorParams& motor) {
+  for (flight::WheelInput& in : inputs) {
+    in = with_drive_torque(in, motor);
+  }
 }
 
 /// prepare(table, rover); the status is in the result's status().

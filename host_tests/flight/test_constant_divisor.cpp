@@ -12,6 +12,7 @@
 #include <random>
 
 #include "dividing_oracle.hpp"
+#include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/flight/constant_divisor.hpp"
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/current_limit.hpp"
@@ -121,6 +122,34 @@ TEST(ConstantDivisor, RoundedQuotientOfSixtyFourBitOperandsIsExact) {
   EXPECT_EQ(flight::reciprocal_of(0U), 0U);
   EXPECT_EQ(flight::rounded_quotient(~std::uint64_t{0U}, 1U, flight::reciprocal_of(1U)), ~std::uint64_t{0U});
   EXPECT_EQ(flight::rounded_quotient(7U, 2U, flight::reciprocal_of(2U)), 4U);  // 3.5 rounds up
+}
+
+TEST(ConstantDivisor, ReciprocalOfAQ31_32ValueHasFxDivsBits) {
+  // 1 / v in Q31.32 for every divisor from 3 raw (2 would give 2^63, beyond
+  // Q31.32; the statics' levers are at least 1 mm, 2^22 raw) up, near powers of two (remainder r = d and
+  // exact halves), against fx::div(1, v).
+  using W = fx::Q<std::int64_t, 32>;
+  const W one = fx::constant<W>(1.0);
+  std::mt19937_64 rng(15U);
+  std::uint64_t bad = 0U;
+  for (int i = 0; i < 1000000; ++i) {
+    const std::uint32_t dlen = static_cast<std::uint32_t>(rng() % 62U) + 2U;
+    std::uint64_t d = std::max<std::uint64_t>(rng() >> (64U - dlen), 3U);
+    if ((i % 4) == 0) {
+      d = std::max<std::uint64_t>((std::uint64_t{1U} << (dlen - 1U)) + (rng() % 5U) - 2U, 3U);
+    }
+    fx::Status st;
+    const W expected = fx::div(one, W::from_raw(static_cast<std::int64_t>(d)), st);
+    bad += (st.ok() && (flight::rounded_reciprocal_q32(d) == static_cast<std::uint64_t>(expected.raw()))) ? 0U : 1U;
+  }
+  EXPECT_EQ(bad, 0U);
+  EXPECT_EQ(flight::rounded_reciprocal_q32(4U), std::uint64_t{1U} << 62U);  // r = d: exact
+  // Below 3 the quotient leaves Q31.32: its largest value, as fx::div saturates.
+  fx::Status st;
+  EXPECT_EQ(flight::rounded_reciprocal_q32(2U), static_cast<std::uint64_t>(fx::div(one, W::from_raw(2), st).raw()));
+  EXPECT_FALSE(st.ok());
+  EXPECT_EQ(flight::rounded_reciprocal_q32(0U), std::uint64_t{0x7FFFFFFFFFFFFFFFU});
+  EXPECT_EQ(flight::rounded_reciprocal_q32(3U), 6148914691236517205U);  // 2^64 / 3 = ...205.33
 }
 
 TEST(ConstantDivisor, ZeroDivisorFallsBackToFxDiv) {

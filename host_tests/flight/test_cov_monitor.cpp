@@ -43,7 +43,9 @@ class MonitorCov : public ::testing::Test {
     return WheelInput{TimeMs{t_ms}, q<CurrentA>(current_a), q<WheelLoadN>(load_n), q<DrawbarPullN>(dp),
                       DriveDirection::forward, true};
   }
-  WheelOutput feed(const WheelInput& in) { return wheel.step(in, TimeMs{t_ms}, test::prepared_of(table)); }
+  WheelOutput feed(const WheelInput& in) {
+    return wheel.step(test::with_drive_torque(in, table.motor), TimeMs{t_ms}, test::prepared_of(table));
+  }
   WheelOutput invalid() {
     WheelInput in = sample(1.0, 0.01);
     in.valid = false;

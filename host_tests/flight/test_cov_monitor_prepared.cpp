@@ -5,6 +5,7 @@
 // stop and re-plan, whatever the telemetry says.
 #include <gtest/gtest.h>
 
+#include "prepared_support.hpp"
 #include "quantity_support.hpp"
 #include "sinkwatch/flight/monitor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
@@ -20,8 +21,9 @@ using sinkwatch::test::q;
 WheelInput good_sample(std::uint32_t t_ms) {
   const double torque = (1.0 - 0.1) * 0.025 * 0.6 * 400.0;
   const double dp = 98.1 * ((torque / 98.1 - 0.01) / 0.15 - 0.13);
-  return WheelInput{TimeMs{t_ms}, q<CurrentA>(1.0), q<WheelLoadN>(98.1), q<DrawbarPullN>(dp),
-                    DriveDirection::forward, true};
+  const WheelInput in{TimeMs{t_ms}, q<CurrentA>(1.0), q<WheelLoadN>(98.1), q<DrawbarPullN>(dp),
+                      DriveDirection::forward, true};
+  return sinkwatch::test::with_drive_torque(in, default_parameter_table().motor);
 }
 
 PreparedParameters prepared_from_bad_table() {

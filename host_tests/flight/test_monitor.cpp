@@ -43,7 +43,9 @@ class MonitorTest : public ::testing::Test {
     t_ms += 100U;
     return WheelInput{TimeMs{t_ms}, q<CurrentA>(signed_i), q<WheelLoadN>(kW), q<DrawbarPullN>(dp), dir, true};
   }
-  WheelOutput feed(const WheelInput& in) { return wheel.step(in, TimeMs{t_ms}, test::prepared_of(table)); }
+  WheelOutput feed(const WheelInput& in) {
+    return wheel.step(test::with_drive_torque(in, table.motor), TimeMs{t_ms}, test::prepared_of(table));
+  }
   WheelOutput nominal() { return feed(sample(1.0, 0.01)); }
   WheelOutput sink_caution() { return feed(sample(1.0, 0.035)); }
   WheelOutput sink_stop() { return feed(sample(1.0, 0.05)); }
@@ -243,7 +245,7 @@ TEST_F(MonitorTest, EverySampleStatus) {
   EXPECT_EQ(feed(in).sample_status, SampleStatus::stale);
   in = sample(1.0, 0.01);
   EXPECT_EQ(feed(in).sample_status, SampleStatus::ok);
-  EXPECT_EQ(wheel.step(in, TimeMs{t_ms}, test::prepared_of(table)).sample_status, SampleStatus::repeated_time);
+  EXPECT_EQ(feed(in).sample_status, SampleStatus::repeated_time);
   in = sample(1.0, 0.01);
   in.direction = static_cast<DriveDirection>(3);
   EXPECT_EQ(feed(in).sample_status, SampleStatus::direction_invalid);
@@ -275,6 +277,27 @@ TEST_F(MonitorTest, EverySampleStatus) {
   }
 }
 
+// The monitor takes the caller's torque (WheelInput::drive_torque) and does
+// not compute one: a usable sample without it has no estimate, and a torque
+// that differs from the current's changes the estimate.
+TEST_F(MonitorTest, UsesTheCallersDriveTorqueAndFailsWithoutOne) {
+  nominal();
+  const WheelInput in = sample(1.0, 0.01);
+  const WheelOutput without = wheel.step(in, TimeMs{t_ms}, test::prepared_of(table));
+  EXPECT_EQ(without.sample_status, SampleStatus::estimate_failed);
+  EXPECT_FALSE(without.estimate_valid);
+  WheelInput given = sample(1.0, 0.01);
+  const WheelOutput own = feed(given);
+  ASSERT_TRUE(own.estimate_valid);
+  given = sample(1.0, 0.01);
+  given.drive_torque = TorqueResult{q<TorqueNm>(ref::torque_nm(p.motor, 1.5, DriveDirection::forward)),
+                                    EstimateStatus::ok};
+  const WheelOutput larger = wheel.step(given, TimeMs{t_ms}, test::prepared_of(table));
+  ASSERT_TRUE(larger.estimate_valid);
+  EXPECT_EQ(larger.torque_nm, given.drive_torque.torque_nm);
+  EXPECT_GT(larger.sinkage_m, own.sinkage_m);
+}
+
 TEST_F(MonitorTest, LoadOutsideTable2IsEstimatedWithTheClampReported) {
   WheelInput in = sample(1.0, 0.01);
   in.load_n = q<WheelLoadN>(300.0);
@@ -304,6 +327,7 @@ TEST(RoverMonitor, AnyWheelStopsTheRoverWhenKIsOne) {
     const auto a = inputs(n);
     WheelInput raw[kMaxWheels];
     std::copy(a.begin(), a.end(), raw);
+    test::set_drive_torques(raw, table.motor);
     return rover.step(raw, TimeMs{t}, test::prepared_of(table));
   };
   for (int i = 0; i < 5; ++i) EXPECT_EQ(step(0).decision, RoverDecision::continue_drive);
@@ -332,6 +356,7 @@ TEST(RoverMonitor, AnyWheelStopsTheRoverWhenKIsOne) {
   const auto a = inputs(0);
   WheelInput raw[kMaxWheels];
   std::copy(a.begin(), a.end(), raw);
+  test::set_drive_torques(raw, table.motor);
   raw[5].valid = false;
   const std::uint32_t wheel5_samples = rover.wheel(5).counters().samples;
   for (int i = 0; i < 12; ++i) {

@@ -164,13 +164,14 @@ TEST_F(PreparedTest, StepEqualsItsStagesChainedByHand) {
     const flight::RoverStepOutput out = step.step(t, t.time, p);
     ASSERT_EQ(out.status, RoverStepStatus::ok) << k;
 
-    // Each wheel's torque from its current, where the step's health stage
-    // passed the current.
+    // Each wheel's torque from its current (the monitor's too), in the loads
+    // where the step's health stage passed the current.
     flight::DriveTorques torques{};
+    flight::TorqueResult torque[flight::kWheelCount]{};
     for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
-      const flight::TorqueResult torque = flight::torque_from_current(table.motor, t.current_a[i], t.direction[i]);
-      torques.usable[i] = out.health.current_usable[i] && (torque.status == flight::EstimateStatus::ok);
-      torques.torque_nm[i] = torques.usable[i] ? torque.torque_nm : flight::TorqueNm::zero();
+      torque[i] = flight::torque_from_current(table.motor, t.current_a[i], t.direction[i]);
+      torques.usable[i] = out.health.current_usable[i] && (torque[i].status == flight::EstimateStatus::ok);
+      torques.torque_nm[i] = torques.usable[i] ? torque[i].torque_nm : flight::TorqueNm::zero();
     }
     const flight::WheelLoadResult loads = flight::wheel_loads(rover, t.attitude, t.joints, torques);
     ASSERT_EQ(loads.status, flight::WheelLoadStatus::ok) << k;
@@ -186,6 +187,7 @@ TEST_F(PreparedTest, StepEqualsItsStagesChainedByHand) {
     flight::WheelInput inputs[flight::kMaxWheels]{};
     for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
       inputs[i] = flight::WheelInput{t.time, t.current_a[i], loads.load_n[i], dp.dp_n[i], t.direction[i], true};
+      inputs[i].drive_torque = torque[i];
       ASSERT_EQ(out.load_n[i], loads.load_n[i]) << k;
       ASSERT_EQ(out.drawbar_pull_n[i], dp.dp_n[i]) << k;
     }
@@ -286,8 +288,10 @@ TEST_F(PreparedTest, MonitorWithKnownCorrectionsEqualsTheMonitorEvaluatingThem) 
   for (std::uint32_t k = 0U; k < 120U; ++k) {
     const flight::WheelLoadN w = q<flight::WheelLoadN>(20.0 + (1.7 * static_cast<double>(k)));
     const flight::CurrentA i = q<flight::CurrentA>(0.2 + (0.015 * static_cast<double>(k % 50U)));
-    flight::WheelInput in{flight::TimeMs{100U * (k + 1U)}, i, w, q<flight::DrawbarPullN>(-1.0),
-                          flight::DriveDirection::forward, true};
+    flight::WheelInput in = test::with_drive_torque(
+        flight::WheelInput{flight::TimeMs{100U * (k + 1U)}, i, w, q<flight::DrawbarPullN>(-1.0),
+                           flight::DriveDirection::forward, true},
+        table.motor);
     const flight::WheelOutput a = own.step(in, in.time, p);
     const flight::CorrectionResult corr = test::corrections_of(table.correction, w);
     in.corrections = &corr;

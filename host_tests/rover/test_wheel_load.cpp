@@ -201,13 +201,18 @@ TEST(RoverWheelLoad, BeyondStabilityLimitReturnsStatusNotNumber) {
   const flight::JointAnglesRad zero = rover_test::joints(0, 0, 0, 0);
   struct Case {
     double pitch, roll;
-    std::uint32_t lifting_first, lifting_second;  // either side's wheel of that kind
+    std::uint32_t lifting_mask;  // bit i: wheel i may be the one reported lifting
   };
+  // In pure roll with the centre of mass on the pivot axis (x_c = 0) the
+  // pivot moment is zero and each wheel of a side carries a third of the
+  // side's (here negative) total: the three tie in exact arithmetic, and
+  // which of them is lowest is decided by the last bit of the rounding, so
+  // any wheel of the lifting side is the right answer.
   const Case cases[] = {
-      {pitch_limit + 0.01, 0.0, 1U, 4U},  // nose up: the middle wheels
-      {-pitch_limit - 0.01, 0.0, 2U, 5U},  // nose down: the rear wheels
-      {0.0, roll_limit + 0.01, 0U, 2U},    // right side down: a left wheel lifts
-      {0.0, -roll_limit - 0.01, 3U, 5U},   // left side down: a right wheel lifts
+      {pitch_limit + 0.01, 0.0, 0x12U},   // nose up: a middle wheel (1 or 4)
+      {-pitch_limit - 0.01, 0.0, 0x24U},  // nose down: a rear wheel (2 or 5)
+      {0.0, roll_limit + 0.01, 0x07U},    // right side down: a left wheel lifts
+      {0.0, -roll_limit - 0.01, 0x38U},   // left side down: a right wheel lifts
   };
   for (const Case& c : cases) {
     const flight::WheelLoadResult inside =
@@ -215,7 +220,8 @@ TEST(RoverWheelLoad, BeyondStabilityLimitReturnsStatusNotNumber) {
     EXPECT_EQ(inside.status, WheelLoadStatus::ok) << c.pitch << " " << c.roll;
     const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(c.pitch, c.roll), zero, flight::kNoDriveTorques);
     EXPECT_EQ(r.status, WheelLoadStatus::tip_over) << c.pitch << " " << c.roll;
-    EXPECT_TRUE(r.lifting_wheel == c.lifting_first || r.lifting_wheel == c.lifting_second) << r.lifting_wheel;
+    ASSERT_LT(r.lifting_wheel, flight::kWheelCount);
+    EXPECT_NE((c.lifting_mask >> r.lifting_wheel) & 1U, 0U) << r.lifting_wheel;
     for (const flight::WheelLoadN w : r.load_n) EXPECT_EQ(w.raw(), 0);
     EXPECT_EQ(r.weight_normal_n.raw(), 0);
   }

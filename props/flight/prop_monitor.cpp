@@ -53,8 +53,9 @@ RC_GTEST_PROP(MonitorProps, OnlyAllowedTransitionsAndUnusableNeverEstimated, ())
     t += 100U;
     const double torque = ref::torque_nm(p.motor, kind.current, DriveDirection::forward);
     const double dp = 98.1 * ((torque / 98.1 - kind.sinkage) / p.wheel_radius_m - 0.13);
-    const WheelInput in{TimeMs{t}, q<CurrentA>(kind.current), q<WheelLoadN>(98.1), q<DrawbarPullN>(dp),
-                        DriveDirection::forward, kind.valid};
+    const WheelInput in = test::with_drive_torque(WheelInput{TimeMs{t}, q<CurrentA>(kind.current), q<WheelLoadN>(98.1),
+                                                             q<DrawbarPullN>(dp), DriveDirection::forward, kind.valid},
+                                                  table.motor);
     const WheelOutput o = wheel.step(in, TimeMs{t}, test::prepared_of(table));
     if (!kind.valid) {
       RC_ASSERT(!o.estimate_valid);

@@ -77,6 +77,26 @@ constexpr fx::wide::DivMod<std::uint64_t> divide_by_reciprocal(std::uint64_t n, 
   return (qr.remainder >= (d - qr.remainder)) ? (qr.quotient + 1U) : qr.quotient;
 }
 
+/// round(2^64 / d), half up, for 3 <= d: the raw Q31.32 reciprocal of a
+/// Q31.32 value of raw d (one is 2^32 raw, so 1/v is 2^64/d raw), bit for bit
+/// fx::div(one, v) for v >= 3 raw (smaller v leave Q31.32), from one 64-bit division of 2^64 - 1 and a
+/// fix-up of its remainder (2^64 = q d + r with 1 <= r <= d) instead of the
+/// 128-bit long division. Per cycle: the wheel-load statics' 1/lever.
+/// d < 3 (never given by the statics, whose levers are >= 2^22 raw) returns
+/// 2^63 - 1, the largest Q31.32 raw value, which fx::div saturates to.
+[[nodiscard]] constexpr std::uint64_t rounded_reciprocal_q32(std::uint64_t d) noexcept {
+  if (d < 3U) {
+    return ~std::uint64_t{0U} >> 1U;
+  }
+  std::uint64_t q = ~std::uint64_t{0U} / d;
+  std::uint64_t r = (~std::uint64_t{0U} % d) + 1U;
+  if (r == d) {
+    ++q;
+    r = 0U;
+  }
+  return (r >= (d - r)) ? (q + 1U) : q;
+}
+
 /// a / b in the format Out, bit-for-bit fx::div<Out>(a, b.value).
 template <typename Out, typename SA, std::int32_t FA, typename QB>
 [[nodiscard]] constexpr Out div_by_constant(fx::Q<SA, FA> a, const ConstantDivisor<QB>& b,

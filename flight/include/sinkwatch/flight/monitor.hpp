@@ -3,7 +3,8 @@
 //
 // Each cycle, for each wheel, from its motor current I, load W, drawbar pull
 // DP and direction:
-//   T     = torque_from_current(I)                       (motor.hpp)
+//   T     = torque_from_current(I)   given by the caller (motor.hpp; RoverStep
+//                                    computes it once for the loads and here)
 //   C(W)  = corrections_at(W)                            (Table 2)
 //   z     = sinkage_from_pull(C, r, W, T, DP)            (Eq. 11)
 //   I_max = current_limit(W) at z = allowed sinkage      (section 7)
@@ -88,6 +89,13 @@ struct WheelInput {
   /// reads it instead of evaluating the table again. Must be for this load_n
   /// and live for the duration of the step() call.
   const CorrectionResult* corrections{nullptr};
+  /// The wheel's drive torque from this sample's current and direction,
+  /// torque_from_current(table.motor, current_a, direction) (motor.hpp),
+  /// computed once per cycle by the caller: RoverStep feeds the same torque
+  /// to the wheel loads. The monitor does not compute it again. The default
+  /// is "no torque" (invalid_current): a usable sample without one gives no
+  /// estimate (SampleStatus::estimate_failed), never a sinkage from a zero.
+  TorqueResult drive_torque{TorqueNm::zero(), EstimateStatus::invalid_current};
 };
 
 /// One wheel's result for one cycle.

@@ -33,6 +33,7 @@
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/drawbar_pull.hpp"
 #include "sinkwatch/flight/monitor.hpp"
+#include "sinkwatch/flight/motor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/prepared_params.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
@@ -134,14 +135,19 @@ class RoverStep {
   void motion(const RoverTelemetry& t, const ParameterTable& table, RoverStepOutput& out) noexcept;
   /// Stage 1 and the prepared parameters' own refusal, for a fresh sample.
   RoverStepStatus admit(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared) noexcept;
-  /// Stages 2 to 4 of an admitted sample: loads, motion, C(W) into `corr`,
-  /// drawbar pulls.
-  RoverStepStatus compute(const RoverTelemetry& t, const PreparedParameters& prepared,
-                          CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept;
+  /// What stages 2 and 4 evaluate once per wheel and the monitor reuses.
+  struct WheelTerms {
+    TorqueResult torque[kWheelCount];     ///< from the currents: the loads' and the monitor's
+    CorrectionResult corr[kWheelCount];   ///< C(W) at each load: DP_max/W, Eq. 11, I_max
+  };
+  /// Stages 2 to 4 of an admitted sample: torques and loads, motion, C(W),
+  /// drawbar pulls, into `terms` and `out`.
+  RoverStepStatus compute(const RoverTelemetry& t, const PreparedParameters& prepared, WheelTerms& terms,
+                          RoverStepOutput& out) noexcept;
   /// Stage 5: every wheel's monitor, fed this cycle's numbers or an invalid
   /// sample, and the rover's decision.
   void monitor_stage(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared,
-                     const CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept;
+                     const WheelTerms& terms, RoverStepOutput& out) noexcept;
 
   /// Stage 1b: the channels' health for an admitted sample, or the clock's
   /// for a refused one (the other channels as last assessed).
