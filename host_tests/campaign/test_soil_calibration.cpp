@@ -30,13 +30,12 @@ namespace fx = sinkwatch::fx;
 // least-squares C3 of noise-free rows).
 double clean_c3(const SimParameters& soil, double load_n) {
   double sum = 0.0;
-  int n = 0;
-  for (double s = kCalibrationSlipFirst; s <= kCalibrationSlipLast + 1e-12; s += kCalibrationSlipStep, ++n) {
+  for (const double s : kCalibrationSlips) {
     const WheelSoilState w = evaluate_or_throw(soil, load_n, s);
     const double r = soil.wheel.radius_m;
     sum += w.torque_nm / (r * load_n) - w.drawbar_pull_n / load_n - w.sinkage_m / r;
   }
-  return sum / n;
+  return sum / static_cast<double>(std::size(kCalibrationSlips));
 }
 
 TEST(SoilCalibration, SiteFitRecoversTheSimulatedSoilsC3AndPull) {
@@ -49,7 +48,7 @@ TEST(SoilCalibration, SiteFitRecoversTheSimulatedSoilsC3AndPull) {
   // Noise of 2 % on torque and pull over 12 rows: C3 within 0.01 of the clean value.
   EXPECT_NEAR(c.c3_at_mean_load, clean_c3(soil, mean_load_n), 0.01);
   double best_pull = -1.0;
-  for (double s = kCalibrationSlipFirst; s <= kCalibrationSlipLast + 1e-12; s += kCalibrationSlipStep) {
+  for (const double s : kCalibrationSlips) {
     best_pull = std::max(best_pull, evaluate_or_throw(soil, mean_load_n, s).drawbar_pull_n / mean_load_n);
   }
   EXPECT_NEAR(c.dp_max_at_mean_load, best_pull, 0.03);

@@ -238,8 +238,8 @@ std::string outcome_table(const CampaignResult& r) {
   md << "| family | traverses | embeddings | stopped ≥ 1 m ahead | stopped < 1 m ahead | late | missed | "
         "false stop | near-miss stop | ok, no stop | median lead [m] | median ideal-sensor lead [m] | "
         "median ideal-reserve lead [m] | lead ≥ 80 % of ideal | "
-        "median rear-load excess | embeddings at the start (x < 0.1 m) | the others: stopped before the embedding "
-        "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "median rear-load excess | embeddings at the start (x < " << fixed(kStartEmbedM, 1)
+     << " m) | the others: stopped before the embedding |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const bool held : {false, true}) {
     for (const CampaignFamily f : r.options.families) {
       const auto group = select_traverses(r, [&](const TraverseResult& t) { return t.draw.family == f && t.held_out == held; });
@@ -461,7 +461,7 @@ std::string campaign_summary(const CampaignResult& r, const std::string& command
         "simulator's deepest wheel first reaches the table's stop level; the ideal reserve sensor where the "
         "traction reserve first falls below 5 % of the weight; a near miss is a drive that never embeds but "
         "whose reserve fell below that; medians over the embeddings that have one; rear-load excess = the fuller balance's rear loads over the flight statics', − 1; "
-        "an embedding at the start comes within the first 0.1 m, where the soil cannot carry the rover at all and no stop can "
+        "an embedding at the start comes within the first " << fixed(kStartEmbedM, 1) << " m, where the soil cannot carry the rover at all and no stop can "
         "come before it; the last column counts the other embeddings stopped before them):\n\n"
      << outcome_table(r)
      << "\nStop-level sweep (caution, stop and allowed sinkage scaled together; the flight code re-run on the same "

@@ -8,6 +8,7 @@
 #include "sinkwatch/ground/soil_bin_csv.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -32,19 +33,11 @@ std::vector<double> calibration_loads(const ScenarioSpec& spec) {
   return loads;
 }
 
-std::vector<double> calibration_slips() {
-  std::vector<double> slips;
-  for (int k = 0; kCalibrationSlipFirst + k * kCalibrationSlipStep <= kCalibrationSlipLast + 1e-12; ++k) {
-    slips.push_back(kCalibrationSlipFirst + k * kCalibrationSlipStep);
-  }
-  return slips;
-}
-
 // The soil-bin rows of the soil at `scale`, as the calibration tool reads
 // them: through the CSV that `sinkwatch simulate` writes (one path).
 SoilBinDataset soil_bin(const ScenarioSpec& spec, double scale, std::uint64_t seed) {
   const std::vector<DatasetRow> rows =
-      generate_dataset(scenario_soil(spec, scale), calibration_loads(spec), calibration_slips(), soil_bin_noise(), seed);
+      generate_dataset(scenario_soil(spec, scale), calibration_loads(spec), std::vector<double>(std::begin(kCalibrationSlips), std::end(kCalibrationSlips)), soil_bin_noise(), seed);
   std::stringstream csv;
   write_soil_bin_csv(csv, rows, {"campaign soil bin of " + spec.name});
   return parse_soil_bin_csv(csv, spec.name + " soil bin");

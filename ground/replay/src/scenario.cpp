@@ -277,12 +277,9 @@ class World {
     return SlipSolution{true, "", b.hi, b.hi_w};
   }
 
-  // The soil with its moduli and cohesion scaled (softer below 1).
-  SimParameters scaled_one(double scale) const { return scaled_soil(base_, scale); }
-
   SideParams scaled(SideSoil soil) const {
-    SideParams p{scaled_one(soil.scale), {}, soil.right_factor == 1.0};
-    p.right = p.same ? p.left : scaled_one(soil.scale * soil.right_factor);
+    SideParams p{scaled_soil(base_, soil.scale), {}, soil.right_factor == 1.0};
+    p.right = p.same ? p.left : scaled_soil(base_, soil.scale * soil.right_factor);
     return p;
   }
 

@@ -38,7 +38,8 @@ CalibrationSoil calibration_soil_from_name(const std::string& name);
 /// wheels carry up to ~1.4 of it on slopes and in soft soil, rover-loads.md
 /// 12.6) and the slips of the paper's tests.
 inline constexpr double kCalibrationLoadFactors[] = {0.6, 0.8, 1.0, 1.2, 1.4, 1.6};
-inline constexpr double kCalibrationSlipFirst = 0.05, kCalibrationSlipStep = 0.05, kCalibrationSlipLast = 0.60;
+inline constexpr double kCalibrationSlips[] = {0.05, 0.10, 0.15, 0.20, 0.25, 0.30,
+                                              0.35, 0.40, 0.45, 0.50, 0.55, 0.60};
 /// `softest`: a soil so soft that the soil-bin wheel gets no positive pull at
 /// some load cannot give DP_max (the flight loader refuses DP_max <= 0); the
 /// scale is then doubled, at most this many times (0.005 * 2^8 > 1).
