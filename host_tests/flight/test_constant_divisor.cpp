@@ -129,7 +129,7 @@ TEST(ConstantDivisor, ReciprocalOfAQ31_32ValueHasFxDivsBits) {
   // Q31.32; the statics' levers are at least 1 mm, 2^22 raw) up, near powers of two (remainder r = d and
   // exact halves), against fx::div(1, v).
   using W = fx::Q<std::int64_t, 32>;
-  const W one = fx::constant<W>(1.0);
+  constexpr W one = fx::constant<W>(1.0);  // constexpr: fx::constant only in constant evaluation (D-01)
   std::mt19937_64 rng(15U);
   std::uint64_t bad = 0U;
   for (int i = 0; i < 1000000; ++i) {
