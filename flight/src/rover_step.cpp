@@ -153,6 +153,7 @@ RoverStep::RoverStep() noexcept = default;
 void RoverStep::clear_stop() noexcept {
   monitor_.clear_stop();
   traction_.clear_stop();
+  stops_.clear_stop();
   health_.accept_levels();
 }
 
@@ -296,6 +297,7 @@ void RoverStep::monitor_stage(const RoverTelemetry& t, TimeMs now, const Prepare
   if ((out.status == RoverStepStatus::tip_over) || (out.traction.state == TractionState::stop)) {
     out.decision = RoverDecision::stop_and_replan;
   }
+  stops_.observe(out.monitor, out.traction.stop_tripped, out.decision, now, prepared.table().monitor.wheel_count);
 }
 
 RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared) noexcept {

@@ -1,6 +1,7 @@
 // The motion-resistance check (traction.hpp; docs/traction.md).
 #include "sinkwatch/flight/traction.hpp"
 
+#include "median.hpp"
 #include "n_of_m.hpp"
 #include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
@@ -54,23 +55,6 @@ WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels, fx::Status& s
   return s;
 }
 
-/// The middle of `count` values (the lower middle of an even count), by an
-/// insertion sort of a copy.
-Ratio median_of(const Ratio (&values)[kTractionMedianSamples], std::uint8_t count) noexcept {
-  Ratio sorted[kTractionMedianSamples]{};
-  for (std::uint8_t i = 0U; (i < count) && (i < kTractionMedianSamples); ++i) {
-    Ratio v = values[i];
-    std::uint8_t j = i;
-    while ((j > 0U) && (sorted[j - 1U] > v)) {
-      sorted[j] = sorted[j - 1U];
-      --j;
-    }
-    sorted[j] = v;
-  }
-  const std::uint8_t middle = (count > 0U) ? static_cast<std::uint8_t>((count - 1U) / 2U) : 0U;
-  return sorted[middle];
-}
-
 }  // namespace
 
 TractionMonitor::TractionMonitor() noexcept = default;
@@ -115,7 +99,7 @@ Ratio TractionMonitor::push_median(Ratio rho) noexcept {
   if (recent_count_ < kTractionMedianSamples) {
     ++recent_count_;
   }
-  return median_of(recent_, recent_count_);
+  return detail::median_of(recent_, recent_count_);
 }
 
 void TractionMonitor::advance(const TractionInput& in, Ratio rho_med, const TractionParams& params) noexcept {

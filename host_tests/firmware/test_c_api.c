@@ -127,10 +127,13 @@ static void test_sensor_health(void) {
 static void test_nominal_then_overcurrent(void) {
   sw_cycle_result out;
   sw_event event;
+  sw_stop_record stop;
   uint32_t time_ms = 1000U;
   int32_t limit_q20 = 0;
   int stopped_at = -1;
   CHECK(sw_init(&g_ctx) == SW_OK);
+  CHECK(sw_last_stop(&g_ctx, &stop) == 0); /* no stop yet */
+  CHECK(sw_last_stop(&g_ctx, NULL) == 0);
 
   /* Learn the current limit at a small current. */
   sw_telemetry t = level_sample(time_ms, (int32_t)(0.2 * (1 << 20)));
@@ -170,6 +173,14 @@ static void test_nominal_then_overcurrent(void) {
   CHECK(stopped_at > 0); /* not on the first sample: persistence */
   CHECK(sw_last_event(&g_ctx, 0U, &event) == 1);
   CHECK(event.peak_current_a_q20 >= limit_q20);
+  /* The rover's record of the stop: the current rule, a sinkage from the
+   * wheels' recent estimates, at the stop's time. */
+  CHECK(sw_last_stop(&g_ctx, &stop) == 1);
+  CHECK(stop.reason == 1U); /* StopReason::current */
+  CHECK(stop.time_ms == time_ms);
+  CHECK(stop.sinkage_valid == 1U);
+  CHECK(stop.samples == SW_STOP_RECORD_SAMPLES);
+  CHECK(stop.deepest_wheel < SW_WHEELS);
 
   /* The ground acknowledges; the wheels are nominal again. */
   sw_clear_stop(&g_ctx);

@@ -111,6 +111,8 @@ TEST(CApiArguments, NullContextIsRefusedByEveryEntryPoint) {
   sw_clear_stop(nullptr);  // must simply return
   sw_event e{};
   EXPECT_EQ(sw_last_event(nullptr, 0U, &e), 0);
+  sw_stop_record r{};
+  EXPECT_EQ(sw_last_stop(nullptr, &r), 0);
 }
 
 TEST(CApiArguments, ContextNeverInitialisedIsRefusedByEveryEntryPoint) {
@@ -122,6 +124,8 @@ TEST(CApiArguments, ContextNeverInitialisedIsRefusedByEveryEntryPoint) {
   sw_clear_stop(&fresh);
   sw_event e{};
   EXPECT_EQ(sw_last_event(&fresh, 0U, &e), 0);
+  sw_stop_record r{};
+  EXPECT_EQ(sw_last_stop(&fresh, &r), 0);
   sw_cycle_result out{};
   const sw_telemetry t = level_sample(100U);
   EXPECT_EQ(sw_step(&fresh, &t, 100U, &out), SW_NOT_INITIALISED);

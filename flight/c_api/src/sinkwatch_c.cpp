@@ -49,6 +49,7 @@ static_assert(sizeof(Context) <= SW_CONTEXT_BYTES, "SW_CONTEXT_BYTES is too smal
 static_assert(alignof(Context) <= alignof(std::uint64_t), "sw_context's alignment is too weak");
 static_assert(std::is_trivially_destructible<Context>::value, "the context is never destroyed, only rebuilt");
 static_assert(SW_WHEELS == sinkwatch::flight::kWheelCount, "wheel count differs between C and C++");
+static_assert(SW_STOP_RECORD_SAMPLES == sinkwatch::flight::kStopRecordSamples, "stop-record window differs between C and C++");
 
 // Every sw_reject_reason is the RejectReason of the same name.
 static_assert(SW_REJECT_OK == static_cast<int>(RejectReason::ok), "C and C++ reject reasons differ");
@@ -282,6 +283,24 @@ int sw_last_event(const sw_context* ctx, uint8_t wheel, sw_event* out) {
   out->load_at_peak_n_q16 = e.load_at_peak_n.raw();
   out->peak_sinkage_m_q24 = e.peak_sinkage_m.raw();
   out->max_estimate_m_q24 = e.max_estimated_sinkage_m.raw();
+  return 1;
+}
+
+int sw_last_stop(const sw_context* ctx, sw_stop_record* out) {
+  if ((ctx == nullptr) || (out == nullptr)) {
+    return 0;
+  }
+  const Context* const c = context_of(ctx);
+  if ((c == nullptr) || !c->step.stops().has_record()) {
+    return 0;
+  }
+  const sinkwatch::flight::RoverStopRecord& r = c->step.stops().last_record();
+  out->time_ms = r.time.ms;
+  out->reason = static_cast<std::uint8_t>(r.reason);
+  out->deepest_wheel = r.deepest_wheel;
+  out->samples = r.samples;
+  out->sinkage_valid = flag(r.sinkage_valid);
+  out->recent_sinkage_m_q24 = r.recent_sinkage_m.raw();
   return 1;
 }
 

@@ -199,6 +199,19 @@ typedef struct sw_event {
   int32_t max_estimate_m_q24;    /* largest per-cycle sinkage estimate */
 } sw_event;
 
+/* Written when the rover's decision turns to stop-and-replan, whatever made
+ * it (flight/stop_record.hpp): the deepest wheel's median sinkage over its
+ * last SW_STOP_RECORD_SAMPLES valid estimates. */
+#define SW_STOP_RECORD_SAMPLES 9U
+typedef struct sw_stop_record {
+  uint32_t time_ms;
+  uint8_t reason;                /* StopReason of the episode's first STOP: 5 traction, 0 the step's own (tip-over) */
+  uint8_t deepest_wheel;
+  uint8_t samples;               /* estimates in the deepest wheel's median */
+  uint8_t sinkage_valid;
+  int32_t recent_sinkage_m_q24;  /* the deepest wheel's median Eq. 15 sinkage, m, Q7.24 */
+} sw_stop_record;
+
 /* Puts a context in its initial state: the default parameter table (Table 2's
  * corrections) and the Yutu-like rover on the Moon. */
 sw_status sw_init(sw_context* ctx);
@@ -226,6 +239,10 @@ void sw_clear_stop(sw_context* ctx);
 
 /* The last event of a wheel. Returns 1 and fills `out` when there is one. */
 int sw_last_event(const sw_context* ctx, uint8_t wheel, sw_event* out);
+
+/* The record of the last stop-and-replan decision. Returns 1 and fills `out`
+ * when there is one (it stays readable after sw_clear_stop until the next stop). */
+int sw_last_stop(const sw_context* ctx, sw_stop_record* out);
 
 #ifdef __cplusplus
 }

@@ -38,6 +38,7 @@
 #include "sinkwatch/flight/prepared_params.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/sensor_health.hpp"
+#include "sinkwatch/flight/stop_record.hpp"
 #include "sinkwatch/flight/traction.hpp"
 #include "sinkwatch/flight/units.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
@@ -127,6 +128,9 @@ class RoverStep {
 
   [[nodiscard]] const RoverMonitor& monitor() const& noexcept { return monitor_; }
   const RoverMonitor& monitor() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
+  /// The record of the last stop-and-replan decision (stop_record.hpp).
+  [[nodiscard]] const StopRecorder& stops() const& noexcept { return stops_; }
+  const StopRecorder& stops() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
 
  private:
   /// Stage 1: flagged, stale, repeated, or ok (then remembered as the last).
@@ -156,6 +160,7 @@ class RoverStep {
 
   RoverMonitor monitor_;
   TractionMonitor traction_;
+  StopRecorder stops_;
   SensorHealthMonitor health_;
   SensorHealthReport last_health_{};
   bool have_time_{false};

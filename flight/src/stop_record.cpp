@@ -1,0 +1,70 @@
+// stop_record.cpp: the rover's stop record (stop_record.hpp).
+#include "sinkwatch/flight/stop_record.hpp"
+
+#include "median.hpp"
+
+namespace sinkwatch {
+namespace flight {
+
+StopRecorder::StopRecorder() noexcept = default;
+
+void StopRecorder::clear_stop() noexcept {
+  const bool had_record = has_record_;
+  const RoverStopRecord kept = record_;
+  *this = StopRecorder();
+  has_record_ = had_record;
+  record_ = kept;
+}
+
+void StopRecorder::remember(const RoverOutput& monitor, std::uint8_t wheels) noexcept {
+  for (std::uint8_t i = 0U; (i < wheels) && (i < kMaxWheels); ++i) {
+    const WheelOutput& w = monitor.wheels[i];
+    if (w.estimate_valid) {
+      recent_m_[i][next_[i]] = w.sinkage_m;
+      next_[i] = static_cast<std::uint8_t>((next_[i] + 1U) % kStopRecordSamples);
+      if (count_[i] < kStopRecordSamples) {
+        ++count_[i];
+      }
+    }
+    if ((first_reason_ == StopReason::none) && w.stop_tripped) {
+      first_reason_ = w.stop_reason;
+    }
+  }
+}
+
+RoverStopRecord StopRecorder::record(TimeMs now, std::uint8_t wheels) const noexcept {
+  RoverStopRecord r{};
+  r.time = now;
+  r.reason = first_reason_;
+  for (std::uint8_t i = 0U; (i < wheels) && (i < kMaxWheels); ++i) {
+    if (count_[i] > 0U) {
+      const SinkageM z = detail::median_of(recent_m_[i], count_[i]);
+      if (!r.sinkage_valid || (r.recent_sinkage_m < z)) {
+        r.sinkage_valid = true;
+        r.deepest_wheel = i;
+        r.samples = count_[i];
+        r.recent_sinkage_m = z;
+      }
+    }
+  }
+  return r;
+}
+
+void StopRecorder::observe(const RoverOutput& monitor, bool traction_stop_tripped, RoverDecision decision,
+                           TimeMs now, std::uint8_t wheels) noexcept {
+  remember(monitor, wheels);
+  if ((first_reason_ == StopReason::none) && traction_stop_tripped) {
+    first_reason_ = StopReason::traction;
+  }
+  // One record per stop: on the decision's edge. A latched STOP holds the
+  // decision until clear_stop(); a tip-over's stop can end without one.
+  const bool stop = (decision == RoverDecision::stop_and_replan);
+  if (stop && !stopped_) {
+    has_record_ = true;
+    record_ = record(now, wheels);
+  }
+  stopped_ = stop;
+}
+
+}  // namespace flight
+}  // namespace sinkwatch
