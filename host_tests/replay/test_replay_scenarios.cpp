@@ -8,8 +8,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 namespace sg = sinkwatch::ground;
 namespace fl = sinkwatch::flight;
@@ -84,6 +86,43 @@ TEST(ReplayScenarios, DefaultTractionCheckStopsTwoMetresBeforeTheEmbedding) {
   // The shipped log was made with this table in the loop: its escape is the
   // one the sequencer commands.
   EXPECT_EQ(r.direction_mismatches, 0U) << "the log's wheel directions differ from the sequencer's commands";
+}
+
+// The rover's stop record (flight/stop_record.hpp) on the shipped traverse:
+// written on the stop's cycle, naming the motion-resistance check, with the
+// largest of the wheels' medians of their last nine estimates, worked out
+// here from the replayed cycles.
+TEST(ReplayScenarios, StopRecordHoldsTheDeepestWheelsRecentMedianAtTheStop) {
+  const sg::TelemetryLog log = embedded("embedding");
+  const sg::ReplayResult r = replay(log);
+  ASSERT_TRUE(r.first_stop.has_value());
+  const sg::CycleRecord& stop = r.cycles[*r.first_stop];
+  ASSERT_TRUE(stop.stop_decision.has_value()) << "no stop record on the stop's cycle";
+  EXPECT_EQ(stop.stop_decision->reason, fl::StopReason::traction);
+  EXPECT_NEAR(stop.stop_decision->time_s, stop.time_s, 1e-9);
+  std::optional<double> deepest;
+  std::size_t deepest_wheel = 0;
+  for (std::size_t w = 0; w < stop.wheels.size(); ++w) {
+    std::vector<double> last;
+    for (std::size_t i = *r.first_stop + 1; i-- > 0 && last.size() < fl::kStopRecordSamples;) {
+      if (r.cycles[i].wheels[w].estimate_valid) last.push_back(r.cycles[i].wheels[w].sinkage_m);
+    }
+    if (last.empty()) continue;
+    std::sort(last.begin(), last.end());
+    const double median = last[(last.size() - 1) / 2];
+    if (!deepest || median > *deepest) {
+      deepest = median;
+      deepest_wheel = w;
+    }
+  }
+  ASSERT_TRUE(deepest.has_value());
+  ASSERT_TRUE(stop.stop_decision->recent_sinkage_m.has_value());
+  EXPECT_EQ(*stop.stop_decision->recent_sinkage_m, *deepest);
+  EXPECT_EQ(stop.stop_decision->deepest_wheel, deepest_wheel);
+  EXPECT_EQ(stop.stop_decision->samples, fl::kStopRecordSamples);
+  for (std::size_t i = 0; i < *r.first_stop; ++i) {
+    EXPECT_FALSE(r.cycles[i].stop_decision.has_value()) << "a record before the stop, cycle " << i;
+  }
 }
 
 // Without section 8 the default table's sinkage level stops the rover (the

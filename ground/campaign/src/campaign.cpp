@@ -452,35 +452,6 @@ ReplayConfig traverse_flight_config(const TraverseDraw& draw, const CampaignOpti
 
 namespace {
 
-// Each wheel's last kRecentEstimates valid sinkage estimates [m].
-class RecentEstimates {
- public:
-  void push(const CycleRecord& rec) {
-    if (wheels_.size() < rec.wheels.size()) wheels_.resize(rec.wheels.size());
-    for (std::size_t w = 0; w < rec.wheels.size(); ++w) {
-      if (!rec.wheels[w].estimate_valid) continue;
-      std::vector<double>& last = wheels_[w];
-      last.push_back(rec.wheels[w].sinkage_m);
-      if (last.size() > kRecentEstimates) last.erase(last.begin());
-    }
-  }
-  // The deepest wheel's median [mm]; none before any valid estimate.
-  std::optional<double> deepest_median_mm() const {
-    std::optional<double> deepest;
-    for (std::vector<double> last : wheels_) {
-      if (last.empty()) continue;
-      std::sort(last.begin(), last.end());
-      const std::size_t n = last.size();
-      const double median = n % 2 ? last[n / 2] : 0.5 * (last[n / 2 - 1] + last[n / 2]);
-      if (!deepest || median > *deepest) deepest = median;
-    }
-    return deepest ? std::optional<double>(1000.0 * *deepest) : std::nullopt;
-  }
-
- private:
-  std::vector<std::vector<double>> wheels_;
-};
-
 // The event record's sinkages at the stop, beside the simulator's deepest wheel.
 void record_event(const std::optional<StopRecord>& event, const TelemetryRow& stop_row, FlightVerdict& v) {
   v.true_sinkage_at_stop_mm = stop_row.true_sinkage_mm;
@@ -498,12 +469,10 @@ FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive,
   OnboardLoop loop(config);
   FlightVerdict v;
   std::optional<StopRecord> first_event;
-  RecentEstimates recent;
   const std::size_t rows = std::min(seen.rows.size(), drive.log.rows.size());
   for (std::size_t i = 0; i < rows; ++i) {
     const TelemetryRow& clean = drive.log.rows[i];
     const CycleRecord rec = loop.step(seen.rows[i], seen.source, clean.x_m.value_or(0.0));
-    recent.push(rec);
     for (std::size_t ch = 0; ch < flight::kSensorChannelCount; ++ch) {
       const bool watched = ((watch >> ch) & 1U) != 0U;
       if (watched && detected_time_s && !*detected_time_s && rec.health[ch] != flight::SensorHealth::ok) {
@@ -527,7 +496,9 @@ FlightVerdict flight_verdict_of(const TelemetryLog& seen, const Scenario& drive,
       v.stop_time_s = clean.time_s;
       v.stop_x_m = rec.x_m;
       record_event(first_event, clean, v);
-      v.recent_estimate_mm = recent.deepest_median_mm();
+      if (rec.stop_decision && rec.stop_decision->recent_sinkage_m) {
+        v.recent_estimate_mm = 1000.0 * *rec.stop_decision->recent_sinkage_m;
+      }
       break;
     }
   }

@@ -46,6 +46,16 @@ StopRecord convert(const flight::EventRecord& e) {
   return r;
 }
 
+StopDecision convert(const flight::RoverStopRecord& s) {
+  StopDecision d;
+  d.time_s = static_cast<double>(s.time.ms) / 1000.0;
+  d.reason = s.reason;
+  d.deepest_wheel = s.deepest_wheel;
+  d.samples = s.samples;
+  if (s.sinkage_valid) d.recent_sinkage_m = to_d(s.recent_sinkage_m);
+  return d;
+}
+
 }  // namespace
 
 std::optional<double> CycleRecord::max_sinkage_m() const {
@@ -260,6 +270,12 @@ CycleRecord OnboardLoop::step(const TelemetryRow& row, const std::string& source
   const RoverTelemetry t = telemetry_of(row, source);
   const RoverStepOutput out = step_.step(t, t.time, prepared_);
   CycleRecord rec = record_of(out, row, x_m, step_);
+  // The flight code writes its stop record on the decision's edge.
+  if (out.decision == RoverDecision::stop_and_replan && last_decision_ != out.decision &&
+      step_.stops().has_record()) {
+    rec.stop_decision = convert(step_.stops().last_record());
+  }
+  last_decision_ = out.decision;
 
   // The escape: started on the first stop, then fed forward-driving estimates.
   if (out.decision == RoverDecision::stop_and_replan && !stopped_) {

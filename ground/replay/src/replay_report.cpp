@@ -89,6 +89,13 @@ std::string event_text(const StopRecord& e) {
   return s;
 }
 
+std::string stop_decision_text(const StopDecision& s) {
+  const std::string reason = s.reason == flight::StopReason::none ? "the step's own stop" : to_string(s.reason);
+  if (!s.recent_sinkage_m) return strf("%s; no wheel had a valid estimate", reason.c_str());
+  return strf("%s; deepest wheel %s, median of its last %zu estimates %.1f mm", reason.c_str(),
+              kWheelNames[s.deepest_wheel], s.samples, *s.recent_sinkage_m * 1000.0);
+}
+
 std::optional<double> truth_sinkage_mm(const TelemetryLog& log, const CycleRecord& c) {
   return log.rows[c.row].true_sinkage_mm;
 }
@@ -205,6 +212,7 @@ void print_stop_events(std::ostream& out, const TelemetryLog& log, const CycleRe
                 truth ? strf(" (simulator: deepest wheel %.1f mm)", *truth).c_str() : "");
     wheel_table(out, c);
     for (const StopRecord& e : c.new_events) out << "      event record: " << event_text(e) << '\n';
+    if (c.stop_decision) out << "      stop record: " << stop_decision_text(*c.stop_decision) << '\n';
     if (c.traction_stop_tripped) {
       out << strf("      the motion-resistance check stopped the rover: coefficient %.3f, carried ahead %.3f\n",
                   c.resistance.value_or(0.0), c.resistance_ahead.value_or(0.0));

@@ -135,11 +135,10 @@ struct FlightVerdict {
   // the episode's peak current (section 7: Eq. 11 with DP = DP_max) and its
   // largest per-cycle estimate; and the simulator's deepest wheel then.
   std::optional<double> event_peak_sinkage_mm, event_max_estimate_mm, true_sinkage_at_stop_mm;
-  // At any stop: the deepest wheel's median per-cycle estimate over its last
-  // kRecentEstimates valid samples (what a rover-level record could hold).
+  // At any stop: the rover's stop record (flight/stop_record.hpp), the
+  // deepest wheel's median over its last kStopRecordSamples valid estimates.
   std::optional<double> recent_estimate_mm;
 };
-inline constexpr std::size_t kRecentEstimates = 10;
 
 /// One injected fault's effect on a traverse (the campaign's table).
 struct FaultVerdict {

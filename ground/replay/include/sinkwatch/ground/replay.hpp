@@ -117,6 +117,16 @@ struct StopRecord {
   std::optional<double> max_estimated_sinkage_m;
 };
 
+/// The rover's record of a stop-and-replan decision (flight/stop_record.hpp),
+/// in SI units.
+struct StopDecision {
+  double time_s = 0.0;
+  flight::StopReason reason = flight::StopReason::none;  // none: the step's own stop (tip-over)
+  std::size_t deepest_wheel = 0;
+  std::size_t samples = 0;                    // in the deepest wheel's median
+  std::optional<double> recent_sinkage_m;     // the deepest wheel's median recent estimate
+};
+
 struct CycleRecord {
   std::size_t row = 0;  // index into the log's rows
   double time_s = 0.0;
@@ -128,6 +138,7 @@ struct CycleRecord {
   bool drawbar_saturated = false;  // high slip: every DP taken at the table's DP_max
   std::array<WheelCycle, kTelemetryWheels> wheels{};
   std::vector<StopRecord> new_events;  // wheels that entered STOP this cycle
+  std::optional<StopDecision> stop_decision;  // the rover's stop record, when written this cycle
   // Escape sequencer.
   bool escape_active = false;  // started (running or finished)
   flight::EscapeState escape_state = flight::EscapeState::idle;
@@ -183,6 +194,7 @@ class OnboardLoop {
   flight::RoverStep step_;
   flight::EscapeSequencer escape_;
   bool stopped_ = false;
+  flight::RoverDecision last_decision_ = flight::RoverDecision::continue_drive;
 };
 
 struct ReplayResult {
