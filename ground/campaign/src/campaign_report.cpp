@@ -3,6 +3,7 @@
 
 #include "sinkwatch/ground/plot_style.hpp"
 #include "sinkwatch/ground/replay.hpp"
+#include "sinkwatch/flight/stop_record.hpp"
 
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 
@@ -387,8 +388,8 @@ std::string accuracy_cells(const std::vector<double>& ratios, std::size_t of) {
 std::string event_accuracy_table(const CampaignResult& r) {
   std::ostringstream md;
   md << "| group | stops | with a wheel's event record | peak-current sinkage / true: median | within 20 % | largest "
-        "estimate / true: median | within 20 % | every stop: deepest wheel's recent median estimate / true: median "
-        "| within 20 % |\n|---|---|---|---|---|---|---|---|---|\n";
+        "estimate / true: median | within 20 % | every stop: the rover's stop record (deepest wheel's recent median) / "
+        "true: median | within 20 % |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const bool held : {false, true}) {
     EventAccuracy a;
     for (const TraverseResult& t : r.traverses) {
@@ -473,8 +474,11 @@ std::string campaign_summary(const CampaignResult& r, const std::string& command
              : "\nMotion-resistance sweep (section 8's stop coefficient, caution scaled with it; the sinkage levels "
                "as the table has them; docs/traction.md):\n\n" +
                    sweep_table(r, Sweep::traction_coefficient))
-     << "\nThe event record at the stop against the simulator (the campaign's table; a stop by a wheel's rule "
-        "leaves an event record, a stop by section 8 none; true = the simulator's deepest wheel at the stop; "
+     << "\nThe event records at the stop against the simulator (the campaign's table; a stop by a wheel's rule "
+        "leaves a wheel's event record, a stop by section 8 none; every stop leaves the rover's stop record, "
+        "the deepest wheel's median of its last "
+     << static_cast<unsigned>(flight::kStopRecordSamples)
+     << " estimates; true = the simulator's deepest wheel at the stop; "
         "peak-current sinkage: section 7's Eq. 11 at the episode's peak current with DP = DP_max):\n\n"
      << event_accuracy_table(r)
      << (r.options.faults.empty()
