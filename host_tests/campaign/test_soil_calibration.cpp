@@ -42,20 +42,20 @@ TEST(SoilCalibration, SiteFitRecoversTheSimulatedSoilsC3AndPull) {
   const TraverseDraw draw = draw_traverse(CampaignFamily::gradual, 16, 2);
   const SoilCalibration c = calibrate_to_soil(draw.spec, draw.min_soil_scale, CalibrationSoil::site,
                                               fl::default_parameter_table(), 99);
-  EXPECT_EQ(c.soil_scale, 1.0);
+  EXPECT_EQ(c.fit.soil_scale, 1.0);
   const double mean_load_n = draw.spec.mass_kg * draw.spec.gravity_mps2 / 6.0;
   const SimParameters soil = scenario_soil(draw.spec, 1.0);
   // Noise of 2 % on torque and pull over 12 rows: C3 within 0.01 of the clean value.
-  EXPECT_NEAR(c.c3_at_mean_load, clean_c3(soil, mean_load_n), 0.01);
+  EXPECT_NEAR(c.fit.c3_at_mean_load, clean_c3(soil, mean_load_n), 0.01);
   double best_pull = -1.0;
   for (const double s : kCalibrationSlips) {
     best_pull = std::max(best_pull, evaluate_or_throw(soil, mean_load_n, s).drawbar_pull_n / mean_load_n);
   }
-  EXPECT_NEAR(c.dp_max_at_mean_load, best_pull, 0.03);
+  EXPECT_NEAR(c.fit.dp_max_at_mean_load, best_pull, 0.03);
   // The table holds one row per soil-bin load, in the flight code's formats.
   ASSERT_EQ(c.table.correction.count, std::size(kCalibrationLoadFactors));
   EXPECT_NEAR(fx::to_double(c.table.correction.rows[2].load_n.q()), mean_load_n, 1e-3);
-  EXPECT_NEAR(fx::to_double(c.table.correction.rows[2].c3.q()), c.c3_at_mean_load, 1e-6);
+  EXPECT_NEAR(fx::to_double(c.table.correction.rows[2].c3.q()), c.fit.c3_at_mean_load, 1e-6);
   EXPECT_EQ(fx::to_double(c.table.correction.rows[2].c1.q()), 1.0);
 }
 
@@ -76,18 +76,18 @@ TEST(SoilCalibration, SoftestTakesTheSoftSoilWhereItGivesAPullAndAFirmerOneWhere
   // A soft soil that still carries the wheels with a pull: taken as it is.
   const SoilCalibration soft = calibrate_to_soil(draw.spec, 0.3, CalibrationSoil::softest,
                                                  fl::default_parameter_table(), 5);
-  EXPECT_EQ(soft.soil_scale, 0.3);
+  EXPECT_EQ(soft.fit.soil_scale, 0.3);
   // Far too soft for any soil-bin pull: the first doubling of the scale that gives one.
   const SoilCalibration firmer = calibrate_to_soil(draw.spec, 0.001, CalibrationSoil::softest,
                                                    fl::default_parameter_table(), 5);
-  EXPECT_GT(firmer.soil_scale, 0.001);
-  EXPECT_LE(firmer.soil_scale, 1.0);
-  EXPECT_GT(firmer.dp_max_at_mean_load, 0.0);
-  const double log2_steps = std::log2(firmer.soil_scale / 0.001);
+  EXPECT_GT(firmer.fit.soil_scale, 0.001);
+  EXPECT_LE(firmer.fit.soil_scale, 1.0);
+  EXPECT_GT(firmer.fit.dp_max_at_mean_load, 0.0);
+  const double log2_steps = std::log2(firmer.fit.soil_scale / 0.001);
   EXPECT_NEAR(log2_steps, std::round(log2_steps), 1e-9);
   // The softer the soil, the smaller its soil-bin pull.
-  EXPECT_LT(soft.dp_max_at_mean_load,
-            calibrate_to_soil(draw.spec, 1.0, CalibrationSoil::site, fl::default_parameter_table(), 5).dp_max_at_mean_load);
+  EXPECT_LT(soft.fit.dp_max_at_mean_load,
+            calibrate_to_soil(draw.spec, 1.0, CalibrationSoil::site, fl::default_parameter_table(), 5).fit.dp_max_at_mean_load);
 }
 
 TEST(SoilCalibration, ASoilWithoutAnySoilBinPullIsRefusedAndTheTraverseKeepsTheGivenTable) {
@@ -104,8 +104,7 @@ TEST(SoilCalibration, ASoilWithoutAnySoilBinPullIsRefusedAndTheTraverseKeepsTheG
   options.sweep_stop_mm.clear();
   options.sweep_traction_stop.clear();
   const TraverseResult r = evaluate_traverse(draw, options);
-  EXPECT_TRUE(r.calibration_failed);
-  EXPECT_FALSE(r.calibration_soil_scale);
+  EXPECT_FALSE(r.calibration.has_value());
   options.calibration = CalibrationSoil::none;
   EXPECT_EQ(evaluate_traverse(draw, options).flight.stop_time_s, r.flight.stop_time_s);  // the given table's verdict
 }

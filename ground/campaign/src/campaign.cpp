@@ -601,12 +601,9 @@ flight::ParameterTable traverse_table(const TraverseDraw& draw, const CampaignOp
     // No soil-bin pull even at scale 1 (bulldozing effects traverses that
     // cannot start, docs/scenarios.md finding 9): no table can be fitted,
     // the traverse runs with the given one and is counted in the summary.
-    out.calibration_failed = true;
     return options.table;
   }
-  out.calibration_soil_scale = c.soil_scale;
-  out.calibration_c3 = c.c3_at_mean_load;
-  out.calibration_dp_max = c.dp_max_at_mean_load;
+  out.calibration = c.fit;
   return c.table;
 }
 

@@ -34,6 +34,11 @@ std::string opt(const std::optional<double>& v, int digits, const char* none = "
 
 std::string json_opt(const std::optional<double>& v, int digits) { return v ? fixed(*v, digits) : "null"; }
 
+// One number of the traverse's calibration fit; empty without one.
+std::optional<double> fitted(const TraverseResult& t, double SoilBinFit::*field) {
+  return t.calibration ? std::optional<double>((*t.calibration).*field) : std::nullopt;
+}
+
 // One traverse's CSV fields, in traverse_csv_columns() order.
 std::vector<std::string> csv_fields(const TraverseResult& t) {
   const TraverseDraw& d = t.draw;
@@ -48,8 +53,8 @@ std::vector<std::string> csv_fields(const TraverseResult& t) {
           fixed(t.rear_load_excess, 4), fixed(t.front_load_excess, 4), opt(t.min_reserve_frac, 4),
           opt(t.reserve_ideal.cross_x_m, 3), opt(t.reserve_ideal.lead_m, 3),
           std::to_string(t.rows), opt(f.event_peak_sinkage_mm, 1), opt(f.event_max_estimate_mm, 1),
-          opt(f.true_sinkage_at_stop_mm, 1), opt(f.recent_estimate_mm, 1), opt(t.calibration_soil_scale, 4),
-          opt(t.calibration_c3, 4), opt(t.calibration_dp_max, 4)};
+          opt(f.true_sinkage_at_stop_mm, 1), opt(f.recent_estimate_mm, 1), opt(fitted(t, &SoilBinFit::soil_scale), 4),
+          opt(fitted(t, &SoilBinFit::c3_at_mean_load), 4), opt(fitted(t, &SoilBinFit::dp_max_at_mean_load), 4)};
 }
 
 std::string csv_field(const std::string& s) {
@@ -423,11 +428,14 @@ std::string calibration_table(const CampaignResult& r) {
     std::vector<double> scale, c3, dp;
     std::size_t failed = 0;
     for (const TraverseResult& t : r.traverses) {
-      if (t.embedded == embeds && t.calibration_failed) ++failed;
-      if (t.embedded != embeds || !t.calibration_soil_scale) continue;
-      scale.push_back(*t.calibration_soil_scale);
-      c3.push_back(*t.calibration_c3);
-      dp.push_back(*t.calibration_dp_max);
+      if (t.embedded != embeds) continue;
+      if (!t.calibration) {
+        ++failed;
+        continue;
+      }
+      scale.push_back(t.calibration->soil_scale);
+      c3.push_back(t.calibration->c3_at_mean_load);
+      dp.push_back(t.calibration->dp_max_at_mean_load);
     }
     md << "| " << (embeds ? "embedding" : "never embedding") << " | " << scale.size();
     for (const std::vector<double>* v : {&scale, &c3, &dp}) {

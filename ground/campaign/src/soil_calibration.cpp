@@ -53,10 +53,10 @@ SoilCalibration fit_table(const SoilBinDataset& dataset, const flight::Parameter
   request.wheel_radius_m = common_wheel_radius(dataset);
   SoilCalibration out;
   out.table = build_flight_table(base, request).table;
-  out.soil_scale = scale;
+  out.fit.soil_scale = scale;
   const CorrectionEntry& mean = request.rows.at(2);  // kCalibrationLoadFactors[2] == 1.0
-  out.c3_at_mean_load = mean.c[2];
-  out.dp_max_at_mean_load = mean.dp_max_ratio;
+  out.fit.c3_at_mean_load = mean.c[2];
+  out.fit.dp_max_at_mean_load = mean.dp_max_ratio;
   return out;
 }
 

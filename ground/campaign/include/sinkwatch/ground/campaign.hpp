@@ -182,9 +182,10 @@ struct TraverseResult {
   std::vector<FaultVerdict> faults;  // one per CampaignOptions::faults
   std::size_t rows = 0;
   // With CampaignOptions::calibration: the soil the traverse's table was
-  // calibrated on and what the fit gave at m g / 6 (soil_calibration.hpp).
-  std::optional<double> calibration_soil_scale, calibration_c3, calibration_dp_max;
-  bool calibration_failed = false;  // no table could be fitted: run with the campaign's table
+  // calibrated on and what the fit gave at m g / 6 (soil_calibration.hpp);
+  // empty when no table could be fitted (the traverse ran with the
+  // campaign's table) or without --calibrate.
+  std::optional<SoilBinFit> calibration;
 };
 
 /// The mass the flight code in the loop is given (--flight-mass).

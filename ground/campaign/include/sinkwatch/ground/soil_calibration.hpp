@@ -45,11 +45,16 @@ inline constexpr double kCalibrationSlips[] = {0.05, 0.10, 0.15, 0.20, 0.25, 0.3
 /// scale is then doubled, at most this many times (0.005 * 2^8 > 1).
 inline constexpr int kSoftestScaleDoublings = 8;
 
-struct SoilCalibration {
-  flight::ParameterTable table;  // the base table with the fitted C(W) rows
+/// What a calibration fitted, in the numbers the campaign reports.
+struct SoilBinFit {
   double soil_scale = 1.0;       // the scale of the soil the bin held
   double c3_at_mean_load = 0.0;  // the fitted C3 at m g / 6 (the grid's load factor 1.0)
   double dp_max_at_mean_load = 0.0;
+};
+
+struct SoilCalibration {
+  flight::ParameterTable table;  // the base table with the fitted C(W) rows
+  SoilBinFit fit;
 };
 
 /// The table calibrated to `soil` (not none) of the traverse `spec`, whose
