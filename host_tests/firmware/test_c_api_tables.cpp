@@ -1,4 +1,4 @@
-// test_cov_c_api.cpp: the C interface (sinkwatch.h) from C++, for what the
+// test_c_api_tables.cpp: the C interface (sinkwatch.h) from C++, for what the
 // C11 test (test_c_api.c) cannot build: real parameter tables, with and
 // without a rover-geometry section, made by the flight module's encoders.
 // Also every entry point with a null or never-initialised context, and a
