@@ -175,6 +175,9 @@ void exercise_c_api(const fl::ParameterTable& table) {
   keep(out.wheel[0].sinkage_m_q24);
   sw_event event{};
   keep(sw_last_event(&g_context, 0U, &event));
+  sw_stop_record stop{};
+  keep(sw_last_stop(&g_context, &stop));
+  keep(stop.recent_sinkage_m_q24);
   sw_clear_stop(&g_context);
 }
 
