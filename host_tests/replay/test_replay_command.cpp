@@ -51,6 +51,11 @@ TEST(ReplayCommand, DefaultRunStopsBeforeTheEmbeddingAndSaysSo) {
   // (docs/traction.md), and the report says so.
   EXPECT_NE(r.out.find("the motion-resistance check stopped the rover"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("escape     FREED"), std::string::npos) << r.out;
+  // Section 8's stop leaves no wheel event; the rover's stop record gives
+  // the sinkage at the stop, beside the simulator's, at the stop and in the summary.
+  EXPECT_NE(r.out.find("stop record: motion resistance"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("record     the rover's stop record: motion resistance"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("(simulator: 32.0 mm)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("Summary"), std::string::npos);
   // Compact: not one line per cycle (the log has > 1200 cycles).
   EXPECT_LT(std::count(r.out.begin(), r.out.end(), '\n'), 80);

@@ -302,6 +302,12 @@ void print_embedding_and_events(std::ostream& out, const TelemetryLog& log, cons
   } else if (log.metadata.count("embedding_x_m")) {
     out << "  embedding  none in this scenario (the simulator's rover never embeds on this path)\n";
   }
+  if (r.first_stop && r.cycles[*r.first_stop].stop_decision) {
+    const CycleRecord& stop = r.cycles[*r.first_stop];
+    const std::optional<double> truth = truth_sinkage_mm(log, stop);
+    out << "  record     the rover's stop record: " << stop_decision_text(*stop.stop_decision)
+        << (truth ? strf(" (simulator: %.1f mm)", *truth) : std::string()) << '\n';
+  }
   if (r.events.empty()) {
     out << "  events     none\n";
   } else {
