@@ -220,12 +220,15 @@ SW_FX_INLINE constexpr U128 mul_full(std::uint64_t a, std::uint64_t b) noexcept 
   const auto a_hi = static_cast<std::uint32_t>(a >> 32U);
   const auto b_lo = static_cast<std::uint32_t>(b & mask);
   const auto b_hi = static_cast<std::uint32_t>(b >> 32U);
-  // A zero high word (most Q31.32 operands are below 2^32 in magnitude)
-  // skips its partial products: the same sum, fewer multiplies on ARMv6-M.
+  // On ARMv6-M a zero high word (most Q31.32 operands are below 2^32 in
+  // magnitude) skips its partial products: the same sum, fewer multiplies.
+  // Where a product is one instruction the branches cost more than they save.
+  const bool skip_a_hi = kMul32x32BySoftware && (a_hi == 0U);
+  const bool skip_b_hi = kMul32x32BySoftware && (b_hi == 0U);
   const std::uint64_t ll = mul_32x32_64(a_lo, b_lo);
-  const std::uint64_t lh = (b_hi == 0U) ? 0U : mul_32x32_64(a_lo, b_hi);
-  const std::uint64_t hl = (a_hi == 0U) ? 0U : mul_32x32_64(a_hi, b_lo);
-  const std::uint64_t hh = ((a_hi == 0U) || (b_hi == 0U)) ? 0U : mul_32x32_64(a_hi, b_hi);
+  const std::uint64_t lh = skip_b_hi ? 0U : mul_32x32_64(a_lo, b_hi);
+  const std::uint64_t hl = skip_a_hi ? 0U : mul_32x32_64(a_hi, b_lo);
+  const std::uint64_t hh = (skip_a_hi || skip_b_hi) ? 0U : mul_32x32_64(a_hi, b_hi);
   // Middle column: at most 3 * (2^32 - 1) summands' worth, fits in 64 bits.
   const std::uint64_t mid = (ll >> 32U) + (lh & mask) + (hl & mask);
   const std::uint64_t lo = (ll & mask) | (mid << 32U);
