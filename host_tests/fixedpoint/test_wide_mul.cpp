@@ -104,10 +104,29 @@ TEST(WideMul, FullProductOf64BitValuesDividesBackExactly) {
   for (int i = 0; i < 100000; ++i) {
     const std::uint64_t a = rng() >> (static_cast<std::uint32_t>(i) % 64U);
     const std::uint64_t b = (rng() >> (static_cast<std::uint32_t>(i / 64) % 64U)) | 1U;
-    const wide::DivMod<wide::U128> qr = wide::divmod(wide::mul_full(a, b), wide::make_u128(b));
+    const wide::U128 product = wide::mul_full(a, b);
+    const wide::DivMod<wide::U128> qr = wide::divmod(product, wide::make_u128(b));
     ASSERT_EQ(qr.quotient.hi, 0U) << a << " * " << b;
     ASSERT_EQ(qr.quotient.lo, a) << a << " * " << b;
     ASSERT_TRUE(wide::is_zero(qr.remainder)) << a << " * " << b;
+  }
+}
+
+// The ARMv6-M form of mul_full (16-bit halves, zero high words skipped) gives
+// the same 128 bits as the host's, for operands with and without high words.
+TEST(WideMul, FullProductSkippingZeroWordsEqualsTheFullProduct) {
+  std::vector<std::uint64_t> edges = {0U, 1U, 0xFFFFFFFFU, 0x100000000ULL, 0xFFFFFFFFFFFFFFFFULL};
+  for (const std::uint64_t a : edges) {
+    for (const std::uint64_t b : edges) {
+      EXPECT_TRUE(wide::equal(wide::mul_full_skipping_zero_words(a, b), wide::mul_full(a, b))) << a << " * " << b;
+    }
+  }
+  std::mt19937_64 rng(0x5u);
+  for (int i = 0; i < 400000; ++i) {
+    // Both operands of every length, so that each of the four cases occurs.
+    const std::uint64_t a = rng() >> (static_cast<std::uint32_t>(i) % 64U);
+    const std::uint64_t b = rng() >> (static_cast<std::uint32_t>(i / 64) % 64U);
+    ASSERT_TRUE(wide::equal(wide::mul_full_skipping_zero_words(a, b), wide::mul_full(a, b))) << a << " * " << b;
   }
 }
 

@@ -213,27 +213,54 @@ SW_FX_INLINE constexpr std::uint64_t mul_64x64_low(std::uint64_t a, std::uint64_
 SW_FX_INLINE constexpr std::uint64_t mul_full(std::uint32_t a, std::uint32_t b) noexcept {
   return mul_32x32_64(a, b);
 }
-/// Full product of two 64-bit values, by 32-bit limbs (schoolbook).
-SW_FX_INLINE constexpr U128 mul_full(std::uint64_t a, std::uint64_t b) noexcept {
+/// The 128-bit sum of the four 32 x 32-bit partial products of a 64 x 64-bit
+/// product (ll = a_lo b_lo, lh = a_lo b_hi, hl = a_hi b_lo, hh = a_hi b_hi).
+SW_FX_INLINE constexpr U128 sum_partial_products(std::uint64_t ll, std::uint64_t lh, std::uint64_t hl,
+                                                 std::uint64_t hh) noexcept {
   const std::uint64_t mask = 0xFFFFFFFFU;
-  const auto a_lo = static_cast<std::uint32_t>(a & mask);
-  const auto a_hi = static_cast<std::uint32_t>(a >> 32U);
-  const auto b_lo = static_cast<std::uint32_t>(b & mask);
-  const auto b_hi = static_cast<std::uint32_t>(b >> 32U);
-  // On ARMv6-M a zero high word (most Q31.32 operands are below 2^32 in
-  // magnitude) skips its partial products: the same sum, fewer multiplies.
-  // Where a product is one instruction the branches cost more than they save.
-  const bool skip_a_hi = kMul32x32BySoftware && (a_hi == 0U);
-  const bool skip_b_hi = kMul32x32BySoftware && (b_hi == 0U);
-  const std::uint64_t ll = mul_32x32_64(a_lo, b_lo);
-  const std::uint64_t lh = skip_b_hi ? 0U : mul_32x32_64(a_lo, b_hi);
-  const std::uint64_t hl = skip_a_hi ? 0U : mul_32x32_64(a_hi, b_lo);
-  const std::uint64_t hh = (skip_a_hi || skip_b_hi) ? 0U : mul_32x32_64(a_hi, b_hi);
   // Middle column: at most 3 * (2^32 - 1) summands' worth, fits in 64 bits.
   const std::uint64_t mid = (ll >> 32U) + (lh & mask) + (hl & mask);
   const std::uint64_t lo = (ll & mask) | (mid << 32U);
   const std::uint64_t hi = hh + (lh >> 32U) + (hl >> 32U) + (mid >> 32U);
   return U128{hi, lo};
+}
+
+/// a * b in 128 bits from the 16-bit-halves products (mul_32x32_64_halves),
+/// skipping the partial products of a zero high word (most Q31.32 operands
+/// are below 2^32 in magnitude): mul_full on ARMv6-M, where each partial
+/// product costs about 25 instructions. The host tests call it directly.
+SW_FX_INLINE constexpr U128 mul_full_skipping_zero_words(std::uint64_t a, std::uint64_t b) noexcept {
+  const std::uint64_t mask = 0xFFFFFFFFU;
+  const auto a_lo = static_cast<std::uint32_t>(a & mask);
+  const auto a_hi = static_cast<std::uint32_t>(a >> 32U);
+  const auto b_lo = static_cast<std::uint32_t>(b & mask);
+  const auto b_hi = static_cast<std::uint32_t>(b >> 32U);
+  const std::uint64_t ll = mul_32x32_64_halves(a_lo, b_lo);
+  const std::uint64_t lh = (b_hi != 0U) ? mul_32x32_64_halves(a_lo, b_hi) : 0U;
+  std::uint64_t hl = 0U;
+  std::uint64_t hh = 0U;
+  if (a_hi != 0U) {
+    hl = mul_32x32_64_halves(a_hi, b_lo);
+    hh = (b_hi != 0U) ? mul_32x32_64_halves(a_hi, b_hi) : 0U;
+  }
+  return sum_partial_products(ll, lh, hl, hh);
+}
+
+/// Full product of two 64-bit values, by 32-bit limbs (schoolbook). Where a
+/// 32 x 32 -> 64-bit product is one instruction, all four are formed (the
+/// branches of the skipping form would cost more than they save).
+SW_FX_INLINE constexpr U128 mul_full(std::uint64_t a, std::uint64_t b) noexcept {
+  if constexpr (kMul32x32BySoftware) {
+    return mul_full_skipping_zero_words(a, b);
+  } else {
+    const std::uint64_t mask = 0xFFFFFFFFU;
+    const auto a_lo = static_cast<std::uint32_t>(a & mask);
+    const auto a_hi = static_cast<std::uint32_t>(a >> 32U);
+    const auto b_lo = static_cast<std::uint32_t>(b & mask);
+    const auto b_hi = static_cast<std::uint32_t>(b >> 32U);
+    return sum_partial_products(mul_32x32_64(a_lo, b_lo), mul_32x32_64(a_lo, b_hi), mul_32x32_64(a_hi, b_lo),
+                                mul_32x32_64(a_hi, b_hi));
+  }
 }
 
 /// Quotient and remainder of an unsigned division.
