@@ -1,6 +1,8 @@
 // Piecewise-linear corrections over the load breakpoints (correction.hpp).
 #include "sinkwatch/flight/correction.hpp"
 
+#include "sinkwatch/fixedpoint/wide.hpp"
+
 namespace sinkwatch {
 namespace flight {
 
@@ -32,7 +34,10 @@ Ratio lerp(Ratio a, Ratio b, WideQ fraction, fx::Status& st) noexcept {
     return lerp_wide(a, b, fraction, st);
   }
   const std::int64_t d = static_cast<std::int64_t>(b.raw()) - static_cast<std::int64_t>(a.raw());
-  const std::uint64_t product = static_cast<std::uint64_t>(fraction.raw()) * fx::detail::magnitude(d);
+  // Both factors are below 2^32: one 32 x 32 -> 64-bit product (no
+  // __aeabi_lmul on the Cortex-M0).
+  const std::uint64_t product = fx::wide::mul_32x32_64(static_cast<std::uint32_t>(fraction.raw()),
+                                                       static_cast<std::uint32_t>(fx::detail::magnitude(d)));
   const auto step_mag = static_cast<std::int64_t>(round_shift(product, 24U));  // below 2^40
   const std::int64_t value = (static_cast<std::int64_t>(a.raw()) * 256) + ((d < 0) ? -step_mag : step_mag);
   const std::uint64_t out_mag = round_shift(fx::detail::magnitude(value), 8U);

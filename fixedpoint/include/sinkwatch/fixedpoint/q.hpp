@@ -297,19 +297,19 @@ template <typename W>
 struct WideProduct;
 template <>
 struct WideProduct<std::uint64_t> {
-  static constexpr std::uint64_t of(std::uint64_t a, std::uint64_t b) noexcept {
+  SW_FX_INLINE static constexpr std::uint64_t of(std::uint64_t a, std::uint64_t b) noexcept {
     // Only used when both operands come from int32_t storage: each <= 2^31.
     return wide::mul_full(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
   }
 };
 template <>
 struct WideProduct<wide::U128> {
-  static constexpr wide::U128 of(std::uint64_t a, std::uint64_t b) noexcept { return wide::mul_full(a, b); }
+  SW_FX_INLINE static constexpr wide::U128 of(std::uint64_t a, std::uint64_t b) noexcept { return wide::mul_full(a, b); }
 };
 
 /// Exact product of two magnitudes in the wide type W.
 template <typename W>
-constexpr W wide_product(std::uint64_t a, std::uint64_t b) noexcept {
+SW_FX_INLINE constexpr W wide_product(std::uint64_t a, std::uint64_t b) noexcept {
   return WideProduct<W>::of(a, b);
 }
 

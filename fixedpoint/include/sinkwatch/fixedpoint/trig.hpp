@@ -87,7 +87,7 @@ constexpr std::uint64_t k_pi_q32 = 13493037705U;
 
 /// round(a * b / 2^shift) for 1 <= shift <= 63, a * b + 2^(shift-1) < 2^64.
 constexpr std::uint64_t mul_round(std::uint64_t a, std::uint64_t b, std::uint32_t shift) noexcept {
-  return ((a * b) + (std::uint64_t{1U} << (shift - 1U))) >> shift;
+  return (wide::mul_64x64_low(a, b) + (std::uint64_t{1U} << (shift - 1U))) >> shift;
 }
 
 /// Fraction of a turn of the angle m * 2^-F rad, in units of 2^-64 turn:
@@ -107,7 +107,7 @@ constexpr std::uint64_t turns(std::uint64_t m) noexcept {
       // 2^-64 are under one unit. A zero limb (always the high one for
       // 32-bit storage) saves a 64-bit multiply, a library call on the M0.
       if ((s < 64) && (s > -64) && (limb[j] != 0U)) {
-        const std::uint64_t p = limb[j] * static_cast<std::uint64_t>(k_inv_two_pi[i]);
+        const std::uint64_t p = wide::mul_64x64_low(limb[j], k_inv_two_pi[i]);
         t += (s >= 0) ? (p << static_cast<std::uint32_t>(s)) : (p >> static_cast<std::uint32_t>(-s));
       }
     }
@@ -140,7 +140,7 @@ constexpr std::uint64_t square_q31(std::uint64_t m) noexcept {
   const std::uint64_t m_lo = m & 0x3FFFFFFFU;  // < 2^30
   // v^2 * 2^31 = m_hi^2 2^-31 + m_hi m_lo 2^-60 + m_lo^2 2^-91; the last term
   // is below 2^-31 units and dropped.
-  const std::uint64_t sum = (m_hi * m_hi) + ((m_hi * m_lo) >> 29U);
+  const std::uint64_t sum = wide::mul_64x64_low(m_hi, m_hi) + (wide::mul_64x64_low(m_hi, m_lo) >> 29U);
   return (sum + (std::uint64_t{1U} << 30U)) >> 31U;
 }
 
@@ -158,7 +158,7 @@ constexpr std::uint64_t sin_kernel(std::uint64_t m, std::uint64_t w) noexcept {
   // m * P * 2^-63. m = m_hi 2^30 + m_lo keeps both products below 2^63.
   const std::uint64_t m_hi = m >> 30U;
   const std::uint64_t m_lo = m & 0x3FFFFFFFU;
-  const std::uint64_t t = (m_hi * b) + ((m_lo * b) >> 30U);
+  const std::uint64_t t = wide::mul_64x64_low(m_hi, b) + (wide::mul_64x64_low(m_lo, b) >> 30U);
   return (t + (std::uint64_t{1U} << 32U)) >> 33U;
 }
 
@@ -227,7 +227,7 @@ constexpr std::uint64_t asin_magnitude(std::uint64_t m, std::uint64_t d) noexcep
   const std::uint64_t radicand = d << static_cast<std::uint32_t>(63 - F);
   const std::uint64_t root = isqrt_floor<std::uint64_t>(radicand);
   // Round to nearest: up when radicand - root^2 > root (no ties possible).
-  const std::uint64_t s32 = ((radicand - (root * root)) > root) ? (root + 1U) : root;
+  const std::uint64_t s32 = ((radicand - wide::mul_64x64_low(root, root)) > root) ? (root + 1U) : root;
   return k_half_pi_q32 - (2U * asin_poly(s32));
 }
 
@@ -386,7 +386,7 @@ template <typename S, std::int32_t F>
     b = (b >> k) + (((b & half) != 0U) ? 1U : 0U);
   }
   std::uint64_t phi = 0U;
-  if ((a << 31U) <= (b * detail::trig::k_tan_pi_8_q31)) {
+  if ((a << 31U) <= wide::mul_64x64_low(b, detail::trig::k_tan_pi_8_q31)) {
     // a / b <= tan(pi/8): the series directly. a 2^32 < 0.42 * 2^64.
     const std::uint64_t u = ((a << 32U) + (b >> 1U)) / b;
     phi = detail::trig::atan_poly(u);

@@ -126,26 +126,141 @@ SW_FX_INLINE constexpr std::uint32_t bit_length(const U128& a) noexcept {
   return (a.hi != 0U) ? (64U + bit_length(a.hi)) : bit_length(a.lo);
 }
 
+/// True where a 32 x 32 -> 64-bit product has no instruction: ARMv6-M
+/// (Cortex-M0/M0+/M1) has only the 32-bit MULS, and GCC calls __aeabi_lmul
+/// (about 41 instructions plus the call) for every 64-bit product.
+#if defined(__ARM_ARCH_6M__) || (defined(__ARM_ARCH) && (__ARM_ARCH == 6) && !defined(__ARM_ARCH_ISA_ARM))
+constexpr bool kMul32x32BySoftware = true;
+#else
+constexpr bool kMul32x32BySoftware = false;
+#endif
+
+/// a * b exactly, from four 16 x 16 -> 32-bit products (each a MULS on
+/// ARMv6-M) and 32-bit adds with their carries: plain integer arithmetic, so
+/// the same 64 bits as the widening multiply on every target. The ARMv6-M
+/// build of mul_32x32_64 uses it; the host tests call it directly
+/// (test_wide_mul) because there it is not on the product's path.
+SW_FX_INLINE constexpr std::uint64_t mul_32x32_64_halves(std::uint32_t a, std::uint32_t b) noexcept {
+  const std::uint32_t half_mask = 0xFFFFU;
+  const std::uint32_t a_lo = a & half_mask;
+  const std::uint32_t a_hi = a >> 16U;
+  const std::uint32_t b_lo = b & half_mask;
+  const std::uint32_t b_hi = b >> 16U;
+  // Each partial product is below (2^16 - 1)^2 < 2^32.
+  const std::uint32_t ll = a_lo * b_lo;
+  const std::uint32_t lh = a_lo * b_hi;
+  const std::uint32_t hl = a_hi * b_lo;
+  const std::uint32_t hh = a_hi * b_hi;
+  // The middle column lh + hl (weight 2^16) may carry into bit 32 (weight 2^48).
+  const std::uint32_t mid = lh + hl;
+  const std::uint32_t mid_carry = (mid < lh) ? 0x10000U : 0U;
+  const std::uint32_t lo = ll + (mid << 16U);
+  const std::uint32_t lo_carry = (lo < ll) ? 1U : 0U;
+  // hi < 2^32: the exact product is below 2^64.
+  const std::uint32_t hi = hh + (mid >> 16U) + mid_carry + lo_carry;
+  return (static_cast<std::uint64_t>(hi) << 32U) | lo;
+}
+
+/// Full product of two unsigned 32-bit values: one widening multiply
+/// (UMULL, MUL) where the core has it, four MULS on ARMv6-M. The same bits
+/// either way.
+SW_FX_INLINE constexpr std::uint64_t mul_32x32_64(std::uint32_t a, std::uint32_t b) noexcept {
+  if constexpr (kMul32x32BySoftware) {
+    return mul_32x32_64_halves(a, b);
+  } else {
+    return static_cast<std::uint64_t>(a) * static_cast<std::uint64_t>(b);
+  }
+}
+
+/// Full product of two signed 32-bit values, through the magnitudes: |a b| <=
+/// 2^62 fits int64_t, so the sign is put back without any wrap.
+SW_FX_INLINE constexpr std::int64_t mul_32x32_64(std::int32_t a, std::int32_t b) noexcept {
+  // 0 - a in unsigned arithmetic is |a| for every a, INT32_MIN included.
+  const auto mag_a = (a < 0) ? (0U - static_cast<std::uint32_t>(a)) : static_cast<std::uint32_t>(a);
+  const auto mag_b = (b < 0) ? (0U - static_cast<std::uint32_t>(b)) : static_cast<std::uint32_t>(b);
+  const auto product = static_cast<std::int64_t>(mul_32x32_64(mag_a, mag_b));
+  return ((a < 0) != (b < 0)) ? -product : product;
+}
+
+/// a * b mod 2^64, the built-in uint64_t product, from one full 32 x 32 ->
+/// 64-bit product of the low words and the low 32 bits of the two cross
+/// products (the high words' product falls off the top): on ARMv6-M one
+/// mul_32x32_64_halves and two MULS instead of a call to __aeabi_lmul. The
+/// host tests call it directly (test_wide_mul).
+SW_FX_INLINE constexpr std::uint64_t mul_64x64_low_by_words(std::uint64_t a, std::uint64_t b) noexcept {
+  const std::uint64_t mask = 0xFFFFFFFFU;
+  const auto a_lo = static_cast<std::uint32_t>(a & mask);
+  const auto a_hi = static_cast<std::uint32_t>(a >> 32U);
+  const auto b_lo = static_cast<std::uint32_t>(b & mask);
+  const auto b_hi = static_cast<std::uint32_t>(b >> 32U);
+  // Unsigned 32-bit products wrap mod 2^32: exactly the bits that land below
+  // 2^64 after the shift by 32.
+  const std::uint32_t cross = (a_lo * b_hi) + (a_hi * b_lo);
+  return mul_32x32_64_halves(a_lo, b_lo) + (static_cast<std::uint64_t>(cross) << 32U);
+}
+
+/// a * b mod 2^64 (the built-in product's bits) on every target, without
+/// __aeabi_lmul on ARMv6-M.
+SW_FX_INLINE constexpr std::uint64_t mul_64x64_low(std::uint64_t a, std::uint64_t b) noexcept {
+  if constexpr (kMul32x32BySoftware) {
+    return mul_64x64_low_by_words(a, b);
+  } else {
+    return a * b;
+  }
+}
+
 /// Full product of two 32-bit values.
 SW_FX_INLINE constexpr std::uint64_t mul_full(std::uint32_t a, std::uint32_t b) noexcept {
-  return static_cast<std::uint64_t>(a) * static_cast<std::uint64_t>(b);
+  return mul_32x32_64(a, b);
 }
-/// Full product of two 64-bit values, by 32-bit limbs (schoolbook).
-SW_FX_INLINE constexpr U128 mul_full(std::uint64_t a, std::uint64_t b) noexcept {
+/// The 128-bit sum of the four 32 x 32-bit partial products of a 64 x 64-bit
+/// product (ll = a_lo b_lo, lh = a_lo b_hi, hl = a_hi b_lo, hh = a_hi b_hi).
+SW_FX_INLINE constexpr U128 sum_partial_products(std::uint64_t ll, std::uint64_t lh, std::uint64_t hl,
+                                                 std::uint64_t hh) noexcept {
   const std::uint64_t mask = 0xFFFFFFFFU;
-  const std::uint64_t a_lo = a & mask;
-  const std::uint64_t a_hi = a >> 32U;
-  const std::uint64_t b_lo = b & mask;
-  const std::uint64_t b_hi = b >> 32U;
-  const std::uint64_t ll = a_lo * b_lo;
-  const std::uint64_t lh = a_lo * b_hi;
-  const std::uint64_t hl = a_hi * b_lo;
-  const std::uint64_t hh = a_hi * b_hi;
   // Middle column: at most 3 * (2^32 - 1) summands' worth, fits in 64 bits.
   const std::uint64_t mid = (ll >> 32U) + (lh & mask) + (hl & mask);
   const std::uint64_t lo = (ll & mask) | (mid << 32U);
   const std::uint64_t hi = hh + (lh >> 32U) + (hl >> 32U) + (mid >> 32U);
   return U128{hi, lo};
+}
+
+/// a * b in 128 bits from the 16-bit-halves products (mul_32x32_64_halves),
+/// skipping the partial products of a zero high word (most Q31.32 operands
+/// are below 2^32 in magnitude): mul_full on ARMv6-M, where each partial
+/// product costs about 25 instructions. The host tests call it directly.
+SW_FX_INLINE constexpr U128 mul_full_skipping_zero_words(std::uint64_t a, std::uint64_t b) noexcept {
+  const std::uint64_t mask = 0xFFFFFFFFU;
+  const auto a_lo = static_cast<std::uint32_t>(a & mask);
+  const auto a_hi = static_cast<std::uint32_t>(a >> 32U);
+  const auto b_lo = static_cast<std::uint32_t>(b & mask);
+  const auto b_hi = static_cast<std::uint32_t>(b >> 32U);
+  const std::uint64_t ll = mul_32x32_64_halves(a_lo, b_lo);
+  const std::uint64_t lh = (b_hi != 0U) ? mul_32x32_64_halves(a_lo, b_hi) : 0U;
+  std::uint64_t hl = 0U;
+  std::uint64_t hh = 0U;
+  if (a_hi != 0U) {
+    hl = mul_32x32_64_halves(a_hi, b_lo);
+    hh = (b_hi != 0U) ? mul_32x32_64_halves(a_hi, b_hi) : 0U;
+  }
+  return sum_partial_products(ll, lh, hl, hh);
+}
+
+/// Full product of two 64-bit values, by 32-bit limbs (schoolbook). Where a
+/// 32 x 32 -> 64-bit product is one instruction, all four are formed (the
+/// branches of the skipping form would cost more than they save).
+SW_FX_INLINE constexpr U128 mul_full(std::uint64_t a, std::uint64_t b) noexcept {
+  if constexpr (kMul32x32BySoftware) {
+    return mul_full_skipping_zero_words(a, b);
+  } else {
+    const std::uint64_t mask = 0xFFFFFFFFU;
+    const auto a_lo = static_cast<std::uint32_t>(a & mask);
+    const auto a_hi = static_cast<std::uint32_t>(a >> 32U);
+    const auto b_lo = static_cast<std::uint32_t>(b & mask);
+    const auto b_hi = static_cast<std::uint32_t>(b >> 32U);
+    return sum_partial_products(mul_32x32_64(a_lo, b_lo), mul_32x32_64(a_lo, b_hi), mul_32x32_64(a_hi, b_lo),
+                                mul_32x32_64(a_hi, b_hi));
+  }
 }
 
 /// Quotient and remainder of an unsigned division.

@@ -53,7 +53,7 @@ namespace detail {
 constexpr fx::wide::DivMod<std::uint64_t> divide_by_reciprocal(std::uint64_t n, std::uint64_t d,
                                                                std::uint64_t m) noexcept {
   std::uint64_t q = fx::wide::mul_full(n, m).hi;
-  std::uint64_t r = n - (q * d);
+  std::uint64_t r = n - fx::wide::mul_64x64_low(q, d);
   if (r >= d) {
     r -= d;
     ++q;
