@@ -1,0 +1,96 @@
+// reciprocal.hpp: 1/d of a positive fixed-point value as a normalised 32-bit
+// mantissa and a power of two, and quotients x/d as one 32 x 32 -> 64-bit
+// product with it.
+//
+// Where one divisor serves several quotients (a lever and the forces on it,
+// the wheel-load statics of docs/rover-loads.md, section 7.4), one division
+// per divisor and a product per quotient replace a division per quotient. A
+// fixed-format reciprocal loses relative precision as d grows (1/d of a lever
+// of 30 m in Q10.21 keeps 16 bits); the mantissa here keeps 32 bits whatever
+// d is, the shift carries the magnitude.
+//
+// Definition (every target computes exactly these integers):
+//   D > 0 the divisor's magnitude (raw) with Fd fraction bits, n = bit_length(D);
+//   Dn = D * 2^(32-n) for n <= 32, floor(D / 2^(n-32)) for n > 32: Dn in [2^31, 2^32);
+//   mantissa = floor((2^63 - 1) / Dn), in [2^31, 2^32);
+//   1/d ~ mantissa * 2^-scale, scale = 31 + n - Fd.
+// Truncating D and flooring the quotient each err by less than 2^-31
+// relative, so mantissa * 2^-scale is within 2^-30 of 1/d, relative.
+//
+// times<Out>(x, r) = x * mantissa * 2^-(Fx + scale - Fout), rounded to
+// nearest (ties away from zero) on the magnitude: within 0.5 LSB of Out plus
+// |x/d| * 2^-30. It saturates and raises overflow when the quotient leaves Out.
+// host_tests/fixedpoint/test_reciprocal.cpp checks the definition and the
+// bound against the exact quotient.
+#ifndef SINKWATCH_FIXEDPOINT_RECIPROCAL_HPP
+#define SINKWATCH_FIXEDPOINT_RECIPROCAL_HPP
+
+#include <cstdint>
+
+#include "sinkwatch/fixedpoint/inline.hpp"
+#include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/status.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
+
+namespace sinkwatch {
+namespace fx {
+
+/// 1/d ~ mantissa * 2^-scale; mantissa == 0 marks "no reciprocal" (d == 0).
+struct Reciprocal {
+  std::uint32_t mantissa{0U};
+  std::int32_t scale{0};
+};
+
+/// The reciprocal of the positive magnitude `d_raw` with `d_frac_bits`
+/// fraction bits; d_raw == 0 gives mantissa 0 (times() then reports
+/// div_by_zero).
+[[nodiscard]] constexpr Reciprocal reciprocal_of(std::uint64_t d_raw, std::int32_t d_frac_bits) noexcept {
+  if (d_raw == 0U) {
+    return Reciprocal{};
+  }
+  const std::uint32_t n = wide::bit_length(d_raw);
+  const std::uint64_t normalised = (n <= 32U) ? wide::shl(d_raw, 32U - n) : wide::shr(d_raw, n - 32U);
+  constexpr std::uint64_t kTwoTo63Less1 = ~std::uint64_t{0U} >> 1U;
+  const std::uint64_t mantissa = kTwoTo63Less1 / normalised;  // in [2^31, 2^32)
+  return Reciprocal{static_cast<std::uint32_t>(mantissa), (31 + static_cast<std::int32_t>(n)) - d_frac_bits};
+}
+
+/// The reciprocal of a positive Q value (a non-positive one gives no
+/// reciprocal: divisors here are lengths and weights checked positive).
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr Reciprocal reciprocal_of(Q<S, F> d) noexcept {
+  return (d.raw() > 0) ? reciprocal_of(static_cast<std::uint64_t>(d.raw()), F) : Reciprocal{};
+}
+
+/// x / d in the format Out (32-bit storage) from d's reciprocal r.
+template <typename Out, std::int32_t Fx>
+[[nodiscard]] constexpr Out times(Q<std::int32_t, Fx> x, Reciprocal r, Status& status) noexcept {
+  static_assert(Out::total_bits == 32U, "quotients by a reciprocal are 32-bit formats");
+  const bool negative = detail::is_negative(x.raw());
+  if (r.mantissa == 0U) {
+    status.raise(Flag::div_by_zero);
+    if (x.raw() == 0) {
+      return Out::zero();
+    }
+    return negative ? Out::min() : Out::max();
+  }
+  const std::uint64_t product =
+      wide::mul_32x32_64(static_cast<std::uint32_t>(detail::magnitude(x.raw())), r.mantissa);  // < 2^63
+  const std::int32_t shift = (Fx + r.scale) - Out::frac_bits;
+  std::uint64_t mag = 0U;
+  if (shift <= 0) {
+    // A non-zero product is >= 2^31 and would only grow: beyond Out.
+    mag = (product == 0U) ? 0U : ~std::uint64_t{0U};
+  } else if (shift < 64) {
+    const auto s = static_cast<std::uint32_t>(shift);
+    mag = (product + (std::uint64_t{1U} << (s - 1U))) >> s;  // no carry out: product < 2^63
+  } else {
+    mag = 0U;  // product / 2^shift < 1/2
+  }
+  return Out::from_raw(detail::from_sign_magnitude<std::int32_t>(negative && (mag != 0U), mag, status));
+}
+
+}  // namespace fx
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_FIXEDPOINT_RECIPROCAL_HPP

@@ -1,0 +1,127 @@
+// test_reciprocal.cpp: fx::reciprocal_of and fx::times (reciprocal.hpp).
+// The mantissa is checked against its definition with the exact 128-bit
+// product, and every quotient against fx::div, whose result is within
+// 0.5 LSB of the exact one: times() must be within 1 LSB + |q| 2^-30 of it.
+// Plain integer arithmetic only, so the test runs unchanged under qemu-arm.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <limits>
+#include <random>
+
+#include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/reciprocal.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
+
+namespace {
+
+namespace fx = sinkwatch::fx;
+namespace wide = sinkwatch::fx::wide;
+using P = fx::Q<std::int32_t, 25>;
+using K = fx::Q<std::int32_t, 28>;
+
+constexpr std::uint64_t kTwoTo63Less1 = std::numeric_limits<std::uint64_t>::max() >> 1U;
+
+std::uint64_t normalised(std::uint64_t d) {
+  const std::uint32_t n = wide::bit_length(d);
+  return (n <= 32U) ? (d << (32U - n)) : (d >> (n - 32U));
+}
+
+/// mantissa = floor((2^63 - 1) / Dn): m Dn <= 2^63 - 1 < (m + 1) Dn.
+void expect_mantissa_is_the_floor(std::uint64_t d, std::int32_t frac_bits) {
+  const fx::Reciprocal r = fx::reciprocal_of(d, frac_bits);
+  const std::uint64_t dn = normalised(d);
+  ASSERT_GE(r.mantissa, 0x80000000U) << d;
+  const wide::U128 low = wide::mul_full(std::uint64_t{r.mantissa}, dn);
+  const wide::U128 high = wide::mul_full(std::uint64_t{r.mantissa} + 1U, dn);
+  const wide::U128 target = wide::make_u128(kTwoTo63Less1);
+  EXPECT_FALSE(wide::less(target, low)) << d;
+  EXPECT_TRUE(wide::less(target, high)) << d;
+  EXPECT_EQ(r.scale, 31 + static_cast<std::int32_t>(wide::bit_length(d)) - frac_bits) << d;
+}
+
+/// |times(x, 1/d) - fx::div(x, d)| <= 1 + |q| 2^-30 raw LSB, or both saturate.
+template <typename Out, typename QD>
+void expect_quotient_near_division(P x, QD d) {
+  fx::Status by_reciprocal;
+  fx::Status by_division;
+  const Out q = fx::times<Out>(x, fx::reciprocal_of(d), by_reciprocal);
+  const Out ref = fx::div<Out>(x, d, by_division);
+  if (by_division.has(fx::Flag::overflow)) {
+    EXPECT_TRUE(by_reciprocal.has(fx::Flag::overflow) || (q == ref)) << x.raw() << " / " << d.raw();
+    return;
+  }
+  const double q_raw = static_cast<double>(ref.raw());
+  const double allowed = 1.0 + (((q_raw < 0.0) ? -q_raw : q_raw) / 1073741824.0);
+  const double diff = static_cast<double>(q.raw()) - q_raw;
+  EXPECT_LE((diff < 0.0) ? -diff : diff, allowed) << x.raw() << " / " << d.raw();
+  if (!by_reciprocal.ok()) {
+    EXPECT_TRUE(by_reciprocal.has(fx::Flag::overflow)) << x.raw() << " / " << d.raw();
+  }
+}
+
+TEST(Reciprocal, MantissaIsTheFlooredQuotientAtEdgeDivisors) {
+  const std::uint64_t divisors[] = {1U, 2U, 3U, 0x7FFFFFFFU, 0x80000000U, 0x80000001U, 0xFFFFFFFFU,
+                                    0x100000000U, 0x1FFFFFFFFU, 0xFFFFFFFFFFFFULL, ~std::uint64_t{0U}};
+  for (const std::uint64_t d : divisors) {
+    expect_mantissa_is_the_floor(d, 25);
+  }
+}
+
+TEST(Reciprocal, MantissaIsTheFlooredQuotientForRandomDivisors) {
+  std::mt19937_64 rng(20261125U);
+  for (int i = 0; i < 200000; ++i) {
+    const std::uint32_t bits = 1U + static_cast<std::uint32_t>(rng() % 64U);
+    const std::uint64_t d = (rng() >> (64U - bits)) | (std::uint64_t{1U} << (bits - 1U));
+    expect_mantissa_is_the_floor(d, static_cast<std::int32_t>(rng() % 48U));
+  }
+}
+
+TEST(Reciprocal, QuotientIsWithinOneLsbAndTwoToMinus30OfTheDivision) {
+  std::mt19937_64 rng(11250001U);
+  for (int i = 0; i < 300000; ++i) {
+    const std::uint32_t x_bits = static_cast<std::uint32_t>(rng() % 32U);
+    const auto x_mag = static_cast<std::int32_t>(rng() >> (64U - x_bits));
+    const P x = P::from_raw(((rng() & 1U) != 0U) ? -x_mag : x_mag);
+    const std::uint32_t d_bits = 1U + static_cast<std::uint32_t>(rng() % 31U);
+    const auto d = static_cast<std::int32_t>((rng() >> (64U - d_bits)) | (std::uint64_t{1U} << (d_bits - 1U)));
+    expect_quotient_near_division<P>(x, P::from_raw(d));
+    expect_quotient_near_division<K>(x, fx::Q1_30::from_raw(d));
+  }
+}
+
+TEST(Reciprocal, ExtremeDividendsSaturateOrRoundToZero) {
+  fx::Status st;
+  // INT32_MIN / the smallest divisor: far beyond Q6.25.
+  const P big = fx::times<P>(P::min(), fx::reciprocal_of(P::lsb()), st);
+  EXPECT_EQ(big, P::min());
+  EXPECT_TRUE(st.has(fx::Flag::overflow));
+  fx::Status small_st;
+  // One LSB divided by 2^40: rounds to zero, no flag, no negative zero.
+  const P tiny = fx::times<P>(fx::neg(P::lsb(), small_st), fx::reciprocal_of(std::uint64_t{1U} << 40U, 0), small_st);
+  EXPECT_EQ(tiny.raw(), 0);
+  EXPECT_TRUE(small_st.ok());
+  // A non-zero x with a shift <= 0 overflows; zero stays zero.
+  fx::Status shift_st;
+  EXPECT_EQ(fx::times<P>(P::lsb(), fx::Reciprocal{0x80000000U, -40}, shift_st), P::max());
+  EXPECT_TRUE(shift_st.has(fx::Flag::overflow));
+  fx::Status zero_st;
+  EXPECT_EQ(fx::times<P>(P::zero(), fx::Reciprocal{0x80000000U, -40}, zero_st), P::zero());
+  EXPECT_TRUE(zero_st.ok());
+}
+
+TEST(Reciprocal, ZeroDivisorGivesNoReciprocalAndReportsDivisionByZero) {
+  fx::Status neg_lsb_st;
+  EXPECT_EQ(fx::reciprocal_of(P::zero()).mantissa, 0U);
+  EXPECT_EQ(fx::reciprocal_of(fx::neg(P::lsb(), neg_lsb_st)).mantissa, 0U);
+  fx::Status st;
+  EXPECT_EQ(fx::times<P>(P::lsb(), fx::reciprocal_of(P::zero()), st), P::max());
+  EXPECT_TRUE(st.has(fx::Flag::div_by_zero));
+  fx::Status neg_st;
+  EXPECT_EQ(fx::times<P>(fx::neg(P::lsb(), neg_st), fx::Reciprocal{}, neg_st), P::min());
+  fx::Status zero_st;
+  EXPECT_EQ(fx::times<P>(P::zero(), fx::Reciprocal{}, zero_st), P::zero());
+  EXPECT_TRUE(zero_st.has(fx::Flag::div_by_zero));
+}
+
+}  // namespace
