@@ -4,11 +4,11 @@
 // same order so that a difference points at one line.
 #include "sinkwatch/flight/wheel_load.hpp"
 
-#include "sinkwatch/flight/constant_divisor.hpp"
 #include "sinkwatch/flight/rover_limits.hpp"
 
 #include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/reciprocal.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
 #include "sinkwatch/fixedpoint/trig.hpp"
 
@@ -16,7 +16,20 @@ namespace sinkwatch {
 namespace flight {
 namespace {
 
-using W = WideQ;
+/// The statics' format P: metres, and every force and moment as a fraction
+/// of the normal weight m g cos(pitch) cos(roll) (docs/rover-loads.md,
+/// section 7.4). Q6.25 first: the projected coordinates stay within +-31 m
+/// and the shares of a stable rover within [0, 1], so one 32-bit format with
+/// 64-bit products carries the balance whatever the rover's mass. Only a
+/// quotient by a lever of a few millimetres leaves it, far beyond the
+/// stability limit; that evaluation is repeated in Q15.16, which decides the
+/// tip-over there (section 7.4).
+using Fine = fx::Q<std::int32_t, 25>;
+using Mid = fx::Q<std::int32_t, 21>;
+using Coarse = fx::Q15_16;
+/// Q3.28: the projection slopes tan(pitch) / cos(roll) and tan(roll), at
+/// most 3.5 within the attitude limit of 1.05 rad.
+using K = fx::Q<std::int32_t, 28>;
 
 constexpr MassKg kMaxMass{fx::constant<MassQ>(limits::kMaxMassKg)};
 constexpr AccelMps2 kMaxGravity{fx::constant<AccelQ>(limits::kMaxGravityMps2)};
@@ -29,35 +42,44 @@ constexpr AngleRad kMaxAttitudeLimit{fx::constant<AngleQ>(limits::kMaxAttitudeLi
 /// A projected lever below 1 mm means the suspension has folded onto itself
 /// (never inside the validated envelope of a sane geometry): report it rather
 /// than divide by it.
-constexpr W kMinLever{fx::constant<W>(0.001)};
-constexpr W kHalf{fx::constant<W>(0.5)};
+template <typename P>
+constexpr P kMinLever{fx::constant<P>(0.001)};
+template <typename P>
+constexpr P kHalf{fx::constant<P>(0.5)};
+template <typename P>
+constexpr P kOne{fx::constant<P>(1.0)};
 constexpr Ratio kMaxHighSlip{fx::constant<RatioQ>(limits::kMaxHighSlip)};
 
 bool within(LengthM v, LengthM limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
 bool within(AngleRad v, AngleRad limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
 bool positive_at_most(AngleRad v, AngleRad limit) noexcept { return (v.raw() > 0) && (v <= limit); }
 
+template <typename P>
 struct Point {
-  W x;
-  W z;
+  P x;
+  P z;
 };
 
-W wide(LengthM v, fx::Status& st) noexcept { return fx::rescale<W>(v.q(), st); }
-W wide(fx::Q1_30 v, fx::Status& st) noexcept { return fx::rescale<W>(v, st); }
-Point wide(SidePointM p, fx::Status& st) noexcept { return Point{wide(p.x_m, st), wide(p.z_m, st)}; }
+template <typename P>
+P length(LengthM v, fx::Status& st) noexcept { return fx::rescale<P>(v.q(), st); }
+template <typename P>
+Point<P> length(SidePointM p, fx::Status& st) noexcept { return Point<P>{length<P>(p.x_m, st), length<P>(p.z_m, st)}; }
 
 /// Rotation in a side's plane, positive raising the +x end.
-Point rotate(Point p, W c, W s, fx::Status& st) noexcept {
-  return Point{fx::sub(fx::mul(p.x, c, st), fx::mul(p.z, s, st), st),
-               fx::add(fx::mul(p.x, s, st), fx::mul(p.z, c, st), st)};
+template <typename P>
+Point<P> rotate(Point<P> p, fx::SinCos sc, fx::Status& st) noexcept {
+  return Point<P>{fx::sub(fx::mul<P>(p.x, sc.cos, st), fx::mul<P>(p.z, sc.sin, st), st),
+               fx::add(fx::mul<P>(p.x, sc.sin, st), fx::mul<P>(p.z, sc.cos, st), st)};
 }
 
-Point plus(Point a, Point b, fx::Status& st) noexcept {
-  return Point{fx::add(a.x, b.x, st), fx::add(a.z, b.z, st)};
+template <typename P>
+Point<P> plus(Point<P> a, Point<P> b, fx::Status& st) noexcept {
+  return Point<P>{fx::add(a.x, b.x, st), fx::add(a.z, b.z, st)};
 }
 
 /// v - z k: the coordinate of a point projected along gravity (section 3.2).
-W project(W v, W z, W k, fx::Status& st) noexcept { return fx::sub(v, fx::mul(z, k, st), st); }
+template <typename P>
+P project(P v, P z, K k, fx::Status& st) noexcept { return fx::sub(v, fx::mul<P>(z, k, st), st); }
 
 WheelLoadResult failed(WheelLoadStatus status) noexcept {
   WheelLoadResult r{};
@@ -117,127 +139,127 @@ RoverParamStatus validate_suspension(const RoverParams& p) noexcept {
   return RoverParamStatus::ok;
 }
 
-/// The lever quantities of one side (sections 3.3 to 3.5 and 12).
+/// The lever quantities of one side (sections 3.3 to 3.5 and 12), in the
+/// units of section 7.4: metres, and forces as fractions of the normal weight.
+template <typename P>
 struct SideLevers {
-  W a;          ///< x~_front - x~_pivot
-  W b;          ///< x~_pivot - x~_bogie
-  W inv_lever;  ///< 1 / (a + b): the rocker's three quotients as products (section 12.5)
-  W beta;       ///< the middle wheel's share of the bogie
-  W yt_front;   ///< y~ of the front contact
-  W yt_bogie;   ///< y~ of the bogie's resultant
-  W front_couple;  ///< T_front: the front wheel's torque (normal-load units, section 12.5)
-  W bogie_shift;   ///< (t_middle + t_rear) / span: moved from middle to rear
-  W yt_rear_minus_middle;  ///< y~_rear - y~_middle
+  P a;                     ///< x~_front - x~_pivot
+  P b;                     ///< x~_pivot - x~_bogie
+  fx::Reciprocal lever;    ///< 1 / (a + b): the rocker's quotients as products (section 12.5)
+  P beta;                  ///< the middle wheel's share of the bogie
+  P yt_front;              ///< y~ of the front contact
+  P yt_bogie;              ///< y~ of the bogie's resultant
+  P front_couple;          ///< t_front: the front wheel's couple (section 7.4)
+  P bogie_shift;           ///< (t_middle + t_rear) / span: moved from middle to rear
+  P yt_rear_minus_middle;  ///< y~_rear - y~_middle
 };
 
-/// One side's torques (zero where not usable) and whether each wheel is
-/// projected from its axle (its torque is usable). In the normal-load units
-/// of the balances (section 12.5) a couple is the torque itself.
+/// One side's couples T_i / (m g cos(pitch) cos(roll)) in metres (zero where
+/// not usable) and whether each wheel is projected from its axle (its torque
+/// is usable).
+template <typename P>
 struct SideTorques {
-  W couple[3];
+  P couple[3];
   bool from_axle[3]{};
 };
-/// The suspension's link vectors in the wide format, and the contact offset.
+/// The suspension's link vectors, and the contact offset.
+template <typename P>
 struct Links {
-  Point rocker_front;
-  Point rocker_bogie;
-  Point bogie_middle;
-  Point bogie_rear;
-  Point down;  ///< one wheel radius down the body z axis
+  Point<P> rocker_front;
+  Point<P> rocker_bogie;
+  Point<P> bogie_middle;
+  Point<P> bogie_rear;
+  Point<P> down;  ///< one wheel radius down the body z axis
 };
 
 /// One side's wheel contacts and the bogie pivot, in the body frame.
+template <typename P>
 struct SideContacts {
-  Point pivot_b;
-  Point front;
-  Point middle;
-  Point rear;
+  Point<P> pivot_b;
+  Point<P> front;
+  Point<P> middle;
+  Point<P> rear;
 };
 
 /// The contacts one radius below the axles along the body z axis (section 2).
-SideContacts side_contacts(const Links& l, AngleRad rocker_rad, AngleRad bogie_rad, fx::Status& st) noexcept {
+template <typename P>
+SideContacts<P> side_contacts(const Links<P>& l, AngleRad rocker_rad, AngleRad bogie_rad, fx::Status& st) noexcept {
   const fx::Q3_28 rocker = rocker_rad.q();
   // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
   const fx::Q3_28 bogie_abs = fx::add(rocker, bogie_rad.q(), st);
   // One range reduction per angle (fx::sincos), the bits of sin and cos apart.
   const fx::SinCos rocker_sc = fx::sincos(rocker, st);
   const fx::SinCos bogie_sc = fx::sincos(bogie_abs, st);
-  const W cr = wide(rocker_sc.cos, st);
-  const W sr = wide(rocker_sc.sin, st);
-  const W cb = wide(bogie_sc.cos, st);
-  const W sb = wide(bogie_sc.sin, st);
-  SideContacts c{};
-  c.pivot_b = rotate(l.rocker_bogie, cr, sr, st);
-  c.front = plus(rotate(l.rocker_front, cr, sr, st), l.down, st);
-  c.middle = plus(plus(c.pivot_b, rotate(l.bogie_middle, cb, sb, st), st), l.down, st);
-  c.rear = plus(plus(c.pivot_b, rotate(l.bogie_rear, cb, sb, st), st), l.down, st);
+  SideContacts<P> c{};
+  c.pivot_b = rotate(l.rocker_bogie, rocker_sc, st);
+  c.front = plus(rotate(l.rocker_front, rocker_sc, st), l.down, st);
+  c.middle = plus(plus(c.pivot_b, rotate(l.bogie_middle, bogie_sc, st), st), l.down, st);
+  c.rear = plus(plus(c.pivot_b, rotate(l.bogie_rear, bogie_sc, st), st), l.down, st);
   return c;
 }
 
 /// Gravity's direction in the body frame (section 3.2).
 struct GravityFrame {
-  fx::Q1_30 sin_pitch;  ///< kept for the drawbar pulls (WheelLoadResult::sin_pitch)
-  W normal_fraction;  ///< cos(pitch) cos(roll): the weight's share normal to the ground
-  W kx;               ///< tan(pitch) / cos(roll)
-  W ky;               ///< tan(roll)
+  fx::Q1_30 sin_pitch;        ///< kept for the drawbar pulls (WheelLoadResult::sin_pitch)
+  fx::Q1_30 normal_fraction;  ///< cos(pitch) cos(roll): the weight's share normal to the ground
+  fx::Reciprocal inv_normal_fraction;
+  K kx;  ///< tan(pitch) / cos(roll)
+  K ky;  ///< tan(roll)
 };
 
 /// x~ of a wheel: from its axle when its torque is used (the soil force
 /// reaches the link there, section 12), else from its contact.
-W wheel_xt(Point contact, bool from_axle, W radius, W kx, fx::Status& st) noexcept {
-  const W z = from_axle ? fx::add(contact.z, radius, st) : contact.z;
+template <typename P>
+P wheel_xt(Point<P> contact, bool from_axle, P radius, K kx, fx::Status& st) noexcept {
+  const P z = from_axle ? fx::add(contact.z, radius, st) : contact.z;
   return project(contact.x, z, kx, st);
 }
 
 /// The lateral positions and the torque terms of one side (sections 3.5 and
 /// 12.2), from its contacts and its bogie's projected span.
-void side_lateral(const SideContacts& c, W y_side, W ky, W inv_span, const SideTorques& tq, SideLevers& out,
-                  fx::Status& st) noexcept {
+template <typename P>
+void side_lateral(const SideContacts<P>& c, P y_side, K ky, fx::Reciprocal inv_span, const SideTorques<P>& tq,
+                  SideLevers<P>& out, fx::Status& st) noexcept {
   out.yt_front = project(y_side, c.front.z, ky, st);
-  const W yt_m = project(y_side, c.middle.z, ky, st);
-  const W yt_r = project(y_side, c.rear.z, ky, st);
+  const P yt_m = project(y_side, c.middle.z, ky, st);
+  const P yt_r = project(y_side, c.rear.z, ky, st);
   // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
   out.yt_bogie = fx::add(yt_r, fx::mul(out.beta, fx::sub(yt_m, yt_r, st), st), st);
   out.front_couple = tq.couple[0];
-  out.bogie_shift = fx::mul(fx::add(tq.couple[1], tq.couple[2], st), inv_span, st);
+  out.bogie_shift = fx::times<P>(fx::add(tq.couple[1], tq.couple[2], st), inv_span, st);
   out.yt_rear_minus_middle = fx::sub(yt_r, yt_m, st);
 }
 
-/// 1 / v for a lever v >= kMinLever: fx::div(1, v)'s bits from one 64-bit
-/// division (rounded_reciprocal_q32); v >= 2^22 raw, so 1 / v <= 2^42 raw.
-W reciprocal(W v) noexcept {
-  return W::from_raw(static_cast<std::int64_t>(rounded_reciprocal_q32(static_cast<std::uint64_t>(v.raw()))));
-}
-
 /// One side: its joint angles and the lateral position of its contacts.
+template <typename P>
 struct SidePose {
   AngleRad rocker_rad;
   AngleRad bogie_rad;
-  W y_side;
+  P y_side;
 };
 
 /// One side's projected levers; false when a lever collapsed.
-bool side_levers(const Links& l, const SidePose& pose, const GravityFrame& g, const SideTorques& tq, SideLevers& out,
+template <typename P>
+bool side_levers(const Links<P>& l, const SidePose<P>& pose, const GravityFrame& g, const SideTorques<P>& tq, SideLevers<P>& out,
                  fx::Status& st) noexcept {
-  const W kx = g.kx;
-  const W radius = fx::neg(l.down.z, st);
-  const SideContacts c = side_contacts(l, pose.rocker_rad, pose.bogie_rad, st);
-  const W xt_f = wheel_xt(c.front, tq.from_axle[0], radius, kx, st);
-  const W xt_m = wheel_xt(c.middle, tq.from_axle[1], radius, kx, st);
-  const W xt_r = wheel_xt(c.rear, tq.from_axle[2], radius, kx, st);
-  const W xt_b = project(c.pivot_b.x, c.pivot_b.z, kx, st);
+  const K kx = g.kx;
+  const P radius = fx::neg(l.down.z, st);
+  const SideContacts<P> c = side_contacts(l, pose.rocker_rad, pose.bogie_rad, st);
+  const P xt_f = wheel_xt(c.front, tq.from_axle[0], radius, kx, st);
+  const P xt_m = wheel_xt(c.middle, tq.from_axle[1], radius, kx, st);
+  const P xt_r = wheel_xt(c.rear, tq.from_axle[2], radius, kx, st);
+  const P xt_b = project(c.pivot_b.x, c.pivot_b.z, kx, st);
   out.a = xt_f;
   out.b = fx::neg(xt_b, st);
-  const W span = fx::sub(xt_m, xt_r, st);
-  const W lever = fx::add(out.a, out.b, st);
-  if ((lever < kMinLever) || (span < kMinLever)) {
+  const P span = fx::sub(xt_m, xt_r, st);
+  const P lever = fx::add(out.a, out.b, st);
+  if ((lever < kMinLever<P>) || (span < kMinLever<P>)) {
     return false;
   }
-  // One division per lever, its quotients as products (section 12.5): both
-  // levers are at least 1 mm, so each reciprocal is at most 1000.
-  out.inv_lever = reciprocal(lever);
-  const W inv_span = reciprocal(span);
-  out.beta = fx::mul(fx::sub(xt_b, xt_r, st), inv_span, st);
+  // One division per lever, its quotients as products (section 12.5).
+  out.lever = fx::reciprocal_of(lever);
+  const fx::Reciprocal inv_span = fx::reciprocal_of(span);
+  out.beta = fx::times<P>(fx::sub(xt_b, xt_r, st), inv_span, st);
   side_lateral(c, pose.y_side, g.ky, inv_span, tq, out, st);
   return true;
 }
@@ -256,57 +278,58 @@ WheelLoadStatus check_inputs(const RoverParams& params, const RoverAttitude& att
   return WheelLoadStatus::ok;
 }
 
-
 GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexcept {
   const fx::SinCos pitch_sc = fx::sincos(attitude.pitch_rad.q(), st);
   const fx::SinCos roll_sc = fx::sincos(attitude.roll_rad.q(), st);
-  const W sin_pitch = wide(pitch_sc.sin, st);
-  const W cos_pitch = wide(pitch_sc.cos, st);
-  const fx::Q1_30 sin_roll = roll_sc.sin;
-  const fx::Q1_30 cos_roll_q = roll_sc.cos;
-  const W cos_roll = wide(cos_roll_q, st);
-  // cos(pitch) cos(roll) >= cos^2(1.05 rad) > 0.24: the divisions are safe.
+  // cos(pitch) cos(roll) >= cos^2(1.05 rad) > 0.24: the reciprocals exist.
   GravityFrame g{};
   g.sin_pitch = pitch_sc.sin;
-  g.normal_fraction = fx::mul(cos_pitch, cos_roll, st);
-  g.kx = fx::div(sin_pitch, g.normal_fraction, st);
-  // Directly from Q1.30: the same quotient as of the operands widened to
-  // Q31.32 (the common 2^-30 cancels), on 64-bit operands.
-  g.ky = fx::div<W>(sin_roll, cos_roll_q, st);
+  g.normal_fraction = fx::mul(pitch_sc.cos, roll_sc.cos, st);
+  g.inv_normal_fraction = fx::reciprocal_of(g.normal_fraction);
+  g.kx = fx::times<K>(pitch_sc.sin, g.inv_normal_fraction, st);
+  g.ky = fx::times<K>(roll_sc.sin, fx::reciprocal_of(roll_sc.cos), st);
   return g;
 }
 
-/// The weight and where it acts. Every balance is solved in normal-load
-/// units (section 12.5): the weight's normal component m g cos(pitch)
-/// cos(roll) and the torques as they are, so that the support forces are the
-/// normal loads themselves (no division of each torque by cos(pitch) cos(roll)
-/// and no product of each support force with it).
+/// The weight and where it acts. Every balance is solved in fractions of the
+/// normal weight m g cos(pitch) cos(roll) (section 7.4): the weight is 1, a
+/// moment is a length and a couple is T / (m g cos(pitch) cos(roll)).
+template <typename P>
 struct Body {
-  W weight_n;      ///< m g cos(pitch) cos(roll)
-  W com_yt;        ///< projected lateral position of the centre of mass
-  W pivot_moment;  ///< each rocker pivot's moment, equal by the differential (3.4)
+  WheelLoadN weight_normal_n;  ///< m g cos(pitch) cos(roll), newtons
+  fx::Reciprocal inv_weight;   ///< 1 / (m g), from the exact product of mass and gravity
+  P com_yt;                    ///< projected lateral position of the centre of mass
+  P pivot_moment;              ///< each rocker pivot's moment, equal by the differential (3.4)
 };
 
-Body body_of(const RoverParams& params, const GravityFrame& g, fx::Status& st) noexcept {
-  Body b{};
-  const W weight_n = fx::mul<W>(params.mass_kg.q(), params.gravity_mps2.q(), st);
-  b.weight_n = fx::mul(weight_n, g.normal_fraction, st);
-  const W com_xt = project(wide(params.com_x_m, st), wide(params.com_z_m, st), g.kx, st);
-  b.com_yt = project(wide(params.com_y_m, st), wide(params.com_z_m, st), g.ky, st);
-  b.pivot_moment = fx::mul(fx::mul(kHalf, b.weight_n, st), com_xt, st);
+template <typename P>
+Body<P> body_of(const RoverParams& params, const GravityFrame& g, fx::Status& st) noexcept {
+  Body<P> b{};
+  const LoadQ weight_n = fx::mul<LoadQ>(params.mass_kg.q(), params.gravity_mps2.q(), st);
+  b.weight_normal_n = WheelLoadN{fx::mul<LoadQ>(weight_n, g.normal_fraction, st)};
+  // Both are positive after validation; their product is exact in 64 bits.
+  constexpr std::int32_t kWeightFracBits = MassQ::frac_bits + AccelQ::frac_bits;
+  b.inv_weight = fx::reciprocal_of(static_cast<std::uint64_t>(params.mass_kg.raw()) *
+                                       static_cast<std::uint64_t>(params.gravity_mps2.raw()),
+                                   kWeightFracBits);
+  const P com_z = length<P>(params.com_z_m, st);
+  const P com_xt = project(length<P>(params.com_x_m, st), com_z, g.kx, st);
+  b.com_yt = project(length<P>(params.com_y_m, st), com_z, g.ky, st);
+  b.pivot_moment = fx::mul(kHalf<P>, com_xt, st);
   return b;
 }
 
 /// Both sides' levers; false when one collapsed.
+template <typename P>
 bool both_sides(const RoverParams& params, const JointAnglesRad& joints, const GravityFrame& g,
-                const SideTorques (&tq)[kSideCount], SideLevers (&side)[kSideCount], fx::Status& st) noexcept {
-  const W half_track = fx::mul(kHalf, wide(params.track_width_m, st), st);
-  const Links links{wide(params.rocker_front_axle, st), wide(params.rocker_bogie_pivot, st),
-                    wide(params.bogie_middle_axle, st), wide(params.bogie_rear_axle, st),
-                    Point{W::zero(), fx::neg(wide(params.wheel_radius_m, st), st)}};
+                const SideTorques<P> (&tq)[kSideCount], SideLevers<P> (&side)[kSideCount], fx::Status& st) noexcept {
+  const P half_track = fx::mul(kHalf<P>, length<P>(params.track_width_m, st), st);
+  const Links<P> links{length<P>(params.rocker_front_axle, st), length<P>(params.rocker_bogie_pivot, st),
+                    length<P>(params.bogie_middle_axle, st), length<P>(params.bogie_rear_axle, st),
+                    Point<P>{P::zero(), fx::neg(length<P>(params.wheel_radius_m, st), st)}};
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    const W y_side = (s == 0U) ? half_track : fx::neg(half_track, st);
-    const SidePose pose{joints.rocker_rad[s], joints.bogie_rad[s], y_side};
+    const P y_side = (s == 0U) ? half_track : fx::neg(half_track, st);
+    const SidePose<P> pose{joints.rocker_rad[s], joints.bogie_rad[s], y_side};
     if (!side_levers(links, pose, g, tq[s], side[s], st)) {
       return false;
     }
@@ -315,51 +338,55 @@ bool both_sides(const RoverParams& params, const JointAnglesRad& joints, const G
 }
 
 /// Each side's pivot moment less its front couple, M - t_front (section 12).
-W side_moment(const Body& body, const SideLevers& side, fx::Status& st) noexcept {
+template <typename P>
+P side_moment(const Body<P>& body, const SideLevers<P>& side, fx::Status& st) noexcept {
   return fx::sub(body.pivot_moment, side.front_couple, st);
 }
 
-/// Roll balance (sections 3.5 and 12): the left side's support force; false
-/// when the lateral span collapsed.
-bool left_side_total(const SideLevers (&side)[kSideCount], const Body& body, W& left, fx::Status& st) noexcept {
-  W big_y[kSideCount]{};
-  W big_z[kSideCount]{};
+/// Roll balance (sections 3.5, 7.4 and 12): the left side's share of the
+/// weight; false when the lateral span collapsed.
+template <typename P>
+bool left_side_total(const SideLevers<P> (&side)[kSideCount], const Body<P>& body, P& left, fx::Status& st) noexcept {
+  P big_y[kSideCount]{};
+  P big_z[kSideCount]{};
   // sum_s (q_s - t_front,s Z_s): exactly zero without torques, so that the
   // loads then keep the bits of the statics without torques.
-  W torque_terms = W::zero();
+  P torque_terms = P::zero();
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    const W moment = fx::add(fx::mul(side[s].b, side[s].yt_front, st), fx::mul(side[s].a, side[s].yt_bogie, st), st);
-    big_y[s] = fx::mul(moment, side[s].inv_lever, st);
-    big_z[s] = fx::mul(fx::sub(side[s].yt_front, side[s].yt_bogie, st), side[s].inv_lever, st);
+    // Y_s = (b y~_F + a y~_bog) / (a + b) = y~_bog + b Z_s: no product of two
+    // lengths is formed (section 7.4), so Y_s stays within Q6.25.
+    big_z[s] = fx::times<P>(fx::sub(side[s].yt_front, side[s].yt_bogie, st), side[s].lever, st);
+    big_y[s] = fx::add(side[s].yt_bogie, fx::mul(side[s].b, big_z[s], st), st);
     torque_terms = fx::add(torque_terms, fx::mul(side[s].bogie_shift, side[s].yt_rear_minus_middle, st), st);
     torque_terms = fx::sub(torque_terms, fx::mul(side[s].front_couple, big_z[s], st), st);
   }
-  const W lateral_span = fx::sub(big_y[0], big_y[1], st);
-  if (lateral_span < kMinLever) {
+  const P lateral_span = fx::sub(big_y[0], big_y[1], st);
+  if (lateral_span < kMinLever<P>) {
     return false;
   }
-  const W roll_moment = fx::sub(fx::sub(fx::sub(fx::mul(body.weight_n, body.com_yt, st),
-                                                fx::mul(body.pivot_moment, fx::add(big_z[0], big_z[1], st), st), st),
-                                        torque_terms, st),
-                                fx::mul(body.weight_n, big_y[1], st), st);
-  left = fx::div(roll_moment, lateral_span, st);
+  const P roll_moment =
+      fx::sub(fx::sub(fx::sub(body.com_yt, fx::mul(body.pivot_moment, fx::add(big_z[0], big_z[1], st), st), st),
+                      torque_terms, st),
+              big_y[1], st);
+  left = fx::times<P>(roll_moment, fx::reciprocal_of(lateral_span), st);
   return true;
 }
 
-/// The roll balance, the rockers and the bogies: each wheel's support force
-/// along gravity. False when the lateral span collapsed.
-bool support_forces(const SideLevers (&side)[kSideCount], const Body& body, W (&support)[kWheelCount],
+/// The roll balance, the rockers and the bogies: each wheel's share of the
+/// normal weight. False when the lateral span collapsed.
+template <typename P>
+bool support_forces(const SideLevers<P> (&side)[kSideCount], const Body<P>& body, P (&support)[kWheelCount],
                     fx::Status& st) noexcept {
-  W side_total[kSideCount]{};
+  P side_total[kSideCount]{};
   if (!left_side_total(side, body, side_total[0], st)) {
     return false;
   }
-  side_total[1] = fx::sub(body.weight_n, side_total[0], st);
+  side_total[1] = fx::sub(kOne<P>, side_total[0], st);
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    const W front = fx::mul(fx::add(side_moment(body, side[s], st), fx::mul(side[s].b, side_total[s], st), st),
-                            side[s].inv_lever, st);
-    const W bogie = fx::sub(side_total[s], front, st);
-    const W middle = fx::sub(fx::mul(side[s].beta, bogie, st), side[s].bogie_shift, st);
+    const P front = fx::times<P>(fx::add(side_moment(body, side[s], st), fx::mul(side[s].b, side_total[s], st), st),
+                                 side[s].lever, st);
+    const P bogie = fx::sub(side_total[s], front, st);
+    const P middle = fx::sub(fx::mul(side[s].beta, bogie, st), side[s].bogie_shift, st);
     support[(3U * s) + 0U] = front;
     support[(3U * s) + 1U] = middle;
     support[(3U * s) + 2U] = fx::sub(bogie, middle, st);
@@ -378,23 +405,30 @@ std::uint8_t fallback_mask(const DriveTorques& torques) noexcept {
   return static_cast<std::uint8_t>(mask);
 }
 
-/// The usable torques, exact in the normal-load units of the balances
-/// (section 12.5); zero and projected from the contact where not usable.
-void side_torques(const DriveTorques& torques, SideTorques (&tq)[kSideCount], fx::Status& st) noexcept {
+/// The usable torques as couples T / (m g cos(pitch) cos(roll)) in metres,
+/// zero and projected from the contact where not usable. False when a couple
+/// leaves P (in Q6.25: more than 64 m times the normal weight).
+template <typename P>
+bool side_torques(const DriveTorques& torques, const Body<P>& body, const GravityFrame& g,
+                  SideTorques<P> (&tq)[kSideCount]) noexcept {
+  fx::Status couple_st;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    SideTorques& side = tq[i / 3U];
+    SideTorques<P>& side = tq[i / 3U];
     const std::uint32_t k = i % 3U;
     side.from_axle[k] = torques.usable[i];
-    side.couple[k] = W::zero();
+    side.couple[k] = P::zero();
     if (torques.usable[i]) {
-      side.couple[k] = fx::rescale<W>(torques.torque_nm[i].q(), st);
+      const P per_weight = fx::times<P>(torques.torque_nm[i].q(), body.inv_weight, couple_st);
+      side.couple[k] = fx::times<P>(per_weight, g.inv_normal_fraction, couple_st);
     }
   }
+  return couple_st.ok();
 }
 
-/// The normal loads (the support forces in normal-load units): tip_over
-/// when one is negative.
-WheelLoadResult normal_loads(const W (&support)[kWheelCount], const Body& body, const GravityFrame& g,
+/// The normal loads (each wheel's share times the normal weight): tip_over
+/// when a share is negative.
+template <typename P>
+WheelLoadResult normal_loads(const P (&support)[kWheelCount], const Body<P>& body, const GravityFrame& g,
                              AngleRad pitch_rad, fx::Status& st) noexcept {
   std::uint32_t lowest = 0U;
   for (std::uint32_t i = 1U; i < kWheelCount; ++i) {
@@ -409,9 +443,9 @@ WheelLoadResult normal_loads(const W (&support)[kWheelCount], const Body& body, 
   }
   WheelLoadResult r{};
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    r.load_n[i] = WheelLoadN{fx::rescale<LoadQ>(support[i], st)};
+    r.load_n[i] = WheelLoadN{fx::mul<LoadQ>(support[i], body.weight_normal_n.q(), st)};
   }
-  r.weight_normal_n = WheelLoadN{fx::rescale<LoadQ>(body.weight_n, st)};
+  r.weight_normal_n = body.weight_normal_n;
   r.pitch_rad = pitch_rad;
   r.sin_pitch = g.sin_pitch;
   if (!st.ok()) {
@@ -423,27 +457,62 @@ WheelLoadResult normal_loads(const W (&support)[kWheelCount], const Body& body, 
   return r;
 }
 
-/// The loads for parameters that passed validate_rover_params().
-WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& attitude, const JointAnglesRad& joints,
-                               const DriveTorques& torques) noexcept {
+/// The loads in the format P for parameters that passed validate_rover_params().
+template <typename P>
+WheelLoadResult loads_in(const RoverParams& params, const RoverAttitude& attitude, const JointAnglesRad& joints,
+                         const DriveTorques& torques) noexcept {
   const WheelLoadStatus input_status = check_inputs(params, attitude, joints);
   if (input_status != WheelLoadStatus::ok) {
     return failed(input_status);
   }
   fx::Status st;
   const GravityFrame g = gravity_frame(attitude, st);
-  const Body body = body_of(params, g, st);
-  SideTorques tq[kSideCount]{};
-  side_torques(torques, tq, st);
-  SideLevers side[kSideCount]{};
-  W support[kWheelCount]{};
-  if (!both_sides(params, joints, g, tq, side, st) || !support_forces(side, body, support, st)) {
+  const Body<P> body = body_of<P>(params, g, st);
+  SideTorques<P> tq[kSideCount]{};
+  if (!side_torques(torques, body, g, tq)) {
+    return failed(WheelLoadStatus::overflow);
+  }
+  SideLevers<P> side[kSideCount]{};
+  P support[kWheelCount]{};
+  // The levers come from positions, which never leave P: a collapsed one is
+  // degenerate whatever else overflowed. The lateral span comes after the
+  // quotients by them, and is only trusted when none overflowed.
+  if (!both_sides(params, joints, g, tq, side, st)) {
+    return failed(WheelLoadStatus::degenerate);
+  }
+  if (!support_forces(side, body, support, st)) {
     return failed(st.ok() ? WheelLoadStatus::degenerate : WheelLoadStatus::overflow);
   }
   if (!st.ok()) {
     return failed(WheelLoadStatus::overflow);
   }
   return normal_loads(support, body, g, attitude.pitch_rad, st);
+}
+
+/// The loads in Q6.25. Where an intermediate leaves that format (a quotient
+/// by a lever of a few millimetres, far beyond the stability limit), the
+/// same balance in Q10.21 decides whether a wheel lifts or the lateral span
+/// collapsed; its loads are too coarse to be taken, so an ok there stays
+/// overflow. Where Q10.21 overflows too, Q15.16 is asked only whether a
+/// wheel lifts (its degenerate guard rounds too coarsely to be trusted: an
+/// overflow left there is a collapsed lateral span in every sampled case,
+/// which the step refuses as it refuses degenerate). Each pass is one
+/// bounded evaluation: at most three (section 7.4).
+WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& attitude, const JointAnglesRad& joints,
+                               const DriveTorques& torques) noexcept {
+  const WheelLoadResult fine = loads_in<Fine>(params, attitude, joints, torques);
+  if (fine.status != WheelLoadStatus::overflow) {
+    return fine;
+  }
+  const WheelLoadResult mid = loads_in<Mid>(params, attitude, joints, torques);
+  if ((mid.status == WheelLoadStatus::tip_over) || (mid.status == WheelLoadStatus::degenerate)) {
+    return mid;
+  }
+  if (mid.status != WheelLoadStatus::overflow) {
+    return fine;
+  }
+  const WheelLoadResult coarse = loads_in<Coarse>(params, attitude, joints, torques);
+  return (coarse.status == WheelLoadStatus::tip_over) ? coarse : fine;
 }
 
 /// The loads with the torques; when the torques alone would lift a wheel,

@@ -58,8 +58,9 @@ inline ground::JointAngles to_ground(const flight::JointAnglesRad& j) {
   return g;
 }
 
-/// docs/rover-loads.md, section 7.2: |W_fixed - W_ref| <= 2^-17 N + 2^-25 m g.
-inline double load_bound_n(double weight_n) { return std::ldexp(1.0, -17) + std::ldexp(weight_n, -25); }
+/// docs/rover-loads.md, section 7.4 (the statics in Q6.25, shares of the
+/// normal weight): |W_fixed - W_ref| <= 2^-15 N + 2^-18 m g.
+inline double load_bound_n(double weight_n) { return std::ldexp(1.0, -15) + std::ldexp(weight_n, -18); }
 
 /// docs/rover-loads.md, section 12.5: the bound with drive torques adds
 /// 2^-24 (1/m) x the sum of the used torques' magnitudes [N m].

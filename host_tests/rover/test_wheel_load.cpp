@@ -474,5 +474,46 @@ TEST(RoverParamSection, ParameterTableRejectsABadGeometrySection) {
   EXPECT_EQ(flight::validate(table_with(bad)), flight::RejectReason::extension_rejected);
 }
 
+/// Attitudes and joints (raw Q3.28) at which the default rover's smallest
+/// share of the weight is beyond Q6.25 (-64) or beyond Q10.21 (-1024): the
+/// statics' wider passes (docs/rover-loads.md, section 7.4) must still say
+/// tip-over, with the twin's lifting wheel.
+struct FarBeyondTipOver {
+  std::int32_t pitch, roll, rocker_left, rocker_right, bogie_left, bogie_right;
+  double min_share;  ///< the twin's smallest load / m g, for the record
+};
+
+void expect_tip_over_like_the_twin(const FarBeyondTipOver& c) {
+  const RoverParams p = flight::yutu_like_rover_params(flight::kGravityEarth);
+  const flight::RoverAttitude att{flight::AngleRad::from_raw(c.pitch), flight::AngleRad::from_raw(c.roll)};
+  flight::JointAnglesRad j{};
+  j.rocker_rad[0] = flight::AngleRad::from_raw(c.rocker_left);
+  j.rocker_rad[1] = flight::AngleRad::from_raw(c.rocker_right);
+  j.bogie_rad[0] = flight::AngleRad::from_raw(c.bogie_left);
+  j.bogie_rad[1] = flight::AngleRad::from_raw(c.bogie_right);
+  const ground::WheelLoads ref = ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att),
+                                                     rover_test::to_ground(j), ground::k_no_drive_torques);
+  ASSERT_EQ(ref.status, ground::LoadStatus::tip_over);
+  const double mg = d(p.mass_kg) * d(p.gravity_mps2);
+  EXPECT_NEAR(ref.min_load_n / mg, c.min_share, 1.0);
+  std::uint32_t lowest = 0U;
+  for (std::uint32_t i = 1U; i < flight::kWheelCount; ++i) {
+    lowest = (ref.load_n[i] < ref.load_n[lowest]) ? i : lowest;
+  }
+  const flight::WheelLoadResult r = flight::wheel_loads(p, att, j, flight::kNoDriveTorques);
+  EXPECT_EQ(r.status, WheelLoadStatus::tip_over);
+  EXPECT_EQ(r.lifting_wheel, lowest);
+}
+
+TEST(RoverWheelLoad, ShareBeyondQ6_25IsDecidedAsTipOverInQ10_21) {
+  expect_tip_over_like_the_twin({-249035111, -13546449, -52126579, -64655453, 59230544, -93846949, -208.6});
+  expect_tip_over_like_the_twin({-208467396, -147721787, -91654940, -49777567, 24188275, -70202580, -353.8});
+}
+
+TEST(RoverWheelLoad, ShareBeyondQ10_21IsDecidedAsTipOverInQ15_16) {
+  expect_tip_over_like_the_twin({-225615807, -144820051, -74571252, 83272519, 26331901, 102875640, -5578.3});
+  expect_tip_over_like_the_twin({-265000558, -62902611, 82426320, -27831358, 12493817, -106800594, -2451.3});
+}
+
 }  // namespace
 }  // namespace sinkwatch

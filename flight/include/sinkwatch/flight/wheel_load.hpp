@@ -30,8 +30,13 @@
 // wheel would need a negative load is beyond the stability (tip-over or
 // wheel-lift) limit: the result is a status, never a number.
 //
-// Fixed point: trigonometry from fx (Q1.30, within 1 LSB), every intermediate
-// in Q31.32, loads rounded once to Q15.16. docs/rover-loads.md, section 7,
+// Fixed point: trigonometry from fx (Q1.30, within 1 LSB); the balances in
+// 32-bit Q6.25 with every force a share of the normal weight (so no 128-bit
+// arithmetic and one format for every rover mass), quotients by a lever as
+// products with its normalised reciprocal (fx/reciprocal.hpp), loads rounded
+// once to Q15.16. A quotient by a lever of a few millimetres, far beyond the
+// stability limit, can leave Q6.25: that evaluation is repeated in Q10.21 and
+// then Q15.16 to decide the tip-over. docs/rover-loads.md, section 7.4,
 // bounds the error; props/rover/prop_wheel_load.cpp asserts the bound against
 // the double-precision twin (ground/reference rover_loads.hpp).
 #ifndef SINKWATCH_FLIGHT_WHEEL_LOAD_HPP
