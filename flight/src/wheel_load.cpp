@@ -145,7 +145,7 @@ template <typename P>
 struct SideLevers {
   P a;                     ///< x~_front - x~_pivot
   P b;                     ///< x~_pivot - x~_bogie
-  fx::Reciprocal lever;    ///< 1 / (a + b): the rocker's quotients as products (section 12.5)
+  fx::NormalisedReciprocal lever;    ///< 1 / (a + b): the rocker's quotients as products (section 12.5)
   P beta;                  ///< the middle wheel's share of the bogie
   P yt_front;              ///< y~ of the front contact
   P yt_bogie;              ///< y~ of the bogie's resultant
@@ -202,7 +202,7 @@ SideContacts<P> side_contacts(const Links<P>& l, AngleRad rocker_rad, AngleRad b
 struct GravityFrame {
   fx::Q1_30 sin_pitch;        ///< kept for the drawbar pulls (WheelLoadResult::sin_pitch)
   fx::Q1_30 normal_fraction;  ///< cos(pitch) cos(roll): the weight's share normal to the ground
-  fx::Reciprocal inv_normal_fraction;
+  fx::NormalisedReciprocal inv_normal_fraction;
   K kx;  ///< tan(pitch) / cos(roll)
   K ky;  ///< tan(roll)
 };
@@ -218,7 +218,7 @@ P wheel_xt(Point<P> contact, bool from_axle, P radius, K kx, fx::Status& st) noe
 /// The lateral positions and the torque terms of one side (sections 3.5 and
 /// 12.2), from its contacts and its bogie's projected span.
 template <typename P>
-void side_lateral(const SideContacts<P>& c, P y_side, K ky, fx::Reciprocal inv_span, const SideTorques<P>& tq,
+void side_lateral(const SideContacts<P>& c, P y_side, K ky, fx::NormalisedReciprocal inv_span, const SideTorques<P>& tq,
                   SideLevers<P>& out, fx::Status& st) noexcept {
   out.yt_front = project(y_side, c.front.z, ky, st);
   const P yt_m = project(y_side, c.middle.z, ky, st);
@@ -226,7 +226,7 @@ void side_lateral(const SideContacts<P>& c, P y_side, K ky, fx::Reciprocal inv_s
   // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
   out.yt_bogie = fx::add(yt_r, fx::mul(out.beta, fx::sub(yt_m, yt_r, st), st), st);
   out.front_couple = tq.couple[0];
-  out.bogie_shift = fx::times<P>(fx::add(tq.couple[1], tq.couple[2], st), inv_span, st);
+  out.bogie_shift = fx::quotient<P>(fx::add(tq.couple[1], tq.couple[2], st), inv_span, st);
   out.yt_rear_minus_middle = fx::sub(yt_r, yt_m, st);
 }
 
@@ -257,9 +257,9 @@ bool side_levers(const Links<P>& l, const SidePose<P>& pose, const GravityFrame&
     return false;
   }
   // One division per lever, its quotients as products (section 12.5).
-  out.lever = fx::reciprocal_of(lever);
-  const fx::Reciprocal inv_span = fx::reciprocal_of(span);
-  out.beta = fx::times<P>(fx::sub(xt_b, xt_r, st), inv_span, st);
+  out.lever = fx::normalised_reciprocal(lever);
+  const fx::NormalisedReciprocal inv_span = fx::normalised_reciprocal(span);
+  out.beta = fx::quotient<P>(fx::sub(xt_b, xt_r, st), inv_span, st);
   side_lateral(c, pose.y_side, g.ky, inv_span, tq, out, st);
   return true;
 }
@@ -285,9 +285,9 @@ GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexce
   GravityFrame g{};
   g.sin_pitch = pitch_sc.sin;
   g.normal_fraction = fx::mul(pitch_sc.cos, roll_sc.cos, st);
-  g.inv_normal_fraction = fx::reciprocal_of(g.normal_fraction);
-  g.kx = fx::times<K>(pitch_sc.sin, g.inv_normal_fraction, st);
-  g.ky = fx::times<K>(roll_sc.sin, fx::reciprocal_of(roll_sc.cos), st);
+  g.inv_normal_fraction = fx::normalised_reciprocal(g.normal_fraction);
+  g.kx = fx::quotient<K>(pitch_sc.sin, g.inv_normal_fraction, st);
+  g.ky = fx::quotient<K>(roll_sc.sin, fx::normalised_reciprocal(roll_sc.cos), st);
   return g;
 }
 
@@ -297,7 +297,7 @@ GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexce
 template <typename P>
 struct Body {
   WheelLoadN weight_normal_n;  ///< m g cos(pitch) cos(roll), newtons
-  fx::Reciprocal inv_weight;   ///< 1 / (m g), from the exact product of mass and gravity
+  fx::NormalisedReciprocal inv_weight;   ///< 1 / (m g), from the exact product of mass and gravity
   P com_yt;                    ///< projected lateral position of the centre of mass
   P pivot_moment;              ///< each rocker pivot's moment, equal by the differential (3.4)
 };
@@ -309,7 +309,7 @@ Body<P> body_of(const RoverParams& params, const GravityFrame& g, fx::Status& st
   b.weight_normal_n = WheelLoadN{fx::mul<LoadQ>(weight_n, g.normal_fraction, st)};
   // Both are positive after validation; their product is exact in 64 bits.
   constexpr std::int32_t kWeightFracBits = MassQ::frac_bits + AccelQ::frac_bits;
-  b.inv_weight = fx::reciprocal_of(static_cast<std::uint64_t>(params.mass_kg.raw()) *
+  b.inv_weight = fx::normalised_reciprocal(static_cast<std::uint64_t>(params.mass_kg.raw()) *
                                        static_cast<std::uint64_t>(params.gravity_mps2.raw()),
                                    kWeightFracBits);
   const P com_z = length<P>(params.com_z_m, st);
@@ -355,7 +355,7 @@ bool left_side_total(const SideLevers<P> (&side)[kSideCount], const Body<P>& bod
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
     // Y_s = (b y~_F + a y~_bog) / (a + b) = y~_bog + b Z_s: no product of two
     // lengths is formed (section 7.4), so Y_s stays within Q6.25.
-    big_z[s] = fx::times<P>(fx::sub(side[s].yt_front, side[s].yt_bogie, st), side[s].lever, st);
+    big_z[s] = fx::quotient<P>(fx::sub(side[s].yt_front, side[s].yt_bogie, st), side[s].lever, st);
     big_y[s] = fx::add(side[s].yt_bogie, fx::mul(side[s].b, big_z[s], st), st);
     torque_terms = fx::add(torque_terms, fx::mul(side[s].bogie_shift, side[s].yt_rear_minus_middle, st), st);
     torque_terms = fx::sub(torque_terms, fx::mul(side[s].front_couple, big_z[s], st), st);
@@ -368,7 +368,7 @@ bool left_side_total(const SideLevers<P> (&side)[kSideCount], const Body<P>& bod
       fx::sub(fx::sub(fx::sub(body.com_yt, fx::mul(body.pivot_moment, fx::add(big_z[0], big_z[1], st), st), st),
                       torque_terms, st),
               big_y[1], st);
-  left = fx::times<P>(roll_moment, fx::reciprocal_of(lateral_span), st);
+  left = fx::quotient<P>(roll_moment, fx::normalised_reciprocal(lateral_span), st);
   return true;
 }
 
@@ -383,7 +383,7 @@ bool support_forces(const SideLevers<P> (&side)[kSideCount], const Body<P>& body
   }
   side_total[1] = fx::sub(kOne<P>, side_total[0], st);
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    const P front = fx::times<P>(fx::add(side_moment(body, side[s], st), fx::mul(side[s].b, side_total[s], st), st),
+    const P front = fx::quotient<P>(fx::add(side_moment(body, side[s], st), fx::mul(side[s].b, side_total[s], st), st),
                                  side[s].lever, st);
     const P bogie = fx::sub(side_total[s], front, st);
     const P middle = fx::sub(fx::mul(side[s].beta, bogie, st), side[s].bogie_shift, st);
@@ -418,8 +418,8 @@ bool side_torques(const DriveTorques& torques, const Body<P>& body, const Gravit
     side.from_axle[k] = torques.usable[i];
     side.couple[k] = P::zero();
     if (torques.usable[i]) {
-      const P per_weight = fx::times<P>(torques.torque_nm[i].q(), body.inv_weight, couple_st);
-      side.couple[k] = fx::times<P>(per_weight, g.inv_normal_fraction, couple_st);
+      const P per_weight = fx::quotient<P>(torques.torque_nm[i].q(), body.inv_weight, couple_st);
+      side.couple[k] = fx::quotient<P>(per_weight, g.inv_normal_fraction, couple_st);
     }
   }
   return couple_st.ok();

@@ -1,7 +1,7 @@
-// test_reciprocal.cpp: fx::reciprocal_of and fx::times (reciprocal.hpp).
+// test_reciprocal.cpp: fx::normalised_reciprocal and fx::quotient (reciprocal.hpp).
 // The mantissa is checked against its definition with the exact 128-bit
 // product, and every quotient against fx::div, whose result is within
-// 0.5 LSB of the exact one: times() must be within 1 LSB + |q| 2^-30 of it.
+// 0.5 LSB of the exact one: quotient() must be within 1 LSB + |q| 2^-30 of it.
 // Plain integer arithmetic only, so the test runs unchanged under qemu-arm.
 #include <gtest/gtest.h>
 
@@ -29,7 +29,7 @@ std::uint64_t normalised(std::uint64_t d) {
 
 /// mantissa = floor((2^63 - 1) / Dn): m Dn <= 2^63 - 1 < (m + 1) Dn.
 void expect_mantissa_is_the_floor(std::uint64_t d, std::int32_t frac_bits) {
-  const fx::Reciprocal r = fx::reciprocal_of(d, frac_bits);
+  const fx::NormalisedReciprocal r = fx::normalised_reciprocal(d, frac_bits);
   const std::uint64_t dn = normalised(d);
   ASSERT_GE(r.mantissa, 0x80000000U) << d;
   const wide::U128 low = wide::mul_full(std::uint64_t{r.mantissa}, dn);
@@ -40,12 +40,12 @@ void expect_mantissa_is_the_floor(std::uint64_t d, std::int32_t frac_bits) {
   EXPECT_EQ(r.scale, 31 + static_cast<std::int32_t>(wide::bit_length(d)) - frac_bits) << d;
 }
 
-/// |times(x, 1/d) - fx::div(x, d)| <= 1 + |q| 2^-30 raw LSB, or both saturate.
+/// |quotient(x, 1/d) - fx::div(x, d)| <= 1 + |q| 2^-30 raw LSB, or both saturate.
 template <typename Out, typename QD>
 void expect_quotient_near_division(P x, QD d) {
   fx::Status by_reciprocal;
   fx::Status by_division;
-  const Out q = fx::times<Out>(x, fx::reciprocal_of(d), by_reciprocal);
+  const Out q = fx::quotient<Out>(x, fx::normalised_reciprocal(d), by_reciprocal);
   const Out ref = fx::div<Out>(x, d, by_division);
   if (by_division.has(fx::Flag::overflow)) {
     EXPECT_TRUE(by_reciprocal.has(fx::Flag::overflow) || (q == ref)) << x.raw() << " / " << d.raw();
@@ -60,7 +60,7 @@ void expect_quotient_near_division(P x, QD d) {
   }
 }
 
-TEST(Reciprocal, MantissaIsTheFlooredQuotientAtEdgeDivisors) {
+TEST(NormalisedReciprocal, MantissaIsTheFlooredQuotientAtEdgeDivisors) {
   const std::uint64_t divisors[] = {1U, 2U, 3U, 0x7FFFFFFFU, 0x80000000U, 0x80000001U, 0xFFFFFFFFU,
                                     0x100000000U, 0x1FFFFFFFFU, 0xFFFFFFFFFFFFULL, ~std::uint64_t{0U}};
   for (const std::uint64_t d : divisors) {
@@ -68,8 +68,8 @@ TEST(Reciprocal, MantissaIsTheFlooredQuotientAtEdgeDivisors) {
   }
 }
 
-TEST(Reciprocal, MantissaIsTheFlooredQuotientForRandomDivisors) {
-  std::mt19937_64 rng(20261125U);
+TEST(NormalisedReciprocal, MantissaIsTheFlooredQuotientForRandomDivisors) {
+  std::mt19937_64 rng(20261125U);  // NOLINT(cert-msc32-c,cert-msc51-cpp): reproducible samples
   for (int i = 0; i < 200000; ++i) {
     const std::uint32_t bits = 1U + static_cast<std::uint32_t>(rng() % 64U);
     const std::uint64_t d = (rng() >> (64U - bits)) | (std::uint64_t{1U} << (bits - 1U));
@@ -77,8 +77,8 @@ TEST(Reciprocal, MantissaIsTheFlooredQuotientForRandomDivisors) {
   }
 }
 
-TEST(Reciprocal, QuotientIsWithinOneLsbAndTwoToMinus30OfTheDivision) {
-  std::mt19937_64 rng(11250001U);
+TEST(NormalisedReciprocal, QuotientIsWithinOneLsbAndTwoToMinus30OfTheDivision) {
+  std::mt19937_64 rng(11250001U);  // NOLINT(cert-msc32-c,cert-msc51-cpp): reproducible samples
   for (int i = 0; i < 300000; ++i) {
     const std::uint32_t x_bits = static_cast<std::uint32_t>(rng() % 32U);
     const auto x_mag = static_cast<std::int32_t>(rng() >> (64U - x_bits));
@@ -90,37 +90,37 @@ TEST(Reciprocal, QuotientIsWithinOneLsbAndTwoToMinus30OfTheDivision) {
   }
 }
 
-TEST(Reciprocal, ExtremeDividendsSaturateOrRoundToZero) {
+TEST(NormalisedReciprocal, ExtremeDividendsSaturateOrRoundToZero) {
   fx::Status st;
   // INT32_MIN / the smallest divisor: far beyond Q6.25.
-  const P big = fx::times<P>(P::min(), fx::reciprocal_of(P::lsb()), st);
+  const P big = fx::quotient<P>(P::min(), fx::normalised_reciprocal(P::lsb()), st);
   EXPECT_EQ(big, P::min());
   EXPECT_TRUE(st.has(fx::Flag::overflow));
   fx::Status small_st;
   // One LSB divided by 2^40: rounds to zero, no flag, no negative zero.
-  const P tiny = fx::times<P>(fx::neg(P::lsb(), small_st), fx::reciprocal_of(std::uint64_t{1U} << 40U, 0), small_st);
+  const P tiny = fx::quotient<P>(fx::neg(P::lsb(), small_st), fx::normalised_reciprocal(std::uint64_t{1U} << 40U, 0), small_st);
   EXPECT_EQ(tiny.raw(), 0);
   EXPECT_TRUE(small_st.ok());
   // A non-zero x with a shift <= 0 overflows; zero stays zero.
   fx::Status shift_st;
-  EXPECT_EQ(fx::times<P>(P::lsb(), fx::Reciprocal{0x80000000U, -40}, shift_st), P::max());
+  EXPECT_EQ(fx::quotient<P>(P::lsb(), fx::NormalisedReciprocal{0x80000000U, -40}, shift_st), P::max());
   EXPECT_TRUE(shift_st.has(fx::Flag::overflow));
   fx::Status zero_st;
-  EXPECT_EQ(fx::times<P>(P::zero(), fx::Reciprocal{0x80000000U, -40}, zero_st), P::zero());
+  EXPECT_EQ(fx::quotient<P>(P::zero(), fx::NormalisedReciprocal{0x80000000U, -40}, zero_st), P::zero());
   EXPECT_TRUE(zero_st.ok());
 }
 
-TEST(Reciprocal, ZeroDivisorGivesNoReciprocalAndReportsDivisionByZero) {
+TEST(NormalisedReciprocal, ZeroDivisorGivesNoReciprocalAndReportsDivisionByZero) {
   fx::Status neg_lsb_st;
-  EXPECT_EQ(fx::reciprocal_of(P::zero()).mantissa, 0U);
-  EXPECT_EQ(fx::reciprocal_of(fx::neg(P::lsb(), neg_lsb_st)).mantissa, 0U);
+  EXPECT_EQ(fx::normalised_reciprocal(P::zero()).mantissa, 0U);
+  EXPECT_EQ(fx::normalised_reciprocal(fx::neg(P::lsb(), neg_lsb_st)).mantissa, 0U);
   fx::Status st;
-  EXPECT_EQ(fx::times<P>(P::lsb(), fx::reciprocal_of(P::zero()), st), P::max());
+  EXPECT_EQ(fx::quotient<P>(P::lsb(), fx::normalised_reciprocal(P::zero()), st), P::max());
   EXPECT_TRUE(st.has(fx::Flag::div_by_zero));
   fx::Status neg_st;
-  EXPECT_EQ(fx::times<P>(fx::neg(P::lsb(), neg_st), fx::Reciprocal{}, neg_st), P::min());
+  EXPECT_EQ(fx::quotient<P>(fx::neg(P::lsb(), neg_st), fx::NormalisedReciprocal{}, neg_st), P::min());
   fx::Status zero_st;
-  EXPECT_EQ(fx::times<P>(P::zero(), fx::Reciprocal{}, zero_st), P::zero());
+  EXPECT_EQ(fx::quotient<P>(P::zero(), fx::NormalisedReciprocal{}, zero_st), P::zero());
   EXPECT_TRUE(zero_st.has(fx::Flag::div_by_zero));
 }
 

@@ -17,11 +17,16 @@
 // Truncating D and flooring the quotient each err by less than 2^-31
 // relative, so mantissa * 2^-scale is within 2^-30 of 1/d, relative.
 //
-// times<Out>(x, r) = x * mantissa * 2^-(Fx + scale - Fout), rounded to
+// quotient<Out>(x, r) = x * mantissa * 2^-(Fx + scale - Fout), rounded to
 // nearest (ties away from zero) on the magnitude: within 0.5 LSB of Out plus
 // |x/d| * 2^-30. It saturates and raises overflow when the quotient leaves Out.
 // host_tests/fixedpoint/test_reciprocal.cpp checks the definition and the
 // bound against the exact quotient.
+//
+// Not to be confused with fx::reciprocal (sqrt.hpp: 1/x as a Q value, one
+// division, 0.5 LSB) or flight's ConstantDivisor (constant_divisor.hpp:
+// exact quotients by a table constant, fx::div's bits): this one trades the
+// last bit for one division per run-time divisor and a product per quotient.
 #ifndef SINKWATCH_FIXEDPOINT_RECIPROCAL_HPP
 #define SINKWATCH_FIXEDPOINT_RECIPROCAL_HPP
 
@@ -36,35 +41,38 @@ namespace sinkwatch {
 namespace fx {
 
 /// 1/d ~ mantissa * 2^-scale; mantissa == 0 marks "no reciprocal" (d == 0).
-struct Reciprocal {
+struct NormalisedReciprocal {
   std::uint32_t mantissa{0U};
   std::int32_t scale{0};
 };
 
 /// The reciprocal of the positive magnitude `d_raw` with `d_frac_bits`
-/// fraction bits; d_raw == 0 gives mantissa 0 (times() then reports
+/// fraction bits; d_raw == 0 gives mantissa 0 (quotient() then reports
 /// div_by_zero).
-[[nodiscard]] constexpr Reciprocal reciprocal_of(std::uint64_t d_raw, std::int32_t d_frac_bits) noexcept {
+[[nodiscard]] constexpr NormalisedReciprocal normalised_reciprocal(std::uint64_t d_raw, std::int32_t d_frac_bits) noexcept {
   if (d_raw == 0U) {
-    return Reciprocal{};
+    return NormalisedReciprocal{};
   }
   const std::uint32_t n = wide::bit_length(d_raw);
   const std::uint64_t normalised = (n <= 32U) ? wide::shl(d_raw, 32U - n) : wide::shr(d_raw, n - 32U);
   constexpr std::uint64_t kTwoTo63Less1 = ~std::uint64_t{0U} >> 1U;
-  const std::uint64_t mantissa = kTwoTo63Less1 / normalised;  // in [2^31, 2^32)
-  return Reciprocal{static_cast<std::uint32_t>(mantissa), (31 + static_cast<std::int32_t>(n)) - d_frac_bits};
+  // normalised is in [2^31, 2^32), so bit 31 is already set: the OR changes
+  // nothing but shows the static analyser a divisor that cannot be zero.
+  constexpr std::uint64_t kBit31 = std::uint64_t{1U} << 31U;
+  const std::uint64_t mantissa = kTwoTo63Less1 / (normalised | kBit31);  // in [2^31, 2^32)
+  return NormalisedReciprocal{static_cast<std::uint32_t>(mantissa), (31 + static_cast<std::int32_t>(n)) - d_frac_bits};
 }
 
 /// The reciprocal of a positive Q value (a non-positive one gives no
 /// reciprocal: divisors here are lengths and weights checked positive).
 template <typename S, std::int32_t F>
-[[nodiscard]] constexpr Reciprocal reciprocal_of(Q<S, F> d) noexcept {
-  return (d.raw() > 0) ? reciprocal_of(static_cast<std::uint64_t>(d.raw()), F) : Reciprocal{};
+[[nodiscard]] constexpr NormalisedReciprocal normalised_reciprocal(Q<S, F> d) noexcept {
+  return (d.raw() > 0) ? normalised_reciprocal(static_cast<std::uint64_t>(d.raw()), F) : NormalisedReciprocal{};
 }
 
 /// x / d in the format Out (32-bit storage) from d's reciprocal r.
 template <typename Out, std::int32_t Fx>
-[[nodiscard]] constexpr Out times(Q<std::int32_t, Fx> x, Reciprocal r, Status& status) noexcept {
+[[nodiscard]] constexpr Out quotient(Q<std::int32_t, Fx> x, NormalisedReciprocal r, Status& status) noexcept {
   static_assert(Out::total_bits == 32U, "quotients by a reciprocal are 32-bit formats");
   const bool negative = detail::is_negative(x.raw());
   if (r.mantissa == 0U) {
