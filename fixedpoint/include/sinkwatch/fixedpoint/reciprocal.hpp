@@ -46,6 +46,51 @@ struct NormalisedReciprocal {
   std::int32_t scale{0};
 };
 
+namespace detail {
+
+/// floor((2^63 - 1) / v) for v in [2^31, 2^32): the two-digit long division
+/// of Hacker's Delight (2nd ed., figure 9-3, divlu) in base 2^16 with 32-bit
+/// words only. Each digit's estimate from the divisor's high half is at most
+/// two too large and is corrected at most twice, so both loops are bounded by
+/// two. The result is the exact floor (test_reciprocal checks it against its
+/// definition): the bits of a 64-bit library division at the cost of two
+/// 32 / 16-bit divisions, which a core without a divide instruction does in
+/// a fraction of __udivmoddi4's time (docs/performance.md, session 12).
+constexpr std::uint32_t floor_two_to_63_less_1_over(std::uint32_t v) noexcept {
+  constexpr std::uint32_t kBase = 0x10000U;
+  constexpr std::uint32_t kNumeratorHigh = 0x7FFFFFFFU;  // 2^63 - 1 = kNumeratorHigh * 2^32 + kNumeratorLow
+  constexpr std::uint32_t kNumeratorLow = 0xFFFFFFFFU;
+  const std::uint32_t v_high = v >> 16U;
+  const std::uint32_t v_low = v & 0xFFFFU;
+  const std::uint32_t u_high_digit = kNumeratorLow >> 16U;
+  const std::uint32_t u_low_digit = kNumeratorLow & 0xFFFFU;
+  std::uint32_t q1 = kNumeratorHigh / v_high;
+  std::uint32_t rhat = kNumeratorHigh - (q1 * v_high);
+  for (std::uint32_t step = 0U; (step < 2U) && ((q1 >= kBase) || ((q1 * v_low) > ((kBase * rhat) + u_high_digit)));
+       ++step) {
+    --q1;
+    rhat += v_high;
+    if (rhat >= kBase) {
+      break;
+    }
+  }
+  // The partial remainder fits 32 bits; the wrapping arithmetic gives it.
+  const std::uint32_t partial = ((kNumeratorHigh * kBase) + u_high_digit) - (q1 * v);
+  std::uint32_t q0 = partial / v_high;
+  rhat = partial - (q0 * v_high);
+  for (std::uint32_t step = 0U; (step < 2U) && ((q0 >= kBase) || ((q0 * v_low) > ((kBase * rhat) + u_low_digit)));
+       ++step) {
+    --q0;
+    rhat += v_high;
+    if (rhat >= kBase) {
+      break;
+    }
+  }
+  return (q1 * kBase) + q0;
+}
+
+}  // namespace detail
+
 /// The reciprocal of the positive magnitude `d_raw` with `d_frac_bits`
 /// fraction bits; d_raw == 0 gives mantissa 0 (quotient() then reports
 /// div_by_zero).
@@ -55,12 +100,10 @@ struct NormalisedReciprocal {
   }
   const std::uint32_t n = wide::bit_length(d_raw);
   const std::uint64_t normalised = (n <= 32U) ? wide::shl(d_raw, 32U - n) : wide::shr(d_raw, n - 32U);
-  constexpr std::uint64_t kTwoTo63Less1 = ~std::uint64_t{0U} >> 1U;
-  // normalised is in [2^31, 2^32), so bit 31 is already set: the OR changes
-  // nothing but shows the static analyser a divisor that cannot be zero.
-  constexpr std::uint64_t kBit31 = std::uint64_t{1U} << 31U;
-  const std::uint64_t mantissa = kTwoTo63Less1 / (normalised | kBit31);  // in [2^31, 2^32)
-  return NormalisedReciprocal{static_cast<std::uint32_t>(mantissa), (31 + static_cast<std::int32_t>(n)) - d_frac_bits};
+  // normalised is in [2^31, 2^32): the high half of the divisor is at least
+  // 2^15, never zero.
+  const std::uint32_t mantissa = detail::floor_two_to_63_less_1_over(static_cast<std::uint32_t>(normalised));
+  return NormalisedReciprocal{mantissa, (31 + static_cast<std::int32_t>(n)) - d_frac_bits};
 }
 
 /// The reciprocal of a positive Q value (a non-positive one gives no
