@@ -90,6 +90,51 @@ constexpr std::uint64_t mul_round(std::uint64_t a, std::uint64_t b, std::uint32_
   return (wide::mul_64x64_low(a, b) + (std::uint64_t{1U} << (shift - 1U))) >> shift;
 }
 
+/// The same for a shift known at compile time and operands below 2^32 (every
+/// product of the sine and cosine kernels): one 32 x 32 -> 64-bit product
+/// and constant shifts, which -Os would otherwise leave as library calls for
+/// the run-time shift count (docs/performance.md, session 12). The same bits
+/// as mul_round.
+template <std::uint32_t Shift>
+SW_FX_INLINE constexpr std::uint64_t mul_round_by(std::uint32_t a, std::uint32_t b) noexcept {
+  static_assert((Shift >= 1U) && (Shift <= 63U), "a rounding shift of 1 to 63 bits");
+  return (wide::mul_32x32_64(a, b) + (std::uint64_t{1U} << (Shift - 1U))) >> Shift;
+}
+
+/// A value the kernels keep below 2^32 (w <= 2^31, every Horner bracket below
+/// its coefficient, each limb of m), as the 32-bit operand of a product.
+SW_FX_INLINE constexpr std::uint32_t word(std::uint64_t v) noexcept { return static_cast<std::uint32_t>(v); }
+
+/// Fraction of a turn of the angle m * 2^-F rad, in units of 2^-64 turn:
+/// m * 2^-F / (2 pi) mod 1, computed limb by limb. Whole turns fall off the
+/// top of the uint64_t (unsigned wrap, which is exactly "mod 1 turn").
+/// Error: each of at most 8 truncated partial products loses < 1 unit and the
+/// truncated constant < 2^-65 turn, so the result is low by less than 9 units.
+/// One partial product of turns(): limb J of the angle times limb I of
+/// 1/(2 pi), shifted to its weight 2^s in units of 2^-64 turn (s known at
+/// compile time, so the shift is inline). Partial products of weight >= 2^64
+/// are whole turns; those below 2^-64 are under one unit.
+template <std::int32_t F, std::int32_t J, std::int32_t I>
+SW_FX_INLINE constexpr std::uint64_t turn_part(std::uint32_t limb) noexcept {
+  constexpr std::int32_t s = (32 + (32 * (J - I))) - F;
+  if constexpr ((s < 64) && (s > -64)) {
+    const std::uint64_t p = wide::mul_32x32_64(limb, k_inv_two_pi[I]);
+    if constexpr (s >= 0) {
+      return p << static_cast<std::uint32_t>(s);
+    } else {
+      return p >> static_cast<std::uint32_t>(-s);
+    }
+  } else {
+    return 0U;
+  }
+}
+
+/// The four partial products of one limb of the angle.
+template <std::int32_t F, std::int32_t J>
+SW_FX_INLINE constexpr std::uint64_t turn_parts(std::uint32_t limb) noexcept {
+  return turn_part<F, J, 0>(limb) + turn_part<F, J, 1>(limb) + turn_part<F, J, 2>(limb) + turn_part<F, J, 3>(limb);
+}
+
 /// Fraction of a turn of the angle m * 2^-F rad, in units of 2^-64 turn:
 /// m * 2^-F / (2 pi) mod 1, computed limb by limb. Whole turns fall off the
 /// top of the uint64_t (unsigned wrap, which is exactly "mod 1 turn").
@@ -97,22 +142,11 @@ constexpr std::uint64_t mul_round(std::uint64_t a, std::uint64_t b, std::uint32_
 /// truncated constant < 2^-65 turn, so the result is low by less than 9 units.
 template <std::int32_t F>
 constexpr std::uint64_t turns(std::uint64_t m) noexcept {
-  const std::uint64_t limb[2] = {m & 0xFFFFFFFFU, m >> 32U};
-  std::uint64_t t = 0U;
-  for (std::uint32_t j = 0U; j < 2U; ++j) {
-    for (std::uint32_t i = 0U; i < 4U; ++i) {
-      // Weight of limb[j] * k_inv_two_pi[i] in units of 2^-64 turn: 2^s.
-      const std::int32_t s = (32 + (32 * (static_cast<std::int32_t>(j) - static_cast<std::int32_t>(i)))) - F;
-      // Partial products of weight >= 2^64 are whole turns; those below
-      // 2^-64 are under one unit. A zero limb (always the high one for
-      // 32-bit storage) saves a 64-bit multiply, a library call on the M0.
-      if ((s < 64) && (s > -64) && (limb[j] != 0U)) {
-        const std::uint64_t p = wide::mul_64x64_low(limb[j], k_inv_two_pi[i]);
-        t += (s >= 0) ? (p << static_cast<std::uint32_t>(s)) : (p >> static_cast<std::uint32_t>(-s));
-      }
-    }
-  }
-  return t;
+  const std::uint32_t low = word(m & 0xFFFFFFFFU);
+  const std::uint32_t high = word(m >> 32U);
+  // A zero high limb (always, for 32-bit storage) skips its products.
+  const std::uint64_t from_high = (high != 0U) ? turn_parts<F, 1>(high) : 0U;
+  return turn_parts<F, 0>(low) + from_high;
 }
 
 /// An angle reduced to q * pi/2 + r with |r| <= pi/4. r = (negative ? -1 : 1)
@@ -140,7 +174,7 @@ constexpr std::uint64_t square_q31(std::uint64_t m) noexcept {
   const std::uint64_t m_lo = m & 0x3FFFFFFFU;  // < 2^30
   // v^2 * 2^31 = m_hi^2 2^-31 + m_hi m_lo 2^-60 + m_lo^2 2^-91; the last term
   // is below 2^-31 units and dropped.
-  const std::uint64_t sum = wide::mul_64x64_low(m_hi, m_hi) + (wide::mul_64x64_low(m_hi, m_lo) >> 29U);
+  const std::uint64_t sum = wide::mul_32x32_64(word(m_hi), word(m_hi)) + (wide::mul_32x32_64(word(m_hi), word(m_lo)) >> 29U);
   return (sum + (std::uint64_t{1U} << 30U)) >> 31U;
 }
 
@@ -149,28 +183,32 @@ constexpr std::uint64_t square_q31(std::uint64_t m) noexcept {
 constexpr std::uint64_t sin_kernel(std::uint64_t m, std::uint64_t w) noexcept {
   // P(w) = a1 - w (a3 - w (a5 - w (a7 - w (a9 - w a11)))): every bracket is
   // positive (a_k > a_(k+2) and w <= 1), so the Horner steps stay unsigned.
+  const std::uint32_t w32 = word(w);
   std::uint64_t b = k_sin_a[5];
-  for (std::uint32_t step = 0U; step < 5U; ++step) {
-    const std::uint32_t k = 4U - step;
-    b = k_sin_a[k] - mul_round(w, b, (31U + k_sin_shift[k + 1U]) - k_sin_shift[k]);
-  }
+  b = k_sin_a[4] - mul_round_by<(31U + k_sin_shift[5]) - k_sin_shift[4]>(w32, word(b));
+  b = k_sin_a[3] - mul_round_by<(31U + k_sin_shift[4]) - k_sin_shift[3]>(w32, word(b));
+  b = k_sin_a[2] - mul_round_by<(31U + k_sin_shift[3]) - k_sin_shift[2]>(w32, word(b));
+  b = k_sin_a[1] - mul_round_by<(31U + k_sin_shift[2]) - k_sin_shift[1]>(w32, word(b));
+  b = k_sin_a[0] - mul_round_by<(31U + k_sin_shift[1]) - k_sin_shift[0]>(w32, word(b));
   // sin = v P with v taken at full precision: m * P * 2^-93, in 2^-30 units
   // m * P * 2^-63. m = m_hi 2^30 + m_lo keeps both products below 2^63.
   const std::uint64_t m_hi = m >> 30U;
   const std::uint64_t m_lo = m & 0x3FFFFFFFU;
-  const std::uint64_t t = wide::mul_64x64_low(m_hi, b) + (wide::mul_64x64_low(m_lo, b) >> 30U);
+  const std::uint64_t t = wide::mul_32x32_64(word(m_hi), word(b)) + (wide::mul_32x32_64(word(m_lo), word(b)) >> 30U);
   return (t + (std::uint64_t{1U} << 32U)) >> 33U;
 }
 
 /// cos(pi/4 v) * 2^30 rounded, for w = square_q31(m), v = m * 2^-61 in [0, 1].
 constexpr std::uint64_t cos_kernel(std::uint64_t w) noexcept {
+  const std::uint32_t w32 = word(w);
   std::uint64_t b = k_cos_b[5];
-  for (std::uint32_t step = 0U; step < 5U; ++step) {
-    const std::uint32_t k = 4U - step;
-    b = k_cos_b[k] - mul_round(w, b, (31U + k_cos_shift[k + 1U]) - k_cos_shift[k]);
-  }
+  b = k_cos_b[4] - mul_round_by<(31U + k_cos_shift[5]) - k_cos_shift[4]>(w32, word(b));
+  b = k_cos_b[3] - mul_round_by<(31U + k_cos_shift[4]) - k_cos_shift[3]>(w32, word(b));
+  b = k_cos_b[2] - mul_round_by<(31U + k_cos_shift[3]) - k_cos_shift[2]>(w32, word(b));
+  b = k_cos_b[1] - mul_round_by<(31U + k_cos_shift[2]) - k_cos_shift[1]>(w32, word(b));
+  b = k_cos_b[0] - mul_round_by<(31U + k_cos_shift[1]) - k_cos_shift[0]>(w32, word(b));
   // cos = 1 - w Q, Q = b in units 2^-33: w Q in 2^-30 units is w b 2^-34.
-  return (std::uint64_t{1U} << 30U) - mul_round(w, b, 34U);
+  return (std::uint64_t{1U} << 30U) - mul_round_by<34U>(w32, word(b));
 }
 
 /// |angle| = q pi/2 + r: sin is +-sin(r) in quadrants 0 and 2, +-cos(r) in
