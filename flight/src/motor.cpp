@@ -1,6 +1,7 @@
-// The motor model (motor.hpp). The gain N * eta * Kt is never formed as one
-// number: multiplying (and dividing) step by step keeps each rounding relative
-// to a quantity of the output's size, which docs/flight.md bounds.
+// The motor model (motor.hpp). From current to torque the gain N * eta * Kt
+// is applied step by step, each rounding relative to a quantity of the
+// output's size; from torque to current it is one product with the gain's
+// normalised reciprocal, whose error is relative (docs/flight.md bounds both).
 #include "sinkwatch/flight/motor.hpp"
 
 namespace sinkwatch {
@@ -51,18 +52,6 @@ TorqueResult torque_from_current(const MotorParams& motor, CurrentA current_a, D
   return TorqueResult{TorqueNm(wheel_torque), EstimateStatus::ok};
 }
 
-namespace {
-
-/// T / (N eta Kt), one division at a time (each rounding relative to the
-/// quantity it produces).
-WideQ driving_current(const MotorDivisors& divisors, TorqueNm torque_nm, fx::Status& st) noexcept {
-  const WideQ per_gear = div_by_constant<WideQ>(torque_nm.q(), divisors.gear_ratio, st);
-  const WideQ before_loss = div_by_constant<WideQ>(per_gear, divisors.efficiency, st);
-  return div_by_constant<WideQ>(before_loss, divisors.kt, st);
-}
-
-}  // namespace
-
 CurrentResult current_from_torque(const MotorParams& motor, const MotorDivisors& divisors, TorqueNm torque_nm,
                                   DriveDirection direction) noexcept {
   const EstimateStatus motor_status = check_motor(motor);
@@ -73,9 +62,12 @@ CurrentResult current_from_torque(const MotorParams& motor, const MotorDivisors&
     return CurrentResult{CurrentA::zero(), EstimateStatus::invalid_direction};
   }
   fx::Status st;
-  const WideQ driving = driving_current(divisors, torque_nm, st);
-  const WideQ i0 = fx::rescale<WideQ>(motor.no_load_current_a.q(), st);
-  const WideQ total =
+  // The driving part in Q43.20 (int64): beyond Q11.20 it may still be brought
+  // back into range by I0; the sum goes into Q11.20 exactly (same fraction bits).
+  using WideCurrentQ = fx::Q<std::int64_t, CurrentQ::frac_bits>;
+  const WideCurrentQ driving = fx::quotient<WideCurrentQ>(torque_nm.q(), divisors.inverse_gain, st);
+  const WideCurrentQ i0 = fx::rescale<WideCurrentQ>(motor.no_load_current_a.q(), st);
+  const WideCurrentQ total =
       (direction == DriveDirection::forward) ? fx::add(driving, i0, st) : fx::sub(driving, i0, st);
   const CurrentQ current = fx::rescale<CurrentQ>(total, st);
   if (!st.ok()) {
@@ -85,8 +77,20 @@ CurrentResult current_from_torque(const MotorParams& motor, const MotorDivisors&
 }
 
 MotorDivisors make_motor_divisors(const MotorParams& motor) noexcept {
-  return MotorDivisors{make_divisor(motor.gear_ratio.q()), make_divisor(motor.efficiency.q()),
-                       make_divisor(motor.kt_nm_per_a.q())};
+  // N eta exactly (46 fraction bits, below 2^61), its leading 32 bits times
+  // Kt (below 2^63): the gain within 2^-31 relative, whatever the formats'
+  // magnitudes. A motor check_motor() refuses gets no reciprocal (every
+  // current_from_torque call refuses it before using one).
+  if ((motor.gear_ratio.raw() <= 0) || (motor.efficiency.raw() <= 0) || (motor.kt_nm_per_a.raw() <= 0)) {
+    return MotorDivisors{};
+  }
+  const std::uint64_t n_eta =
+      static_cast<std::uint64_t>(motor.gear_ratio.raw()) * static_cast<std::uint64_t>(motor.efficiency.raw());
+  const std::uint32_t length = fx::wide::bit_length(n_eta);
+  const std::uint32_t dropped = (length > 32U) ? (length - 32U) : 0U;
+  const std::uint64_t gain = (n_eta >> dropped) * static_cast<std::uint64_t>(motor.kt_nm_per_a.raw());
+  constexpr std::int32_t kGainFracBits = GearQ::frac_bits + EfficiencyQ::frac_bits + KtQ::frac_bits;
+  return MotorDivisors{fx::normalised_reciprocal(gain, kGainFracBits - static_cast<std::int32_t>(dropped))};
 }
 
 }  // namespace flight

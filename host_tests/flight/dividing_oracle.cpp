@@ -1,6 +1,8 @@
 // The dividing oracle (dividing_oracle.hpp).
 #include "dividing_oracle.hpp"
 
+#include <cmath>
+
 namespace sinkwatch {
 namespace oracle {
 
@@ -95,15 +97,42 @@ flight::CurrentResult current_from_torque(const flight::MotorParams& motor, flig
   return flight::CurrentResult{flight::CurrentA(current), EstimateStatus::ok};
 }
 
+double current_tolerance_a(const flight::MotorParams& motor, flight::CurrentA oracle_a) noexcept {
+  const double lsb = std::ldexp(1.0, -20);
+  const double eta = std::ldexp(static_cast<double>(motor.efficiency.raw()), -30);
+  const double kt = std::ldexp(static_cast<double>(motor.kt_nm_per_a.raw()), -28);
+  const double i0 = std::ldexp(static_cast<double>(motor.no_load_current_a.raw()), -20);
+  const double driving = std::fabs(static_cast<double>(oracle_a.raw()) * lsb) + i0;
+  const double oracle_error = (0.5 * lsb) + (std::ldexp(1.0, -33) * ((1.0 / (eta * kt)) + (1.0 / kt) + 1.0));
+  return oracle_error + (0.5 * lsb) + std::ldexp(driving, -29);
+}
+
 flight::CurrentLimitResult current_limit(const CorrectionResult& corr, const flight::MotorParams& motor,
                                          flight::LengthM radius_m, flight::WheelLoadN load_n,
                                          flight::SinkageM allowed_sinkage_m) noexcept {
-  // The flight code's own T_max and status plumbing, on divisors without a
-  // reciprocal: div_by_constant then is fx::div itself (constant_divisor.hpp),
-  // so the only difference from the flight path is the one under test.
-  const flight::MotorDivisors dividing{{motor.gear_ratio.q(), 0U}, {motor.efficiency.q(), 0U},
-                                       {motor.kt_nm_per_a.q(), 0U}};
-  return flight::current_limit(corr, motor, dividing, radius_m, load_n, allowed_sinkage_m);
+  // The flight code's own T_max (torque_limit), then the three divisions by
+  // N, eta and Kt: the only difference from the flight path is the motor's
+  // reciprocal under test. The status plumbing is flight::current_limit's.
+  flight::CurrentLimitResult result{flight::CurrentA::zero(), flight::TorqueNm::zero(), corr.clamp,
+                                    EstimateStatus::ok};
+  if (corr.status != EstimateStatus::ok) {
+    result.status = corr.status;
+    return result;
+  }
+  const flight::TorqueLimitResult t =
+      flight::torque_limit(corr.coefficients, corr.dp_max_ratio, radius_m, load_n, allowed_sinkage_m);
+  if (t.status != EstimateStatus::ok) {
+    result.status = t.status;
+    return result;
+  }
+  const flight::CurrentResult i = current_from_torque(motor, t.torque_nm, flight::DriveDirection::forward);
+  if (i.status != EstimateStatus::ok) {
+    result.status = i.status;
+    return result;
+  }
+  result.current_limit_a = i.current_a;
+  result.torque_limit_nm = t.torque_nm;
+  return result;
 }
 
 flight::CurrentLimitResult current_limit(const flight::ParameterTable& table, flight::WheelLoadN load_n) noexcept {

@@ -3,9 +3,10 @@
 // flight code is checked against.
 //
 // The flight module divides by the parameter table's constants (Table 2's
-// segment widths, the motor's N, eta and Kt) through reciprocals prepared
-// once per load (constant_divisor.hpp), and claims the result is fx::div's
-// bit for bit. Before issue 15 each of these functions had a second, dividing
+// segment widths) through reciprocals prepared once per load
+// (constant_divisor.hpp), and claims the result is fx::div's bit for bit;
+// the motor's N, eta and Kt through one normalised reciprocal of their
+// product (motor.hpp), within the bound current_tolerance_a() states. Before issue 15 each of these functions had a second, dividing
 // entry point in the flight code only so that the claim could be tested;
 // the dividing forms now live here, in the tests, and the flight API has one
 // entry point per operation. The interpolation is the plain Q31.32 one
@@ -28,6 +29,12 @@ flight::CorrectionResult corrections_at(const flight::CorrectionTable& table, fl
 /// flight::current_from_torque with fx::div by N, eta and Kt.
 flight::CurrentResult current_from_torque(const flight::MotorParams& motor, flight::TorqueNm torque_nm,
                                           flight::DriveDirection direction) noexcept;
+
+/// How far flight::current_from_torque may be from current_from_torque above
+/// (docs/flight.md, "Current from torque"), in amperes: the flight's 0.5 LSB
+/// + |T / (N eta Kt)| 2^-29 plus the oracle's 0.5 LSB + 2^-33 A (1/(eta Kt) +
+/// 1/Kt + 1), for the oracle's current `oracle_a` of `motor`.
+double current_tolerance_a(const flight::MotorParams& motor, flight::CurrentA oracle_a) noexcept;
 
 /// flight::current_limit on these corrections with fx::div in the motor model
 /// (divisors whose reciprocal is 0 fall back to fx::div).

@@ -59,8 +59,9 @@ TEST(Load, PreparesWhatPrepareWouldFromTheSameTableAndRover) {
     EXPECT_EQ(loaded.correction_divisors().width[i].reciprocal, prepared.correction_divisors().width[i].reciprocal);
     EXPECT_EQ(loaded.correction_divisors().width[i].value.raw(), prepared.correction_divisors().width[i].value.raw());
   }
-  EXPECT_EQ(loaded.motor_divisors().gear_ratio.reciprocal, prepared.motor_divisors().gear_ratio.reciprocal);
-  EXPECT_EQ(loaded.motor_divisors().kt.reciprocal, prepared.motor_divisors().kt.reciprocal);
+  EXPECT_NE(loaded.motor_divisors().inverse_gain.mantissa, 0U);
+  EXPECT_EQ(loaded.motor_divisors().inverse_gain.mantissa, prepared.motor_divisors().inverse_gain.mantissa);
+  EXPECT_EQ(loaded.motor_divisors().inverse_gain.scale, prepared.motor_divisors().inverse_gain.scale);
 }
 
 void expect_refused_and_untouched(const test::Bytes& bytes, RejectReason expected) {

@@ -115,10 +115,11 @@ template <typename S, std::int32_t F>
   return (d.raw() > 0) ? normalised_reciprocal(static_cast<std::uint64_t>(d.raw()), F) : NormalisedReciprocal{};
 }
 
-/// x / d in the format Out (32-bit storage) from d's reciprocal r.
+/// x / d in the format Out from d's reciprocal r. Out may have 64-bit
+/// storage, to keep a quotient that only a later sum brings into range.
 template <typename Out, std::int32_t Fx>
 [[nodiscard]] constexpr Out quotient(Q<std::int32_t, Fx> x, NormalisedReciprocal r, Status& status) noexcept {
-  static_assert(Out::total_bits == 32U, "quotients by a reciprocal are 32-bit formats");
+  using OutS = typename Out::storage_type;
   const bool negative = detail::is_negative(x.raw());
   if (r.mantissa == 0U) {
     status.raise(Flag::div_by_zero);
@@ -140,7 +141,7 @@ template <typename Out, std::int32_t Fx>
   } else {
     mag = 0U;  // product / 2^shift < 1/2
   }
-  return Out::from_raw(detail::from_sign_magnitude<std::int32_t>(negative && (mag != 0U), mag, status));
+  return Out::from_raw(detail::from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
 }
 
 }  // namespace fx

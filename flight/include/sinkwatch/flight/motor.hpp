@@ -18,8 +18,8 @@
 #ifndef SINKWATCH_FLIGHT_MOTOR_HPP
 #define SINKWATCH_FLIGHT_MOTOR_HPP
 
-#include "sinkwatch/flight/constant_divisor.hpp"
 #include "sinkwatch/flight/units.hpp"
+#include "sinkwatch/fixedpoint/reciprocal.hpp"
 
 namespace sinkwatch {
 namespace flight {
@@ -47,12 +47,12 @@ struct CurrentResult {
 [[nodiscard]] TorqueResult torque_from_current(const MotorParams& motor, CurrentA current_a,
                                                DriveDirection direction) noexcept;
 
-/// N, eta and Kt as prepared divisors (constant_divisor.hpp), made once per
-/// parameter load: current_from_torque without a division.
+/// The motor's gain N eta Kt prepared once per parameter load as its
+/// normalised reciprocal (fixedpoint/reciprocal.hpp): current_from_torque is
+/// then one 32 x 32 -> 64-bit product per call instead of three divisions
+/// (issue 15; docs/flight.md, "Current from torque").
 struct MotorDivisors {
-  ConstantDivisor<GearQ> gear_ratio;
-  ConstantDivisor<EfficiencyQ> efficiency;
-  ConstantDivisor<KtQ> kt;
+  fx::NormalisedReciprocal inverse_gain;  ///< 1 / (N eta Kt), within 2^-29 relative
 };
 
 [[nodiscard]] MotorDivisors make_motor_divisors(const MotorParams& motor) noexcept;
@@ -60,8 +60,10 @@ struct MotorDivisors {
 /// The inverse of torque_from_current: the current that produces `torque_nm`
 /// in `direction`,
 ///     I = T / (N eta Kt) + d * I0,
-/// the divisions by N, eta and Kt done through `divisors` (made from `motor`),
-/// bit for bit fx::div's (host_tests/flight/dividing_oracle.hpp checks it).
+/// T / (N eta Kt) as one product with `divisors` (made from `motor`), within
+/// 0.5 LSB + |T / (N eta Kt)| 2^-29 of the exact quotient (docs/flight.md;
+/// host_tests/flight/dividing_oracle.hpp keeps the three divisions as the
+/// oracle it is checked against).
 /// Not checked against the sensor's range: a limit beyond it is a limit the
 /// current cannot reach, which the caller may want to know (status overflow
 /// only when the result leaves Q11.20).
