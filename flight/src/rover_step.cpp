@@ -292,7 +292,7 @@ void RoverStep::monitor_stage(const RoverTelemetry& t, TimeMs now, const Prepare
   }
   monitor_.step(inputs, now, prepared, out.monitor);
   out.traction = traction_.step(traction_input(t, out), prepared.table().traction, prepared.table().monitor,
-                                prepared.table().wheel_radius_m);
+                                prepared.traction_inverse_radius());
   out.decision = out.monitor.decision;
   if ((out.status == RoverStepStatus::tip_over) || (out.traction.state == TractionState::stop)) {
     out.decision = RoverDecision::stop_and_replan;
