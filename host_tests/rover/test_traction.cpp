@@ -298,6 +298,21 @@ TEST(Traction, ARadiusOutsideTheTablesRangeGivesNoCoefficient) {
   EXPECT_FALSE(out.rho_valid);
 }
 
+// The trend's arithmetic at its edges: a falling median carries nothing, a
+// distance that is not positive gives no number, and the carried term is the
+// twin's within half an LSB (its only rounding).
+TEST(Traction, TheCarriedTermIsTheTwinsAndOnlyARiseIsCarried) {
+  Ratio ahead{};
+  EXPECT_TRUE(carried_ahead(q<Ratio>(0.20), q<Ratio>(0.25), q<LengthM>(1.0).raw(), q<LengthM>(2.0), ahead));
+  EXPECT_EQ(ahead, q<Ratio>(0.20));
+  EXPECT_FALSE(carried_ahead(q<Ratio>(0.30), q<Ratio>(0.25), 0, q<LengthM>(2.0), ahead));
+  EXPECT_EQ(ahead, q<Ratio>(0.30));
+  ASSERT_TRUE(carried_ahead(q<Ratio>(0.30), q<Ratio>(0.25), q<LengthM>(1.1).raw(), q<LengthM>(2.0), ahead));
+  const double twin = sinkwatch::ground::resistance_ahead(d(q<Ratio>(0.30)), d(q<Ratio>(0.25)),
+                                                          d(q<LengthM>(1.1)), d(q<LengthM>(2.0)));
+  EXPECT_NEAR(d(ahead), twin, 0.5 * lsb_ratio());
+}
+
 TEST(Traction, ATrendBeyondTheRatioFormatIsReportedNotANumber) {
   // rho from 0 to 120 within the span: carried 2 m ahead it is beyond Q7.24.
   Drive drive;
