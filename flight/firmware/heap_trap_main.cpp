@@ -101,8 +101,12 @@ void exercise_step(const fl::PreparedParameters& prepared) {
   inputs[0].load_n = fl::WheelLoadN::from_raw(g_raw_in[5]);
   inputs[0].valid = true;
   inputs[0].drive_torque = fl::torque_from_current(prepared.table().motor, inputs[0].current_a, inputs[0].direction);
-  keep(static_cast<std::int64_t>(g_monitor.step(inputs, t.time, prepared).decision));
-  keep(g_wheel.step(inputs[0], t.time, prepared).current_limit_a.raw());
+  fl::RoverOutput monitored{};
+  g_monitor.step(inputs, t.time, prepared, monitored);
+  keep(static_cast<std::int64_t>(monitored.decision));
+  fl::WheelOutput wheel_out{};
+  g_wheel.step(inputs[0], t.time, prepared, wheel_out);
+  keep(wheel_out.current_limit_a.raw());
 }
 
 void exercise_rover(const fl::ParameterTable& table) {

@@ -27,26 +27,21 @@ TorqueLimitResult torque_limit(const Coefficients& c, Ratio dp_max_ratio, Length
 CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams& motor,
                                  const MotorDivisors& divisors, LengthM radius_m, WheelLoadN load_n,
                                  SinkageM allowed_sinkage_m) noexcept {
-  CurrentLimitResult result{CurrentA::zero(), TorqueNm::zero(), LoadClamp::none, EstimateStatus::ok};
-  result.clamp = corr.clamp;
+  // Each return builds the whole result (no zeroed result overwritten
+  // field by field: the Cortex-M0 build cleared it with a memset per wheel).
   if (corr.status != EstimateStatus::ok) {
-    result.status = corr.status;
-    return result;
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, corr.status};
   }
   const TorqueLimitResult t = torque_limit(corr.coefficients, corr.dp_max_ratio, radius_m, load_n, allowed_sinkage_m);
   if (t.status != EstimateStatus::ok) {
-    result.status = t.status;
-    return result;
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, t.status};
   }
   // The limit is a magnitude in the direction of motion: forward, I0 adds.
   const CurrentResult i = current_from_torque(motor, divisors, t.torque_nm, DriveDirection::forward);
   if (i.status != EstimateStatus::ok) {
-    result.status = i.status;
-    return result;
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, i.status};
   }
-  result.current_limit_a = i.current_a;
-  result.torque_limit_nm = t.torque_nm;
-  return result;
+  return CurrentLimitResult{i.current_a, t.torque_nm, corr.clamp, EstimateStatus::ok};
 }
 
 }  // namespace flight

@@ -87,6 +87,16 @@ bool estimate(const WheelInput& input, const PreparedParameters& prepared, Wheel
   return true;
 }
 
+/// No estimate and no limit this cycle (an unusable sample, or one whose
+/// estimate failed).
+void clear_estimate(WheelOutput& out) noexcept {
+  out.estimate_valid = false;
+  out.limit_valid = false;
+  out.torque_nm = TorqueNm::zero();
+  out.sinkage_m = SinkageM::zero();
+  out.current_limit_a = CurrentA::zero();
+}
+
 /// One usable sample's evidence for the state machine.
 struct Evidence {
   bool caution{true};  ///< fail-safe default for an unusable sample
@@ -112,12 +122,6 @@ Evidence evidence_of(CurrentA directed, const WheelOutput& out, const MonitorPar
   return e;
 }
 
-/// No thresholds (parameters without a valid table): stop, fail-safe.
-RoverOutput blind_output() noexcept {
-  RoverOutput out{};
-  out.decision = RoverDecision::stop_and_replan;
-  return out;
-}
 
 }  // namespace
 
@@ -229,9 +233,14 @@ void WheelMonitor::transition(StopReason sample_reason, TimeMs now, const Prepar
   }
 }
 
-WheelOutput WheelMonitor::evaluate(const WheelInput& input, TimeMs now, const PreparedParameters& prepared) noexcept {
+void WheelMonitor::evaluate(const WheelInput& input, TimeMs now, const PreparedParameters& prepared,
+                            WheelOutput& out) noexcept {
   const ParameterTable& table = prepared.table();
-  WheelOutput out{};
+  // Every field of `out` is written below: state, sample_status and
+  // stop_reason at the end, the rest here or by estimate() (field by field:
+  // a whole-struct reset costs the Cortex-M0 a memcpy per wheel).
+  clear_estimate(out);
+  out.stop_tripped = false;
   out.clamp = LoadClamp::none;
 
   // 1. Is the sample usable?
@@ -248,11 +257,7 @@ WheelOutput WheelMonitor::evaluate(const WheelInput& input, TimeMs now, const Pr
     fx::Status dir_status;
     directed = directional(input.current_a, input.direction, dir_status);
     if (!estimate(input, prepared, out) || !dir_status.ok()) {
-      out.estimate_valid = false;
-      out.limit_valid = false;
-      out.torque_nm = TorqueNm::zero();
-      out.sinkage_m = SinkageM::zero();
-      out.current_limit_a = CurrentA::zero();
+      clear_estimate(out);
       status = SampleStatus::estimate_failed;
     }
   }
@@ -290,33 +295,38 @@ WheelOutput WheelMonitor::evaluate(const WheelInput& input, TimeMs now, const Pr
   transition(sample_reason, now, prepared, out);
   out.state = state_;
   out.stop_reason = stop_reason_;
-  return out;
 }
 
-WheelOutput WheelMonitor::step(const WheelInput& input, TimeMs now, const PreparedParameters& prepared) noexcept {
+void WheelMonitor::step(const WheelInput& input, TimeMs now, const PreparedParameters& prepared,
+                        WheelOutput& out) noexcept {
   if (!prepared.table_valid()) {
     // No thresholds: the sample is unusable, which the zeroed limits turn
     // into STOP (fail-safe). RoverStep never gets here.
     WheelInput blind = input;
     blind.valid = false;
-    return evaluate(blind, now, prepared);
+    evaluate(blind, now, prepared, out);
+  } else {
+    evaluate(input, now, prepared, out);
   }
-  return evaluate(input, now, prepared);
 }
 
 RoverMonitor::RoverMonitor() noexcept
     : wheels_{WheelMonitor(0U), WheelMonitor(1U), WheelMonitor(2U), WheelMonitor(3U), WheelMonitor(4U),
               WheelMonitor(5U)} {}
 
-RoverOutput RoverMonitor::step_all(const WheelInput (&inputs)[kMaxWheels], TimeMs now,
-                                   const PreparedParameters& prepared) noexcept {
+void RoverMonitor::step_all(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const PreparedParameters& prepared,
+                            RoverOutput& out) noexcept {
   const ParameterTable& table = prepared.table();
-  RoverOutput out{};
-  // Wheels beyond wheel_count are not monitored: their outputs stay default.
+  out.wheels_in_stop = 0U;
+  out.wheels_in_caution = 0U;
+  out.wheels_blind = 0U;
+  // Wheels beyond wheel_count are not monitored: their outputs are default.
   for (std::uint8_t i = 0U; i < kMaxWheels; ++i) {
     const bool monitored = i < table.monitor.wheel_count;
     if (monitored) {
-      out.wheels[i] = wheels_[i].step(inputs[i], now, prepared);
+      wheels_[i].step(inputs[i], now, prepared, out.wheels[i]);
+    } else {
+      out.wheels[i] = WheelOutput{};
     }
     if (monitored && (out.wheels[i].state == WheelState::stop)) {
       ++out.wheels_in_stop;
@@ -327,7 +337,6 @@ RoverOutput RoverMonitor::step_all(const WheelInput (&inputs)[kMaxWheels], TimeM
     }
   }
   rover_rules(table, out);
-  return out;
 }
 
 void RoverMonitor::rover_rules(const ParameterTable& table, RoverOutput& out) noexcept {
@@ -352,11 +361,15 @@ void RoverMonitor::rover_rules(const ParameterTable& table, RoverOutput& out) no
   out.degraded = degraded_policy && (out.wheels_blind > 0U) && !too_blind;
 }
 
-RoverOutput RoverMonitor::step(const WheelInput (&inputs)[kMaxWheels], TimeMs now,
-                               const PreparedParameters& prepared) noexcept {
-  // Both returns are prvalues, built in the caller's storage (no copy of the
-  // six wheels' outputs on this frame).
-  return prepared.table_valid() ? step_all(inputs, now, prepared) : blind_output();
+void RoverMonitor::step(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const PreparedParameters& prepared,
+                        RoverOutput& out) noexcept {
+  if (prepared.table_valid()) {
+    step_all(inputs, now, prepared, out);
+  } else {
+    // No thresholds: stop, fail-safe, no wheel stepped.
+    out = RoverOutput{};
+    out.decision = RoverDecision::stop_and_replan;
+  }
 }
 
 void RoverMonitor::clear_stop() noexcept {

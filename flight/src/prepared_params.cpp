@@ -14,6 +14,7 @@ PrepareStatus prepare(const ParameterTable& table, const RoverParams& rover, Pre
   out.table_crc_ = 0U;
   out.correction_divisors_ = make_correction_divisors(table.correction);
   out.motor_divisors_ = make_motor_divisors(table.motor);
+  out.traction_inverse_radius_ = inverse_radius(table.wheel_radius_m);
   if (validate_rover_params(rover) != RoverParamStatus::ok) {
     out.status_ = PrepareStatus::invalid_rover_params;
   } else if (rover.wheel_radius_m != table.wheel_radius_m) {
@@ -32,6 +33,7 @@ void prepare_validated(const ParameterTable& table, const RoverParams& rover, st
   out.table_crc_ = crc;
   out.correction_divisors_ = make_correction_divisors(table.correction);
   out.motor_divisors_ = make_motor_divisors(table.motor);
+  out.traction_inverse_radius_ = inverse_radius(table.wheel_radius_m);
   out.status_ = PrepareStatus::ok;
 }
 

@@ -74,10 +74,10 @@ DriveTorques drive_torques(const TorqueResult (&torque)[kWheelCount], const Sens
 }
 
 /// Stage 2: the wheel loads into `out`; ok, tip_over or loads_failed.
-RoverStepStatus load_stage(const PreparedParameters& prepared, const RoverTelemetry& t,
-                           const TorqueResult (&torque)[kWheelCount], WheelLoadResult& loads,
-                           RoverStepOutput& out) noexcept {
-  loads = wheel_loads(prepared, t.attitude, t.joints, drive_torques(torque, out.health));
+/// The attitude and joints are the health monitor's (measured or bridged).
+RoverStepStatus load_stage(const PreparedParameters& prepared, const TorqueResult (&torque)[kWheelCount],
+                           WheelLoadResult& loads, RoverStepOutput& out) noexcept {
+  loads = wheel_loads(prepared, out.health.attitude, out.health.joints, drive_torques(torque, out.health));
   out.load_status = loads.status;
   out.torque_fallback_mask = loads.torque_fallback_mask;
   out.torque_overload = loads.torque_overload;
@@ -97,13 +97,13 @@ RoverStepStatus load_stage(const PreparedParameters& prepared, const RoverTeleme
 
 /// Stage 4: the corrections at each load into `corr` (kept for the monitor,
 /// which needs the same C(W) for Eq. 15 and I_max), then the drawbar pulls
-/// into `out`. `loads` is stage 2's ok result (it also carries sin(pitch)).
-RoverStepStatus drawbar_stage(const PreparedParameters& prepared, const RoverTelemetry& t,
-                              const WheelLoadResult& loads, CorrectionResult (&corr)[kWheelCount],
-                              RoverStepOutput& out) noexcept {
+/// into `out`. `loads` is stage 2's ok result (it also carries sin(pitch));
+/// the pitch is the health monitor's, the one the loads took.
+RoverStepStatus drawbar_stage(const PreparedParameters& prepared, const WheelLoadResult& loads,
+                              CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept {
   DrawbarInput in{};
   in.accel_mps2 = out.accel_mps2;
-  in.pitch_rad = t.attitude.pitch_rad;
+  in.pitch_rad = out.health.attitude.pitch_rad;
   in.slip_known = out.slip_known;
   in.slip = out.slip;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
@@ -251,7 +251,7 @@ RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParame
   // 2. The drive torques (once, for the loads and the monitor), the loads.
   wheel_torques(prepared, t, terms.torque);
   WheelLoadResult loads{};
-  RoverStepStatus status = load_stage(prepared, t, terms.torque, loads, out);
+  RoverStepStatus status = load_stage(prepared, terms.torque, loads, out);
   // 3. Motion. Kept up to date even when the loads failed, so that the speed
   //    difference is ready on the next good cycle.
   if (!motion_in_range(t)) {
@@ -265,7 +265,7 @@ RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParame
     return RoverStepStatus::no_acceleration;
   }
   // 4. DP_max/W and the drawbar pulls.
-  status = drawbar_stage(prepared, t, loads, terms.corr, out);
+  status = drawbar_stage(prepared, loads, terms.corr, out);
   return status;
 }
 
@@ -290,9 +290,9 @@ void RoverStep::monitor_stage(const RoverTelemetry& t, TimeMs now, const Prepare
     inputs[i].drawbar_assumed = usable_sample && (out.drawbar_status == DrawbarStatus::saturated);
     inputs[i].sensor_fault = usable_sample && !out.health.current_usable[i];
   }
-  out.monitor = monitor_.step(inputs, now, prepared);
+  monitor_.step(inputs, now, prepared, out.monitor);
   out.traction = traction_.step(traction_input(t, out), prepared.table().traction, prepared.table().monitor,
-                                prepared.table().wheel_radius_m);
+                                prepared.traction_inverse_radius());
   out.decision = out.monitor.decision;
   if ((out.status == RoverStepStatus::tip_over) || (out.traction.state == TractionState::stop)) {
     out.decision = RoverDecision::stop_and_replan;
@@ -323,10 +323,7 @@ RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const Prepa
     out.status = RoverStepStatus::sensor_lost;
   }
   if (out.status == RoverStepStatus::ok) {
-    RoverTelemetry measured = t;
-    measured.attitude = out.health.attitude;
-    measured.joints = out.health.joints;
-    out.status = compute(measured, prepared, terms, out);
+    out.status = compute(t, prepared, terms, out);
   }
   // 5. The monitor.
   monitor_stage(t, now, prepared, terms, out);

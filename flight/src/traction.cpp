@@ -3,19 +3,25 @@
 
 #include "median.hpp"
 #include "n_of_m.hpp"
-#include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
+#include "sinkwatch/flight/estimator.hpp"
 
 namespace sinkwatch {
 namespace flight {
 namespace {
 
-using W = WideQ;
+using fx::wide::mul_32x32_64;
 using n_of_m::count_bits;
 using n_of_m::shift_in;
 
-constexpr W kSecondsPerMs{fx::constant<W>(0.001)};
+constexpr std::uint64_t kMsPerSecond = 1000U;
+/// |sum T| below 2^31 raw (2^-16 N m, so 32768 N m): the bound that keeps the
+/// thrust product in 64 bits (docs/traction.md, "Arithmetic and error").
+constexpr std::uint64_t kMaxTorqueSumQ16 = (std::uint64_t{1U} << 31U) - 1U;
+/// 2^24: a Q15.16 force in units of 2^-40 N (the thrust's units).
+constexpr std::int64_t kQ16ToQ40 = static_cast<std::int64_t>(std::uint64_t{1U} << 24U);
 /// A gap between usable samples longer than this is not integrated: the
 /// odometry cannot say where the rover was in between.
 constexpr std::uint32_t kMaxGapMs = 2000U;
@@ -24,16 +30,17 @@ constexpr std::uint32_t kMaxGapMs = 2000U;
 constexpr std::int32_t kMarksPerSpan = 8;
 
 /// The directed sums of the wheels with a torque: T, DP (along the drive
-/// direction) and W.
+/// direction) and W, as raw Q15.16 integers (2^-16 N m, 2^-16 N): at most six
+/// values below 2^31 in magnitude, so every sum is exact in 64 bits.
 struct WheelSums {
-  W torque{};
-  W pull{};
-  W load{};
+  std::int64_t torque_q16{0};
+  std::int64_t pull_q16{0};
+  std::int64_t load_q16{0};
   std::uint8_t wheels{0U};
   bool mixed{false};
 };
 
-WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels, fx::Status& st) noexcept {
+WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels) noexcept {
   WheelSums s{};
   bool have_direction = false;
   DriveDirection direction = DriveDirection::forward;
@@ -44,18 +51,75 @@ WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels, fx::Status& s
       }
       have_direction = true;
       direction = in.direction[i];
-      const W pull = fx::rescale<W>(in.drawbar_pull_n[i].q(), st);
+      const std::int64_t pull = in.drawbar_pull_n[i].raw();
       // Reverse: the pull that drives the rover backwards is -DP.
-      s.pull = fx::add(s.pull, (direction == DriveDirection::reverse) ? fx::neg(pull, st) : pull, st);
-      s.torque = fx::add(s.torque, fx::rescale<W>(in.torque_nm[i].q(), st), st);
-      s.load = fx::add(s.load, fx::rescale<W>(in.load_n[i].q(), st), st);
+      s.pull_q16 += (direction == DriveDirection::reverse) ? -pull : pull;
+      s.torque_q16 += in.torque_nm[i].raw();
+      s.load_q16 += in.load_n[i].raw();
       ++s.wheels;
     }
   }
   return s;
 }
 
+/// n / d rounded half away from zero, as a raw Q7.24 ratio (d > 0); one
+/// 64-bit division. Beyond Q7.24 it saturates and raises overflow.
+Ratio rounded_ratio(std::int64_t n, std::uint64_t d, fx::Status& st) noexcept {
+  const bool negative = n < 0;
+  const std::uint64_t magnitude = fx::detail::magnitude(n);
+  std::uint64_t quotient = magnitude / d;
+  const std::uint64_t remainder = magnitude - (quotient * d);
+  if (remainder >= (d - remainder)) {
+    ++quotient;
+  }
+  return Ratio::from_raw(fx::detail::from_sign_magnitude<RatioQ::storage_type>(negative && (quotient != 0U), quotient, st));
+}
+
 }  // namespace
+
+InverseRadius inverse_radius(LengthM wheel_radius_m) noexcept {
+  if ((wheel_radius_m < kMinRadiusM) || (wheel_radius_m > kMaxRadiusM)) {
+    return InverseRadius{};
+  }
+  // 1/r in Q7.24 is 2^24 / (r_raw 2^-24) = 2^48 / r_raw, rounded half up;
+  // below 2^31 for r >= kMinRadiusM (167772 raw).
+  const std::uint64_t r = static_cast<std::uint64_t>(wheel_radius_m.raw());
+  constexpr std::uint64_t kTwoTo48 = std::uint64_t{1U} << 48U;
+  return InverseRadius{static_cast<std::uint32_t>((kTwoTo48 + (r / 2U)) / r)};
+}
+
+bool carried_ahead(Ratio rho_med, Ratio rho_back, std::int64_t distance_m_q24, LengthM lookahead_m,
+                   Ratio& ahead) noexcept {
+  ahead = rho_med;
+  if (distance_m_q24 <= 0) {
+    return false;
+  }
+  // Two Q7.24 values differ by less than 2^32 raw.
+  const std::int64_t rise = static_cast<std::int64_t>(rho_med.raw()) - static_cast<std::int64_t>(rho_back.raw());
+  if (rise <= 0) {
+    return true;  // nothing to carry: rho_ahead = rho_med
+  }
+  // lookahead (|L| <= 2^31, 2^-24 m) times the rise (< 2^32, 2^-24) is below
+  // 2^63 in units of 2^-48 m; over the distance (2^-24 m) the quotient is the
+  // carried term in 2^-24, its raw Q7.24 value: one rounding.
+  const bool backwards = lookahead_m.raw() < 0;
+  const std::uint64_t lever = mul_32x32_64(static_cast<std::uint32_t>(fx::detail::magnitude(lookahead_m.raw())),
+                                           static_cast<std::uint32_t>(rise));
+  const std::uint64_t d = static_cast<std::uint64_t>(distance_m_q24);
+  std::uint64_t carried = lever / d;
+  const std::uint64_t remainder = lever - (carried * d);
+  if (remainder >= (d - remainder)) {
+    ++carried;
+  }
+  // carried < 2^63: the sum is exact in 64 bits, and must fit Q7.24.
+  const std::int64_t signed_carried = backwards ? -static_cast<std::int64_t>(carried) : static_cast<std::int64_t>(carried);
+  const std::int64_t sum = static_cast<std::int64_t>(rho_med.raw()) + signed_carried;
+  if ((sum > static_cast<std::int64_t>(RatioQ::max().raw())) || (sum < static_cast<std::int64_t>(RatioQ::min().raw()))) {
+    return false;
+  }
+  ahead = Ratio::from_raw(static_cast<RatioQ::storage_type>(sum));
+  return true;
+}
 
 TractionMonitor::TractionMonitor() noexcept = default;
 
@@ -69,16 +133,15 @@ void TractionMonitor::restart() noexcept {
   settled_ = false;
 }
 
-TractionSample TractionMonitor::resistance_of(const TractionInput& in, std::uint8_t wheels, LengthM radius,
-                                              Ratio& rho) noexcept {
+TractionSample TractionMonitor::resistance_of(const TractionInput& in, std::uint8_t wheels,
+                                              InverseRadius per_radius, Ratio& rho) noexcept {
   if (!in.loads_valid) {
     return TractionSample::no_loads;
   }
   if (in.pull_assumed) {
     return TractionSample::pull_assumed;
   }
-  fx::Status st;
-  const WheelSums s = sum_wheels(in, wheels, st);
+  const WheelSums s = sum_wheels(in, wheels);
   if ((static_cast<std::uint32_t>(s.wheels) * 2U) < static_cast<std::uint32_t>(wheels)) {
     return TractionSample::too_few_wheels;
   }
@@ -86,10 +149,22 @@ TractionSample TractionMonitor::resistance_of(const TractionInput& in, std::uint
     return TractionSample::mixed_direction;
   }
   // rho = (sum T / r - sum DP) / sum W: each wheel's thrust less its share
-  // of the pull, over the weight those wheels carry.
-  const W thrust = fx::div<W>(s.torque, radius.q(), st);
-  const W resistance = fx::sub(thrust, s.pull, st);
-  rho = Ratio(fx::div<RatioQ>(resistance, s.load, st));
+  // of the pull, over the weight those wheels carry (docs/traction.md,
+  // "Arithmetic and error"). Out of the products' range: no number.
+  const std::uint64_t torque = fx::detail::magnitude(s.torque_q16);
+  if ((per_radius.per_m_q24 == 0U) || (torque > kMaxTorqueSumQ16) || (s.load_q16 <= 0)) {
+    return TractionSample::overflow;
+  }
+  // sum T (< 2^31, 2^-16 N m) times 1/r (< 2^31, 2^-24 1/m): the thrust in
+  // 2^-40 N, exact and below 2^62; the pull in the same units is below 2^59.
+  const std::uint64_t thrust = mul_32x32_64(static_cast<std::uint32_t>(torque), per_radius.per_m_q24);
+  const std::int64_t signed_thrust =
+      (s.torque_q16 < 0) ? -static_cast<std::int64_t>(thrust) : static_cast<std::int64_t>(thrust);
+  const std::int64_t resistance = signed_thrust - (s.pull_q16 * kQ16ToQ40);
+  // resistance (2^-40 N) / sum W (2^-16 N) is rho in units of 2^-24: the
+  // quotient is rho's raw Q7.24 value, rounded once.
+  fx::Status st;
+  rho = rounded_ratio(resistance, static_cast<std::uint64_t>(s.load_q16), st);
   return st.ok() ? TractionSample::ok : TractionSample::overflow;
 }
 
@@ -109,12 +184,16 @@ void TractionMonitor::advance(const TractionInput& in, Ratio rho_med, const Trac
   if (!in.speed_valid || (dt_ms > kMaxGapMs)) {
     return;
   }
+  // |v| dt / 1000: |v| (<= 2^31, 2^-24 m/s) times dt (<= 2000 ms) is below
+  // 2^42; the division by 1000 rounds once (half up) into 2^-24 m.
+  const std::uint64_t speed = fx::detail::magnitude(in.speed_mps.raw());
+  const std::uint64_t step_q24 =
+      (mul_32x32_64(static_cast<std::uint32_t>(speed), dt_ms) + (kMsPerSecond / 2U)) / kMsPerSecond;
   fx::Status st;
-  const W dt_s = fx::mul(W::from_int(static_cast<std::int64_t>(dt_ms), st), kSecondsPerMs, st);
-  const W step_m = fx::mul(fx::abs(fx::rescale<W>(in.speed_mps.q(), st), st), dt_s, st);
-  const LengthM travelled{fx::add(since_mark_m_.q(), fx::rescale<LengthQ>(step_m, st), st)};
+  const LengthM step_m = LengthM::from_raw(fx::detail::from_sign_magnitude<LengthQ::storage_type>(false, step_q24, st));
+  const LengthM travelled{fx::add(since_mark_m_.q(), step_m.q(), st)};
   if (!st.ok()) {
-    return;  // GCOVR_EXCL_LINE defensive: |v| <= 128 m/s for <= 2 s fits Q7.24 (docs/traction.md)
+    return;  // GCOVR_EXCL_LINE defensive: beyond 64 m/s for 2 s (the step refuses |v| > 5 m/s; docs/traction.md)
   }
   since_mark_m_ = travelled;
   if (!settled_) {
@@ -142,23 +221,21 @@ void TractionMonitor::advance(const TractionInput& in, Ratio rho_med, const Trac
 }
 
 bool TractionMonitor::ahead_of(Ratio rho_med, const TractionParams& params, Ratio& ahead,
-                               fx::Status& st) const noexcept {
+                               bool& overflow) const noexcept {
   ahead = rho_med;
+  overflow = false;
   // Walk back from the newest mark until the marks span trend_span_m; the
   // first mark's own gap reaches to before the history and is never used.
-  W distance = fx::rescale<W>(since_mark_m_.q(), st);
-  const W span = fx::rescale<W>(params.trend_span_m.q(), st);
+  // The distance in raw LengthM units: at most 17 values below 2^31, exact.
+  std::int64_t distance = since_mark_m_.raw();
+  const std::int64_t span = params.trend_span_m.raw();
   std::uint8_t index = mark_newest_;
   for (std::uint8_t k = 0U; k < mark_count_; ++k) {
     if ((k > 0U) && (distance >= span)) {
-      const W rise = fx::sub(fx::rescale<W>(rho_med.q(), st), fx::rescale<W>(mark_rho_[index].q(), st), st);
-      if (rise > W::zero()) {
-        const W carried = fx::div<W>(fx::mul(fx::rescale<W>(params.lookahead_m.q(), st), rise, st), distance, st);
-        ahead = Ratio(fx::rescale<RatioQ>(fx::add(fx::rescale<W>(rho_med.q(), st), carried, st), st));
-      }
+      overflow = !carried_ahead(rho_med, mark_rho_[index], distance, params.lookahead_m, ahead);
       return true;
     }
-    distance = fx::add(distance, fx::rescale<W>(mark_gap_m_[index].q(), st), st);
+    distance += mark_gap_m_[index].raw();
     index = static_cast<std::uint8_t>((index + kTractionTrendMarks - 1U) % kTractionTrendMarks);
   }
   return false;
@@ -200,8 +277,9 @@ TractionSample TractionMonitor::evaluate(const TractionInput& input, const Tract
   const Ratio rho_med = push_median(rho);
   advance(input, rho_med, params);
   Ratio ahead{};
-  out.trend_known = ahead_of(rho_med, params, ahead, st);
-  if (!st.ok()) {
+  bool overflow = false;
+  out.trend_known = ahead_of(rho_med, params, ahead, overflow);
+  if (overflow) {
     out.trend_known = false;
     return TractionSample::overflow;
   }
@@ -213,7 +291,7 @@ TractionSample TractionMonitor::evaluate(const TractionInput& input, const Tract
 }
 
 TractionOutput TractionMonitor::step(const TractionInput& input, const TractionParams& params,
-                                     const MonitorParams& monitor, LengthM wheel_radius_m) noexcept {
+                                     const MonitorParams& monitor, InverseRadius per_radius) noexcept {
   TractionOutput out{};
   if (!traction_check_on(params)) {
     out.state = TractionState::off;
@@ -221,7 +299,7 @@ TractionOutput TractionMonitor::step(const TractionInput& input, const TractionP
     return out;
   }
   Ratio rho{};
-  out.sample = resistance_of(input, monitor.wheel_count, wheel_radius_m, rho);
+  out.sample = resistance_of(input, monitor.wheel_count, per_radius, rho);
   if (out.sample == TractionSample::ok) {
     out.sample = evaluate(input, params, rho, out);
   }

@@ -11,6 +11,7 @@
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/motor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/traction.hpp"
 
 namespace sinkwatch {
 namespace golden {
@@ -26,7 +27,8 @@ struct KindName {
 constexpr KindName kNames[] = {{Kind::sinkage, "sinkage"},         {Kind::pull, "pull"},
                                {Kind::torque, "torque"},           {Kind::current, "current"},
                                {Kind::corrections, "corrections"}, {Kind::limit, "limit"},
-                               {Kind::table_crc, "table_crc"}};
+                               {Kind::table_crc, "table_crc"},     {Kind::resistance, "resistance"},
+                               {Kind::ahead, "ahead"}};
 
 std::int32_t i32(std::int64_t v) { return static_cast<std::int32_t>(v); }
 
@@ -129,6 +131,33 @@ void evaluate(Row& r) {
                      : 0;
       r.out[1] = static_cast<std::int64_t>(e.size);
       r.status = static_cast<std::int64_t>(e.status);
+      break;
+    }
+    case Kind::resistance: {
+      const ParameterTable table = default_parameter_table();
+      TractionInput in{};
+      in.loads_valid = true;
+      for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+        const std::uint32_t k = i % 3U;
+        in.torque_valid[i] = true;
+        in.torque_nm[i] = TorqueNm::from_raw(i32(r.in[1U + k]));
+        in.drawbar_pull_n[i] = DrawbarPullN::from_raw(i32(r.in[4U + k]));
+        in.load_n[i] = WheelLoadN::from_raw(i32(r.in[7U + k]));
+        in.direction[i] = direction(r.in[10]);
+      }
+      TractionMonitor m;
+      const TractionOutput o =
+          m.step(in, table.traction, table.monitor, inverse_radius(LengthM::from_raw(i32(r.in[0]))));
+      r.out[0] = o.rho_valid ? o.resistance.raw() : 0;
+      r.status = static_cast<std::int64_t>(o.sample);
+      break;
+    }
+    case Kind::ahead: {
+      Ratio ahead{};
+      const bool ok = carried_ahead(Ratio::from_raw(i32(r.in[0])), Ratio::from_raw(i32(r.in[1])), r.in[2],
+                                    LengthM::from_raw(i32(r.in[3])), ahead);
+      r.out[0] = ahead.raw();
+      r.status = ok ? 0 : 1;
       break;
     }
     default:

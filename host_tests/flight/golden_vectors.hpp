@@ -18,6 +18,9 @@
 //   corrections  W (default table)           -> c1 c2 c3 dp_max/W clamp
 //   limit        N eta Kt I0 Imax r W z_max (default corrections) -> I_max T_max clamp
 //   table_crc    (none)                       -> the encoded default table's CRC-32 (its trailer), its size
+//   resistance   r T0 T1 T2 DP0 DP1 DP2 W0 W1 W2 dir (wheels 3..5 repeat 0..2; default table's
+//                section 4 and 8, traction.hpp)      -> rho (0 without a number); status: TractionSample
+//   ahead        rho_med rho_back distance(raw LengthM sum) lookahead -> rho_ahead; status 0 ok, 1 overflow
 #ifndef SINKWATCH_HOST_TESTS_FLIGHT_GOLDEN_VECTORS_HPP
 #define SINKWATCH_HOST_TESTS_FLIGHT_GOLDEN_VECTORS_HPP
 
@@ -29,7 +32,7 @@ namespace golden {
 constexpr int kInputs = 12;
 constexpr int kOutputs = 5;
 
-enum class Kind : std::uint8_t { sinkage, pull, torque, current, corrections, limit, table_crc };
+enum class Kind : std::uint8_t { sinkage, pull, torque, current, corrections, limit, table_crc, resistance, ahead };
 
 struct Row {
   Kind kind;

@@ -152,6 +152,33 @@ int main(int argc, char** argv) {
   golden::Row table{};
   table.kind = golden::Kind::table_crc;
   emit(f, table);
+  // The motion-resistance coefficient and the trend carried ahead
+  // (traction.hpp): 64-bit integer arithmetic, the same bits on every target.
+  for (int i = 0; i < 60; ++i) {
+    golden::Row row{};
+    row.kind = golden::Kind::resistance;
+    row.in[0] = raw<LengthQ>(uniform(0.01, 2.0));
+    for (int k = 0; k < 3; ++k) row.in[1 + k] = raw<LoadQ>(uniform(-200.0, 200.0));
+    for (int k = 0; k < 3; ++k) row.in[4 + k] = raw<LoadQ>(uniform(-500.0, 500.0));
+    for (int k = 0; k < 3; ++k) row.in[7 + k] = raw<LoadQ>(uniform(1.0, 3000.0));
+    row.in[10] = static_cast<std::int64_t>(next_u64() & 1U);
+    emit(f, row);
+  }
+  golden::Row huge{};  // the torque sum beyond 32768 N m: overflow
+  huge.kind = golden::Kind::resistance;
+  huge.in[0] = raw<LengthQ>(0.15);
+  for (int k = 0; k < 3; ++k) huge.in[1 + k] = raw<LoadQ>(6000.0);
+  for (int k = 0; k < 3; ++k) huge.in[7 + k] = raw<LoadQ>(20000.0);
+  emit(f, huge);
+  for (int i = 0; i < 40; ++i) {
+    golden::Row row{};
+    row.kind = golden::Kind::ahead;
+    row.in[0] = raw<RatioQ>(uniform(-1.0, 4.0));
+    row.in[1] = raw<RatioQ>(uniform(-1.0, 4.0));
+    row.in[2] = raw<LengthQ>(uniform(0.2, 10.0));
+    row.in[3] = raw<LengthQ>(uniform(0.0, 10.0));
+    emit(f, row);
+  }
   std::fclose(f);
   return 0;
 }

@@ -44,7 +44,9 @@ class MonitorCov : public ::testing::Test {
                       DriveDirection::forward, true};
   }
   WheelOutput feed(const WheelInput& in) {
-    return wheel.step(test::with_drive_torque(in, table.motor), TimeMs{t_ms}, test::prepared_of(table));
+    WheelOutput out{};
+    wheel.step(test::with_drive_torque(in, table.motor), TimeMs{t_ms}, test::prepared_of(table), out);
+    return out;
   }
   WheelOutput invalid() {
     WheelInput in = sample(1.0, 0.01);

@@ -38,7 +38,8 @@ TEST(MonitorWithoutATable, WheelStopsOnItsFirstSampleAndCountsItUnusable) {
   const PreparedParameters none = prepared_from_bad_table();
   ASSERT_FALSE(none.table_valid());
   WheelMonitor wheel{0U};
-  const WheelOutput o = wheel.step(good_sample(1000U), TimeMs{1000U}, none);
+  WheelOutput o{};
+  wheel.step(good_sample(1000U), TimeMs{1000U}, none, o);
   EXPECT_EQ(o.state, WheelState::stop);
   EXPECT_FALSE(o.estimate_valid);
   EXPECT_FALSE(o.limit_valid);
@@ -47,7 +48,8 @@ TEST(MonitorWithoutATable, WheelStopsOnItsFirstSampleAndCountsItUnusable) {
   PreparedParameters good{};
   ASSERT_EQ(prepare(default_parameter_table(), yutu_like_rover_params(kGravityMoon), good), PrepareStatus::ok);
   WheelMonitor control{0U};
-  const WheelOutput c = control.step(good_sample(1000U), TimeMs{1000U}, good);
+  WheelOutput c{};
+  control.step(good_sample(1000U), TimeMs{1000U}, good, c);
   EXPECT_EQ(c.state, WheelState::nominal);
   EXPECT_TRUE(c.estimate_valid);
 }
@@ -58,14 +60,25 @@ TEST(MonitorWithoutATable, RoverAsksToStopAndReplan) {
   for (std::uint32_t i = 0U; i < kMaxWheels; ++i) {
     inputs[i] = good_sample(1000U);
   }
-  const RoverOutput none = rover.step(inputs, TimeMs{1000U}, PreparedParameters{});
+  // The output is written whole: a record left over from a good cycle
+  // (continue, a wheel in STOP) does not survive into the blind one.
+  RoverOutput none{};
+  none.wheels_in_stop = 3U;
+  none.wheels[0].state = WheelState::stop;
+  rover.step(inputs, TimeMs{1000U}, PreparedParameters{}, none);
   EXPECT_EQ(none.decision, RoverDecision::stop_and_replan);
-  const RoverOutput bad = rover.step(inputs, TimeMs{1000U}, prepared_from_bad_table());
+  EXPECT_EQ(none.wheels_in_stop, 0U);
+  EXPECT_EQ(none.wheels[0].state, WheelState::nominal);
+  RoverOutput bad{};
+  rover.step(inputs, TimeMs{1000U}, prepared_from_bad_table(), bad);
   EXPECT_EQ(bad.decision, RoverDecision::stop_and_replan);
   PreparedParameters good{};
   ASSERT_EQ(prepare(default_parameter_table(), yutu_like_rover_params(kGravityMoon), good), PrepareStatus::ok);
   RoverMonitor control;
-  EXPECT_EQ(control.step(inputs, TimeMs{1000U}, good).decision, RoverDecision::continue_drive);
+  RoverOutput controlled{};
+  controlled.decision = RoverDecision::stop_and_replan;
+  control.step(inputs, TimeMs{1000U}, good, controlled);
+  EXPECT_EQ(controlled.decision, RoverDecision::continue_drive);
 }
 
 }  // namespace

@@ -44,7 +44,9 @@ class MonitorTest : public ::testing::Test {
     return WheelInput{TimeMs{t_ms}, q<CurrentA>(signed_i), q<WheelLoadN>(kW), q<DrawbarPullN>(dp), dir, true};
   }
   WheelOutput feed(const WheelInput& in) {
-    return wheel.step(test::with_drive_torque(in, table.motor), TimeMs{t_ms}, test::prepared_of(table));
+    WheelOutput out{};
+    wheel.step(test::with_drive_torque(in, table.motor), TimeMs{t_ms}, test::prepared_of(table), out);
+    return out;
   }
   WheelOutput nominal() { return feed(sample(1.0, 0.01)); }
   WheelOutput sink_caution() { return feed(sample(1.0, 0.035)); }
@@ -277,13 +279,59 @@ TEST_F(MonitorTest, EverySampleStatus) {
   }
 }
 
+// step() writes its result into the caller's record field by field (no
+// whole-struct reset, which cost the Cortex-M0 a memcpy per wheel): a record
+// left over from another cycle must not leak into this one, for a usable
+// sample, an unusable one and one whose estimate fails.
+TEST_F(MonitorTest, OverwritesEveryFieldOfAReusedOutputRecord) {
+  WheelOutput stale{};
+  stale.state = WheelState::stop;
+  stale.sample_status = SampleStatus::sensor_fault;
+  stale.stop_reason = StopReason::traction;
+  stale.stop_tripped = true;
+  stale.estimate_valid = true;
+  stale.torque_nm = q<TorqueNm>(12.5);
+  stale.sinkage_m = q<SinkageM>(0.07);
+  stale.limit_valid = true;
+  stale.current_limit_a = q<CurrentA>(3.5);
+  stale.clamp = LoadClamp::above_last;
+  const auto same = [](const WheelOutput& a, const WheelOutput& b) {
+    EXPECT_EQ(a.state, b.state);
+    EXPECT_EQ(a.sample_status, b.sample_status);
+    EXPECT_EQ(a.stop_reason, b.stop_reason);
+    EXPECT_EQ(a.stop_tripped, b.stop_tripped);
+    EXPECT_EQ(a.estimate_valid, b.estimate_valid);
+    EXPECT_EQ(a.torque_nm, b.torque_nm);
+    EXPECT_EQ(a.sinkage_m, b.sinkage_m);
+    EXPECT_EQ(a.limit_valid, b.limit_valid);
+    EXPECT_EQ(a.current_limit_a, b.current_limit_a);
+    EXPECT_EQ(a.clamp, b.clamp);
+  };
+  WheelMonitor twin{2U};
+  const auto both = [&](const WheelInput& in) {
+    WheelOutput fresh{};
+    wheel.step(in, TimeMs{t_ms}, test::prepared_of(table), fresh);
+    WheelOutput reused = stale;
+    twin.step(in, TimeMs{t_ms}, test::prepared_of(table), reused);
+    same(fresh, reused);
+    return fresh;
+  };
+  EXPECT_TRUE(both(test::with_drive_torque(sample(1.0, 0.01), table.motor)).estimate_valid);
+  WheelInput invalid = sample(1.0, 0.01);
+  invalid.valid = false;
+  EXPECT_EQ(both(invalid).sample_status, SampleStatus::flagged_invalid);
+  // No drive torque: usable, but the estimate fails.
+  EXPECT_EQ(both(sample(1.0, 0.01)).sample_status, SampleStatus::estimate_failed);
+}
+
 // The monitor takes the caller's torque (WheelInput::drive_torque) and does
 // not compute one: a usable sample without it has no estimate, and a torque
 // that differs from the current's changes the estimate.
 TEST_F(MonitorTest, UsesTheCallersDriveTorqueAndFailsWithoutOne) {
   nominal();
   const WheelInput in = sample(1.0, 0.01);
-  const WheelOutput without = wheel.step(in, TimeMs{t_ms}, test::prepared_of(table));
+  WheelOutput without{};
+  wheel.step(in, TimeMs{t_ms}, test::prepared_of(table), without);
   EXPECT_EQ(without.sample_status, SampleStatus::estimate_failed);
   EXPECT_FALSE(without.estimate_valid);
   WheelInput given = sample(1.0, 0.01);
@@ -292,7 +340,8 @@ TEST_F(MonitorTest, UsesTheCallersDriveTorqueAndFailsWithoutOne) {
   given = sample(1.0, 0.01);
   given.drive_torque = TorqueResult{q<TorqueNm>(ref::torque_nm(p.motor, 1.5, DriveDirection::forward)),
                                     EstimateStatus::ok};
-  const WheelOutput larger = wheel.step(given, TimeMs{t_ms}, test::prepared_of(table));
+  WheelOutput larger{};
+  wheel.step(given, TimeMs{t_ms}, test::prepared_of(table), larger);
   ASSERT_TRUE(larger.estimate_valid);
   EXPECT_EQ(larger.torque_nm, given.drive_torque.torque_nm);
   EXPECT_GT(larger.sinkage_m, own.sinkage_m);
@@ -328,7 +377,9 @@ TEST(RoverMonitor, AnyWheelStopsTheRoverWhenKIsOne) {
     WheelInput raw[kMaxWheels];
     std::copy(a.begin(), a.end(), raw);
     test::set_drive_torques(raw, table.motor);
-    return rover.step(raw, TimeMs{t}, test::prepared_of(table));
+    RoverOutput out{};
+    rover.step(raw, TimeMs{t}, test::prepared_of(table), out);
+    return out;
   };
   for (int i = 0; i < 5; ++i) EXPECT_EQ(step(0).decision, RoverDecision::continue_drive);
   step(1);
@@ -362,7 +413,7 @@ TEST(RoverMonitor, AnyWheelStopsTheRoverWhenKIsOne) {
   for (int i = 0; i < 12; ++i) {
     t += 100U;
     for (WheelInput& w : raw) w.time = TimeMs{t};
-    o = rover.step(raw, TimeMs{t}, test::prepared_of(table));
+    rover.step(raw, TimeMs{t}, test::prepared_of(table), o);
   }
   EXPECT_EQ(o.decision, RoverDecision::continue_drive);
   EXPECT_EQ(rover.wheel(5).counters().samples, wheel5_samples);

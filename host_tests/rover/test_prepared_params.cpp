@@ -194,7 +194,8 @@ TEST_F(PreparedTest, StepEqualsItsStagesChainedByHand) {
       ASSERT_EQ(out.load_n[i], loads.load_n[i]) << k;
       ASSERT_EQ(out.drawbar_pull_n[i], dp.dp_n[i]) << k;
     }
-    const flight::RoverOutput ref = reference.step(inputs, t.time, p);
+    flight::RoverOutput ref{};
+    reference.step(inputs, t.time, p, ref);
     EXPECT_EQ(out.decision, ref.decision) << k;
     for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
       expect_same_wheel(out.monitor.wheels[i], ref.wheels[i], k, i);
@@ -295,10 +296,12 @@ TEST_F(PreparedTest, MonitorWithKnownCorrectionsEqualsTheMonitorEvaluatingThem) 
         flight::WheelInput{flight::TimeMs{100U * (k + 1U)}, i, w, q<flight::DrawbarPullN>(-1.0),
                            flight::DriveDirection::forward, true},
         table.motor);
-    const flight::WheelOutput a = own.step(in, in.time, p);
+    flight::WheelOutput a{};
+    own.step(in, in.time, p, a);
     const flight::CorrectionResult corr = test::corrections_of(table.correction, w);
     in.corrections = &corr;
-    const flight::WheelOutput b = shared.step(in, in.time, p);
+    flight::WheelOutput b{};
+    shared.step(in, in.time, p, b);
     expect_same_wheel(a, b, k, 0U);
   }
 }

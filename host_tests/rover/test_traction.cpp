@@ -30,6 +30,9 @@ const ParameterTable& table() {
   return t;
 }
 
+/// The check's 1/r at kRadiusM, as PreparedParameters holds it.
+InverseRadius per_radius() { return inverse_radius(q<LengthM>(kRadiusM)); }
+
 /// Six wheels forward at kLoadN and kPullN, each with the torque that gives
 /// `rho` (T = r (rho W + DP)), at `speed` m/s.
 TractionInput sample(std::uint32_t time_ms, double rho, double speed = kSpeedMps) {
@@ -61,7 +64,7 @@ class Drive {
   }
   TractionOutput step(const TractionInput& in) {
     time_ms_ = in.time.ms + kCycleMs;
-    last_ = monitor_.step(in, table().traction, table().monitor, q<LengthM>(kRadiusM));
+    last_ = monitor_.step(in, table().traction, table().monitor, per_radius());
     if (last_.stop_tripped) ++trips_;
     return last_;
   }
@@ -82,7 +85,7 @@ double lsb_ratio() { return std::ldexp(1.0, -24); }
 
 TEST(Traction, ATableWithoutSection8LeavesTheCheckOff) {
   TractionMonitor m;
-  const TractionOutput out = m.step(sample(0U, 2.0), TractionParams{}, table().monitor, q<LengthM>(kRadiusM));
+  const TractionOutput out = m.step(sample(0U, 2.0), TractionParams{}, table().monitor, per_radius());
   EXPECT_EQ(out.state, TractionState::off);
   EXPECT_EQ(out.sample, TractionSample::check_off);
   EXPECT_FALSE(out.rho_valid);
@@ -202,16 +205,16 @@ TEST(Traction, FewerThanHalfTheWheelsWithATorqueIsNoEvidence) {
   TractionInput in = sample(0U, 0.5);
   for (std::uint32_t i = 0U; i < 4U; ++i) in.torque_valid[i] = false;
   TractionMonitor m;
-  EXPECT_EQ(m.step(in, table().traction, table().monitor, q<LengthM>(kRadiusM)).sample,
+  EXPECT_EQ(m.step(in, table().traction, table().monitor, per_radius()).sample,
             TractionSample::too_few_wheels);
   in.torque_valid[3] = true;  // three of six: half
-  EXPECT_EQ(m.step(in, table().traction, table().monitor, q<LengthM>(kRadiusM)).sample, TractionSample::filling);
+  EXPECT_EQ(m.step(in, table().traction, table().monitor, per_radius()).sample, TractionSample::filling);
 }
 
 TEST(Traction, AssumedPullsMissingLoadsAndMixedDirectionsAreNoEvidence) {
   TractionMonitor m;
   const auto step = [&m](const TractionInput& in) {
-    return m.step(in, table().traction, table().monitor, q<LengthM>(kRadiusM)).sample;
+    return m.step(in, table().traction, table().monitor, per_radius()).sample;
   };
   TractionInput in = sample(0U, 0.5);
   in.pull_assumed = true;
@@ -224,7 +227,7 @@ TEST(Traction, AssumedPullsMissingLoadsAndMixedDirectionsAreNoEvidence) {
   EXPECT_EQ(step(in), TractionSample::mixed_direction);
   for (std::uint32_t k = 0U; k < 30U; ++k) {
     in.time = TimeMs{600U + k * kCycleMs};
-    EXPECT_NE(m.step(in, table().traction, table().monitor, q<LengthM>(kRadiusM)).state, TractionState::stop);
+    EXPECT_NE(m.step(in, table().traction, table().monitor, per_radius()).state, TractionState::stop);
   }
 }
 
@@ -238,8 +241,8 @@ TEST(Traction, ReverseDrivingReadsThePullBackwards) {
   rev.speed_mps = q<SpeedMps>(-kSpeedMps);
   TractionMonitor a;
   TractionMonitor b;
-  const TractionOutput fo = a.step(fwd, table().traction, table().monitor, q<LengthM>(kRadiusM));
-  const TractionOutput ro = b.step(rev, table().traction, table().monitor, q<LengthM>(kRadiusM));
+  const TractionOutput fo = a.step(fwd, table().traction, table().monitor, per_radius());
+  const TractionOutput ro = b.step(rev, table().traction, table().monitor, per_radius());
   ASSERT_TRUE(fo.rho_valid && ro.rho_valid);
   EXPECT_EQ(fo.resistance, ro.resistance);
 }
@@ -248,12 +251,66 @@ TEST(Traction, AnOverflowIsReportedNotANumber) {
   TractionMonitor m;
   TractionInput in = sample(0U, 0.2);
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    in.torque_nm[i] = q<TorqueNm>(30000.0);
+    in.torque_nm[i] = q<TorqueNm>(1000.0);  // within the products' range: the quotient leaves Q7.24
     in.load_n[i] = WheelLoadN::from_raw(1);
   }
-  const TractionOutput out = m.step(in, table().traction, table().monitor, q<LengthM>(kRadiusM));
+  const TractionOutput out = m.step(in, table().traction, table().monitor, per_radius());
   EXPECT_EQ(out.sample, TractionSample::overflow);
   EXPECT_FALSE(out.rho_valid);
+}
+
+// The products stay in 64 bits while |sum T| < 32768 N m (docs/traction.md):
+// beyond it the sample is overflow, no number, even where rho itself would be
+// small; just below it the coefficient is the twin's.
+TEST(Traction, ATorqueSumBeyondTheProductsRangeIsReportedNotANumber) {
+  TractionInput in = sample(0U, 0.2);
+  std::array<double, kWheelCount> t{};
+  std::array<double, kWheelCount> p{};
+  std::array<double, kWheelCount> w{};
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    in.torque_nm[i] = TorqueNm::from_raw(static_cast<std::int32_t>((std::int64_t{1} << 31U) / 6));  // sum 2^31 - 2 raw
+    in.load_n[i] = q<WheelLoadN>(20000.0);
+    in.drawbar_pull_n[i] = q<DrawbarPullN>(kPullN);
+    t[i] = d(in.torque_nm[i]);
+    p[i] = kPullN;
+    w[i] = 20000.0;
+  }
+  const LengthM radius = q<LengthM>(2.0);
+  TractionMonitor below;
+  const TractionOutput ok = below.step(in, table().traction, table().monitor, inverse_radius(radius));
+  ASSERT_TRUE(ok.rho_valid);
+  EXPECT_NEAR(d(ok.resistance), sinkwatch::ground::resistance_coefficient(t, p, w, 2.0), 2.0 * lsb_ratio());
+  in.torque_nm[0] = TorqueNm::from_raw(in.torque_nm[0].raw() + 2);  // the sum reaches 2^31 raw
+  TractionMonitor beyond;
+  const TractionOutput out = beyond.step(in, table().traction, table().monitor, inverse_radius(radius));
+  EXPECT_EQ(out.sample, TractionSample::overflow);
+  EXPECT_FALSE(out.rho_valid);
+}
+
+// A radius outside the validated range has no 1/r: every sample is overflow.
+TEST(Traction, ARadiusOutsideTheTablesRangeGivesNoCoefficient) {
+  EXPECT_EQ(inverse_radius(LengthM::zero()).per_m_q24, 0U);
+  EXPECT_EQ(inverse_radius(q<LengthM>(2.5)).per_m_q24, 0U);
+  EXPECT_EQ(inverse_radius(q<LengthM>(0.5)).per_m_q24, 1U << 25U);  // 1/0.5 m = 2 in Q7.24
+  TractionMonitor m;
+  const TractionOutput out = m.step(sample(0U, 0.2), table().traction, table().monitor, InverseRadius{});
+  EXPECT_EQ(out.sample, TractionSample::overflow);
+  EXPECT_FALSE(out.rho_valid);
+}
+
+// The trend's arithmetic at its edges: a falling median carries nothing, a
+// distance that is not positive gives no number, and the carried term is the
+// twin's within half an LSB (its only rounding).
+TEST(Traction, TheCarriedTermIsTheTwinsAndOnlyARiseIsCarried) {
+  Ratio ahead{};
+  EXPECT_TRUE(carried_ahead(q<Ratio>(0.20), q<Ratio>(0.25), q<LengthM>(1.0).raw(), q<LengthM>(2.0), ahead));
+  EXPECT_EQ(ahead, q<Ratio>(0.20));
+  EXPECT_FALSE(carried_ahead(q<Ratio>(0.30), q<Ratio>(0.25), 0, q<LengthM>(2.0), ahead));
+  EXPECT_EQ(ahead, q<Ratio>(0.30));
+  ASSERT_TRUE(carried_ahead(q<Ratio>(0.30), q<Ratio>(0.25), q<LengthM>(1.1).raw(), q<LengthM>(2.0), ahead));
+  const double twin = sinkwatch::ground::resistance_ahead(d(q<Ratio>(0.30)), d(q<Ratio>(0.25)),
+                                                          d(q<LengthM>(1.1)), d(q<LengthM>(2.0)));
+  EXPECT_NEAR(d(ahead), twin, 0.5 * lsb_ratio());
 }
 
 TEST(Traction, ATrendBeyondTheRatioFormatIsReportedNotANumber) {

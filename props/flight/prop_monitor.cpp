@@ -56,7 +56,8 @@ RC_GTEST_PROP(MonitorProps, OnlyAllowedTransitionsAndUnusableNeverEstimated, ())
     const WheelInput in = test::with_drive_torque(WheelInput{TimeMs{t}, q<CurrentA>(kind.current), q<WheelLoadN>(98.1),
                                                              q<DrawbarPullN>(dp), DriveDirection::forward, kind.valid},
                                                   table.motor);
-    const WheelOutput o = wheel.step(in, TimeMs{t}, test::prepared_of(table));
+    WheelOutput o{};
+    wheel.step(in, TimeMs{t}, test::prepared_of(table), o);
     if (!kind.valid) {
       RC_ASSERT(!o.estimate_valid);
       RC_ASSERT(o.sinkage_m == SinkageM::zero());

@@ -1,9 +1,13 @@
-// The motion-resistance coefficient (flight/traction.hpp) against its double
-// twin (ground/rover_loads.hpp) over the whole input envelope: any loads in
-// the default table's [load_min, load_max], torques to +-200 N m, pulls to
-// +-500 N, radii 0.05..1 m. Bound (docs/traction.md, "Error"): the thrust
-// sum T / r rounds once in Q31.32, the quotient once into Q7.24:
-//   |rho_fixed - rho_ref| <= 2^-25 + 2^-33 / sum W.
+// The motion-resistance coefficient and the trend carried ahead
+// (flight/traction.hpp) against their double twins (ground/rover_loads.hpp)
+// over the whole input envelope: any loads in the default table's
+// [load_min, load_max], torques to +-200 N m, pulls to +-500 N, radii
+// 0.01..2 m (the table's whole range). Bounds (docs/traction.md, "Arithmetic
+// and error"): 1/r is prepared in Q7.24 (off by at most 2^-25 1/m), the
+// thrust sum T (1/r) and the pull are exact in 64 bits, the quotient rounds
+// once into Q7.24:
+//   |rho_fixed - rho_ref| <= 2^-25 (1 + |sum T| / sum W);
+// the carried term rounds once: |ahead_fixed - ahead_ref| <= 2^-25.
 #include <gtest/gtest.h>
 #include <rapidcheck.h>
 #include <rapidcheck/gtest.h>
@@ -50,19 +54,44 @@ RC_GTEST_PROP(TractionProp, CoefficientWithinBoundOfTheTwin, ()) {
     p[i] = reverse ? -d(in.drawbar_pull_n[i]) : d(in.drawbar_pull_n[i]);
     w[i] = d(in.load_n[i]);
   }
-  const flight::LengthM radius = raw_within<flight::LengthM>(0.05, 1.0);
+  const flight::LengthM radius = raw_within<flight::LengthM>(0.01, 2.0);
   const double twin = ground::resistance_coefficient(t, p, w, d(radius));
   flight::TractionMonitor m;
-  const flight::TractionOutput out = m.step(in, table.traction, table.monitor, radius);
+  const flight::TractionOutput out = m.step(in, table.traction, table.monitor, flight::inverse_radius(radius));
   if (std::fabs(twin) >= 127.0) {
     RC_ASSERT(!out.rho_valid || std::fabs(d(out.resistance)) >= 127.0);  // saturated or reported
     return;
   }
   RC_ASSERT(out.rho_valid);
   double load = 0.0;
-  for (const double x : w) load += x;
-  const double bound = std::ldexp(1.0, -25) + std::ldexp(1.0, -33) / load + 1e-12 * std::fabs(twin);
+  double torque = 0.0;
+  for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+    load += w[i];
+    torque += t[i];
+  }
+  const double bound = std::ldexp(1.0, -25) * (1.0 + std::fabs(torque) / load) + 1e-12 * std::fabs(twin);
   RC_ASSERT(std::fabs(d(out.resistance) - twin) <= bound);
+}
+
+RC_GTEST_PROP(TractionProp, CarriedAheadWithinHalfAnLsbOfTheTwin, ()) {
+  // Any two medians in the levels' range and beyond, any lookahead the table
+  // accepts, any distance the history can span (trend_span_m to two spans of
+  // the longest, 10 m).
+  const flight::Ratio rho_med = raw_within<flight::Ratio>(-4.0, 4.0);
+  const flight::Ratio rho_back = raw_within<flight::Ratio>(-4.0, 4.0);
+  const flight::LengthM lookahead = raw_within<flight::LengthM>(0.0, 10.0);
+  const std::int64_t distance = *rc::gen::inRange<std::int64_t>(q<flight::LengthM>(0.2).raw(),
+                                                                 std::int64_t{10} * q<flight::LengthM>(1.0).raw());
+  flight::Ratio ahead{};
+  const bool ok = flight::carried_ahead(rho_med, rho_back, distance, lookahead, ahead);
+  const double twin =
+      ground::resistance_ahead(d(rho_med), d(rho_back), std::ldexp(static_cast<double>(distance), -24), d(lookahead));
+  if (std::fabs(twin) >= 127.0) {
+    RC_ASSERT(!ok || std::fabs(d(ahead)) >= 127.0);
+    return;
+  }
+  RC_ASSERT(ok);
+  RC_ASSERT(std::fabs(d(ahead) - twin) <= std::ldexp(1.0, -25) + 1e-12 * std::fabs(twin));
 }
 
 }  // namespace

@@ -114,8 +114,10 @@ SW_FX_INLINE constexpr W scale_magnitude(const W& mag, std::int32_t shift, bool&
     const W truncated = wide::shr(mag, s);
     // The bit just below the result's LSB is the half: adding it rounds
     // half away from zero, and cannot carry past the width because the
-    // shifted value has at least one leading zero bit.
-    return wide::bit(mag, s - 1U) ? wide::add(truncated, wide::from_u64<W>(1U)) : truncated;
+    // shifted value has at least one leading zero bit. (One add of 0 or 1
+    // rather than a choice between two wide values, which the Cortex-M0
+    // build copied through memcpy.)
+    return wide::add(truncated, wide::from_u64<W>(wide::bit(mag, s - 1U) ? 1U : 0U));
   }
   if (shift < 0) {
     const std::uint32_t s = static_cast<std::uint32_t>(-shift);

@@ -139,8 +139,9 @@ class WheelMonitor {
   /// parameters are prepared once per load (prepared_params.hpp): the
   /// corrections' and the motor model's divisions by table constants go
   /// through their prepared reciprocals. Parameters without a valid table
-  /// make the sample unusable (fail-safe).
-  WheelOutput step(const WheelInput& input, TimeMs now, const PreparedParameters& prepared) noexcept;
+  /// make the sample unusable (fail-safe). The result is written whole into
+  /// `out` (RoverMonitor passes its own record's entry: no copy per wheel).
+  void step(const WheelInput& input, TimeMs now, const PreparedParameters& prepared, WheelOutput& out) noexcept;
 
   /// Back to NOMINAL with empty histories and peaks (counters are kept).
   void clear_stop() noexcept;
@@ -159,7 +160,7 @@ class WheelMonitor {
 
  private:
   /// step() on parameters whose table is valid.
-  WheelOutput evaluate(const WheelInput& input, TimeMs now, const PreparedParameters& prepared) noexcept;
+  void evaluate(const WheelInput& input, TimeMs now, const PreparedParameters& prepared, WheelOutput& out) noexcept;
   void count(SampleStatus status) noexcept;
   void push_history(bool caution, bool stop, bool clear) noexcept;
   /// The episode's peak current (and its load) and largest estimate.
@@ -215,8 +216,12 @@ class RoverMonitor {
   /// blind. A wheel without usable evidence is held in CAUTION while any
   /// other wheel is in CAUTION or STOP: never NOMINAL beside embedding.
   /// Without a valid table the decision is stop_and_replan and no wheel is
-  /// stepped.
-  RoverOutput step(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const PreparedParameters& prepared) noexcept;
+  /// stepped. The result is written into `out` (every field: wheels beyond
+  /// monitor.wheel_count get a default WheelOutput), so that a caller that
+  /// keeps it in a larger record (RoverStepOutput) needs no copy of the six
+  /// wheels' outputs.
+  void step(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const PreparedParameters& prepared,
+            RoverOutput& out) noexcept;
 
   /// The ground's acknowledgement after a re-plan: every wheel back to NOMINAL.
   void clear_stop() noexcept;
@@ -227,9 +232,9 @@ class RoverMonitor {
  private:
   /// The blind-wheel and unusable-evidence rules after every wheel's step.
   void rover_rules(const ParameterTable& table, RoverOutput& out) noexcept;
-  /// Every monitored wheel on parameters whose table is valid.
-  RoverOutput step_all(const WheelInput (&inputs)[kMaxWheels], TimeMs now,
-                       const PreparedParameters& prepared) noexcept;
+  /// Every monitored wheel on parameters whose table is valid, into `out`.
+  void step_all(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const PreparedParameters& prepared,
+                RoverOutput& out) noexcept;
 
   WheelMonitor wheels_[kMaxWheels];
 };

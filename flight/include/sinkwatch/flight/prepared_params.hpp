@@ -24,6 +24,7 @@
 #include "sinkwatch/flight/motor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
+#include "sinkwatch/flight/traction.hpp"
 
 namespace sinkwatch {
 namespace flight {
@@ -60,6 +61,9 @@ class PreparedParameters {
   const CorrectionDivisors& correction_divisors() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
   [[nodiscard]] constexpr const MotorDivisors& motor_divisors() const& noexcept { return motor_divisors_; }
   const MotorDivisors& motor_divisors() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
+  /// 1/r of the table's wheel radius for the motion-resistance check's
+  /// thrust (traction.hpp): a product per cycle instead of a division.
+  [[nodiscard]] constexpr InverseRadius traction_inverse_radius() const noexcept { return traction_inverse_radius_; }
   /// CRC-32 of the bytes load() took the table from (0 for the built-in
   /// default and for prepare()).
   [[nodiscard]] constexpr std::uint32_t table_crc() const noexcept { return table_crc_; }
@@ -75,6 +79,7 @@ class PreparedParameters {
   RoverParams rover_{};
   CorrectionDivisors correction_divisors_{};
   MotorDivisors motor_divisors_{};
+  InverseRadius traction_inverse_radius_{};
   std::uint32_t table_crc_{0U};
 };
 

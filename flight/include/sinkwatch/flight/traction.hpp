@@ -54,6 +54,27 @@ constexpr std::uint8_t kTractionTrendMarks = 16U;
 /// Below this ground speed the rover stands (Yutu drives at 0.055 m/s).
 constexpr SpeedMps kTractionStandingSpeed{fx::constant<SpeedQ>(0.005)};
 
+/// 1/r of the table's wheel radius, the thrust per unit of drive torque, in
+/// Q7.24 (1/m): round(2^24 / r), prepared once per parameter load
+/// (PreparedParameters::traction_inverse_radius()) so that the check
+/// multiplies the torque sum instead of dividing it every cycle. Zero for a
+/// radius outside [kMinRadiusM, kMaxRadiusM] (then every sample is overflow).
+struct InverseRadius {
+  std::uint32_t per_m_q24{0U};
+};
+
+/// The table's 1/r for the check (the radius must lie in [kMinRadiusM,
+/// kMaxRadiusM], which validate() enforces; else zero).
+[[nodiscard]] InverseRadius inverse_radius(LengthM wheel_radius_m) noexcept;
+
+/// rho_ahead = rho_med + lookahead * max(0, (rho_med - rho_back) / distance),
+/// the trend carried ahead (docs/traction.md): `distance_m_q24` is the
+/// travelled distance in raw LengthM units (a sum of Q7.24 gaps, 2^-24 m),
+/// positive. One rounding (the carried term, half away from zero, 2^-25);
+/// false when the distance is not positive or rho_ahead leaves Q7.24.
+[[nodiscard]] bool carried_ahead(Ratio rho_med, Ratio rho_back, std::int64_t distance_m_q24, LengthM lookahead_m,
+                                 Ratio& ahead) noexcept;
+
 enum class TractionState : std::uint8_t { off = 0U, nominal = 1U, caution = 2U, stop = 3U };
 
 /// What became of this cycle's sample.
@@ -99,9 +120,9 @@ class TractionMonitor {
   TractionMonitor() noexcept;
 
   /// One cycle; `params` is the table's section 8 and `monitor` its section 4
-  /// (the N-of-M window). `wheel_radius_m` is the table's r.
+  /// (the N-of-M window). `per_radius` is the table's 1/r (inverse_radius()).
   TractionOutput step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
-                      LengthM wheel_radius_m) noexcept;
+                      InverseRadius per_radius) noexcept;
 
   /// Back to NOMINAL with empty histories (the ground's re-plan).
   void clear_stop() noexcept;
@@ -110,8 +131,8 @@ class TractionMonitor {
 
  private:
   /// rho of this cycle into `rho`; the sample's verdict.
-  [[nodiscard]] static TractionSample resistance_of(const TractionInput& in, std::uint8_t wheels, LengthM radius,
-                                                    Ratio& rho) noexcept;
+  [[nodiscard]] static TractionSample resistance_of(const TractionInput& in, std::uint8_t wheels,
+                                                    InverseRadius per_radius, Ratio& rho) noexcept;
   /// rho_med after pushing `rho`.
   [[nodiscard]] Ratio push_median(Ratio rho) noexcept;
   /// A sample with a resistance: the restart when standing, else the
@@ -124,7 +145,7 @@ class TractionMonitor {
   /// first trend_span_m, a mark.
   void advance(const TractionInput& in, Ratio rho_med, const TractionParams& params) noexcept;
   /// rho_ahead from the marks; false when the history is shorter than the span.
-  bool ahead_of(Ratio rho_med, const TractionParams& params, Ratio& ahead, fx::Status& st) const noexcept;
+  bool ahead_of(Ratio rho_med, const TractionParams& params, Ratio& ahead, bool& overflow) const noexcept;
   void push_history(bool caution, bool stop, bool clear) noexcept;
   void transition(const MonitorParams& monitor, TractionOutput& out) noexcept;
 
