@@ -65,7 +65,7 @@ CurrentResult current_from_torque(const MotorParams& motor, const MotorDivisors&
   // The driving part in Q43.20 (int64): beyond Q11.20 it may still be brought
   // back into range by I0; the sum goes into Q11.20 exactly (same fraction bits).
   using WideCurrentQ = fx::Q<std::int64_t, CurrentQ::frac_bits>;
-  const WideCurrentQ driving = fx::quotient<WideCurrentQ>(torque_nm.q(), divisors.inverse_gain, st);
+  const WideCurrentQ driving = fx::times_reciprocal<WideCurrentQ>(torque_nm.q(), divisors.inverse_gain, st);
   const WideCurrentQ i0 = fx::rescale<WideCurrentQ>(motor.no_load_current_a.q(), st);
   const WideCurrentQ total =
       (direction == DriveDirection::forward) ? fx::add(driving, i0, st) : fx::sub(driving, i0, st);

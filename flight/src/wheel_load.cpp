@@ -226,7 +226,7 @@ void side_lateral(const SideContacts<P>& c, P y_side, K ky, fx::NormalisedRecipr
   // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
   out.yt_bogie = fx::add(yt_r, fx::mul(out.beta, fx::sub(yt_m, yt_r, st), st), st);
   out.front_couple = tq.couple[0];
-  out.bogie_shift = fx::quotient<P>(fx::add(tq.couple[1], tq.couple[2], st), inv_span, st);
+  out.bogie_shift = fx::times_reciprocal<P>(fx::add(tq.couple[1], tq.couple[2], st), inv_span, st);
   out.yt_rear_minus_middle = fx::sub(yt_r, yt_m, st);
 }
 
@@ -259,7 +259,7 @@ bool side_levers(const Links<P>& l, const SidePose<P>& pose, const GravityFrame&
   // One division per lever, its quotients as products (section 12.5).
   out.lever = fx::normalised_reciprocal(lever);
   const fx::NormalisedReciprocal inv_span = fx::normalised_reciprocal(span);
-  out.beta = fx::quotient<P>(fx::sub(xt_b, xt_r, st), inv_span, st);
+  out.beta = fx::times_reciprocal<P>(fx::sub(xt_b, xt_r, st), inv_span, st);
   side_lateral(c, pose.y_side, g.ky, inv_span, tq, out, st);
   return true;
 }
@@ -286,8 +286,8 @@ GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexce
   g.sin_pitch = pitch_sc.sin;
   g.normal_fraction = fx::mul(pitch_sc.cos, roll_sc.cos, st);
   g.inv_normal_fraction = fx::normalised_reciprocal(g.normal_fraction);
-  g.kx = fx::quotient<K>(pitch_sc.sin, g.inv_normal_fraction, st);
-  g.ky = fx::quotient<K>(roll_sc.sin, fx::normalised_reciprocal(roll_sc.cos), st);
+  g.kx = fx::times_reciprocal<K>(pitch_sc.sin, g.inv_normal_fraction, st);
+  g.ky = fx::times_reciprocal<K>(roll_sc.sin, fx::normalised_reciprocal(roll_sc.cos), st);
   return g;
 }
 
@@ -355,7 +355,7 @@ bool left_side_total(const SideLevers<P> (&side)[kSideCount], const Body<P>& bod
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
     // Y_s = (b y~_F + a y~_bog) / (a + b) = y~_bog + b Z_s: no product of two
     // lengths is formed (section 7.4), so Y_s stays within Q6.25.
-    big_z[s] = fx::quotient<P>(fx::sub(side[s].yt_front, side[s].yt_bogie, st), side[s].lever, st);
+    big_z[s] = fx::times_reciprocal<P>(fx::sub(side[s].yt_front, side[s].yt_bogie, st), side[s].lever, st);
     big_y[s] = fx::add(side[s].yt_bogie, fx::mul(side[s].b, big_z[s], st), st);
     torque_terms = fx::add(torque_terms, fx::mul(side[s].bogie_shift, side[s].yt_rear_minus_middle, st), st);
     torque_terms = fx::sub(torque_terms, fx::mul(side[s].front_couple, big_z[s], st), st);
@@ -368,7 +368,7 @@ bool left_side_total(const SideLevers<P> (&side)[kSideCount], const Body<P>& bod
       fx::sub(fx::sub(fx::sub(body.com_yt, fx::mul(body.pivot_moment, fx::add(big_z[0], big_z[1], st), st), st),
                       torque_terms, st),
               big_y[1], st);
-  left = fx::quotient<P>(roll_moment, fx::normalised_reciprocal(lateral_span), st);
+  left = fx::times_reciprocal<P>(roll_moment, fx::normalised_reciprocal(lateral_span), st);
   return true;
 }
 
@@ -383,7 +383,7 @@ bool support_forces(const SideLevers<P> (&side)[kSideCount], const Body<P>& body
   }
   side_total[1] = fx::sub(kOne<P>, side_total[0], st);
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    const P front = fx::quotient<P>(fx::add(side_moment(body, side[s], st), fx::mul(side[s].b, side_total[s], st), st),
+    const P front = fx::times_reciprocal<P>(fx::add(side_moment(body, side[s], st), fx::mul(side[s].b, side_total[s], st), st),
                                  side[s].lever, st);
     const P bogie = fx::sub(side_total[s], front, st);
     const P middle = fx::sub(fx::mul(side[s].beta, bogie, st), side[s].bogie_shift, st);
@@ -418,8 +418,8 @@ bool side_torques(const DriveTorques& torques, const Body<P>& body, const Gravit
     side.from_axle[k] = torques.usable[i];
     side.couple[k] = P::zero();
     if (torques.usable[i]) {
-      const P per_weight = fx::quotient<P>(torques.torque_nm[i].q(), body.inv_weight, couple_st);
-      side.couple[k] = fx::quotient<P>(per_weight, g.inv_normal_fraction, couple_st);
+      const P per_weight = fx::times_reciprocal<P>(torques.torque_nm[i].q(), body.inv_weight, couple_st);
+      side.couple[k] = fx::times_reciprocal<P>(per_weight, g.inv_normal_fraction, couple_st);
     }
   }
   return couple_st.ok();

@@ -1,7 +1,7 @@
-// test_reciprocal.cpp: fx::normalised_reciprocal and fx::quotient (reciprocal.hpp).
+// test_reciprocal.cpp: fx::normalised_reciprocal and fx::times_reciprocal (reciprocal.hpp).
 // The mantissa is checked against its definition with the exact 128-bit
 // product, and every quotient against fx::div, whose result is within
-// 0.5 LSB of the exact one: quotient() must be within 1 LSB + |q| 2^-30 of it.
+// 0.5 LSB of the exact one: times_reciprocal() must be within 1 LSB + |q| 2^-30 of it.
 // Plain integer arithmetic only, so the test runs unchanged under qemu-arm.
 #include <gtest/gtest.h>
 
@@ -40,12 +40,12 @@ void expect_mantissa_is_the_floor(std::uint64_t d, std::int32_t frac_bits) {
   EXPECT_EQ(r.scale, 31 + static_cast<std::int32_t>(wide::bit_length(d)) - frac_bits) << d;
 }
 
-/// |quotient(x, 1/d) - fx::div(x, d)| <= 1 + |q| 2^-30 raw LSB, or both saturate.
+/// |times_reciprocal(x, 1/d) - fx::div(x, d)| <= 1 + |q| 2^-30 raw LSB, or both saturate.
 template <typename Out, typename QD>
 void expect_quotient_near_division(P x, QD d) {
   fx::Status by_reciprocal;
   fx::Status by_division;
-  const Out q = fx::quotient<Out>(x, fx::normalised_reciprocal(d), by_reciprocal);
+  const Out q = fx::times_reciprocal<Out>(x, fx::normalised_reciprocal(d), by_reciprocal);
   const Out ref = fx::div<Out>(x, d, by_division);
   if (by_division.has(fx::Flag::overflow)) {
     EXPECT_TRUE(by_reciprocal.has(fx::Flag::overflow) || (q == ref)) << x.raw() << " / " << d.raw();
@@ -93,20 +93,20 @@ TEST(NormalisedReciprocal, QuotientIsWithinOneLsbAndTwoToMinus30OfTheDivision) {
 TEST(NormalisedReciprocal, ExtremeDividendsSaturateOrRoundToZero) {
   fx::Status st;
   // INT32_MIN / the smallest divisor: far beyond Q6.25.
-  const P big = fx::quotient<P>(P::min(), fx::normalised_reciprocal(P::lsb()), st);
+  const P big = fx::times_reciprocal<P>(P::min(), fx::normalised_reciprocal(P::lsb()), st);
   EXPECT_EQ(big, P::min());
   EXPECT_TRUE(st.has(fx::Flag::overflow));
   fx::Status small_st;
   // One LSB divided by 2^40: rounds to zero, no flag, no negative zero.
-  const P tiny = fx::quotient<P>(fx::neg(P::lsb(), small_st), fx::normalised_reciprocal(std::uint64_t{1U} << 40U, 0), small_st);
+  const P tiny = fx::times_reciprocal<P>(fx::neg(P::lsb(), small_st), fx::normalised_reciprocal(std::uint64_t{1U} << 40U, 0), small_st);
   EXPECT_EQ(tiny.raw(), 0);
   EXPECT_TRUE(small_st.ok());
   // A non-zero x with a shift <= 0 overflows; zero stays zero.
   fx::Status shift_st;
-  EXPECT_EQ(fx::quotient<P>(P::lsb(), fx::NormalisedReciprocal{0x80000000U, -40}, shift_st), P::max());
+  EXPECT_EQ(fx::times_reciprocal<P>(P::lsb(), fx::NormalisedReciprocal{0x80000000U, -40}, shift_st), P::max());
   EXPECT_TRUE(shift_st.has(fx::Flag::overflow));
   fx::Status zero_st;
-  EXPECT_EQ(fx::quotient<P>(P::zero(), fx::NormalisedReciprocal{0x80000000U, -40}, zero_st), P::zero());
+  EXPECT_EQ(fx::times_reciprocal<P>(P::zero(), fx::NormalisedReciprocal{0x80000000U, -40}, zero_st), P::zero());
   EXPECT_TRUE(zero_st.ok());
 }
 
@@ -115,12 +115,12 @@ TEST(NormalisedReciprocal, ZeroDivisorGivesNoReciprocalAndReportsDivisionByZero)
   EXPECT_EQ(fx::normalised_reciprocal(P::zero()).mantissa, 0U);
   EXPECT_EQ(fx::normalised_reciprocal(fx::neg(P::lsb(), neg_lsb_st)).mantissa, 0U);
   fx::Status st;
-  EXPECT_EQ(fx::quotient<P>(P::lsb(), fx::normalised_reciprocal(P::zero()), st), P::max());
+  EXPECT_EQ(fx::times_reciprocal<P>(P::lsb(), fx::normalised_reciprocal(P::zero()), st), P::max());
   EXPECT_TRUE(st.has(fx::Flag::div_by_zero));
   fx::Status neg_st;
-  EXPECT_EQ(fx::quotient<P>(fx::neg(P::lsb(), neg_st), fx::NormalisedReciprocal{}, neg_st), P::min());
+  EXPECT_EQ(fx::times_reciprocal<P>(fx::neg(P::lsb(), neg_st), fx::NormalisedReciprocal{}, neg_st), P::min());
   fx::Status zero_st;
-  EXPECT_EQ(fx::quotient<P>(P::zero(), fx::NormalisedReciprocal{}, zero_st), P::zero());
+  EXPECT_EQ(fx::times_reciprocal<P>(P::zero(), fx::NormalisedReciprocal{}, zero_st), P::zero());
   EXPECT_TRUE(zero_st.has(fx::Flag::div_by_zero));
 }
 

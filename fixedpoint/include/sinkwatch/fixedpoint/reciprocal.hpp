@@ -17,7 +17,7 @@
 // Truncating D and flooring the quotient each err by less than 2^-31
 // relative, so mantissa * 2^-scale is within 2^-30 of 1/d, relative.
 //
-// quotient<Out>(x, r) = x * mantissa * 2^-(Fx + scale - Fout), rounded to
+// times_reciprocal<Out>(x, r) = x * mantissa * 2^-(Fx + scale - Fout), rounded to
 // nearest (ties away from zero) on the magnitude: within 0.5 LSB of Out plus
 // |x/d| * 2^-30. It saturates and raises overflow when the quotient leaves Out.
 // host_tests/fixedpoint/test_reciprocal.cpp checks the definition and the
@@ -94,7 +94,7 @@ constexpr std::uint32_t floor_two_to_63_less_1_over(std::uint32_t v) noexcept {
 }  // namespace detail
 
 /// The reciprocal of the positive magnitude `d_raw` with `d_frac_bits`
-/// fraction bits; d_raw == 0 gives mantissa 0 (quotient() then reports
+/// fraction bits; d_raw == 0 gives mantissa 0 (times_reciprocal() then reports
 /// div_by_zero).
 [[nodiscard]] constexpr NormalisedReciprocal normalised_reciprocal(std::uint64_t d_raw, std::int32_t d_frac_bits) noexcept {
   if (d_raw == 0U) {
@@ -118,7 +118,7 @@ template <typename S, std::int32_t F>
 /// x / d in the format Out from d's reciprocal r. Out may have 64-bit
 /// storage, to keep a quotient that only a later sum brings into range.
 template <typename Out, std::int32_t Fx>
-[[nodiscard]] constexpr Out quotient(Q<std::int32_t, Fx> x, NormalisedReciprocal r, Status& status) noexcept {
+[[nodiscard]] constexpr Out times_reciprocal(Q<std::int32_t, Fx> x, NormalisedReciprocal r, Status& status) noexcept {
   using OutS = typename Out::storage_type;
   const bool negative = detail::is_negative(x.raw());
   if (r.mantissa == 0U) {
