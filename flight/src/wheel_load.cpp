@@ -508,10 +508,8 @@ WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& a
   if ((mid.status == WheelLoadStatus::tip_over) || (mid.status == WheelLoadStatus::degenerate)) {
     return mid;
   }
-  if (mid.status != WheelLoadStatus::overflow) {
-    return fine;
-  }
-  const WheelLoadResult coarse = loads_in<Coarse>(params, attitude, joints, torques);
+  const WheelLoadResult coarse =
+      (mid.status == WheelLoadStatus::overflow) ? loads_in<Coarse>(params, attitude, joints, torques) : fine;
   return (coarse.status == WheelLoadStatus::tip_over) ? coarse : fine;
 }
 

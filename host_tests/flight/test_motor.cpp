@@ -59,6 +59,7 @@ TEST(Motor, CurrentAtTheSensorLimitIsValidBeyondItIsNot) {
 TEST(Motor, InvalidMotorAndDirectionHaveTheirStatus) {
   MotorParams m = motor();
   m.efficiency = Efficiency::zero();
+  EXPECT_EQ(make_motor_divisors(m).inverse_gain.mantissa, 0U);  // no reciprocal of a zero gain
   EXPECT_EQ(torque_from_current(m, q<CurrentA>(1.0), DriveDirection::forward).status, EstimateStatus::invalid_motor);
   EXPECT_EQ(test::current_of(m, q<TorqueNm>(1.0), DriveDirection::forward).status, EstimateStatus::invalid_motor);
   m = motor();

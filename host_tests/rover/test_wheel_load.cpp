@@ -515,5 +515,31 @@ TEST(RoverWheelLoad, ShareBeyondQ10_21IsDecidedAsTipOverInQ15_16) {
   expect_tip_over_like_the_twin({-265000558, -62902611, 82426320, -27831358, 12493817, -106800594, -2451.3});
 }
 
+// Couples T / (m g cos(pitch) cos(roll)) beyond Q6.25 (a 10 g rover with
+// 10 N m on a wheel: about 600 m) and beyond Q10.21 (100 N m: about 6,000 m):
+// the wider passes still see the torques lift a wheel, so the loads are
+// those without torques, flagged as an overload (section 12.4), never an
+// overflow.
+TEST(RoverWheelLoad, CouplesBeyondQ6_25AndQ10_21AreATorqueOverload) {
+  RoverParams p = flight::yutu_like_rover_params(flight::kGravityMoon);
+  p.mass_kg = q<flight::MassKg>(0.01);
+  ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
+  const flight::WheelLoadResult plain = flight::wheel_loads(p, flight::RoverAttitude{}, flight::JointAnglesRad{},
+                                                            flight::kNoDriveTorques);
+  ASSERT_EQ(plain.status, WheelLoadStatus::ok);
+  for (const double torque_nm : {10.0, 100.0}) {
+    flight::DriveTorques t{};
+    t.usable[0] = true;
+    t.torque_nm[0] = q<flight::TorqueNm>(torque_nm);
+    const flight::WheelLoadResult r = flight::wheel_loads(p, flight::RoverAttitude{}, flight::JointAnglesRad{}, t);
+    EXPECT_EQ(r.status, WheelLoadStatus::ok) << torque_nm;
+    EXPECT_TRUE(r.torque_overload) << torque_nm;
+    EXPECT_EQ(r.torque_fallback_mask, flight::kEveryTorqueFallsBack) << torque_nm;
+    for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+      EXPECT_EQ(r.load_n[i], plain.load_n[i]) << torque_nm << " " << i;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sinkwatch
