@@ -113,6 +113,7 @@ TEST(NormalisedReciprocal, ExtremeDividendsSaturateOrRoundToZero) {
 TEST(NormalisedReciprocal, ZeroDivisorGivesNoReciprocalAndReportsDivisionByZero) {
   fx::Status neg_lsb_st;
   EXPECT_EQ(fx::normalised_reciprocal(P::zero()).mantissa, 0U);
+  EXPECT_EQ(fx::normalised_reciprocal(std::uint64_t{0U}, 25).mantissa, 0U);
   EXPECT_EQ(fx::normalised_reciprocal(fx::neg(P::lsb(), neg_lsb_st)).mantissa, 0U);
   fx::Status st;
   EXPECT_EQ(fx::times_reciprocal<P>(P::lsb(), fx::normalised_reciprocal(P::zero()), st), P::max());
