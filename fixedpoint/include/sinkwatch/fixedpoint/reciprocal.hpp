@@ -68,24 +68,28 @@ constexpr std::uint32_t floor_two_to_63_less_1_over(std::uint32_t v) noexcept {
   const std::uint32_t u_low_digit = kNumeratorLow & 0xFFFFU;
   std::uint32_t q1 = kNumeratorHigh / v_high;
   std::uint32_t rhat = kNumeratorHigh - (q1 * v_high);
-  for (std::uint32_t step = 0U; (step < 2U) && ((q1 >= kBase) || ((q1 * v_low) > ((kBase * rhat) + u_high_digit)));
-       ++step) {
-    --q1;
-    rhat += v_high;
-    if (rhat >= kBase) {
-      break;
+  // At most two corrections; one stops once rhat leaves the digit (then
+  // kBase * rhat would not fit, and the estimate is right).
+  bool correcting = true;
+  for (std::uint32_t step = 0U; step < 2U; ++step) {
+    correcting = correcting && ((q1 >= kBase) || ((q1 * v_low) > ((kBase * rhat) + u_high_digit)));
+    if (correcting) {
+      --q1;
+      rhat += v_high;
+      correcting = rhat < kBase;
     }
   }
   // The partial remainder fits 32 bits; the wrapping arithmetic gives it.
   const std::uint32_t partial = ((kNumeratorHigh * kBase) + u_high_digit) - (q1 * v);
   std::uint32_t q0 = partial / v_high;
   rhat = partial - (q0 * v_high);
-  for (std::uint32_t step = 0U; (step < 2U) && ((q0 >= kBase) || ((q0 * v_low) > ((kBase * rhat) + u_low_digit)));
-       ++step) {
-    --q0;
-    rhat += v_high;
-    if (rhat >= kBase) {
-      break;
+  correcting = true;
+  for (std::uint32_t step = 0U; step < 2U; ++step) {
+    correcting = correcting && ((q0 >= kBase) || ((q0 * v_low) > ((kBase * rhat) + u_low_digit)));
+    if (correcting) {
+      --q0;
+      rhat += v_high;
+      correcting = rhat < kBase;
     }
   }
   return (q1 * kBase) + q0;
