@@ -81,7 +81,8 @@ TEST(NormalisedReciprocal, QuotientIsWithinOneLsbAndTwoToMinus30OfTheDivision) {
   std::mt19937_64 rng(11250001U);  // NOLINT(cert-msc32-c,cert-msc51-cpp): reproducible samples
   for (int i = 0; i < 300000; ++i) {
     const std::uint32_t x_bits = static_cast<std::uint32_t>(rng() % 32U);
-    const auto x_mag = static_cast<std::int32_t>(rng() >> (64U - x_bits));
+    // x_bits == 0 gives x = 0 (wide::shr of 64 bits is 0, where >> 64 is undefined).
+    const auto x_mag = static_cast<std::int32_t>(wide::shr(rng(), 64U - x_bits));
     const P x = P::from_raw(((rng() & 1U) != 0U) ? -x_mag : x_mag);
     const std::uint32_t d_bits = 1U + static_cast<std::uint32_t>(rng() % 31U);
     const auto d = static_cast<std::int32_t>((rng() >> (64U - d_bits)) | (std::uint64_t{1U} << (d_bits - 1U)));
