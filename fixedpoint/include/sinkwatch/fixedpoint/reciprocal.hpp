@@ -135,6 +135,7 @@ template <typename Out, std::int32_t Fx>
   const std::uint64_t product =
       wide::mul_32x32_64(static_cast<std::uint32_t>(detail::magnitude(x.raw())), r.mantissa);  // < 2^63
   const std::int32_t shift = (Fx + r.scale) - Out::frac_bits;
+  // A shift of 64 or more leaves product / 2^shift < 1/2: it rounds to zero.
   std::uint64_t mag = 0U;
   if (shift <= 0) {
     // A non-zero product is >= 2^31 and would only grow: beyond Out.
@@ -142,8 +143,6 @@ template <typename Out, std::int32_t Fx>
   } else if (shift < 64) {
     const auto s = static_cast<std::uint32_t>(shift);
     mag = (product + (std::uint64_t{1U} << (s - 1U))) >> s;  // no carry out: product < 2^63
-  } else {
-    mag = 0U;  // product / 2^shift < 1/2
   }
   return Out::from_raw(detail::from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
 }
