@@ -56,8 +56,30 @@ namespace detail {
 /// definition): the bits of a 64-bit library division at the cost of two
 /// 32 / 16-bit divisions, which a core without a divide instruction does in
 /// a fraction of __udivmoddi4's time (docs/performance.md, session 12).
+constexpr std::uint32_t kDigitBase = 0x10000U;
+
+/// One quotient digit of that division: the estimate of `partial` over the
+/// divisor's high digit, corrected at most twice against its low digit (one
+/// correction stops once the remainder leaves the digit: then
+/// kDigitBase * rhat would not fit, and the estimate is right). Both counted
+/// loops are simple (MISRA C++:2023 rule 9.5.1: no break).
+constexpr std::uint32_t quotient_digit(std::uint32_t partial, std::uint32_t v_high, std::uint32_t v_low,
+                                       std::uint32_t next_digit) noexcept {
+  std::uint32_t q = partial / v_high;
+  std::uint32_t rhat = partial - (q * v_high);
+  bool correcting = true;
+  for (std::uint32_t step = 0U; step < 2U; ++step) {
+    correcting = correcting && ((q >= kDigitBase) || ((q * v_low) > ((kDigitBase * rhat) + next_digit)));
+    if (correcting) {
+      --q;
+      rhat += v_high;
+      correcting = rhat < kDigitBase;
+    }
+  }
+  return q;
+}
+
 constexpr std::uint32_t floor_two_to_63_less_1_over(std::uint32_t v) noexcept {
-  constexpr std::uint32_t kBase = 0x10000U;
   constexpr std::uint32_t kNumeratorHigh = 0x7FFFFFFFU;  // 2^63 - 1 = kNumeratorHigh * 2^32 + kNumeratorLow
   constexpr std::uint32_t kNumeratorLow = 0xFFFFFFFFU;
   // v >= 2^31, so the high digit is at least 2^15: the OR changes nothing
@@ -66,33 +88,11 @@ constexpr std::uint32_t floor_two_to_63_less_1_over(std::uint32_t v) noexcept {
   const std::uint32_t v_low = v & 0xFFFFU;
   const std::uint32_t u_high_digit = kNumeratorLow >> 16U;
   const std::uint32_t u_low_digit = kNumeratorLow & 0xFFFFU;
-  std::uint32_t q1 = kNumeratorHigh / v_high;
-  std::uint32_t rhat = kNumeratorHigh - (q1 * v_high);
-  // At most two corrections; one stops once rhat leaves the digit (then
-  // kBase * rhat would not fit, and the estimate is right).
-  bool correcting = true;
-  for (std::uint32_t step = 0U; step < 2U; ++step) {
-    correcting = correcting && ((q1 >= kBase) || ((q1 * v_low) > ((kBase * rhat) + u_high_digit)));
-    if (correcting) {
-      --q1;
-      rhat += v_high;
-      correcting = rhat < kBase;
-    }
-  }
+  const std::uint32_t q1 = quotient_digit(kNumeratorHigh, v_high, v_low, u_high_digit);
   // The partial remainder fits 32 bits; the wrapping arithmetic gives it.
-  const std::uint32_t partial = ((kNumeratorHigh * kBase) + u_high_digit) - (q1 * v);
-  std::uint32_t q0 = partial / v_high;
-  rhat = partial - (q0 * v_high);
-  correcting = true;
-  for (std::uint32_t step = 0U; step < 2U; ++step) {
-    correcting = correcting && ((q0 >= kBase) || ((q0 * v_low) > ((kBase * rhat) + u_low_digit)));
-    if (correcting) {
-      --q0;
-      rhat += v_high;
-      correcting = rhat < kBase;
-    }
-  }
-  return (q1 * kBase) + q0;
+  const std::uint32_t partial = ((kNumeratorHigh * kDigitBase) + u_high_digit) - (q1 * v);
+  const std::uint32_t q0 = quotient_digit(partial, v_high, v_low, u_low_digit);
+  return (q1 * kDigitBase) + q0;
 }
 
 }  // namespace detail
@@ -135,12 +135,12 @@ template <typename Out, std::int32_t Fx>
   const std::uint64_t product =
       wide::mul_32x32_64(static_cast<std::uint32_t>(detail::magnitude(x.raw())), r.mantissa);  // < 2^63
   const std::int32_t shift = (Fx + r.scale) - Out::frac_bits;
-  // A shift of 64 or more leaves product / 2^shift < 1/2: it rounds to zero.
-  std::uint64_t mag = 0U;
-  if (shift <= 0) {
-    // A non-zero product is >= 2^31 and would only grow: beyond Out.
-    mag = (product == 0U) ? 0U : ~std::uint64_t{0U};
-  } else if (shift < 64) {
+  // shift <= 0: a non-zero product is >= 2^31 and would only grow, beyond
+  // Out. shift >= 64: product / 2^shift < 1/2 rounds to zero.
+  const bool grows = shift <= 0;
+  const bool rounds = (shift > 0) && (shift < 64);
+  std::uint64_t mag = (grows && (product != 0U)) ? ~std::uint64_t{0U} : 0U;
+  if (rounds) {
     const auto s = static_cast<std::uint32_t>(shift);
     mag = (product + (std::uint64_t{1U} << (s - 1U))) >> s;  // no carry out: product < 2^63
   }
