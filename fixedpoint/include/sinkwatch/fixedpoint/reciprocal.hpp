@@ -48,9 +48,10 @@ struct NormalisedReciprocal {
 
 namespace detail {
 
-/// floor((2^63 - 1) / v) for v in [2^31, 2^32): the two-digit long division
-/// of Hacker's Delight (2nd ed., figure 9-3, divlu) in base 2^16 with 32-bit
-/// words only. Each digit's estimate from the divisor's high half is at most
+/// The mantissa floor((2^63 - 1) / v), v in [2^31, 2^32), and the quotients of
+/// normalised_quotient.hpp come from one long division: the two-digit long
+/// division of Hacker's Delight (2nd ed., figure 9-3, divlu) in base 2^16 with
+/// 32-bit words only. Each digit's estimate from the divisor's high half is at most
 /// two too large and is corrected at most twice, so both loops are bounded by
 /// two. The result is the exact floor (test_reciprocal checks it against its
 /// definition): the bits of a 64-bit library division at the cost of two
@@ -79,20 +80,25 @@ constexpr std::uint32_t quotient_digit(std::uint32_t partial, std::uint32_t v_hi
   return q;
 }
 
-constexpr std::uint32_t floor_two_to_63_less_1_over(std::uint32_t v) noexcept {
-  constexpr std::uint32_t kNumeratorHigh = 0x7FFFFFFFU;  // 2^63 - 1 = kNumeratorHigh * 2^32 + kNumeratorLow
-  constexpr std::uint32_t kNumeratorLow = 0xFFFFFFFFU;
+/// floor(u / v) and u mod v for v in [2^31, 2^32) and u < v * 2^32 (the
+/// quotient fits 32 bits; the caller normalises): two digits in base 2^16,
+/// each from quotient_digit. The partial remainders fit 32 bits, and the
+/// wrapping 32-bit arithmetic gives them exactly (Hacker's Delight's divlu).
+constexpr wide::DivMod<std::uint32_t> divide_64_by_32(std::uint64_t u, std::uint32_t v) noexcept {
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
   // v >= 2^31, so the high digit is at least 2^15: the OR changes nothing
   // but shows the static analyser a divisor that cannot be zero.
   const std::uint32_t v_high = (v >> 16U) | 0x8000U;
   const std::uint32_t v_low = v & 0xFFFFU;
-  const std::uint32_t u_high_digit = kNumeratorLow >> 16U;
-  const std::uint32_t u_low_digit = kNumeratorLow & 0xFFFFU;
-  const std::uint32_t q1 = quotient_digit(kNumeratorHigh, v_high, v_low, u_high_digit);
-  // The partial remainder fits 32 bits; the wrapping arithmetic gives it.
-  const std::uint32_t partial = ((kNumeratorHigh * kDigitBase) + u_high_digit) - (q1 * v);
+  const auto u_high = static_cast<std::uint32_t>(u / kWord);  // u >> 32 without a library shift
+  const auto u_low = static_cast<std::uint32_t>(u);
+  const std::uint32_t u_high_digit = u_low >> 16U;
+  const std::uint32_t u_low_digit = u_low & 0xFFFFU;
+  const std::uint32_t q1 = quotient_digit(u_high, v_high, v_low, u_high_digit);
+  const std::uint32_t partial = ((u_high * kDigitBase) + u_high_digit) - (q1 * v);
   const std::uint32_t q0 = quotient_digit(partial, v_high, v_low, u_low_digit);
-  return (q1 * kDigitBase) + q0;
+  const std::uint32_t remainder = ((partial * kDigitBase) + u_low_digit) - (q0 * v);
+  return wide::DivMod<std::uint32_t>{(q1 * kDigitBase) + q0, remainder};
 }
 
 }  // namespace detail
@@ -108,7 +114,9 @@ constexpr std::uint32_t floor_two_to_63_less_1_over(std::uint32_t v) noexcept {
   const std::uint64_t normalised = (n <= 32U) ? wide::shl(d_raw, 32U - n) : wide::shr(d_raw, n - 32U);
   // normalised is in [2^31, 2^32): the high half of the divisor is at least
   // 2^15, never zero.
-  const std::uint32_t mantissa = detail::floor_two_to_63_less_1_over(static_cast<std::uint32_t>(normalised));
+  constexpr std::uint64_t kTwoTo63Less1 = ~std::uint64_t{0U} >> 1U;
+  const std::uint32_t mantissa =
+      detail::divide_64_by_32(kTwoTo63Less1, static_cast<std::uint32_t>(normalised)).quotient;
   return NormalisedReciprocal{mantissa, (31 + static_cast<std::int32_t>(n)) - d_frac_bits};
 }
 

@@ -1,0 +1,114 @@
+// normalised_quotient.hpp: n / d for operands of any scale, from one 64 / 32-bit
+// long division of their leading bits, rounded into a Q format.
+//
+// Where a quotient's operands are products of inputs (Eq. 11's sinkage
+// (C1 T - r (C3 W + DP)) / (C2 W), the section 7 torque limit W L / C1), an
+// exact quotient needs a 128-bit dividend; the flight code's chains took one
+// per division through the Q31.32 path. Here both operands are normalised:
+//
+//   |n| = N * 2^a with N in [2^62, 2^63) (exact: |n| < 2^63 shifts left; a
+//         64-bit |n| loses its last bit, 2^-62 relative),
+//   |d| ~ D * 2^b with D in [2^31, 2^32) (|d|'s leading 32 bits, truncated:
+//         < 2^-31 relative),
+//   q = floor(N / D), in (2^30, 2^32)  (reciprocal.hpp's divide_64_by_32:
+//         two 32 / 16-bit divisions on a core without a divide instruction),
+//
+// and n / d ~ q * 2^(a - b). The floor loses < 2^-30 relative, the
+// truncations < 2^-31 + 2^-62, so q * 2^(a - b) is within |n/d| * 2^-29 of
+// n/d. Rounding into Out (to nearest, ties away from zero, on the magnitude)
+// adds 0.5 LSB:
+//
+//   |divide_normalised<Out>(n, d) - n/d| <= 0.5 LSB(Out) + |n/d| * 2^-29.
+//
+// A quotient beyond Out saturates and raises overflow; d == 0 raises
+// div_by_zero and gives 0 for n == 0, else the saturated value of n's sign.
+// host_tests/fixedpoint/test_normalised_quotient.cpp checks the bound against
+// the exact quotient over random and edge operands.
+#ifndef SINKWATCH_FIXEDPOINT_NORMALISED_QUOTIENT_HPP
+#define SINKWATCH_FIXEDPOINT_NORMALISED_QUOTIENT_HPP
+
+#include <cstdint>
+
+#include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/reciprocal.hpp"
+#include "sinkwatch/fixedpoint/status.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
+
+namespace sinkwatch {
+namespace fx {
+
+/// A signed value with a run-time scale: (negative ? -1 : 1) * magnitude * 2^-frac_bits.
+/// For operands whose scale is only known at run time (a product whose
+/// leading bits were kept, flight/src/current_limit.cpp).
+struct ScaledMagnitude {
+  bool negative{false};
+  std::uint64_t magnitude{0U};
+  std::int32_t frac_bits{0};
+};
+
+/// The Q value as a ScaledMagnitude (exact; INT64_MIN's magnitude is 2^63).
+template <typename S, std::int32_t F>
+[[nodiscard]] constexpr ScaledMagnitude scaled(Q<S, F> x) noexcept {
+  return ScaledMagnitude{detail::is_negative(x.raw()), detail::magnitude(x.raw()), F};
+}
+
+namespace detail {
+
+/// q * 2^exponent rounded to an integer (to nearest, ties up) for q < 2^32;
+/// all ones when it needs more than 64 bits (every format then saturates).
+constexpr std::uint64_t scale_quotient(std::uint32_t q, std::int32_t exponent) noexcept {
+  if (exponent > 32) {
+    return ~std::uint64_t{0U};
+  }
+  if (exponent >= 0) {
+    return wide::shl(std::uint64_t{q}, static_cast<std::uint32_t>(exponent));  // < 2^64
+  }
+  if (exponent < -33) {
+    return 0U;  // q * 2^exponent < 2^32 * 2^-34 = 1/4
+  }
+  const auto s = static_cast<std::uint32_t>(-exponent);
+  return (std::uint64_t{q} + (std::uint64_t{1U} << (s - 1U))) >> s;  // no carry out of 64 bits
+}
+
+}  // namespace detail
+
+/// n / d rounded into Out, within 0.5 LSB + |n/d| 2^-29 (above).
+template <typename Out>
+[[nodiscard]] constexpr Out divide_normalised(ScaledMagnitude n, ScaledMagnitude d, Status& status) noexcept {
+  using OutS = typename Out::storage_type;
+  const bool negative = n.negative != d.negative;
+  if (d.magnitude == 0U) {
+    status.raise(Flag::div_by_zero);
+    if (n.magnitude == 0U) {
+      return Out::zero();
+    }
+    return n.negative ? Out::min() : Out::max();
+  }
+  if (n.magnitude == 0U) {
+    return Out::zero();
+  }
+  const std::uint32_t n_bits = wide::bit_length(n.magnitude);
+  const std::uint32_t d_bits = wide::bit_length(d.magnitude);
+  const std::uint64_t n_normalised =
+      (n_bits < 64U) ? wide::shl(n.magnitude, 63U - n_bits) : wide::shr(n.magnitude, 1U);
+  const std::uint64_t d_normalised =
+      (d_bits <= 32U) ? wide::shl(d.magnitude, 32U - d_bits) : wide::shr(d.magnitude, d_bits - 32U);
+  const std::uint32_t q = detail::divide_64_by_32(n_normalised, static_cast<std::uint32_t>(d_normalised)).quotient;
+  // n/d ~ q * 2^(n_bits - d_bits - 31 - n.frac + d.frac); in Out's raw units
+  // q * 2^exponent with:
+  const std::int32_t exponent = ((static_cast<std::int32_t>(n_bits) - static_cast<std::int32_t>(d_bits)) - 31) -
+                                ((n.frac_bits - d.frac_bits) - Out::frac_bits);
+  const std::uint64_t mag = detail::scale_quotient(q, exponent);
+  return Out::from_raw(detail::from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
+}
+
+/// n / d for Q operands (the common case: both scales known when compiled).
+template <typename Out, typename SN, std::int32_t FN, typename SD, std::int32_t FD>
+[[nodiscard]] constexpr Out divide_normalised(Q<SN, FN> n, Q<SD, FD> d, Status& status) noexcept {
+  return divide_normalised<Out>(scaled(n), scaled(d), status);
+}
+
+}  // namespace fx
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_FIXEDPOINT_NORMALISED_QUOTIENT_HPP

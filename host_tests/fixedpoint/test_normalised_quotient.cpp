@@ -1,0 +1,148 @@
+// test_normalised_quotient.cpp: fx::divide_normalised (normalised_quotient.hpp)
+// and the long division under it (reciprocal.hpp's detail::divide_64_by_32).
+// The long division is checked against the built-in 64-bit division; every
+// quotient against the exact one, computed in double with its own rounding
+// (3 * 2^-53 relative) added to the documented bound 0.5 LSB + |n/d| 2^-29.
+// Plain integer and double arithmetic only, so the test runs under qemu-arm.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+
+#include "sinkwatch/fixedpoint/literal.hpp"
+#include "sinkwatch/fixedpoint/normalised_quotient.hpp"
+#include "sinkwatch/fixedpoint/q.hpp"
+
+namespace {
+
+namespace fx = sinkwatch::fx;
+
+/// A random value of a random bit length (1..bits), so every normalisation shift is drawn.
+std::uint64_t random_magnitude(std::mt19937_64& rng, std::uint32_t bits) {
+  const std::uint32_t length = 1U + static_cast<std::uint32_t>(rng() % bits);
+  const std::uint64_t top = std::uint64_t{1U} << (length - 1U);
+  return top | (rng() & (top - 1U));
+}
+
+/// The quotient is within 0.5 LSB + |n/d| 2^-29 of n/d, or saturated with
+/// overflow only where n/d is beyond Out (up to the same bound).
+template <typename Out>
+void expect_within_bound(fx::ScaledMagnitude n, fx::ScaledMagnitude d) {
+  fx::Status st;
+  const Out got = fx::divide_normalised<Out>(n, d, st);
+  const double sign = (n.negative != d.negative) ? -1.0 : 1.0;
+  const double exact_raw = sign * std::ldexp(static_cast<double>(n.magnitude) / static_cast<double>(d.magnitude),
+                                             (d.frac_bits - n.frac_bits) + Out::frac_bits);
+  const double slack = 0.5 + std::fabs(exact_raw) * (std::ldexp(1.0, -29) + std::ldexp(3.0, -53));
+  const double max_raw = static_cast<double>(std::numeric_limits<typename Out::storage_type>::max());
+  if (!st.ok()) {
+    EXPECT_TRUE(st.has(fx::Flag::overflow)) << n.magnitude << " / " << d.magnitude;
+    EXPECT_GE(std::fabs(exact_raw) + slack, max_raw) << n.magnitude << " / " << d.magnitude;
+    EXPECT_TRUE((got == Out::max()) || (got == Out::min()));
+    return;
+  }
+  EXPECT_LE(std::fabs(static_cast<double>(got.raw()) - exact_raw), slack) << n.magnitude << " / " << d.magnitude;
+}
+
+TEST(NormalisedQuotient, LongDivisionEqualsTheBuiltInDivision) {
+  std::mt19937_64 rng(20261125U);
+  for (int i = 0; i < 2000000; ++i) {
+    const auto v = static_cast<std::uint32_t>(rng() | 0x80000000U);
+    const std::uint64_t u = rng() % (std::uint64_t{v} << 32U);  // u < v 2^32: the quotient fits 32 bits
+    const fx::wide::DivMod<std::uint32_t> qr = fx::detail::divide_64_by_32(u, v);
+    ASSERT_EQ(qr.quotient, u / v) << u << " / " << v;
+    ASSERT_EQ(qr.remainder, u % v) << u << " / " << v;
+  }
+  // The largest dividend for the smallest and the largest divisor.
+  EXPECT_EQ(fx::detail::divide_64_by_32((std::uint64_t{0x80000000U} << 32U) - 1U, 0x80000000U).quotient, 0xFFFFFFFFU);
+  constexpr std::uint64_t kLargest = (std::uint64_t{0xFFFFFFFFU} << 32U) - 1U;
+  EXPECT_EQ(fx::detail::divide_64_by_32(kLargest, 0xFFFFFFFFU).quotient, 0xFFFFFFFFU);
+  EXPECT_EQ(fx::detail::divide_64_by_32(kLargest, 0xFFFFFFFFU).remainder, 0xFFFFFFFEU);
+}
+
+TEST(NormalisedQuotient, RandomOperandsOfEveryLengthAreWithinTheBound) {
+  std::mt19937_64 rng(7U);
+  for (int i = 0; i < 400000; ++i) {
+    const fx::ScaledMagnitude n{(rng() & 1U) != 0U, random_magnitude(rng, 64U), static_cast<std::int32_t>(rng() % 64U)};
+    const fx::ScaledMagnitude d{(rng() & 1U) != 0U, random_magnitude(rng, 64U), static_cast<std::int32_t>(rng() % 64U)};
+    expect_within_bound<fx::Q<std::int32_t, 24>>(n, d);
+    expect_within_bound<fx::Q<std::int32_t, 16>>(n, d);
+    expect_within_bound<fx::Q<std::int64_t, 40>>(n, d);
+  }
+}
+
+TEST(NormalisedQuotient, QuotientsNearEachFormatsLimitSaturateOnlyBeyondIt) {
+  std::mt19937_64 rng(11U);
+  using Out = fx::Q<std::int32_t, 24>;
+  for (int i = 0; i < 200000; ++i) {
+    // n / d within 2^-20 of 128, the Q7.24 limit, from both sides.
+    const std::uint64_t d = random_magnitude(rng, 40U);
+    const std::uint64_t offset = rng() % ((d / 1024U) + 1U);
+    const std::uint64_t n = ((rng() & 1U) != 0U) ? ((d * 128U) + offset) : ((d * 128U) - offset);
+    expect_within_bound<Out>(fx::ScaledMagnitude{false, n, 0}, fx::ScaledMagnitude{false, d, 0});
+    expect_within_bound<Out>(fx::ScaledMagnitude{true, n, 0}, fx::ScaledMagnitude{false, d, 0});
+  }
+}
+
+TEST(NormalisedQuotient, SmallIntegerQuotientsAreExact) {
+  using Out = fx::Q<std::int32_t, 24>;
+  fx::Status st;
+  EXPECT_EQ(fx::divide_normalised<Out>(fx::Q<std::int64_t, 40>::from_raw(std::int64_t{7} << 40),
+                                       fx::Q<std::int32_t, 16>::from_raw(2 << 16), st),
+            fx::constant<Out>(3.5));
+  EXPECT_EQ(fx::divide_normalised<Out>(fx::Q<std::int64_t, 40>::from_raw(-(std::int64_t{6} << 40)),
+                                       fx::Q<std::int32_t, 24>::from_raw(3 << 24), st),
+            fx::constant<Out>(-2.0));
+  EXPECT_TRUE(st.ok());
+}
+
+/// A positive or negative integer with no fraction bits.
+fx::ScaledMagnitude integer(bool negative, std::uint64_t magnitude) { return fx::ScaledMagnitude{negative, magnitude, 0}; }
+
+TEST(NormalisedQuotient, TinyQuotientsRoundToZeroAndHugeOnesSaturate) {
+  using Out = fx::Q<std::int32_t, 24>;
+  constexpr std::uint64_t kOne = 1U;
+  fx::Status st;
+  // 1 / 2^62 in Q7.24 is far below half an LSB.
+  EXPECT_EQ(fx::divide_normalised<Out>(integer(true, 1U), integer(false, kOne << 62U), st),
+            Out::zero());
+  // Half an LSB exactly rounds away from zero: 1 / 2^25.
+  EXPECT_EQ(fx::divide_normalised<Out>(integer(false, 1U), integer(false, kOne << 25U), st),
+            Out::from_raw(1));
+  EXPECT_TRUE(st.ok());
+  // 2^62 / 1: beyond any 32- or 64-bit format.
+  EXPECT_EQ(fx::divide_normalised<Out>(integer(false, kOne << 62U), integer(false, 1U), st),
+            Out::max());
+  EXPECT_TRUE(st.has(fx::Flag::overflow));
+  fx::Status st_negative;
+  EXPECT_EQ(fx::divide_normalised<Out>(integer(false, kOne << 40U), integer(true, 1U), st_negative),
+            Out::min());
+  EXPECT_TRUE(st_negative.has(fx::Flag::overflow));
+}
+
+TEST(NormalisedQuotient, ZeroDivisorReportsDivisionByZero) {
+  using Out = fx::Q<std::int32_t, 24>;
+  fx::Status st;
+  EXPECT_EQ(fx::divide_normalised<Out>(fx::ScaledMagnitude{true, 5U, 0}, fx::ScaledMagnitude{}, st), Out::min());
+  EXPECT_TRUE(st.has(fx::Flag::div_by_zero));
+  fx::Status st_zero;
+  EXPECT_EQ(fx::divide_normalised<Out>(fx::ScaledMagnitude{}, fx::ScaledMagnitude{}, st_zero), Out::zero());
+  EXPECT_TRUE(st_zero.has(fx::Flag::div_by_zero));
+  fx::Status st_ok;
+  EXPECT_EQ(fx::divide_normalised<Out>(fx::ScaledMagnitude{}, fx::ScaledMagnitude{false, 3U, 0}, st_ok), Out::zero());
+  EXPECT_TRUE(st_ok.ok());
+}
+
+TEST(NormalisedQuotient, MostNegativeOperandsAreTheirMagnitudes) {
+  using Out = fx::Q<std::int32_t, 0>;
+  fx::Status st;
+  const auto int64_min = fx::Q<std::int64_t, 0>::from_raw(std::numeric_limits<std::int64_t>::min());
+  // -2^63 / -2^62 = 2, exactly.
+  EXPECT_EQ(fx::divide_normalised<Out>(int64_min, fx::Q<std::int64_t, 0>::from_raw(-(std::int64_t{1} << 62)), st),
+            Out::from_raw(2));
+  EXPECT_TRUE(st.ok());
+}
+
+}  // namespace
