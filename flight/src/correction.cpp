@@ -1,6 +1,7 @@
 // Piecewise-linear corrections over the load breakpoints (correction.hpp).
 #include "sinkwatch/flight/correction.hpp"
 
+#include "sinkwatch/fixedpoint/reciprocal.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
 
 namespace sinkwatch {
@@ -42,6 +43,36 @@ Ratio lerp(Ratio a, Ratio b, WideQ fraction, fx::Status& st) noexcept {
   const std::int64_t value = (static_cast<std::int64_t>(a.raw()) * 256) + ((d < 0) ? -step_mag : step_mag);
   const std::uint64_t out_mag = round_shift(fx::detail::magnitude(value), 8U);
   return Ratio(RatioQ::from_raw(fx::detail::from_sign_magnitude<std::int32_t>(value < 0, out_mag, st)));
+}
+
+/// f = offset / width in Q31.32, bit for bit fx::div<WideQ>(offset, width).
+/// With a = offset 2^shift < v = width 2^shift and m = floor((2^63 - 1)/v),
+/// q' = floor(a m / 2^31) is the quotient q = floor(a 2^32 / v) or up to three
+/// below it (m > (2^63 - 1)/v - 1 and a < 2^32), so the remainder
+/// a 2^32 - q' v (below 4 v < 2^34) corrects it in at most three steps. Then
+/// q is rounded half up, as fx::div rounds a magnitude. False when there is no
+/// segment or the offset is not in [0, width) (a table validate() refuses).
+bool fraction_in(LoadQ offset, SegmentWidth width, WideQ& fraction) noexcept {
+  if ((width.normalised == 0U) || (offset.raw() < 0)) {
+    return false;
+  }
+  const std::uint64_t shifted = fx::wide::shl(static_cast<std::uint64_t>(offset.raw()), width.shift);
+  if (shifted >= width.normalised) {
+    return false;
+  }
+  const auto a = static_cast<std::uint32_t>(shifted);
+  std::uint64_t quotient = fx::wide::mul_32x32_64(a, width.mantissa) >> 31U;  // < 2^32
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  std::uint64_t remainder =
+      (shifted * kWord) - fx::wide::mul_32x32_64(static_cast<std::uint32_t>(quotient), width.normalised);
+  for (std::uint32_t step = 0U; step < 3U; ++step) {
+    const bool short_by_one = remainder >= width.normalised;
+    quotient += short_by_one ? 1U : 0U;
+    remainder -= short_by_one ? width.normalised : 0U;
+  }
+  const bool round_up = remainder >= (width.normalised - remainder);
+  fraction = WideQ::from_raw(static_cast<std::int64_t>(quotient + (round_up ? 1U : 0U)));
+  return true;
 }
 
 CorrectionResult from_row(const CorrectionRow& row, LoadClamp clamp) noexcept {
@@ -87,7 +118,10 @@ CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDi
   const CorrectionRow& hi = table.rows[seg + 1U];
   fx::Status st;
   const LoadQ offset = fx::sub(load_n.q(), lo.load_n.q(), st);
-  const WideQ fraction = div_by_constant<WideQ>(offset, divisors.width[seg], st);
+  WideQ fraction = WideQ::zero();
+  if ((!st.ok()) || (!fraction_in(offset, divisors.width[seg], fraction))) {
+    return failed;
+  }
   const Coefficients c{lerp(lo.c1, hi.c1, fraction, st), lerp(lo.c2, hi.c2, fraction, st),
                        lerp(lo.c3, hi.c3, fraction, st)};
   const Ratio dp = lerp(lo.dp_max_ratio, hi.dp_max_ratio, fraction, st);
@@ -103,7 +137,10 @@ CorrectionDivisors make_correction_divisors(const CorrectionTable& table) noexce
     fx::Status st;
     const LoadQ width = fx::sub(table.rows[i + 1U].load_n.q(), table.rows[i].load_n.q(), st);
     if (((i + 1U) < table.count) && st.ok() && (width.raw() > 0)) {
-      d.width[i] = make_divisor(width);
+      const auto raw = static_cast<std::uint32_t>(width.raw());  // below 2^31
+      const std::uint32_t shift = 32U - fx::wide::bit_length32(raw);
+      const std::uint32_t normalised = raw << shift;
+      d.width[i] = SegmentWidth{normalised, shift, fx::normalised_reciprocal(normalised, 0).mantissa};
     }
   }
   return d;

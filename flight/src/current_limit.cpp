@@ -1,8 +1,28 @@
 // Section 7's maximum drive current (current_limit.hpp).
 #include "sinkwatch/flight/current_limit.hpp"
 
+#include "sinkwatch/fixedpoint/normalised_quotient.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
+
 namespace sinkwatch {
 namespace flight {
+
+namespace {
+
+/// W L from L's leading 31 bits, rounded (< 2^-31 relative), times W > 0:
+/// one 32 x 32 -> 64-bit product whose scale is known only at run time.
+fx::ScaledMagnitude load_times(fx::Q<std::int64_t, 48> lever, WheelLoadN load_n) noexcept {
+  const std::uint64_t magnitude = fx::detail::magnitude(lever.raw());
+  const std::uint32_t bits = fx::wide::bit_length(magnitude);
+  const std::uint32_t dropped = (bits > 31U) ? (bits - 31U) : 0U;
+  const std::uint64_t leading =
+      (dropped == 0U) ? magnitude : (fx::wide::shr(magnitude, dropped) + (fx::wide::shr(magnitude, dropped - 1U) & 1U));
+  const std::uint64_t product = fx::wide::mul_32x32_64(static_cast<std::uint32_t>(leading),
+                                                       static_cast<std::uint32_t>(load_n.raw()));  // <= 2^62
+  return fx::ScaledMagnitude{lever.raw() < 0, product, (16 + 48) - static_cast<std::int32_t>(dropped)};
+}
+
+}  // namespace
 
 TorqueLimitResult torque_limit(const Coefficients& c, Ratio dp_max_ratio, LengthM radius_m, WheelLoadN load_n,
                                SinkageM allowed_sinkage_m) noexcept {
@@ -11,13 +31,14 @@ TorqueLimitResult torque_limit(const Coefficients& c, Ratio dp_max_ratio, Length
     return TorqueLimitResult{TorqueNm::zero(), input_status};
   }
   fx::Status st;
-  // T_max = (W / C1) * (r * (DP_max/W + C3) + C2 * z_max)
-  const WideQ traction = fx::add(fx::rescale<WideQ>(dp_max_ratio.q(), st), fx::rescale<WideQ>(c.c3.q(), st), st);
-  const WideQ r_traction = fx::mul<WideQ>(radius_m.q(), traction, st);
-  const WideQ sink = fx::mul<WideQ>(c.c2.q(), allowed_sinkage_m.q(), st);
-  const WideQ lever = fx::add(r_traction, sink, st);
-  const WideQ moment = fx::mul<WideQ>(load_n.q(), lever, st);
-  const LoadQ t_max = fx::div<LoadQ>(moment, c.c1.q(), st);
+  // T_max = W L / C1 with the lever L = r (DP_max/W + C3) + C2 z_max, one
+  // division (docs/flight.md, "Current limit"). L is exact in Q15.48: each of
+  // its products is at most 2^57 raw, their sum below 2^58.
+  using Lever = fx::Q<std::int64_t, 48>;
+  const Lever traction_lever = fx::add(fx::mul<Lever>(radius_m.q(), dp_max_ratio.q(), st),
+                                       fx::mul<Lever>(radius_m.q(), c.c3.q(), st), st);
+  const Lever lever = fx::add(traction_lever, fx::mul<Lever>(c.c2.q(), allowed_sinkage_m.q(), st), st);
+  const LoadQ t_max = fx::divide_normalised<LoadQ>(load_times(lever, load_n), fx::scaled(c.c1.q()), st);
   if (!st.ok()) {
     return TorqueLimitResult{TorqueNm::zero(), EstimateStatus::overflow};
   }

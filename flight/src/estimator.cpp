@@ -1,6 +1,8 @@
-// Eq. 11 in both directions (estimator.hpp). Every chain runs in Q31.32 and
-// rounds once into its output; docs/flight.md has the error bound per step.
+// Eq. 11 in both directions (estimator.hpp); docs/flight.md has the error
+// bound per step.
 #include "sinkwatch/flight/estimator.hpp"
+
+#include "sinkwatch/fixedpoint/normalised_quotient.hpp"
 
 namespace sinkwatch {
 namespace flight {
@@ -26,14 +28,19 @@ SinkageResult sinkage_from_pull(const Coefficients& c, LengthM radius_m, WheelLo
     return SinkageResult{SinkageM::zero(), input_status};
   }
   fx::Status st;
-  // z = (C1 * T/W - r * (C3 + DP/W)) / C2
-  const WideQ t_over_w = fx::div<WideQ>(torque_nm.q(), load_n.q(), st);
-  const WideQ drive = fx::mul<WideQ>(c.c1.q(), t_over_w, st);
-  const WideQ dp_over_w = fx::div<WideQ>(drawbar_pull_n.q(), load_n.q(), st);
-  const WideQ offset = fx::add(fx::rescale<WideQ>(c.c3.q(), st), dp_over_w, st);
-  const WideQ r_offset = fx::mul<WideQ>(radius_m.q(), offset, st);
-  const WideQ numerator = fx::sub(drive, r_offset, st);
-  const LengthQ z = fx::div<LengthQ>(numerator, c.c2.q(), st);
+  // z = (C1 T - r C3 W - r DP) / (C2 W): one division, its operands in
+  // Q23.40 on 64 bits (docs/flight.md, "Sinkage"). C1 T, r DP and C2 W are
+  // exact products; r C3 (|r C3| <= 2) is rounded to Q2.29 before it meets
+  // W, so r C3 W is one product rounded to Q23.40. Every term is below 2^57.5
+  // raw, their sum below 2^59: no intermediate can overflow.
+  using Moment = fx::Q<std::int64_t, 40>;
+  const Moment drive = fx::mul<Moment>(c.c1.q(), torque_nm.q(), st);
+  const Moment pull_moment = fx::mul<Moment>(radius_m.q(), drawbar_pull_n.q(), st);
+  const auto r_c3 = fx::mul<fx::Q<std::int32_t, 29>>(radius_m.q(), c.c3.q(), st);
+  const Moment offset_moment = fx::mul<Moment>(r_c3, load_n.q(), st);
+  const Moment numerator = fx::sub(fx::sub(drive, pull_moment, st), offset_moment, st);
+  const Moment denominator = fx::mul<Moment>(c.c2.q(), load_n.q(), st);
+  const LengthQ z = fx::divide_normalised<LengthQ>(numerator, denominator, st);
   if (!st.ok()) {
     return SinkageResult{SinkageM::zero(), EstimateStatus::overflow};
   }

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "estimator_bounds.hpp"
 #include "prepared_support.hpp"
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/flight/correction.hpp"
@@ -84,11 +85,12 @@ double check_estimates(const flight::ParameterTable& table, const std::vector<Ob
     // Bound. Each coefficient is rounded to nearest in Q7.24 (|dC| <= 2^-25).
     // z = N / C2 with N = C1 T/W - r (C3 + DP/W): |dN| <= 2^-25 (|T/W| + r),
     // and N'/C2' - N/C2 = (dN - z dC2) / C2', |C2'| >= |C2| - 2^-25. The
-    // estimator itself rounds within 0.5625 LSB of Q7.24 (estimator.hpp).
+    // estimator's own error is docs/flight.md's (estimator_bounds.hpp).
     const double half_lsb = kRatioLsb / 2.0;
+    const double c2 = fx::to_double(corrections.coefficients.c2.q());
     const double bound = half_lsb * (std::abs(t / w) + r + std::abs(ground_z)) /
                              (std::abs(ground_c[1]) - half_lsb) +
-                         0.5625 * kRatioLsb;
+                         test::sinkage_error_bound_m(c2, w, ground_z);
     const double error = std::abs(fx::to_double(flight_z.sinkage_m.q()) - ground_z);
     EXPECT_LE(error, bound) << "slip " << o.slip << " load " << load_n;
     worst = std::max(worst, error / bound);

@@ -83,11 +83,11 @@ TEST(CorrectionsAtPrepared, MalformedTablesGiveThePlainAnswerAtEveryLoad) {
       EXPECT_EQ(prepared.dp_max_ratio, plain.dp_max_ratio) << load;
     }
   }
-  // The overflowing and the falling segments have no reciprocal; the good ones do.
-  EXPECT_EQ(make_correction_divisors(overflowing).width[0].reciprocal, 0U);
-  EXPECT_NE(make_correction_divisors(overflowing).width[1].reciprocal, 0U);
-  EXPECT_EQ(make_correction_divisors(falling).width[0].reciprocal, 0U);
-  EXPECT_NE(make_correction_divisors(falling).width[1].reciprocal, 0U);
+  // The overflowing and the falling segments have no normalised width; the good ones do.
+  EXPECT_EQ(make_correction_divisors(overflowing).width[0].normalised, 0U);
+  EXPECT_NE(make_correction_divisors(overflowing).width[1].normalised, 0U);
+  EXPECT_EQ(make_correction_divisors(falling).width[0].normalised, 0U);
+  EXPECT_NE(make_correction_divisors(falling).width[1].normalised, 0U);
   // The interpolation in the falling table's good segment is a number.
   EXPECT_EQ(corrections_at(falling, make_correction_divisors(falling), q<WheelLoadN>(100.0)).status, EstimateStatus::ok);
 }

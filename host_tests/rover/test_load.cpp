@@ -56,8 +56,8 @@ TEST(Load, PreparesWhatPrepareWouldFromTheSameTableAndRover) {
   EXPECT_EQ(loaded.rover().gravity_mps2, prepared.rover().gravity_mps2);
   EXPECT_EQ(loaded.table().wheel_radius_m, prepared.table().wheel_radius_m);
   for (std::uint8_t i = 0U; i < flight::kMaxCorrectionRows; ++i) {
-    EXPECT_EQ(loaded.correction_divisors().width[i].reciprocal, prepared.correction_divisors().width[i].reciprocal);
-    EXPECT_EQ(loaded.correction_divisors().width[i].value.raw(), prepared.correction_divisors().width[i].value.raw());
+    EXPECT_EQ(loaded.correction_divisors().width[i].normalised, prepared.correction_divisors().width[i].normalised);
+    EXPECT_EQ(loaded.correction_divisors().width[i].shift, prepared.correction_divisors().width[i].shift);
   }
   EXPECT_NE(loaded.motor_divisors().inverse_gain.mantissa, 0U);
   EXPECT_EQ(loaded.motor_divisors().inverse_gain.mantissa, prepared.motor_divisors().inverse_gain.mantissa);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "estimator_bounds.hpp"
 #include "prepared_support.hpp"
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/flight/correction.hpp"
@@ -75,23 +76,21 @@ RC_GTEST_PROP(FlightVsReference, SinkageWithinBoundOrOverflowOnlyBeyondTheFormat
   const double drive = rc_.c1 * tt / ww;
   const double offset = rr * (rc_.c3 + pp / ww);
   const double expected = ref::sinkage_m(rc_, rr, ww, tt, pp);
-  // Intermediates near their format's limit may or may not overflow.
-  const double largest = std::max({std::fabs(tt / ww), std::fabs(drive), std::fabs(pp / ww), std::fabs(offset),
-                                   std::fabs(drive - offset)});
+  // docs/flight.md, "Sinkage".
+  const double bound = test::sinkage_error_bound_m(rc_.c2, ww, expected) +
+                       8.0 * kEps * (std::fabs(drive) + std::fabs(offset)) / rc_.c2;
   if (got.status == EstimateStatus::ok) {
-    const double bound = 0.5 * kLsbZ + (rc_.c1 + 2.0 + rr) * k2m33 / rc_.c2 +
-                         8.0 * kEps * (std::fabs(drive) + std::fabs(offset)) / rc_.c2;
     RC_ASSERT(std::fabs(d(got.sinkage_m) - expected) <= bound);
-    // The documented worst case over the envelope (C1 <= 4, r <= 2 m,
-    // C2 >= 1/4): 0.5 + 1/16 = 0.5625 LSB, plus the reference's own rounding.
-    RC_ASSERT(std::fabs(d(got.sinkage_m) - expected) <=
-              0.5625 * kLsbZ + 8.0 * kEps * (std::fabs(drive) + std::fabs(offset)) / rc_.c2);
+    // The documented worst case over the envelope (|z| < 128 m, C2 >= 1/4,
+    // W >= 1 LSB): below 0.001 mm, a hundredth of issue 15's 0.1 mm.
+    RC_ASSERT(std::fabs(d(got.sinkage_m) - expected) <= 1e-6);
   } else {
+    // No intermediate can overflow: only a sinkage beyond Q7.24 is refused.
     RC_ASSERT(got.status == EstimateStatus::overflow);
     RC_ASSERT(got.sinkage_m == SinkageM::zero());
-    RC_ASSERT((std::fabs(expected) >= kZMax - kLsbZ) || (largest >= kQ31Max * (1.0 - 1e-9)));
+    RC_ASSERT(std::fabs(expected) + bound >= kZMax - kLsbZ);
   }
-  if ((std::fabs(expected) < kZMax - 1.0) && (largest < kQ31Max / 2.0)) {
+  if (std::fabs(expected) + bound < kZMax - kLsbZ) {
     RC_ASSERT(got.status == EstimateStatus::ok);
   }
 }
@@ -217,13 +216,16 @@ RC_GTEST_PROP(FlightVsReference, CurrentLimitWithinBound, ()) {
   // The coefficients at W are themselves within e_c of the reference.
   const double e_c = 0.5 * kLsbZ + 2.0 * k2m33;
   const double c1 = corr.coefficients.c1;
-  const double e_t = 0.5 * kLsbT + (d(w) * std::ldexp(1.0, -32) + k2m33) / c1 +
+  // docs/flight.md, "Current limit": the exact lever's leading 31 bits and
+  // the normalised division (|T_max| 2^-28), then the coefficients' own error.
+  const double e_t = test::torque_limit_error_bound_nm(t_max) +
                      d(w) * (p.wheel_radius_m * 2.0 * e_c + d(zmax) * e_c) / c1 + std::fabs(t_max) * e_c / c1 +
                      8.0 * kEps * std::fabs(t_max);
   if (got.status == EstimateStatus::ok) {
     RC_ASSERT(std::fabs(d(got.torque_limit_nm) - t_max) <= e_t);
-    const double bound = e_t / gain + 0.5 * kLsbI +
-                         k2m33 * (1.0 / (p.motor.efficiency * p.motor.kt_nm_per_a) + 1.0 / p.motor.kt_nm_per_a + 1.0) +
+    // The motor model's bound (docs/flight.md, "Current from torque") with
+    // the torque limit's error carried through the gain.
+    const double bound = e_t / gain + 0.5 * kLsbI + std::fabs(t_max / gain) * std::ldexp(1.0, -29) +
                          8.0 * kEps * std::fabs(expected);
     RC_ASSERT(std::fabs(d(got.current_limit_a) - expected) <= bound);
   } else {

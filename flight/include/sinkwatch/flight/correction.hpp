@@ -16,7 +16,6 @@
 
 #include <cstdint>
 
-#include "sinkwatch/flight/constant_divisor.hpp"
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/units.hpp"
 
@@ -53,19 +52,30 @@ struct CorrectionResult {
   EstimateStatus status{EstimateStatus::ok};  ///< invalid_load for W <= 0, invalid_coefficient for a malformed table
 };
 
-/// The segment widths W_k+1 - W_k of a table as prepared divisors
-/// (constant_divisor.hpp): the interpolation fraction without a division.
+/// A segment width W_k+1 - W_k (raw Q15.16, positive) shifted left until its
+/// top bit is bit 31, and its reciprocal's mantissa (fixedpoint/reciprocal.hpp).
+/// The interpolation fraction (W - W_k) / width is then one product with the
+/// mantissa, at most three below the quotient, and a remainder that corrects
+/// it: the exact quotient, so the fraction has fx::div's bits without a
+/// division per cycle (correction.cpp, fraction_in).
+struct SegmentWidth {
+  std::uint32_t normalised{0U};  ///< width * 2^shift, in [2^31, 2^32); 0: no segment
+  std::uint32_t shift{0U};
+  std::uint32_t mantissa{0U};  ///< floor((2^63 - 1) / normalised)
+};
+
+/// The segment widths of a table, prepared once per table load.
 struct CorrectionDivisors {
-  ConstantDivisor<LoadQ> width[kMaxCorrectionRows];  ///< [k]: rows k..k+1; unused entries: zero (division reported)
+  SegmentWidth width[kMaxCorrectionRows];  ///< [k]: rows k..k+1; unused entries: zero
 };
 
 /// Once per table load. Widths that are not positive (a table validate()
-/// refuses) stay a zero divisor: div_by_constant reports the division by
-/// zero, so corrections_at below fails with a status, never a number.
+/// refuses) stay zero, and corrections_at below then fails with a status,
+/// never a number.
 [[nodiscard]] CorrectionDivisors make_correction_divisors(const CorrectionTable& table) noexcept;
 
 /// C1..C3 and DP_max/W at the load `load_n`, the interpolation fraction's
-/// division by the segment width done through `divisors` (made from this
+/// division by the segment width done with `divisors` (made from this
 /// table). A table that passed validate() never gives a status other than ok
 /// or invalid_load. The per-cycle step is the only user; its parameters come
 /// prepared (prepared_params.hpp). host_tests/flight/dividing_oracle.hpp keeps

@@ -11,9 +11,11 @@
 // docs/derivation.md derives Eq. 11 from the Wong-Reece integrals; the
 // validity limits of the linearisation are written down there.
 //
-// Both functions compute in Q31.32 and round once into the output format;
-// docs/flight.md bounds the error: sinkage within 0.5625 LSB of Q7.24
-// (3.4e-5 mm), drawbar pull within 0.5 LSB + (C1 + 2 + W (C2 + 1)) 2^-33 N.
+// sinkage_from_pull is one division, z = (C1 T - r C3 W - r DP) / (C2 W), of
+// 64-bit operands (fixedpoint/normalised_quotient.hpp): within 0.5 LSB +
+// |z| 2^-29 + 2^-30/C2 + 2^-41/(C2 W), below 0.0004 mm over the envelope.
+// pull_from_sinkage computes in Q31.32 and rounds once: within 0.5 LSB +
+// (C1 + 2 + W (C2 + 1)) 2^-33 N. docs/flight.md, "Error budget", derives both.
 #ifndef SINKWATCH_FLIGHT_ESTIMATOR_HPP
 #define SINKWATCH_FLIGHT_ESTIMATOR_HPP
 

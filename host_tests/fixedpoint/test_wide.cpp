@@ -1,4 +1,4 @@
-// test_cov_wide.cpp: the documented contracts of the 128-bit helpers
+// test_wide.cpp: the documented contracts of the 128-bit helpers
 // (wide.hpp) at the arguments the Q operations never pass them: shift counts
 // at and past the width, a zero shift, and long divisions whose divisor or
 // remainder needs the top bit. docs/coverage.md says why the Q operations
@@ -70,6 +70,29 @@ TEST(FxWide, EqualityComparesBothHalves) {
   EXPECT_FALSE(wide::equal(U128{1U, 2U}, U128{1U, 3U}));
   EXPECT_TRUE(wide::less(U128{0U, kAllOnes}, U128{1U, 0U}));
   EXPECT_FALSE(wide::less(U128{1U, 0U}, U128{1U, 0U}));
+}
+
+/// The definition: the position of the highest set bit, counted one by one.
+std::uint32_t bit_length_by_bits(std::uint32_t a) {
+  std::uint32_t n = 0U;
+  for (std::uint32_t v = a; v != 0U; v >>= 1U) {
+    ++n;
+  }
+  return n;
+}
+
+TEST(FxWide, BitLength32EqualsTheBitByBitCount) {
+  for (std::uint32_t k = 0U; k < 32U; ++k) {
+    const std::uint32_t p = std::uint32_t{1U} << k;
+    for (const std::uint32_t a : {p - 1U, p, p + 1U, p | (p - 1U)}) {
+      ASSERT_EQ(wide::bit_length32(a), bit_length_by_bits(a)) << a;
+    }
+  }
+  std::mt19937 rng(32U);
+  for (int i = 0; i < 10000000; ++i) {
+    const std::uint32_t a = static_cast<std::uint32_t>(rng()) >> (static_cast<std::uint32_t>(rng()) % 32U);
+    ASSERT_EQ(wide::bit_length32(a), bit_length_by_bits(a)) << a;
+  }
 }
 
 TEST(FxWide, BitLengthCountsEverySignificantBit) {
