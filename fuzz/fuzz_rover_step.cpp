@@ -150,7 +150,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         s = sf::WheelState::nominal;
       }
     }
-    const sf::RoverStepOutput o = step.step(t, now, prepared);
+    sf::RoverStepOutput o{};
+    step.step(t, now, prepared, o);
 
     // Enumerations hold enumerators.
     check(u(o.status) <= u(sf::RoverStepStatus::sensor_lost));

@@ -610,7 +610,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   sf::RoverTelemetry t = sample;
   for (std::uint8_t k = 0U; k < table.monitor.trip_n; ++k) {
     t.time = sf::TimeMs{100U * (k + 1U)};
-    out = step.step(t, t.time, prepared);
+    step.step(t, t.time, prepared, out);
   }
   // The twin takes each wheel's torque where the step's health stage passed
   // the current and the motor model gives one (docs/rover-loads.md 12.3).

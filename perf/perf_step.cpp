@@ -116,11 +116,13 @@ long run(long steps, std::int64_t& checksum) {
   static_cast<void>(
       sf::prepare(sf::default_parameter_table(), sf::yutu_like_rover_params(sf::kGravityMoon), prepared));
   sf::RoverStep step;
+  // One record that every cycle overwrites, as the C interface keeps it.
+  sf::RoverStepOutput out{};
   long full = 0;
   for (long i = 0; i < steps; ++i) {
     sf::RoverTelemetry t = kTelemetry.t[i % kRecords];
     t.time = sf::TimeMs{static_cast<std::uint32_t>(100 * (i + 1))};
-    const sf::RoverStepOutput out = step.step(t, t.time, prepared);
+    step.step(t, t.time, prepared, out);
     checksum += out.monitor.wheels[i % 6].sinkage_m.raw();
     full += (out.status == sf::RoverStepStatus::ok) ? 1 : 0;
   }

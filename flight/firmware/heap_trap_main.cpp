@@ -88,6 +88,7 @@ void exercise_estimator(const fl::ParameterTable& table) {
 // steps on prepared parameters only). Namespace-scope objects: a function's
 // static would need a guard variable.
 fl::RoverStep g_step;
+fl::RoverStepOutput g_step_out;
 fl::RoverMonitor g_monitor;
 fl::WheelMonitor g_wheel(1U);
 
@@ -95,7 +96,8 @@ void exercise_step(const fl::PreparedParameters& prepared) {
   fl::RoverTelemetry t{};
   t.time = fl::TimeMs{static_cast<std::uint32_t>(g_raw_in[7])};
   t.valid = true;
-  keep(g_step.step(t, t.time, prepared).monitor.wheels[0].sinkage_m.raw());
+  g_step.step(t, t.time, prepared, g_step_out);
+  keep(g_step_out.monitor.wheels[0].sinkage_m.raw());
   fl::WheelInput inputs[fl::kMaxWheels]{};
   inputs[0].current_a = fl::CurrentA::from_raw(g_raw_in[4]);
   inputs[0].load_n = fl::WheelLoadN::from_raw(g_raw_in[5]);

@@ -14,6 +14,9 @@ namespace {
 
 using W = WideQ;
 
+/// A wheel input's torque when the cycle has none (WheelInput's default).
+constexpr TorqueResult kNoDriveTorque{TorqueNm::zero(), EstimateStatus::invalid_current};
+
 // Constants are built at compile time: no floating point at run time.
 constexpr W kOne{fx::constant<W>(1.0)};
 constexpr W kMinusOne{fx::constant<W>(-1.0)};
@@ -54,30 +57,31 @@ bool motion_in_range(const RoverTelemetry& t) noexcept {
 }
 
 /// Each wheel's drive torque from its current, once per cycle: the loads
-/// and the monitor (WheelInput::drive_torque) take the same result.
-void wheel_torques(const PreparedParameters& prepared, const RoverTelemetry& t,
+/// and the monitor (WheelInput::drive_torque) take the same result. Stored
+/// field by field: the 5-byte record assigned whole is a memcpy call on the
+/// M0. Out of line, so that its temporary is not in compute's frame.
+[[gnu::noinline]] void wheel_torques(const PreparedParameters& prepared, const RoverTelemetry& t,
                    TorqueResult (&torque)[kWheelCount]) noexcept {
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    torque[i] = torque_from_current(prepared.table().motor, t.current_a[i], t.direction[i]);
+    const TorqueResult r = torque_from_current(prepared.table().motor, t.current_a[i], t.direction[i]);
+    torque[i].torque_nm = r.torque_nm;
+    torque[i].status = r.status;
   }
 }
 
-/// The loads' torques: usable when the health monitor passes the current
-/// and the torque exists; otherwise the statics fall back for that wheel.
-DriveTorques drive_torques(const TorqueResult (&torque)[kWheelCount], const SensorHealthReport& health) noexcept {
-  DriveTorques torques{};
+/// The loads' torques into `torques` (every wheel's): usable when the health
+/// monitor passes the current and the torque exists; otherwise the statics
+/// fall back for that wheel.
+void drive_torques(const TorqueResult (&torque)[kWheelCount], const SensorHealthReport& health,
+                   DriveTorques& torques) noexcept {
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     torques.usable[i] = health.current_usable[i] && (torque[i].status == EstimateStatus::ok);
     torques.torque_nm[i] = torques.usable[i] ? torque[i].torque_nm : TorqueNm::zero();
   }
-  return torques;
 }
 
-/// Stage 2: the wheel loads into `out`; ok, tip_over or loads_failed.
-/// The attitude and joints are the health monitor's (measured or bridged).
-RoverStepStatus load_stage(const PreparedParameters& prepared, const TorqueResult (&torque)[kWheelCount],
-                           WheelLoadResult& loads, RoverStepOutput& out) noexcept {
-  loads = wheel_loads(prepared, out.health.attitude, out.health.joints, drive_torques(torque, out.health));
+/// Stage 2: the wheel loads' result into `out`; ok, tip_over or loads_failed.
+RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) noexcept {
   out.load_status = loads.status;
   out.torque_fallback_mask = loads.torque_fallback_mask;
   out.torque_overload = loads.torque_overload;
@@ -98,8 +102,10 @@ RoverStepStatus load_stage(const PreparedParameters& prepared, const TorqueResul
 /// Stage 4: the corrections at each load into `corr` (kept for the monitor,
 /// which needs the same C(W) for Eq. 15 and I_max), then the drawbar pulls
 /// into `out`. `loads` is stage 2's ok result (it also carries sin(pitch));
-/// the pitch is the health monitor's, the one the loads took.
-RoverStepStatus drawbar_stage(const PreparedParameters& prepared, const WheelLoadResult& loads,
+/// the pitch is the health monitor's, the one the loads took. Out of line:
+/// its input and result records are then not in compute's frame, which is
+/// live below it during the wheel loads (the deepest call of a cycle).
+[[gnu::noinline]] RoverStepStatus drawbar_stage(const PreparedParameters& prepared, const WheelLoadResult& loads,
                               CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept {
   DrawbarInput in{};
   in.accel_mps2 = out.accel_mps2;
@@ -127,10 +133,10 @@ RoverStepStatus drawbar_stage(const PreparedParameters& prepared, const WheelLoa
   return RoverStepStatus::ok;
 }
 
-/// Stage 6's input: this cycle's loads, pulls and the wheel monitors'
-/// directed torques (when the cycle has them), and the odometry.
-TractionInput traction_input(const RoverTelemetry& t, const RoverStepOutput& out) noexcept {
-  TractionInput in{};
+/// Stage 6's input into `in`, every field: this cycle's loads, pulls and the
+/// wheel monitors' directed torques (when the cycle has them), and the
+/// odometry.
+void traction_input(const RoverTelemetry& t, const RoverStepOutput& out, TractionInput& in) noexcept {
   in.time = t.time;
   in.loads_valid = (out.status == RoverStepStatus::ok);
   in.pull_assumed = (out.drawbar_status == DrawbarStatus::saturated);
@@ -143,7 +149,43 @@ TractionInput traction_input(const RoverTelemetry& t, const RoverStepOutput& out
     in.torque_nm[i] = out.monitor.wheels[i].torque_nm;
     in.direction[i] = t.direction[i];
   }
-  return in;
+}
+
+/// The step's defaults in `out`, field by field: no loads, no pulls, status
+/// ok until a stage refuses. Not `out = RoverStepOutput{}`, which GCC builds
+/// as a temporary on the step's stack (328 B on the M0) and then copies. The
+/// health, monitor and traction records are written whole later in every
+/// cycle (assess and monitor_stage, or refuse_table).
+void reset_cycle_fields(RoverStepOutput& out) noexcept {
+  out.status = RoverStepStatus::ok;
+  out.load_status = WheelLoadStatus::invalid_params;
+  out.drawbar_status = DrawbarStatus::invalid_loads;
+  out.loads_valid = false;
+  out.drawbar_valid = false;
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    out.load_n[i] = WheelLoadN::zero();
+    out.drawbar_pull_n[i] = DrawbarPullN::zero();
+  }
+  out.accel_valid = false;
+  out.accel_mps2 = AccelMps2::zero();
+  out.slip_known = false;
+  out.slip = Ratio::zero();
+  out.lifting_wheel = kWheelCount;
+  out.torque_fallback_mask = kEveryTorqueFallsBack;
+  out.torque_overload = false;
+  out.decision = RoverDecision::continue_drive;
+}
+
+/// A table that failed validation: the monitor has no thresholds, so the
+/// step stops, fail-safe, with no health, monitor or traction figures.
+/// Kept out of line: its default records are not built on the stack of
+/// every cycle.
+[[gnu::noinline]] void refuse_table(RoverStepOutput& out) noexcept {
+  out.status = RoverStepStatus::invalid_table;
+  out.decision = RoverDecision::stop_and_replan;
+  out.health = SensorHealthReport{};
+  out.monitor = RoverOutput{};
+  out.traction = TractionOutput{};
 }
 
 }  // namespace
@@ -246,12 +288,17 @@ void RoverStep::assess(const RoverTelemetry& t, const PreparedParameters& prepar
   out.health = last_health_;
 }
 
-RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParameters& prepared, WheelTerms& terms,
+RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParameters& prepared,
                                    RoverStepOutput& out) noexcept {
   // 2. The drive torques (once, for the loads and the monitor), the loads.
-  wheel_torques(prepared, t, terms.torque);
-  WheelLoadResult loads{};
-  RoverStepStatus status = load_stage(prepared, terms.torque, loads, out);
+  wheel_torques(prepared, t, terms_.torque);
+  drive_torques(terms_.torque, out.health, terms_.drive);
+  // Initialised from the call, not assigned: a WheelLoadResult assigned
+  // through a reference is built in a temporary and copied, which put both
+  // in this frame, live during the wheel loads (the deepest call of a cycle).
+  // The attitude and joints are the health monitor's (measured or bridged).
+  const WheelLoadResult loads = wheel_loads(prepared, out.health.attitude, out.health.joints, terms_.drive);
+  RoverStepStatus status = load_stage(loads, out);
   // 3. Motion. Kept up to date even when the loads failed, so that the speed
   //    difference is ready on the next good cycle.
   if (!motion_in_range(t)) {
@@ -265,34 +312,42 @@ RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParame
     return RoverStepStatus::no_acceleration;
   }
   // 4. DP_max/W and the drawbar pulls.
-  status = drawbar_stage(prepared, loads, terms.corr, out);
+  status = drawbar_stage(prepared, loads, terms_.corr, out);
   return status;
 }
 
+void RoverStep::traction_stage(const RoverTelemetry& t, const PreparedParameters& prepared,
+                               RoverStepOutput& out) noexcept {
+  traction_input(t, out, traction_in_);
+  out.traction = traction_.step(traction_in_, prepared.table().traction, prepared.table().monitor,
+                                prepared.traction_inverse_radius());
+}
+
 void RoverStep::monitor_stage(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared,
-                              const WheelTerms& terms, RoverStepOutput& out) noexcept {
+                              RoverStepOutput& out) noexcept {
   // The monitor sees every cycle: numbers when they all exist, else an
   // invalid sample it counts (and a stale one it classifies itself).
   const bool usable_sample = (out.status == RoverStepStatus::ok);
   const bool pass_as_stale = (out.status == RoverStepStatus::telemetry_stale);
-  WheelInput inputs[kMaxWheels]{};
+  // Every field of every wheel's input is written: the record is the
+  // previous cycle's.
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    inputs[i].time = t.time;
-    inputs[i].current_a = t.current_a[i];
-    inputs[i].direction = t.direction[i];
-    inputs[i].valid = usable_sample || pass_as_stale;
-    inputs[i].load_n = usable_sample ? out.load_n[i] : WheelLoadN::zero();
-    inputs[i].drawbar_pull_n = usable_sample ? out.drawbar_pull_n[i] : DrawbarPullN::zero();
-    inputs[i].corrections = usable_sample ? &terms.corr[i] : nullptr;
-    if (usable_sample) {
-      inputs[i].drive_torque = terms.torque[i];
-    }
-    inputs[i].drawbar_assumed = usable_sample && (out.drawbar_status == DrawbarStatus::saturated);
-    inputs[i].sensor_fault = usable_sample && !out.health.current_usable[i];
+    WheelInput& in = inputs_[i];
+    in.time = t.time;
+    in.current_a = t.current_a[i];
+    in.direction = t.direction[i];
+    in.valid = usable_sample || pass_as_stale;
+    in.load_n = usable_sample ? out.load_n[i] : WheelLoadN::zero();
+    in.drawbar_pull_n = usable_sample ? out.drawbar_pull_n[i] : DrawbarPullN::zero();
+    in.corrections = usable_sample ? &terms_.corr[i] : nullptr;
+    // Field by field, as in wheel_torques.
+    in.drive_torque.torque_nm = usable_sample ? terms_.torque[i].torque_nm : kNoDriveTorque.torque_nm;
+    in.drive_torque.status = usable_sample ? terms_.torque[i].status : kNoDriveTorque.status;
+    in.drawbar_assumed = usable_sample && (out.drawbar_status == DrawbarStatus::saturated);
+    in.sensor_fault = usable_sample && !out.health.current_usable[i];
   }
-  monitor_.step(inputs, now, prepared, out.monitor);
-  out.traction = traction_.step(traction_input(t, out), prepared.table().traction, prepared.table().monitor,
-                                prepared.traction_inverse_radius());
+  monitor_.step(inputs_, now, prepared, out.monitor);
+  traction_stage(t, prepared, out);
   out.decision = out.monitor.decision;
   if ((out.status == RoverStepStatus::tip_over) || (out.traction.state == TractionState::stop)) {
     out.decision = RoverDecision::stop_and_replan;
@@ -300,16 +355,12 @@ void RoverStep::monitor_stage(const RoverTelemetry& t, TimeMs now, const Prepare
   stops_.observe(out.monitor, out.traction.stop_tripped, out.decision, now, prepared.table().monitor.wheel_count);
 }
 
-RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared) noexcept {
-  // The defaults: no loads, no pulls, status ok until a stage refuses.
-  RoverStepOutput out{};
-  out.decision = RoverDecision::continue_drive;
-
-  // Without a valid table the monitor has no thresholds: stop, fail-safe.
+void RoverStep::step(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared,
+                     RoverStepOutput& out) noexcept {
+  reset_cycle_fields(out);
   if (!prepared.table_valid()) {
-    out.status = RoverStepStatus::invalid_table;
-    out.decision = RoverDecision::stop_and_replan;
-    return out;
+    refuse_table(out);
+    return;
   }
   // 1. Telemetry and parameters; 1b. sensor health; 2..4. loads, motion,
   //    drawbar pulls on the health monitor's attitude and joints (measured
@@ -318,16 +369,14 @@ RoverStepOutput RoverStep::step(const RoverTelemetry& t, TimeMs now, const Prepa
       have_time_ && (elapsed_ms(last_time_, t.time) > prepared.table().monitor.stale_timeout_ms);
   out.status = admit(t, now, prepared);
   assess(t, prepared, clock_jump, out);
-  WheelTerms terms{};
   if ((out.status == RoverStepStatus::ok) && !(out.health.attitude_usable && out.health.joints_usable)) {
     out.status = RoverStepStatus::sensor_lost;
   }
   if (out.status == RoverStepStatus::ok) {
-    out.status = compute(t, prepared, terms, out);
+    out.status = compute(t, prepared, out);
   }
   // 5. The monitor.
-  monitor_stage(t, now, prepared, terms, out);
-  return out;
+  monitor_stage(t, now, prepared, out);
 }
 
 }  // namespace flight

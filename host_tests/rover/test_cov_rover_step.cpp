@@ -44,14 +44,17 @@ TEST(RoverStepMotion, SpeedWithTheTimeStampOfTheLastSpeedGivesNoAcceleration) {
   a.speed_valid = true;
   a.speed_mps = q<SpeedMps>(0.05);
   a.accel_valid = true;  // this one measured
-  ASSERT_EQ(step.step(a, TimeMs{1000U}, test::prepared_of(table, rover)).status, RoverStepStatus::ok);
+  RoverStepOutput out{};
+  step.step(a, TimeMs{1000U}, test::prepared_of(table, rover), out);
+  ASSERT_EQ(out.status, RoverStepStatus::ok);
   RoverTelemetry b = level(1100U);  // no speed, measured acceleration
   b.accel_valid = true;
-  ASSERT_EQ(step.step(b, TimeMs{1100U}, test::prepared_of(table, rover)).status, RoverStepStatus::ok);
+  step.step(b, TimeMs{1100U}, test::prepared_of(table, rover), out);
+  ASSERT_EQ(out.status, RoverStepStatus::ok);
   RoverTelemetry c = level(1000U);  // the speed sample's time again, not the last cycle's
   c.speed_valid = true;
   c.speed_mps = q<SpeedMps>(0.07);
-  const RoverStepOutput out = step.step(c, TimeMs{1150U}, test::prepared_of(table, rover));
+  step.step(c, TimeMs{1150U}, test::prepared_of(table, rover), out);
   EXPECT_EQ(out.status, RoverStepStatus::no_acceleration);
   EXPECT_FALSE(out.accel_valid);
   // The control: the speed of c was still remembered (at 1000 ms), so 200 ms
@@ -59,7 +62,8 @@ TEST(RoverStepMotion, SpeedWithTheTimeStampOfTheLastSpeedGivesNoAcceleration) {
   RoverTelemetry e = level(1200U);
   e.speed_valid = true;
   e.speed_mps = q<SpeedMps>(0.09);
-  const RoverStepOutput later = step.step(e, TimeMs{1200U}, test::prepared_of(table, rover));
+  RoverStepOutput later{};
+  step.step(e, TimeMs{1200U}, test::prepared_of(table, rover), later);
   ASSERT_TRUE(later.accel_valid);
   EXPECT_NEAR(fx::to_double(later.accel_mps2.q()), 0.1, 1e-6);
 }
@@ -104,7 +108,8 @@ TEST(RoverStepDrawbar, WheelCarryingExactlyZeroNewtonsFailsTheDrawbarStage) {
   RoverTelemetry t = level(1000U);
   t.accel_valid = true;
   t.attitude.roll_rad = roll;
-  const RoverStepOutput out = step.step(t, TimeMs{1000U}, test::prepared_of(table, rover));
+  RoverStepOutput out{};
+  step.step(t, TimeMs{1000U}, test::prepared_of(table, rover), out);
   EXPECT_TRUE(out.loads_valid);
   EXPECT_EQ(out.status, RoverStepStatus::drawbar_failed);
   EXPECT_EQ(out.drawbar_status, DrawbarStatus::invalid_input);

@@ -69,7 +69,8 @@ TEST_F(PreparedTest, UnpreparedParametersStopTheRover) {
   flight::RoverTelemetry t{};
   t.time = flight::TimeMs{100U};
   t.valid = true;
-  const flight::RoverStepOutput out = step.step(t, t.time, none);
+  flight::RoverStepOutput out{};
+  step.step(t, t.time, none, out);
   EXPECT_EQ(out.status, RoverStepStatus::invalid_table);
   EXPECT_EQ(out.decision, flight::RoverDecision::stop_and_replan);
 
@@ -164,7 +165,8 @@ TEST_F(PreparedTest, StepEqualsItsStagesChainedByHand) {
   std::uint32_t cautions = 0U;
   for (std::uint32_t k = 0U; k < 240U; ++k) {
     const flight::RoverTelemetry t = cycle(k);
-    const flight::RoverStepOutput out = step.step(t, t.time, p);
+    flight::RoverStepOutput out{};
+    step.step(t, t.time, p, out);
     ASSERT_EQ(out.status, RoverStepStatus::ok) << k;
 
     // Each wheel's torque from its current (the monitor's too), in the loads
@@ -228,9 +230,12 @@ TEST_F(PreparedTest, RefusedRoverParametersAreReportedOnlyForFreshSamples) {
   ASSERT_EQ(flight::prepare(table, bad_rover, p), PrepareStatus::invalid_rover_params);
   flight::RoverStep step;
   const flight::RoverTelemetry t = cycle(0U);
-  EXPECT_EQ(step.step(t, t.time, p).status, RoverStepStatus::invalid_rover_params);
+  flight::RoverStepOutput out{};
+  step.step(t, t.time, p, out);
+  EXPECT_EQ(out.status, RoverStepStatus::invalid_rover_params);
   // The same time stamp again is a repeated sample before it is a bad rover.
-  EXPECT_EQ(step.step(t, t.time, p).status, RoverStepStatus::telemetry_repeated);
+  step.step(t, t.time, p, out);
+  EXPECT_EQ(out.status, RoverStepStatus::telemetry_repeated);
 }
 
 /// The drawbar split as it was written before issue 10: every share through

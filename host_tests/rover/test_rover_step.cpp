@@ -51,7 +51,8 @@ TEST_F(RoverStepTest, NominalCycleGivesEveryNumberAndMatchesTheChain) {
   t.attitude = rover_test::attitude(0.12, -0.05);
   t.joints = rover_test::joints(0.08, -0.08, 0.1, -0.02);
   t.accel_mps2 = q<flight::AccelMps2>(0.01);
-  const flight::RoverStepOutput out = step.step(t, flight::TimeMs{1010U}, test::prepared_of(table, rover));
+  flight::RoverStepOutput out{};
+  step.step(t, flight::TimeMs{1010U}, test::prepared_of(table, rover), out);
   ASSERT_EQ(out.status, RoverStepStatus::ok);
   ASSERT_TRUE(out.loads_valid);
   ASSERT_TRUE(out.drawbar_valid);
@@ -100,7 +101,8 @@ TEST_F(RoverStepTest, NominalCycleGivesEveryNumberAndMatchesTheChain) {
 TEST_F(RoverStepTest, ACurrentBeyondTheSensorRangeGivesNoTorqueToTheLoads) {
   flight::RoverTelemetry t = telemetry(3000U);
   t.current_a[4] = q<flight::CurrentA>(d(table.motor.current_abs_max_a) + 0.5);
-  const flight::RoverStepOutput out = step.step(t, flight::TimeMs{3000U}, test::prepared_of(table, rover));
+  flight::RoverStepOutput out{};
+  step.step(t, flight::TimeMs{3000U}, test::prepared_of(table, rover), out);
   ASSERT_TRUE(out.loads_valid);
   EXPECT_EQ(out.torque_fallback_mask, 1U << 4U);
   EXPECT_FALSE(out.torque_overload);
@@ -111,7 +113,8 @@ TEST_F(RoverStepTest, AccelerationFromTheSpeedDifference) {
   t.accel_valid = false;
   t.speed_valid = true;
   t.speed_mps = q<flight::SpeedMps>(0.05);
-  const flight::RoverStepOutput first = step.step(t, flight::TimeMs{2000U}, test::prepared_of(table, rover));
+  flight::RoverStepOutput first{};
+  step.step(t, flight::TimeMs{2000U}, test::prepared_of(table, rover), first);
   EXPECT_EQ(first.status, RoverStepStatus::no_acceleration);
   EXPECT_TRUE(first.loads_valid);  // the loads exist, the pulls do not
   EXPECT_FALSE(first.drawbar_valid);
@@ -119,7 +122,8 @@ TEST_F(RoverStepTest, AccelerationFromTheSpeedDifference) {
 
   t.time = flight::TimeMs{2100U};
   t.speed_mps = q<flight::SpeedMps>(0.06);
-  const flight::RoverStepOutput second = step.step(t, flight::TimeMs{2100U}, test::prepared_of(table, rover));
+  flight::RoverStepOutput second{};
+  step.step(t, flight::TimeMs{2100U}, test::prepared_of(table, rover), second);
   ASSERT_EQ(second.status, RoverStepStatus::ok);
   ASSERT_TRUE(second.accel_valid);
   EXPECT_NEAR(d(second.accel_mps2), 0.1, 1e-6);
@@ -134,7 +138,8 @@ TEST_F(RoverStepTest, SlipFromGroundAndRimSpeedAndHighSlipSaturates) {
   t.speed_mps = q<flight::SpeedMps>(0.04);
   t.rim_speed_valid = true;
   t.rim_speed_mps = q<flight::SpeedMps>(0.05);
-  const flight::RoverStepOutput low = step.step(t, flight::TimeMs{3000U}, test::prepared_of(table, rover));
+  flight::RoverStepOutput low{};
+  step.step(t, flight::TimeMs{3000U}, test::prepared_of(table, rover), low);
   ASSERT_EQ(low.status, RoverStepStatus::ok);
   ASSERT_TRUE(low.slip_known);
   EXPECT_NEAR(d(low.slip), 0.2, 1e-6);
@@ -142,7 +147,8 @@ TEST_F(RoverStepTest, SlipFromGroundAndRimSpeedAndHighSlipSaturates) {
 
   t.time = flight::TimeMs{3100U};
   t.speed_mps = q<flight::SpeedMps>(0.01);  // slip 0.8 >= high_slip 0.6
-  const flight::RoverStepOutput high = step.step(t, flight::TimeMs{3100U}, test::prepared_of(table, rover));
+  flight::RoverStepOutput high{};
+  step.step(t, flight::TimeMs{3100U}, test::prepared_of(table, rover), high);
   ASSERT_EQ(high.status, RoverStepStatus::ok);
   EXPECT_NEAR(d(high.slip), 0.8, 1e-6);
   EXPECT_EQ(high.drawbar_status, flight::DrawbarStatus::saturated);
@@ -152,35 +158,38 @@ TEST_F(RoverStepTest, SlipFromGroundAndRimSpeedAndHighSlipSaturates) {
 
   t.time = flight::TimeMs{3200U};
   t.speed_mps = q<flight::SpeedMps>(-0.05);  // moving against the wheels: limited to 1
-  const flight::RoverStepOutput against = step.step(t, flight::TimeMs{3200U}, test::prepared_of(table, rover));
+  flight::RoverStepOutput against{};
+  step.step(t, flight::TimeMs{3200U}, test::prepared_of(table, rover), against);
   EXPECT_EQ(d(against.slip), 1.0);
   t.time = flight::TimeMs{3300U};
   t.rim_speed_mps = q<flight::SpeedMps>(0.0005);  // below 1 mm/s: slip undefined
-  const flight::RoverStepOutput idle = step.step(t, flight::TimeMs{3300U}, test::prepared_of(table, rover));
+  flight::RoverStepOutput idle{};
+  step.step(t, flight::TimeMs{3300U}, test::prepared_of(table, rover), idle);
   EXPECT_FALSE(idle.slip_known);
 }
 
 TEST_F(RoverStepTest, FlaggedStaleAndRepeatedTelemetryAreRefusedAndCounted) {
   flight::RoverTelemetry t = telemetry(5000U);
   t.valid = false;
-  flight::RoverStepOutput out = step.step(t, flight::TimeMs{5000U}, test::prepared_of(table, rover));
+  flight::RoverStepOutput out{};
+  step.step(t, flight::TimeMs{5000U}, test::prepared_of(table, rover), out);
   EXPECT_EQ(out.status, RoverStepStatus::telemetry_invalid);
   EXPECT_FALSE(out.loads_valid);
   EXPECT_EQ(out.monitor.wheels[0].sample_status, flight::SampleStatus::flagged_invalid);
 
   t.valid = true;
-  out = step.step(t, flight::TimeMs{5000U + table.monitor.stale_timeout_ms + 1U}, test::prepared_of(table, rover));
+  step.step(t, flight::TimeMs{5000U + table.monitor.stale_timeout_ms + 1U}, test::prepared_of(table, rover), out);
   EXPECT_EQ(out.status, RoverStepStatus::telemetry_stale);
   EXPECT_EQ(out.monitor.wheels[3].sample_status, flight::SampleStatus::stale);
   EXPECT_FALSE(out.loads_valid);
 
   // From the future: stale as well (the wrapping age is huge).
-  out = step.step(t, flight::TimeMs{4000U}, test::prepared_of(table, rover));
+  step.step(t, flight::TimeMs{4000U}, test::prepared_of(table, rover), out);
   EXPECT_EQ(out.status, RoverStepStatus::telemetry_stale);
 
-  out = step.step(t, flight::TimeMs{5010U}, test::prepared_of(table, rover));
+  step.step(t, flight::TimeMs{5010U}, test::prepared_of(table, rover), out);
   EXPECT_EQ(out.status, RoverStepStatus::ok);
-  out = step.step(t, flight::TimeMs{5020U}, test::prepared_of(table, rover));  // same stamp again
+  step.step(t, flight::TimeMs{5020U}, test::prepared_of(table, rover), out);  // same stamp again
   EXPECT_EQ(out.status, RoverStepStatus::telemetry_repeated);
   EXPECT_NE(out.monitor.wheels[0].sample_status, flight::SampleStatus::ok);
   EXPECT_FALSE(out.monitor.wheels[0].estimate_valid);
@@ -193,23 +202,28 @@ TEST_F(RoverStepTest, FlaggedStaleAndRepeatedTelemetryAreRefusedAndCounted) {
 TEST_F(RoverStepTest, MotionOutOfRangeIsRefused) {
   flight::RoverTelemetry t = telemetry(6000U);
   t.accel_mps2 = q<flight::AccelMps2>(12.0);
-  EXPECT_EQ(step.step(t, flight::TimeMs{6000U}, test::prepared_of(table, rover)).status, RoverStepStatus::motion_out_of_range);
+  flight::RoverStepOutput out{};
+  step.step(t, flight::TimeMs{6000U}, test::prepared_of(table, rover), out);
+  EXPECT_EQ(out.status, RoverStepStatus::motion_out_of_range);
   t.time = flight::TimeMs{6100U};
   t.accel_mps2 = flight::AccelMps2::zero();
   t.speed_valid = true;
   t.speed_mps = q<flight::SpeedMps>(6.0);
-  EXPECT_EQ(step.step(t, flight::TimeMs{6100U}, test::prepared_of(table, rover)).status, RoverStepStatus::motion_out_of_range);
+  step.step(t, flight::TimeMs{6100U}, test::prepared_of(table, rover), out);
+  EXPECT_EQ(out.status, RoverStepStatus::motion_out_of_range);
   t.time = flight::TimeMs{6200U};
   t.speed_valid = false;
   t.rim_speed_valid = true;
   t.rim_speed_mps = q<flight::SpeedMps>(-5.5);
-  EXPECT_EQ(step.step(t, flight::TimeMs{6200U}, test::prepared_of(table, rover)).status, RoverStepStatus::motion_out_of_range);
+  step.step(t, flight::TimeMs{6200U}, test::prepared_of(table, rover), out);
+  EXPECT_EQ(out.status, RoverStepStatus::motion_out_of_range);
 }
 
 TEST_F(RoverStepTest, TipOverStopsTheRoverInTheSameCycle) {
   flight::RoverTelemetry t = telemetry(7000U);
   t.attitude = rover_test::attitude(0.0, 0.75);  // beyond the 39.3 deg roll limit
-  const flight::RoverStepOutput out = step.step(t, flight::TimeMs{7000U}, test::prepared_of(table, rover));
+  flight::RoverStepOutput out{};
+  step.step(t, flight::TimeMs{7000U}, test::prepared_of(table, rover), out);
   EXPECT_EQ(out.status, RoverStepStatus::tip_over);
   EXPECT_EQ(out.load_status, flight::WheelLoadStatus::tip_over);
   EXPECT_EQ(out.decision, flight::RoverDecision::stop_and_replan);
@@ -225,7 +239,7 @@ TEST_F(RoverStepTest, PersistentlyUnusableTelemetryStopsTheRover) {
   flight::RoverStepOutput out{};
   for (std::uint32_t k = 0U; k < table.monitor.invalid_to_stop; ++k) {
     t.time = flight::TimeMs{8000U + 100U * k};
-    out = step.step(t, t.time, test::prepared_of(table, rover));
+    step.step(t, t.time, test::prepared_of(table, rover), out);
     EXPECT_EQ(out.status, RoverStepStatus::loads_failed);
     EXPECT_EQ(out.load_status, flight::WheelLoadStatus::attitude_out_of_range);
     if (k + 1U < table.monitor.invalid_to_stop) {
@@ -240,13 +254,15 @@ TEST_F(RoverStepTest, PersistentlyUnusableTelemetryStopsTheRover) {
 TEST_F(RoverStepTest, BadParametersFailSafe) {
   flight::ParameterTable bad_table = table;
   bad_table.wheel_radius_m = flight::LengthM::zero();
-  const flight::RoverStepOutput no_table = step.step(telemetry(9000U), flight::TimeMs{9000U}, test::prepared_of(bad_table, rover));
+  flight::RoverStepOutput no_table{};
+  step.step(telemetry(9000U), flight::TimeMs{9000U}, test::prepared_of(bad_table, rover), no_table);
   EXPECT_EQ(no_table.status, RoverStepStatus::invalid_table);
   EXPECT_EQ(no_table.decision, flight::RoverDecision::stop_and_replan);
 
   flight::RoverParams bad_rover = rover;
   bad_rover.gravity_mps2 = flight::AccelMps2::zero();
-  const flight::RoverStepOutput out = step.step(telemetry(9100U), flight::TimeMs{9100U}, test::prepared_of(table, bad_rover));
+  flight::RoverStepOutput out{};
+  step.step(telemetry(9100U), flight::TimeMs{9100U}, test::prepared_of(table, bad_rover), out);
   EXPECT_EQ(out.status, RoverStepStatus::invalid_rover_params);
   EXPECT_FALSE(out.loads_valid);
   EXPECT_EQ(out.monitor.wheels[5].sample_status, flight::SampleStatus::flagged_invalid);
@@ -254,7 +270,8 @@ TEST_F(RoverStepTest, BadParametersFailSafe) {
   flight::RoverParams other_wheel = rover;
   other_wheel.wheel_radius_m = q<flight::LengthM>(0.16);
   ASSERT_EQ(flight::validate_rover_params(other_wheel), flight::RoverParamStatus::ok);
-  const flight::RoverStepOutput mismatch = step.step(telemetry(9200U), flight::TimeMs{9200U}, test::prepared_of(table, other_wheel));
+  flight::RoverStepOutput mismatch{};
+  step.step(telemetry(9200U), flight::TimeMs{9200U}, test::prepared_of(table, other_wheel), mismatch);
   EXPECT_EQ(mismatch.status, RoverStepStatus::radius_mismatch);
   EXPECT_FALSE(mismatch.loads_valid);
   EXPECT_EQ(mismatch.monitor.wheels[0].sample_status, flight::SampleStatus::flagged_invalid);
@@ -266,7 +283,7 @@ TEST_F(RoverStepTest, HighCurrentTripsStopThroughTheMonitor) {
   for (std::uint32_t k = 0U; k < table.monitor.trip_n; ++k) {
     flight::RoverTelemetry t = telemetry(10000U + 100U * k);
     t.current_a[2] = q<flight::CurrentA>(5.0);
-    out = step.step(t, t.time, test::prepared_of(table, rover));
+    step.step(t, t.time, test::prepared_of(table, rover), out);
     ASSERT_EQ(out.status, RoverStepStatus::ok);
   }
   EXPECT_EQ(out.monitor.wheels[2].state, flight::WheelState::stop);
@@ -277,8 +294,133 @@ TEST_F(RoverStepTest, HighCurrentTripsStopThroughTheMonitor) {
   EXPECT_EQ(out.torque_fallback_mask, 0x3FU);
   EXPECT_EQ(out.decision, flight::RoverDecision::stop_and_replan);
   step.clear_stop();
-  const flight::RoverStepOutput after = step.step(telemetry(11000U), flight::TimeMs{11000U}, test::prepared_of(table, rover));
+  flight::RoverStepOutput after{};
+  step.step(telemetry(11000U), flight::TimeMs{11000U}, test::prepared_of(table, rover), after);
   EXPECT_EQ(after.monitor.wheels[2].state, flight::WheelState::nominal);
+}
+
+/// Every field the step reports, a against b (the monitor's wheel records
+/// field by field are MonitorTest.OverwritesEveryFieldOfAReusedOutputRecord's).
+void expect_same_output(const flight::RoverStepOutput& a, const flight::RoverStepOutput& b) {
+  EXPECT_EQ(a.status, b.status);
+  EXPECT_EQ(a.load_status, b.load_status);
+  EXPECT_EQ(a.drawbar_status, b.drawbar_status);
+  EXPECT_EQ(a.loads_valid, b.loads_valid);
+  EXPECT_EQ(a.drawbar_valid, b.drawbar_valid);
+  for (std::size_t i = 0; i < flight::kWheelCount; ++i) {
+    EXPECT_EQ(a.load_n[i], b.load_n[i]);
+    EXPECT_EQ(a.drawbar_pull_n[i], b.drawbar_pull_n[i]);
+    EXPECT_EQ(a.health.current_usable[i], b.health.current_usable[i]);
+    EXPECT_EQ(a.monitor.wheels[i].state, b.monitor.wheels[i].state);
+    EXPECT_EQ(a.monitor.wheels[i].sample_status, b.monitor.wheels[i].sample_status);
+    EXPECT_EQ(a.monitor.wheels[i].estimate_valid, b.monitor.wheels[i].estimate_valid);
+    EXPECT_EQ(a.monitor.wheels[i].sinkage_m, b.monitor.wheels[i].sinkage_m);
+  }
+  EXPECT_EQ(a.accel_valid, b.accel_valid);
+  EXPECT_EQ(a.accel_mps2, b.accel_mps2);
+  EXPECT_EQ(a.slip_known, b.slip_known);
+  EXPECT_EQ(a.slip, b.slip);
+  EXPECT_EQ(a.lifting_wheel, b.lifting_wheel);
+  EXPECT_EQ(a.torque_fallback_mask, b.torque_fallback_mask);
+  EXPECT_EQ(a.torque_overload, b.torque_overload);
+  for (std::size_t c = 0; c < flight::kSensorChannelCount; ++c) {
+    EXPECT_EQ(a.health.channel[c], b.health.channel[c]);
+  }
+  EXPECT_EQ(a.health.attitude_usable, b.health.attitude_usable);
+  EXPECT_EQ(a.health.attitude_bridged, b.health.attitude_bridged);
+  EXPECT_EQ(a.health.attitude.roll_rad, b.health.attitude.roll_rad);
+  EXPECT_EQ(a.health.joints_usable, b.health.joints_usable);
+  EXPECT_EQ(a.health.joints.bogie_rad[1], b.health.joints.bogie_rad[1]);
+  EXPECT_EQ(a.monitor.decision, b.monitor.decision);
+  EXPECT_EQ(a.monitor.wheels_in_stop, b.monitor.wheels_in_stop);
+  EXPECT_EQ(a.monitor.wheels_blind, b.monitor.wheels_blind);
+  EXPECT_EQ(a.traction.state, b.traction.state);
+  EXPECT_EQ(a.traction.sample, b.traction.sample);
+  EXPECT_EQ(a.traction.rho_valid, b.traction.rho_valid);
+  EXPECT_EQ(a.traction.resistance, b.traction.resistance);
+  EXPECT_EQ(a.decision, b.decision);
+}
+
+/// A record with every field away from what any cycle below writes.
+flight::RoverStepOutput stale_output() {
+  flight::RoverStepOutput o{};
+  o.status = RoverStepStatus::drawbar_failed;
+  o.load_status = flight::WheelLoadStatus::ok;
+  o.drawbar_status = flight::DrawbarStatus::ok;
+  o.loads_valid = true;
+  o.drawbar_valid = true;
+  for (std::size_t i = 0; i < flight::kWheelCount; ++i) {
+    o.load_n[i] = q<flight::WheelLoadN>(123.0);
+    o.drawbar_pull_n[i] = q<flight::DrawbarPullN>(-7.0);
+    o.health.current_usable[i] = true;
+    o.monitor.wheels[i].state = flight::WheelState::stop;
+    o.monitor.wheels[i].estimate_valid = true;
+    o.monitor.wheels[i].sinkage_m = q<flight::SinkageM>(0.07);
+  }
+  o.accel_valid = true;
+  o.accel_mps2 = q<flight::AccelMps2>(0.3);
+  o.slip_known = true;
+  o.slip = q<flight::Ratio>(0.4);
+  o.lifting_wheel = 2U;
+  o.torque_fallback_mask = 0x15U;
+  o.torque_overload = true;
+  for (std::size_t c = 0; c < flight::kSensorChannelCount; ++c) {
+    o.health.channel[c] = flight::SensorHealth::recovering;
+  }
+  o.health.attitude_usable = true;
+  o.health.attitude_bridged = true;
+  o.health.attitude = rover_test::attitude(0.2, 0.3);
+  o.health.joints_usable = true;
+  o.health.joints = rover_test::joints(0.1, 0.1, 0.1, 0.1);
+  o.monitor.decision = flight::RoverDecision::stop_and_replan;
+  o.monitor.wheels_in_stop = 6U;
+  o.monitor.wheels_blind = 3U;
+  o.traction.state = flight::TractionState::stop;
+  o.traction.rho_valid = true;
+  o.traction.resistance = q<flight::Ratio>(0.9);
+  o.decision = flight::RoverDecision::stop_and_replan;
+  return o;
+}
+
+TEST_F(RoverStepTest, OverwritesEveryFieldOfAReusedOutputRecord) {
+  // Two steps fed the same cycles: one writes into a fresh record each
+  // cycle, the other into a record left over with every field set. They
+  // differ if the step leaves a field of the record as it was.
+  flight::RoverStep twin;
+  flight::ParameterTable bad_table = table;
+  bad_table.wheel_radius_m = flight::LengthM::zero();
+  const auto pair = [&](flight::RoverStep& a, flight::RoverStep& b, const flight::RoverTelemetry& t,
+                        const flight::ParameterTable& tab) {
+    flight::RoverStepOutput fresh{};
+    a.step(t, t.time, test::prepared_of(tab, rover), fresh);
+    flight::RoverStepOutput reused = stale_output();
+    b.step(t, t.time, test::prepared_of(tab, rover), reused);
+    expect_same_output(fresh, reused);
+    return fresh.status;
+  };
+  const auto both = [&](const flight::RoverTelemetry& t, const flight::ParameterTable& tab) {
+    return pair(step, twin, t, tab);
+  };
+  // Tip-over on a first sample (later, the health monitor would bridge the
+  // jump in roll).
+  flight::RoverStep tipping;
+  flight::RoverStep tipping_twin;
+  flight::RoverTelemetry t = telemetry(1000U);
+  t.attitude = rover_test::attitude(0.0, 0.75);
+  EXPECT_EQ(pair(tipping, tipping_twin, t, table), RoverStepStatus::tip_over);
+  t = telemetry(1000U);
+  t.speed_valid = true;
+  t.speed_mps = q<flight::SpeedMps>(0.05);
+  t.rim_speed_valid = true;
+  t.rim_speed_mps = q<flight::SpeedMps>(0.06);
+  EXPECT_EQ(both(t, table), RoverStepStatus::ok);
+  EXPECT_EQ(both(telemetry(1200U), bad_table), RoverStepStatus::invalid_table);
+  t = telemetry(1300U);
+  t.valid = false;
+  EXPECT_EQ(both(t, table), RoverStepStatus::telemetry_invalid);
+  t = telemetry(1400U);
+  t.accel_valid = false;
+  EXPECT_EQ(both(t, table), RoverStepStatus::no_acceleration);
 }
 
 }  // namespace

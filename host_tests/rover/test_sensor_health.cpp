@@ -101,7 +101,8 @@ class SensorFaults : public ::testing::Test {
       if (handling == Handling::off) {
         strip_presence(t);
       }
-      const RoverStepOutput out = step.step(t, t.time, prepared);
+      RoverStepOutput out{};
+      step.step(t, t.time, prepared, out);
       check(k, out);
     }
   }
@@ -433,7 +434,7 @@ TEST_F(SensorFaults, TheGroundsClearStopAcceptsABiasedAttitude) {
     if (k == 30U) {
       step.clear_stop();  // the ground looked and accepts the new attitude
     }
-    out = step.step(t, t.time, prepared);
+    step.step(t, t.time, prepared, out);
     if (k >= 31U) {
       EXPECT_TRUE(flight::usable(channel(out, kImu))) << k;
       EXPECT_EQ(out.status, RoverStepStatus::ok) << k;

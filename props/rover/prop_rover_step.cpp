@@ -65,7 +65,8 @@ RC_GTEST_PROP(RoverStepProp, NeverANumberFromInvalidInputAndAlwaysConsistent, ()
     t.rim_speed_valid = *rc::gen::arbitrary<bool>();
     t.rim_speed_mps = plausible<flight::SpeedMps>(0.2);
 
-    const flight::RoverStepOutput out = step.step(t, flight::TimeMs{now}, test::prepared_of(table, rover));
+    flight::RoverStepOutput out{};
+    step.step(t, flight::TimeMs{now}, test::prepared_of(table, rover), out);
 
     const bool ok = out.status == flight::RoverStepStatus::ok;
     RC_CLASSIFY(ok, "full chain");

@@ -43,6 +43,11 @@ struct Context {
   /// step does no validation per cycle.
   PreparedParameters prepared;
   RoverStep step;
+  /// The cycle's telemetry converted from C and the step's output: kept in
+  /// the caller's storage, not on sw_step's stack (424 B on the M0 that the
+  /// worst-case stack of a cycle would otherwise carry, docs/performance.md).
+  RoverTelemetry telemetry;
+  RoverStepOutput result;
 };
 
 static_assert(sizeof(Context) <= SW_CONTEXT_BYTES, "SW_CONTEXT_BYTES is too small for the flight state");
@@ -129,8 +134,9 @@ const Context* context_of(const sw_context* ctx) noexcept {
 
 std::uint8_t flag(bool value) noexcept { return value ? 1U : 0U; }
 
-RoverTelemetry from_c(const sw_telemetry& in) noexcept {
-  RoverTelemetry t{};
+/// Every field of `t` from `in` (the context's record of the previous
+/// cycle is overwritten whole).
+void from_c(const sw_telemetry& in, RoverTelemetry& t) noexcept {
   t.time = TimeMs{in.time_ms};
   t.valid = in.valid != 0U;
   for (std::uint32_t i = 0U; i < SW_WHEELS; ++i) {
@@ -158,7 +164,6 @@ RoverTelemetry from_c(const sw_telemetry& in) noexcept {
   }
   t.presence.attitude_missing = in.attitude_missing != 0U;
   t.presence.joints_missing = in.joints_missing != 0U;
-  return t;
 }
 
 void to_c(const RoverStepOutput& r, sw_cycle_result& out) noexcept {
@@ -246,9 +251,10 @@ sw_status sw_step(sw_context* ctx, const sw_telemetry* telemetry, uint32_t now_m
   if (c == nullptr) {
     return SW_NOT_INITIALISED;
   }
-  const RoverStepOutput r = c->step.step(from_c(*telemetry), TimeMs{now_ms}, c->prepared);
-  to_c(r, *out);
-  return static_cast<sw_status>(r.status);
+  from_c(*telemetry, c->telemetry);
+  c->step.step(c->telemetry, TimeMs{now_ms}, c->prepared, c->result);
+  to_c(c->result, *out);
+  return static_cast<sw_status>(c->result.status);
 }
 
 void sw_clear_stop(sw_context* ctx) {

@@ -268,7 +268,8 @@ flight::EscapeInput escape_input(flight::TimeMs now, const TelemetryRow& row, Cy
 CycleRecord OnboardLoop::step(const TelemetryRow& row, const std::string& source, double x_m) {
   using namespace flight;
   const RoverTelemetry t = telemetry_of(row, source);
-  const RoverStepOutput out = step_.step(t, t.time, prepared_);
+  RoverStepOutput out{};
+  step_.step(t, t.time, prepared_, out);
   CycleRecord rec = record_of(out, row, x_m, step_);
   // The flight code writes its stop record on the decision's edge.
   if (out.decision == RoverDecision::stop_and_replan && last_decision_ != out.decision &&

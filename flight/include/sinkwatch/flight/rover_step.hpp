@@ -114,11 +114,16 @@ class RoverStep {
  public:
   RoverStep() noexcept;
 
-  /// One control cycle. `now` is the monitor's clock. `prepared` holds the
-  /// parameter table and the rover parameters (the table's section 6, read
-  /// and validated by decode() when the table is loaded), checked once per
-  /// load by load() or prepare(): the step does no validation of its own.
-  RoverStepOutput step(const RoverTelemetry& telemetry, TimeMs now, const PreparedParameters& prepared) noexcept;
+  /// One control cycle into `out`. `now` is the monitor's clock. `prepared`
+  /// holds the parameter table and the rover parameters (the table's
+  /// section 6, read and validated by decode() when the table is loaded),
+  /// checked once per load by load() or prepare(): the step does no
+  /// validation of its own. `out` is reset and then written, so a record
+  /// reused from the previous cycle holds this cycle's result only; taking
+  /// it by reference lets the caller keep it in its own storage (the C
+  /// interface keeps it in the context), not on the step's stack.
+  void step(const RoverTelemetry& telemetry, TimeMs now, const PreparedParameters& prepared,
+            RoverStepOutput& out) noexcept;
 
   /// The ground's acknowledgement after a re-plan (RoverMonitor::clear_stop,
   /// TractionMonitor::clear_stop); the sensor health takes the next sample as every channel's reference
@@ -140,24 +145,36 @@ class RoverStep {
   /// Stage 1 and the prepared parameters' own refusal, for a fresh sample.
   RoverStepStatus admit(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared) noexcept;
   /// What stages 2 and 4 evaluate once per wheel and the monitor reuses.
+  /// Kept in the object, not on the step's stack; stage 5 reads them only
+  /// for a usable sample, whose stages 2 and 4 wrote every wheel's.
   struct WheelTerms {
     TorqueResult torque[kWheelCount];     ///< from the currents: the loads' and the monitor's
+    DriveTorques drive;                   ///< the loads' view of `torque` (wheel_load.hpp)
     CorrectionResult corr[kWheelCount];   ///< C(W) at each load: DP_max/W, Eq. 11, I_max
   };
   /// Stages 2 to 4 of an admitted sample: torques and loads, motion, C(W),
-  /// drawbar pulls, into `terms` and `out`.
-  RoverStepStatus compute(const RoverTelemetry& t, const PreparedParameters& prepared, WheelTerms& terms,
-                          RoverStepOutput& out) noexcept;
+  /// drawbar pulls, into `terms_` and `out`.
+  RoverStepStatus compute(const RoverTelemetry& t, const PreparedParameters& prepared, RoverStepOutput& out) noexcept;
   /// Stage 5: every wheel's monitor, fed this cycle's numbers or an invalid
   /// sample, and the rover's decision.
   void monitor_stage(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared,
-                     const WheelTerms& terms, RoverStepOutput& out) noexcept;
+                     RoverStepOutput& out) noexcept;
+
+  /// Stage 6: the motion-resistance check on this cycle's loads, pulls and
+  /// the wheel monitors' torques (its input record in `traction_in_`).
+  void traction_stage(const RoverTelemetry& t, const PreparedParameters& prepared, RoverStepOutput& out) noexcept;
 
   /// Stage 1b: the channels' health for an admitted sample, or the clock's
   /// for a refused one (the other channels as last assessed).
   void assess(const RoverTelemetry& t, const PreparedParameters& prepared, bool clock_jump,
               RoverStepOutput& out) noexcept;
 
+  WheelTerms terms_{};
+  /// Stage 5's per-wheel inputs, rebuilt whole every cycle (in the object,
+  /// not on the step's stack).
+  WheelInput inputs_[kMaxWheels]{};
+  /// Stage 6's input, rebuilt whole every cycle.
+  TractionInput traction_in_{};
   RoverMonitor monitor_;
   TractionMonitor traction_;
   StopRecorder stops_;
