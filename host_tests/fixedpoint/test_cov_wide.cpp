@@ -72,17 +72,17 @@ TEST(FxWide, EqualityComparesBothHalves) {
   EXPECT_FALSE(wide::less(U128{1U, 0U}, U128{1U, 0U}));
 }
 
-/// The ARMv6-M form (by halves) counts as the loop does: at every power of
-/// two, one below and one above it, and zero.
-TEST(FxWide, BitLengthByHalvesCountsAsTheLoopDoes) {
-  EXPECT_EQ(wide::bit_length32_by_halves(0U), 0U);
+/// bit_length32 (by halves) at every power of two, one below and one above
+/// it, and zero.
+TEST(FxWide, BitLength32CountsAtEveryPowerOfTwoAndItsNeighbours) {
+  EXPECT_EQ(wide::bit_length32(0U), 0U);
   for (std::uint32_t k = 0U; k < 32U; ++k) {
     const std::uint32_t p = 1U << k;
-    EXPECT_EQ(wide::bit_length32_by_halves(p), k + 1U) << k;
-    EXPECT_EQ(wide::bit_length32_by_halves(p - 1U), k) << k;
-    EXPECT_EQ(wide::bit_length32_by_halves(p | (p >> 1U) | 1U), k + 1U) << k;
+    EXPECT_EQ(wide::bit_length32(p), k + 1U) << k;
+    EXPECT_EQ(wide::bit_length32(p - 1U), k) << k;
+    EXPECT_EQ(wide::bit_length32(p | (p >> 1U) | 1U), k + 1U) << k;
   }
-  EXPECT_EQ(wide::bit_length32_by_halves(0xFFFFFFFFU), 32U);
+  EXPECT_EQ(wide::bit_length32(0xFFFFFFFFU), 32U);
 }
 
 TEST(FxWide, BitLengthCountsEverySignificantBit) {

@@ -98,20 +98,12 @@ SW_FX_INLINE constexpr U128 shl(const U128& a, std::uint32_t n) noexcept {
 SW_FX_INLINE constexpr bool bit(std::uint64_t a, std::uint32_t n) noexcept { return (shr(a, n) & 1U) != 0U; }
 SW_FX_INLINE constexpr bool bit(const U128& a, std::uint32_t n) noexcept { return (shr(a, n).lo & 1U) != 0U; }
 
-/// True where the core has no count-leading-zeros instruction: ARMv6-M
-/// (Cortex-M0/M0+/M1), where GCC keeps the loop below as a loop or calls
-/// libgcc's __clzsi2.
-#if defined(__ARM_ARCH_6M__) || (defined(__ARM_ARCH) && (__ARM_ARCH == 6) && !defined(__ARM_ARCH_ISA_ARM))
-constexpr bool kClzBySoftware = true;
-#else
-constexpr bool kClzBySoftware = false;
-#endif
-
-/// bit_length32 by halving the range five times: 16, 8, 4, 2 and 1 bits,
-/// about 20 instructions on ARMv6-M, where the loop took up to 32 rounds
-/// (docs/performance.md, session 13). The same count for every a; the host
-/// tests call it directly (test_cov_wide).
-SW_FX_INLINE constexpr std::uint32_t bit_length32_by_halves(std::uint32_t a) noexcept {
+/// Number of significant bits of a 32-bit value (0 for a == 0), by halving
+/// the range five times: 16, 8, 4, 2 and 1 bits, about 20 instructions. The
+/// bit-at-a-time loop it replaces was not turned into a count-leading-zeros
+/// instruction by GCC at -Os (Cortex-M0 and M4) nor at -O2 (x86-64): up to 32
+/// rounds (docs/performance.md, session 13).
+SW_FX_INLINE constexpr std::uint32_t bit_length32(std::uint32_t a) noexcept {
   std::uint32_t n = 0U;
   std::uint32_t v = a;
   if (v >= 0x10000U) {
@@ -135,23 +127,6 @@ SW_FX_INLINE constexpr std::uint32_t bit_length32_by_halves(std::uint32_t a) noe
     n += 1U;
   }
   return n + v;  // v is now 0 (a == 0) or 1
-}
-
-/// Number of significant bits of a 32-bit value (0 for a == 0). Loop bounded
-/// by the width, which compilers turn into a count-leading-zeros
-/// instruction where the core has one; by halves where it has none.
-SW_FX_INLINE constexpr std::uint32_t bit_length32(std::uint32_t a) noexcept {
-  if constexpr (kClzBySoftware) {
-    return bit_length32_by_halves(a);
-  } else {
-    std::uint32_t n = 0U;
-    std::uint32_t v = a;
-    while ((v != 0U) && (n < 32U)) {
-      v >>= 1U;
-      ++n;
-    }
-    return n;
-  }
 }
 
 /// Number of significant bits (0 for a == 0), a 32-bit half at a time: a
