@@ -168,7 +168,10 @@ template <typename Out, std::int32_t Fx>
   std::uint64_t mag = (grows && (product != 0U)) ? ~std::uint64_t{0U} : 0U;
   if (rounds) {
     const auto s = static_cast<std::uint32_t>(shift);
-    mag = (product + (std::uint64_t{1U} << (s - 1U))) >> s;  // no carry out: product < 2^63
+    // (product + 2^(s-1)) >> s, as ((product >> (s-1)) + 1) >> 1: the same
+    // integer, with one variable 64-bit shift (a library call on 32-bit
+    // cores) instead of two.
+    mag = ((product >> (s - 1U)) + 1U) >> 1U;
   }
   return Out::from_raw(detail::from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
 }
