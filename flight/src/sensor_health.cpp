@@ -104,14 +104,21 @@ std::uint32_t drawing_mask(const HealthSample& s, CurrentA no_load_a) noexcept {
 }
 
 /// At least three of the other five wheels draw more than twice the
-/// no-load current (`drawing`: drawing_mask()): the rover is pulling, so a
-/// wheel that draws less than the no-load current transmits no torque.
-bool others_draw(std::uint32_t drawing, std::uint32_t wheel) noexcept {
-  std::uint32_t others = 0U;
+/// no-load current (`drawing`: drawing_mask(), `drawing_count` its bits):
+/// the rover is pulling, so a wheel that draws less than the no-load
+/// current transmits no torque.
+bool others_draw(std::uint32_t drawing, std::uint32_t drawing_count, std::uint32_t wheel) noexcept {
+  const std::uint32_t self = (drawing >> wheel) & 1U;
+  return (drawing_count - self) >= 3U;
+}
+
+/// The number of set bits of a wheel mask.
+std::uint32_t wheel_count_of(std::uint32_t mask) noexcept {
+  std::uint32_t n = 0U;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    others += ((i != wheel) && (((drawing >> i) & 1U) != 0U)) ? 1U : 0U;
+    n += (mask >> i) & 1U;
   }
-  return others >= 3U;
+  return n;
 }
 
 }  // namespace
@@ -254,8 +261,10 @@ SensorHealthReport SensorHealthMonitor::update(const HealthSample& s, const Heal
                                                CurrentA current_range_a) noexcept {
   SensorHealthReport r{};
   const std::uint32_t drawing = drawing_mask(s, no_load_a);
+  const std::uint32_t drawing_count = wheel_count_of(drawing);
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    const SensorHealth raw = current_channel(i, s, p, no_load_a, current_range_a, others_draw(drawing, i));
+    const SensorHealth raw =
+        current_channel(i, s, p, no_load_a, current_range_a, others_draw(drawing, drawing_count, i));
     r.channel[i] = settle(track_[i], raw, p);
     r.current_usable[i] = usable(r.channel[i]);
   }
