@@ -422,14 +422,17 @@ template <typename P>
 bool side_torques(const DriveTorques& torques, const Body<P>& body, const GravityFrame& g,
                   SideTorques<P> (&tq)[kSideCount]) noexcept {
   fx::Status couple_st;
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    SideTorques<P>& side = tq[i / 3U];
-    const std::uint32_t k = i % 3U;
-    side.from_axle[k] = torques.usable[i];
-    side.couple[k] = P::zero();
-    if (torques.usable[i]) {
-      const P per_weight = fx::times_reciprocal<P>(torques.torque_nm[i].q(), body.inv_weight, couple_st);
-      side.couple[k] = fx::times_reciprocal<P>(per_weight, g.inv_normal_fraction, couple_st);
+  // Wheel i = 3 s + k (side s, position k): nested loops, no division by
+  // three (a library call on the Cortex-M0).
+  for (std::uint32_t s = 0U; s < kSideCount; ++s) {
+    for (std::uint32_t k = 0U; k < 3U; ++k) {
+      const std::uint32_t i = (3U * s) + k;
+      tq[s].from_axle[k] = torques.usable[i];
+      tq[s].couple[k] = P::zero();
+      if (torques.usable[i]) {
+        const P per_weight = fx::times_reciprocal<P>(torques.torque_nm[i].q(), body.inv_weight, couple_st);
+        tq[s].couple[k] = fx::times_reciprocal<P>(per_weight, g.inv_normal_fraction, couple_st);
+      }
     }
   }
   return couple_st.ok();
