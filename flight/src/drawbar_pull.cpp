@@ -46,8 +46,8 @@ bool inputs_in_range(const RoverParams& params, const WheelLoadResult& loads, co
 /// (fixedpoint/reciprocal.hpp): one reciprocal per call instead of a 64-bit
 /// library division.
 struct LoadSum {
-  std::uint64_t raw;
-  fx::NormalisedReciprocal reciprocal;
+  std::uint64_t raw{0U};
+  fx::NormalisedReciprocal reciprocal{};
 };
 
 /// W_i / sum W in Q31.32, bit for bit fx::div(W_i, sum W) of the loads
