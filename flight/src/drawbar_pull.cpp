@@ -3,9 +3,9 @@
 #include "sinkwatch/flight/drawbar_pull.hpp"
 
 #include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/reciprocal.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
 #include "sinkwatch/fixedpoint/trig.hpp"
-#include "sinkwatch/flight/constant_divisor.hpp"
 
 namespace sinkwatch {
 namespace flight {
@@ -41,16 +41,51 @@ bool inputs_in_range(const RoverParams& params, const WheelLoadResult& loads, co
   return true;
 }
 
+/// The sum of the loads S in raw Q15.16 units (six values in [0, 2^31), so
+/// S < 2^34) and its normalised reciprocal M 2^-(31 + n), n = bit_length(S)
+/// (fixedpoint/reciprocal.hpp): one reciprocal per call instead of a 64-bit
+/// library division.
+struct LoadSum {
+  std::uint64_t raw{0U};
+  fx::NormalisedReciprocal reciprocal{};
+};
+
 /// W_i / sum W in Q31.32, bit for bit fx::div(W_i, sum W) of the loads
 /// widened to Q31.32: both are whole multiples of 2^-16, so the quotient is
-/// round(L_i 2^32 / S) of the raw Q15.16 integers L_i < 2^31 and S < 2^34,
-/// whose 64-bit operands divide through one reciprocal of S per call
-/// (constant_divisor.hpp) instead of six 128-bit long divisions. The
-/// remainder scales with the quotient's operands, so the rounding is the same.
-W load_fraction(WheelLoadN load, std::uint64_t load_sum, std::uint64_t load_sum_reciprocal) noexcept {
-  const std::uint64_t n = static_cast<std::uint64_t>(load.raw()) << 32U;  // load >= 0 (inputs_in_range)
+/// round(N / S), N = L 2^32, of the raw Q15.16 integers L <= S (L < 2^31,
+/// S < 2^34), rounded half up as fx::div rounds a magnitude. Exact, with
+/// 32 x 32 and 64 x 64 -> 64-bit products only (no 128-bit product, no
+/// division; docs/performance.md, session 13):
+///  * estimate q' = floor(L M / 2^(n - 1)) ~ N / S. M is within 2^-31
+///    relative of 2^(31 + n) / S (below it when S < 2^32, where the
+///    normalised divisor is exact; either side when the normalisation drops
+///    S's low bits), and N / S <= 2^32, so q' is within 2 of q = floor(N / S);
+///  * q' S (< 2^63 + 2 S, no wrap) against N: at most two steps down, then
+///    two up, give q and the remainder r = N - q S exactly;
+///  * rounding up when r >= S - r.
+W load_fraction(WheelLoadN load, const LoadSum& sum) noexcept {
+  const auto l = static_cast<std::uint32_t>(load.raw());  // 0 <= load (inputs_in_range)
+  const std::uint64_t n = static_cast<std::uint64_t>(l) << 32U;
+  // The reciprocal's scale is 31 + n (no fraction bits), n >= 1: the sum is positive.
+  const auto shift = static_cast<std::uint32_t>(sum.reciprocal.scale - 32);
+  std::uint64_t q = fx::wide::shr(fx::wide::mul_32x32_64(l, sum.reciprocal.mantissa), shift);
+  std::uint64_t product = fx::wide::mul_64x64_low(q, sum.raw);
+  for (std::uint32_t step = 0U; step < 2U; ++step) {
+    if (product > n) {
+      --q;
+      product -= sum.raw;
+    }
+  }
+  for (std::uint32_t step = 0U; step < 2U; ++step) {
+    if ((n - product) >= sum.raw) {
+      ++q;
+      product += sum.raw;
+    }
+  }
+  const std::uint64_t remainder = n - product;
   // W_i <= sum W: the fraction is at most 1 (2^32 raw), well inside Q31.32.
-  return W::from_raw(static_cast<std::int64_t>(rounded_quotient(n, load_sum, load_sum_reciprocal)));
+  const std::uint64_t rounded = (remainder >= (sum.raw - remainder)) ? (q + 1U) : q;
+  return W::from_raw(static_cast<std::int64_t>(rounded));
 }
 
 /// The pulls for usable loads and parameters that passed
@@ -69,7 +104,7 @@ DrawbarResult pulls_of_valid(const RoverParams& params, const WheelLoadResult& l
   if (load_sum == 0U) {
     return failed(DrawbarStatus::invalid_loads);
   }
-  const std::uint64_t load_sum_reciprocal = reciprocal_of(load_sum);
+  const LoadSum sum{load_sum, fx::normalised_reciprocal(load_sum, 0)};
 
   // m (a + g sin(pitch)): the along-path force the tractions must supply.
   // The loads' sine when they were computed at this pitch (the step's case):
@@ -91,7 +126,7 @@ DrawbarResult pulls_of_valid(const RoverParams& params, const WheelLoadResult& l
     if (!saturated) {
       // total * (W_i / sum W): the fraction is in [0, 1], so the product
       // never exceeds |total|.
-      const W share = fx::mul(total, load_fraction(loads.load_n[i], load_sum, load_sum_reciprocal), st);
+      const W share = fx::mul(total, load_fraction(loads.load_n[i], sum), st);
       dp = fx::clamp(share, fx::neg(cap, st), cap, st);
       if (dp != share) {
         r.capped_mask = static_cast<std::uint8_t>(r.capped_mask | (1U << i));

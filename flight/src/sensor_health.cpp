@@ -90,18 +90,35 @@ SensorHealth spike_verdict(std::uint8_t spike_run) noexcept {
   return (spike_run >= 2U) ? SensorHealth::noisy : SensorHealth::spike;
 }
 
-/// At least three of the other five wheels draw more than twice the
-/// no-load current: the rover is pulling, so a wheel that draws less than
-/// the no-load current transmits no torque.
-bool others_draw(const HealthSample& s, std::uint32_t wheel, CurrentA no_load_a) noexcept {
+/// The wheels that draw more than twice the no-load current (bit i: wheel
+/// i), counted once per sample for all six wheels' "others pulling" test.
+std::uint32_t drawing_mask(const HealthSample& s, CurrentA no_load_a) noexcept {
   const std::int64_t twice = 2 * static_cast<std::int64_t>(no_load_a.raw());
-  std::uint32_t drawing = 0U;
+  std::uint32_t mask = 0U;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    if ((i != wheel) && !s.presence.current_missing[i] && (directed_raw(s.current_a[i], s.direction[i]) > twice)) {
-      ++drawing;
+    if (!s.presence.current_missing[i] && (directed_raw(s.current_a[i], s.direction[i]) > twice)) {
+      mask |= (1U << i);
     }
   }
-  return drawing >= 3U;
+  return mask;
+}
+
+/// At least three of the other five wheels draw more than twice the
+/// no-load current (`drawing`: drawing_mask(), `drawing_count` its bits):
+/// the rover is pulling, so a wheel that draws less than the no-load
+/// current transmits no torque.
+bool others_draw(std::uint32_t drawing, std::uint32_t drawing_count, std::uint32_t wheel) noexcept {
+  const std::uint32_t self = (drawing >> wheel) & 1U;
+  return (drawing_count - self) >= 3U;
+}
+
+/// The number of set bits of a wheel mask.
+std::uint32_t wheel_count_of(std::uint32_t mask) noexcept {
+  std::uint32_t n = 0U;
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    n += (mask >> i) & 1U;
+  }
+  return n;
 }
 
 }  // namespace
@@ -243,8 +260,11 @@ void SensorHealthMonitor::bridge(const HealthSample& s, const HealthParams& p, S
 SensorHealthReport SensorHealthMonitor::update(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
                                                CurrentA current_range_a) noexcept {
   SensorHealthReport r{};
+  const std::uint32_t drawing = drawing_mask(s, no_load_a);
+  const std::uint32_t drawing_count = wheel_count_of(drawing);
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    const SensorHealth raw = current_channel(i, s, p, no_load_a, current_range_a, others_draw(s, i, no_load_a));
+    const SensorHealth raw =
+        current_channel(i, s, p, no_load_a, current_range_a, others_draw(drawing, drawing_count, i));
     r.channel[i] = settle(track_[i], raw, p);
     r.current_usable[i] = usable(r.channel[i]);
   }

@@ -65,16 +65,20 @@ P length(LengthM v, fx::Status& st) noexcept { return fx::rescale<P>(v.q(), st);
 template <typename P>
 Point<P> length(SidePointM p, fx::Status& st) noexcept { return Point<P>{length<P>(p.x_m, st), length<P>(p.z_m, st)}; }
 
-/// Rotation in a side's plane, positive raising the +x end.
+/// Rotation in a side's plane, positive raising the +x end. Written into
+/// the caller's point: a returned Point (8 bytes, returned in memory) cost
+/// the Cortex-M0 a memcpy per use (docs/performance.md, session 13).
 template <typename P>
-Point<P> rotate(Point<P> p, fx::SinCos sc, fx::Status& st) noexcept {
-  return Point<P>{fx::sub(fx::mul<P>(p.x, sc.cos, st), fx::mul<P>(p.z, sc.sin, st), st),
-               fx::add(fx::mul<P>(p.x, sc.sin, st), fx::mul<P>(p.z, sc.cos, st), st)};
+void rotate(Point<P> p, fx::SinCos sc, Point<P>& out, fx::Status& st) noexcept {
+  out.x = fx::sub(fx::mul<P>(p.x, sc.cos, st), fx::mul<P>(p.z, sc.sin, st), st);
+  out.z = fx::add(fx::mul<P>(p.x, sc.sin, st), fx::mul<P>(p.z, sc.cos, st), st);
 }
 
+/// a += b.
 template <typename P>
-Point<P> plus(Point<P> a, Point<P> b, fx::Status& st) noexcept {
-  return Point<P>{fx::add(a.x, b.x, st), fx::add(a.z, b.z, st)};
+void shift_by(Point<P>& a, Point<P> b, fx::Status& st) noexcept {
+  a.x = fx::add(a.x, b.x, st);
+  a.z = fx::add(a.z, b.z, st);
 }
 
 /// v - z k: the coordinate of a point projected along gravity (section 3.2).
@@ -182,20 +186,25 @@ struct SideContacts {
 };
 
 /// The contacts one radius below the axles along the body z axis (section 2).
+/// (Sums of points are exact or saturate alike in either order.)
 template <typename P>
-SideContacts<P> side_contacts(const Links<P>& l, AngleRad rocker_rad, AngleRad bogie_rad, fx::Status& st) noexcept {
+void side_contacts(const Links<P>& l, AngleRad rocker_rad, AngleRad bogie_rad, SideContacts<P>& c,
+                   fx::Status& st) noexcept {
   const fx::Q3_28 rocker = rocker_rad.q();
   // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
   const fx::Q3_28 bogie_abs = fx::add(rocker, bogie_rad.q(), st);
   // One range reduction per angle (fx::sincos), the bits of sin and cos apart.
   const fx::SinCos rocker_sc = fx::sincos(rocker, st);
   const fx::SinCos bogie_sc = fx::sincos(bogie_abs, st);
-  SideContacts<P> c{};
-  c.pivot_b = rotate(l.rocker_bogie, rocker_sc, st);
-  c.front = plus(rotate(l.rocker_front, rocker_sc, st), l.down, st);
-  c.middle = plus(plus(c.pivot_b, rotate(l.bogie_middle, bogie_sc, st), st), l.down, st);
-  c.rear = plus(plus(c.pivot_b, rotate(l.bogie_rear, bogie_sc, st), st), l.down, st);
-  return c;
+  rotate(l.rocker_bogie, rocker_sc, c.pivot_b, st);
+  rotate(l.rocker_front, rocker_sc, c.front, st);
+  shift_by(c.front, l.down, st);
+  rotate(l.bogie_middle, bogie_sc, c.middle, st);
+  shift_by(c.middle, c.pivot_b, st);
+  shift_by(c.middle, l.down, st);
+  rotate(l.bogie_rear, bogie_sc, c.rear, st);
+  shift_by(c.rear, c.pivot_b, st);
+  shift_by(c.rear, l.down, st);
 }
 
 /// Gravity's direction in the body frame (section 3.2).
@@ -244,7 +253,8 @@ bool side_levers(const Links<P>& l, const SidePose<P>& pose, const GravityFrame&
                  fx::Status& st) noexcept {
   const K kx = g.kx;
   const P radius = fx::neg(l.down.z, st);
-  const SideContacts<P> c = side_contacts(l, pose.rocker_rad, pose.bogie_rad, st);
+  SideContacts<P> c{};
+  side_contacts(l, pose.rocker_rad, pose.bogie_rad, c, st);
   const P xt_f = wheel_xt(c.front, tq.from_axle[0], radius, kx, st);
   const P xt_m = wheel_xt(c.middle, tq.from_axle[1], radius, kx, st);
   const P xt_r = wheel_xt(c.rear, tq.from_axle[2], radius, kx, st);
@@ -412,14 +422,17 @@ template <typename P>
 bool side_torques(const DriveTorques& torques, const Body<P>& body, const GravityFrame& g,
                   SideTorques<P> (&tq)[kSideCount]) noexcept {
   fx::Status couple_st;
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    SideTorques<P>& side = tq[i / 3U];
-    const std::uint32_t k = i % 3U;
-    side.from_axle[k] = torques.usable[i];
-    side.couple[k] = P::zero();
-    if (torques.usable[i]) {
-      const P per_weight = fx::times_reciprocal<P>(torques.torque_nm[i].q(), body.inv_weight, couple_st);
-      side.couple[k] = fx::times_reciprocal<P>(per_weight, g.inv_normal_fraction, couple_st);
+  // Wheel i = 3 s + k (side s, position k): nested loops, no division by
+  // three (a library call on the Cortex-M0).
+  for (std::uint32_t s = 0U; s < kSideCount; ++s) {
+    for (std::uint32_t k = 0U; k < 3U; ++k) {
+      const std::uint32_t i = (3U * s) + k;
+      tq[s].from_axle[k] = torques.usable[i];
+      tq[s].couple[k] = P::zero();
+      if (torques.usable[i]) {
+        const P per_weight = fx::times_reciprocal<P>(torques.torque_nm[i].q(), body.inv_weight, couple_st);
+        tq[s].couple[k] = fx::times_reciprocal<P>(per_weight, g.inv_normal_fraction, couple_st);
+      }
     }
   }
   return couple_st.ok();

@@ -68,6 +68,19 @@ TEST(NormalisedReciprocal, MantissaIsTheFlooredQuotientAtEdgeDivisors) {
   }
 }
 
+/// The seed table changes value where v's top byte does: the mantissa is the
+/// floor at both ends of every seed interval and next to them (the Newton
+/// steps' estimate is farthest from the floor there).
+TEST(NormalisedReciprocal, MantissaIsTheFlooredQuotientAtEverySeedIntervalsEnds) {
+  for (std::uint64_t top = 0x80U; top <= 0xFFU; ++top) {
+    const std::uint64_t first = top << 24U;
+    const std::uint64_t last = first + 0xFFFFFFU;
+    for (const std::uint64_t d : {first, first + 1U, first + 0x800000U, last - 1U, last}) {
+      expect_mantissa_is_the_floor(d, 25);
+    }
+  }
+}
+
 TEST(NormalisedReciprocal, MantissaIsTheFlooredQuotientForRandomDivisors) {
   std::mt19937_64 rng(20261125U);  // NOLINT(cert-msc32-c,cert-msc51-cpp): reproducible samples
   for (int i = 0; i < 200000; ++i) {

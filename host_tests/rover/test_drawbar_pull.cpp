@@ -5,9 +5,12 @@
 
 #include <cmath>
 #include <cstdint>
+#include <random>
 
 #include "rover_test_support.hpp"
 #include "sinkwatch/flight/drawbar_pull.hpp"
+#include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/trig.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
 #include "sinkwatch/ground/rover_loads.hpp"
 
@@ -89,6 +92,71 @@ TEST(RoverDrawbarPull, SineFromTheLoadsGivesTheSameBitsAsComputedAfresh) {
     EXPECT_EQ(reused.total_n, fresh.total_n) << pitch;
     for (std::size_t i = 0; i < 6; ++i) EXPECT_EQ(reused.dp_n[i], fresh.dp_n[i]) << pitch << " wheel " << i;
   }
+}
+
+/// The pull of wheel i in Q31.32 as fx::div and fx::mul give it: total (W_i / sum W).
+flight::WheelLoadN share_by_division(const flight::RoverParams& p, const flight::WheelLoadResult& loads,
+                                     const flight::DrawbarInput& in, std::size_t i) {
+  using W = flight::WideQ;
+  fx::Status st;
+  const W sin_pitch = fx::rescale<W>(fx::sin(in.pitch_rad.q(), st), st);
+  const W accel = fx::add(fx::rescale<W>(in.accel_mps2.q(), st), fx::mul<W>(p.gravity_mps2.q(), sin_pitch, st), st);
+  const W total = fx::mul<W>(p.mass_kg.q(), accel, st);
+  std::int64_t sum_raw = 0;
+  for (const flight::WheelLoadN w : loads.load_n) sum_raw += w.raw();
+  // The raw Q15.16 sum widened to Q31.32 (exact: below 2^34 * 2^16).
+  const W sum = W::from_raw(sum_raw * 65536);
+  const W fraction = fx::div<W>(fx::rescale<W>(loads.load_n[i].q(), st), sum, st);
+  const flight::WheelLoadN share{fx::rescale<flight::LoadQ>(fx::mul(total, fraction, st), st)};
+  EXPECT_TRUE(st.ok());
+  return share;
+}
+
+// The split by load divides through one reciprocal of the load sum with an
+// exact remainder correction: bit for bit the rounded quotient of fx::div,
+// for loads up to the format's top (sums beyond 2^32 raw, where the
+// reciprocal's divisor drops low bits), small and zero loads.
+TEST(RoverDrawbarPull, SplitByLoadIsTheDivisionsRoundedFractionBitForBit) {
+  // The heaviest rover at the largest gravity and acceleration: a total of
+  // about 18 kN, so that one unit of the fraction (2^-32) moves a pull by a
+  // tenth of its LSB or more and a wrong fraction shows in the pulls' bits.
+  flight::RoverParams p = flight::yutu_like_rover_params(flight::kGravityMoon);
+  p.mass_kg = q<flight::MassKg>(1000.0);
+  p.gravity_mps2 = q<flight::AccelMps2>(10.0);
+  p.attitude_limit_rad = q<flight::AngleRad>(1.0);
+  ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
+  std::mt19937 rng(15U);
+  int compared = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    flight::WheelLoadResult loads{};
+    loads.status = flight::WheelLoadStatus::ok;
+    const std::uint32_t top = 1U << (1U + (static_cast<std::uint32_t>(trial) % 31U));
+    for (flight::WheelLoadN& w : loads.load_n) {
+      const std::uint32_t raw = ((rng() % 8U) == 0U) ? 0U : (rng() % top);
+      w = flight::WheelLoadN{flight::LoadQ::from_raw(static_cast<std::int32_t>(raw & 0x7FFFFFFFU))};
+    }
+    // One wheel carrying nearly all the weight: fractions next to 1 (2^32
+    // raw), where the reciprocal's estimate is farthest from the quotient.
+    if ((trial % 3) != 0) {
+      const std::uint32_t dominant = 0x40000000U + (rng() % 0x40000000U);
+      if ((trial % 3) == 2) {
+        for (flight::WheelLoadN& w : loads.load_n) w = flight::WheelLoadN{flight::LoadQ::from_raw(static_cast<std::int32_t>(rng() % 16U))};
+      }
+      loads.load_n[trial % 6] = flight::WheelLoadN{flight::LoadQ::from_raw(static_cast<std::int32_t>(dominant))};
+    }
+    const flight::DrawbarInput in = input(10.0 - (0.01 * static_cast<double>(trial % 5)), 0.9, 2.0);
+    const flight::DrawbarResult r = flight::drawbar_pulls(p, loads, in);
+    if (r.status == DrawbarStatus::invalid_loads) continue;  // every load zero
+    // Loads of a few LSB pull more than DP_max allows: those are capped.
+    ASSERT_TRUE((r.status == DrawbarStatus::ok) || (r.status == DrawbarStatus::capped)) << trial;
+    for (std::size_t i = 0; i < 6; ++i) {
+      if ((r.capped_mask & (1U << i)) == 0U) {
+        ++compared;
+        ASSERT_EQ(r.dp_n[i].raw(), share_by_division(p, loads, in, i).raw()) << trial << " wheel " << i;
+      }
+    }
+  }
+  EXPECT_GT(compared, 60000);
 }
 
 TEST(RoverDrawbarPull, DecelerationDownhillGivesNegativePull) {

@@ -408,20 +408,24 @@ template <typename S, std::int32_t F>
   const bool steep = my > mx;
   std::uint64_t a = steep ? mx : my;
   std::uint64_t b = steep ? my : mx;
-  // b = max(|x|, |y|) is zero only for atan2(0, 0). Tested on b itself, the
-  // divisor, so that a static analyser sees every division below guarded.
-  if (b == 0U) {
-    status.raise(Flag::domain);
-    return Q3_28::zero();
-  }
   // 64-bit magnitudes are brought to 32 bits (rounded, the same shift for
   // both) so that the one division below stays in 64 bits.
-  const std::uint32_t len = wide::bit_length(b);
-  if (len > 32U) {
-    const std::uint32_t k = len - 32U;
+  // (Tested as b >= 2^32 rather than on bit_length(b): clang's static
+  // analyser, which does not follow bit_length's 32-bit halves, then saw a
+  // zero divisor below on the path of a one-word b.)
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  if (b >= kWord) {
+    const std::uint32_t k = wide::bit_length(b) - 32U;
     const std::uint64_t half = std::uint64_t{1U} << (k - 1U);
     a = (a >> k) + (((a & half) != 0U) ? 1U : 0U);
     b = (b >> k) + (((b & half) != 0U) ? 1U : 0U);
+  }
+  // b = max(|x|, |y|) is zero only for atan2(0, 0) (a non-zero b keeps a
+  // bit through the rounding shift). Tested on b itself, the divisor, after
+  // the shift, so that a static analyser sees every division below guarded.
+  if (b == 0U) {
+    status.raise(Flag::domain);
+    return Q3_28::zero();
   }
   std::uint64_t phi = 0U;
   if ((a << 31U) <= wide::mul_64x64_low(b, detail::trig::k_tan_pi_8_q31)) {

@@ -99,11 +99,11 @@ SW_FX_INLINE constexpr bool bit(std::uint64_t a, std::uint32_t n) noexcept { ret
 SW_FX_INLINE constexpr bool bit(const U128& a, std::uint32_t n) noexcept { return (shr(a, n).lo & 1U) != 0U; }
 
 /// Number of significant bits of a 32-bit value (0 for a == 0), by halving
-/// the search five times: about 20 instructions on a core without a
-/// count-leading-zeros instruction, where the bit-by-bit loop it replaces
-/// (session 13) took up to 32 iterations, since GCC -Os did not turn it into
-/// CLZ on the Cortex-M4 either. Same results for every input
-/// (test_wide.cpp checks it against the bit-by-bit count).
+/// the range five times: 16, 8, 4, 2 and 1 bits, about 20 instructions. The
+/// bit-at-a-time loop it replaces was not turned into a count-leading-zeros
+/// instruction by GCC at -Os (Cortex-M0 and M4) nor at -O2 (x86-64): up to 32
+/// rounds (docs/performance.md, session 13). test_wide.cpp checks it against
+/// the bit-by-bit count.
 SW_FX_INLINE constexpr std::uint32_t bit_length32(std::uint32_t a) noexcept {
   std::uint32_t v = a;
   const std::uint32_t s16 = (v >= 0x10000U) ? 16U : 0U;
