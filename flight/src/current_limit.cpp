@@ -9,17 +9,16 @@ namespace flight {
 
 namespace {
 
-/// W L from L's leading 31 bits, rounded (< 2^-31 relative), times W > 0:
+/// W L from L's leading 32 bits (truncated: < 2^-31 relative) times W > 0:
 /// one 32 x 32 -> 64-bit product whose scale is known only at run time.
 fx::ScaledMagnitude load_times(fx::Q<std::int64_t, 48> lever, WheelLoadN load_n) noexcept {
   const std::uint64_t magnitude = fx::detail::magnitude(lever.raw());
   const std::uint32_t bits = fx::wide::bit_length(magnitude);
-  const std::uint32_t dropped = (bits > 31U) ? (bits - 31U) : 0U;
-  const std::uint64_t leading =
-      (dropped == 0U) ? magnitude : (fx::wide::shr(magnitude, dropped) + (fx::wide::shr(magnitude, dropped - 1U) & 1U));
-  const std::uint64_t product = fx::wide::mul_32x32_64(static_cast<std::uint32_t>(leading),
-                                                       static_cast<std::uint32_t>(load_n.raw()));  // <= 2^62
-  return fx::ScaledMagnitude{lever.raw() < 0, product, (16 + 48) - static_cast<std::int32_t>(dropped)};
+  const std::uint32_t leading = fx::wide::leading_word(magnitude, bits);  // magnitude 2^(32 - bits)
+  const std::uint64_t product =
+      fx::wide::mul_32x32_64(leading, static_cast<std::uint32_t>(load_n.raw()));  // < 2^63
+  return fx::ScaledMagnitude{lever.raw() < 0, product,
+                             ((16 + 48) + 32) - static_cast<std::int32_t>(bits)};
 }
 
 }  // namespace
@@ -38,7 +37,7 @@ TorqueLimitResult torque_limit(const Coefficients& c, Ratio dp_max_ratio, Length
   const Lever traction_lever = fx::add(fx::mul<Lever>(radius_m.q(), dp_max_ratio.q(), st),
                                        fx::mul<Lever>(radius_m.q(), c.c3.q(), st), st);
   const Lever lever = fx::add(traction_lever, fx::mul<Lever>(c.c2.q(), allowed_sinkage_m.q(), st), st);
-  const LoadQ t_max = fx::divide_normalised<LoadQ>(load_times(lever, load_n), fx::scaled(c.c1.q()), st);
+  const LoadQ t_max = fx::divide_normalised<LoadQ>(load_times(lever, load_n), fx::to_scaled(c.c1.q()), st);
   if (!st.ok()) {
     return TorqueLimitResult{TorqueNm::zero(), EstimateStatus::overflow};
   }

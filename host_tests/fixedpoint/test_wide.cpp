@@ -95,6 +95,20 @@ TEST(FxWide, BitLength32EqualsTheBitByBitCount) {
   }
 }
 
+TEST(FxWide, LeadingWordIsTheTopThirtyTwoBitsFromTheLeadingOne) {
+  EXPECT_EQ(wide::leading_word(0U, 0U), 0U);
+  EXPECT_EQ(wide::leading_word(1U, 1U), 0x80000000U);
+  EXPECT_EQ(wide::leading_word(kAllOnes, 64U), 0xFFFFFFFFU);
+  EXPECT_EQ(wide::leading_word(std::uint64_t{1U} << 63U, 64U), 0x80000000U);
+  std::mt19937_64 rng(64U);
+  for (int i = 0; i < 1000000; ++i) {
+    const std::uint64_t a = (rng() >> (rng() % 64U)) | 1U;
+    const std::uint32_t bits = wide::bit_length(a);
+    const std::uint64_t expected = (bits <= 32U) ? (a << (32U - bits)) : (a >> (bits - 32U));
+    ASSERT_EQ(wide::leading_word(a, bits), expected) << a;
+  }
+}
+
 TEST(FxWide, BitLengthCountsEverySignificantBit) {
   EXPECT_EQ(wide::bit_length32(0U), 0U);
   EXPECT_EQ(wide::bit_length32(1U), 1U);

@@ -4,22 +4,23 @@
 // Where a quotient's operands are products of inputs (Eq. 11's sinkage
 // (C1 T - r (C3 W + DP)) / (C2 W), the section 7 torque limit W L / C1), an
 // exact quotient needs a 128-bit dividend; the flight code's chains took one
-// per division through the Q31.32 path. Here both operands are normalised:
+// per division through the Q31.32 path. Here both operands are normalised to
+// their leading 32 bits (wide::leading_word, truncated: < 2^-31 relative
+// each),
 //
-//   |n| = N * 2^a with N in [2^62, 2^63) (exact: |n| < 2^63 shifts left; a
-//         64-bit |n| loses its last bit, 2^-62 relative),
-//   |d| ~ D * 2^b with D in [2^31, 2^32) (|d|'s leading 32 bits, truncated:
-//         < 2^-31 relative),
-//   q = floor(N / D), in (2^30, 2^32)  (reciprocal.hpp's divide_64_by_32:
+//   |n| ~ N * 2^a,  |d| ~ D * 2^b,  N, D in [2^31, 2^32),
+//   q = floor(N 2^31 / D), in (2^30, 2^32)  (reciprocal.hpp's divide_64_by_32:
 //         two 32 / 16-bit divisions on a core without a divide instruction),
 //
-// and n / d ~ q * 2^(a - b). The floor loses < 2^-30 relative, the
-// truncations < 2^-31 + 2^-62, so q * 2^(a - b) is within |n/d| * 2^-29 of
-// n/d. Rounding into Out (to nearest, ties away from zero, on the magnitude)
-// adds 0.5 LSB:
+// and n / d ~ q * 2^(a - b - 31). The floor loses < 2^-30 relative, the
+// truncations < 2^-31 each (in opposite directions for n and d), so
+// q * 2^(a - b - 31) is within |n/d| * 2^-29 of n/d. Rounding into Out (to
+// nearest, ties away from zero, on the magnitude) adds 0.5 LSB:
 //
 //   |divide_normalised<Out>(n, d) - n/d| <= 0.5 LSB(Out) + |n/d| * 2^-29.
 //
+// Every shift by a run-time count is on 32-bit words (a 64-bit one is a
+// library call on 32-bit cores).
 // A quotient beyond Out saturates and raises overflow; d == 0 raises
 // div_by_zero and gives 0 for n == 0, else the saturated value of n's sign.
 // host_tests/fixedpoint/test_normalised_quotient.cpp checks the bound against
@@ -48,7 +49,7 @@ struct ScaledMagnitude {
 
 /// The Q value as a ScaledMagnitude (exact; INT64_MIN's magnitude is 2^63).
 template <typename S, std::int32_t F>
-[[nodiscard]] constexpr ScaledMagnitude scaled(Q<S, F> x) noexcept {
+[[nodiscard]] constexpr ScaledMagnitude to_scaled(Q<S, F> x) noexcept {
   return ScaledMagnitude{detail::is_negative(x.raw()), detail::magnitude(x.raw()), F};
 }
 
@@ -63,11 +64,13 @@ constexpr std::uint64_t scale_quotient(std::uint32_t q, std::int32_t exponent) n
   if (exponent >= 0) {
     return wide::shl(std::uint64_t{q}, static_cast<std::uint32_t>(exponent));  // < 2^64
   }
-  if (exponent < -33) {
-    return 0U;  // q * 2^exponent < 2^32 * 2^-34 = 1/4
+  if (exponent < -32) {
+    return 0U;  // q * 2^exponent < 2^32 * 2^-33 = 1/2
   }
+  // (q / 2^(s-1) + 1) / 2, floored twice: q / 2^s rounded half up, in 32-bit
+  // words (a 64-bit shift by a variable count is a library call on 32-bit cores).
   const auto s = static_cast<std::uint32_t>(-exponent);
-  return (std::uint64_t{q} + (std::uint64_t{1U} << (s - 1U))) >> s;  // no carry out of 64 bits
+  return (static_cast<std::uint64_t>(q >> (s - 1U)) + 1U) >> 1U;
 }
 
 }  // namespace detail
@@ -89,11 +92,11 @@ template <typename Out>
   }
   const std::uint32_t n_bits = wide::bit_length(n.magnitude);
   const std::uint32_t d_bits = wide::bit_length(d.magnitude);
-  const std::uint64_t n_normalised =
-      (n_bits < 64U) ? wide::shl(n.magnitude, 63U - n_bits) : wide::shr(n.magnitude, 1U);
-  const std::uint64_t d_normalised =
-      (d_bits <= 32U) ? wide::shl(d.magnitude, 32U - d_bits) : wide::shr(d.magnitude, d_bits - 32U);
-  const std::uint32_t q = detail::divide_64_by_32(n_normalised, static_cast<std::uint32_t>(d_normalised)).quotient;
+  // Both leading words in [2^31, 2^32); n's times 2^31 has a high word below
+  // d's, so the quotient fits 32 bits.
+  const std::uint64_t n_leading = wide::leading_word(n.magnitude, n_bits);
+  const std::uint32_t d_leading = wide::leading_word(d.magnitude, d_bits);
+  const std::uint32_t q = detail::divide_64_by_32(n_leading << 31U, d_leading).quotient;
   // n/d ~ q * 2^(n_bits - d_bits - 31 - n.frac + d.frac); in Out's raw units
   // q * 2^exponent with:
   const std::int32_t exponent = ((static_cast<std::int32_t>(n_bits) - static_cast<std::int32_t>(d_bits)) - 31) -
@@ -105,7 +108,7 @@ template <typename Out>
 /// n / d for Q operands (the common case: both scales known when compiled).
 template <typename Out, typename SN, std::int32_t FN, typename SD, std::int32_t FD>
 [[nodiscard]] constexpr Out divide_normalised(Q<SN, FN> n, Q<SD, FD> d, Status& status) noexcept {
-  return divide_normalised<Out>(scaled(n), scaled(d), status);
+  return divide_normalised<Out>(to_scaled(n), to_scaled(d), status);
 }
 
 }  // namespace fx

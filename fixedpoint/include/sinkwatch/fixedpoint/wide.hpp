@@ -130,8 +130,23 @@ SW_FX_INLINE constexpr std::uint32_t bit_length(std::uint64_t a) noexcept {
   const auto high = static_cast<std::uint32_t>(a / kWord);
   return (high != 0U) ? (32U + bit_length32(high)) : bit_length32(static_cast<std::uint32_t>(a));
 }
+
 SW_FX_INLINE constexpr std::uint32_t bit_length(const U128& a) noexcept {
   return (a.hi != 0U) ? (64U + bit_length(a.hi)) : bit_length(a.lo);
+}
+
+/// The 32 bits of a > 0 from its leading one down (a's bit_length is
+/// `bits`): a * 2^(32 - bits), truncated when bits > 32. Shifts by a run-time
+/// count on 32-bit words only (a 64-bit one is a library call on 32-bit cores).
+SW_FX_INLINE constexpr std::uint32_t leading_word(std::uint64_t a, std::uint32_t bits) noexcept {
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  const auto high = static_cast<std::uint32_t>(a / kWord);
+  const auto low = static_cast<std::uint32_t>(a);
+  if (bits <= 32U) {
+    return (bits == 0U) ? 0U : (low << (32U - bits));
+  }
+  const std::uint32_t s = bits - 32U;  // 1..32
+  return (s < 32U) ? ((high << (32U - s)) | (low >> s)) : high;
 }
 
 /// True where a 32 x 32 -> 64-bit product has no instruction: ARMv6-M
