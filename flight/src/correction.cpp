@@ -9,55 +9,44 @@ namespace flight {
 
 namespace {
 
-/// a + f * (b - a) with f in [0, 1] in Q31.32: the step rounded to Q31.32,
-/// the sum rounded once into Q7.24.
-Ratio lerp_wide(Ratio a, Ratio b, WideQ fraction, fx::Status& st) noexcept {
-  const WideQ span = fx::sub(fx::rescale<WideQ>(b.q(), st), fx::rescale<WideQ>(a.q(), st), st);
-  const WideQ step = fx::mul<WideQ>(fraction, span, st);
-  const WideQ value = fx::add(fx::rescale<WideQ>(a.q(), st), step, st);
-  return Ratio(fx::rescale<RatioQ>(value, st));
-}
-
 /// |m| / 2^s rounded half away from zero (fx's rounding of a magnitude).
 std::uint64_t round_shift(std::uint64_t m, std::uint32_t s) noexcept {
   return (m >> s) + ((m >> (s - 1U)) & 1U);
 }
 
-/// lerp_wide, bit for bit, on 64-bit integers when f < 1 (the segment case:
-/// W below the segment's upper breakpoint). In Q31.32 the span is d 2^8 with
-/// d = b - a in raw Q7.24 (|d| < 2^32) and the step round(f d 2^8 / 2^32) =
-/// round(f d / 2^24); f < 2^32 raw keeps f |d| below 2^64. The value
-/// a 2^8 + step then rounds into Q7.24 as fx::rescale does. Four 128-bit
-/// products and rescales per call become one 64-bit product and shifts.
-Ratio lerp(Ratio a, Ratio b, WideQ fraction, fx::Status& st) noexcept {
-  constexpr auto kOneRaw = static_cast<std::int64_t>(std::uint64_t{1} << 32U);  // 1.0 in Q31.32
-  if ((fraction.raw() < 0) || (fraction.raw() >= kOneRaw)) {
-    return lerp_wide(a, b, fraction, st);
-  }
+/// a + f (b - a) for the fraction f = fraction / 2^32 in [0, 1), bit for bit
+/// the Q31.32 interpolation (the dividing oracle's, host_tests/flight): in
+/// Q31.32 the span is d 2^8 with d = b - a in raw Q7.24 (|d| < 2^32) and the
+/// step round(f d 2^8 / 2^32) = round(f d / 2^24); f < 2^32 raw keeps f |d|
+/// below 2^64. The value a 2^8 + step then rounds into Q7.24 as fx::rescale
+/// does. The value lies between a and b, so it fits; st is kept for the
+/// saturation contract of from_sign_magnitude.
+Ratio lerp(Ratio a, Ratio b, std::uint32_t fraction, fx::Status& st) noexcept {
   const std::int64_t d = static_cast<std::int64_t>(b.raw()) - static_cast<std::int64_t>(a.raw());
   // Both factors are below 2^32: one 32 x 32 -> 64-bit product (no
   // __aeabi_lmul on the Cortex-M0).
-  const std::uint64_t product = fx::wide::mul_32x32_64(static_cast<std::uint32_t>(fraction.raw()),
-                                                       static_cast<std::uint32_t>(fx::detail::magnitude(d)));
+  const std::uint64_t product =
+      fx::wide::mul_32x32_64(fraction, static_cast<std::uint32_t>(fx::detail::magnitude(d)));
   const auto step_mag = static_cast<std::int64_t>(round_shift(product, 24U));  // below 2^40
   const std::int64_t value = (static_cast<std::int64_t>(a.raw()) * 256) + ((d < 0) ? -step_mag : step_mag);
   const std::uint64_t out_mag = round_shift(fx::detail::magnitude(value), 8U);
   return Ratio(RatioQ::from_raw(fx::detail::from_sign_magnitude<std::int32_t>(value < 0, out_mag, st)));
 }
 
-/// f = offset / width in Q31.32, bit for bit fx::div<WideQ>(offset, width).
+/// f = offset / width as raw Q0.32, bit for bit fx::div<WideQ>(offset, width).
 /// With a = offset 2^shift < v = width 2^shift and m = floor((2^63 - 1)/v),
 /// q' = floor(a m / 2^31) is the quotient q = floor(a 2^32 / v) or up to three
 /// below it (m > (2^63 - 1)/v - 1 and a < 2^32), so the remainder
 /// a 2^32 - q' v (below 4 v < 2^34) corrects it in at most three steps. Then
-/// q is rounded half up, as fx::div rounds a magnitude. False when there is no
+/// q is rounded half up, as fx::div rounds a magnitude: below 2^32, since
+/// offset < width < 2^31 raw keeps offset / width below 1 - 2^-31. False when there is no
 /// segment or the offset is not in [0, width) (a table validate() refuses).
-bool fraction_in(LoadQ offset, SegmentWidth width, WideQ& fraction) noexcept {
-  if ((width.normalised == 0U) || (offset.raw() < 0)) {
-    return false;
-  }
-  const std::uint64_t shifted = fx::wide::shl(static_cast<std::uint64_t>(offset.raw()), width.shift);
-  if (shifted >= width.normalised) {
+bool fraction_in(LoadQ offset, SegmentWidth width, std::uint32_t& fraction) noexcept {
+  // The offset's sign and its place below the width are defensive: the
+  // segment search gives W_k <= W < W_k+1; a branch no input takes.
+  const std::uint64_t shifted =
+      fx::wide::shl(static_cast<std::uint64_t>(fx::detail::magnitude(offset.raw())), width.shift);
+  if ((width.normalised == 0U) || (offset.raw() < 0) || (shifted >= width.normalised)) {
     return false;
   }
   const auto a = static_cast<std::uint32_t>(shifted);
@@ -71,7 +60,7 @@ bool fraction_in(LoadQ offset, SegmentWidth width, WideQ& fraction) noexcept {
     remainder -= short_by_one ? width.normalised : 0U;
   }
   const bool round_up = remainder >= (width.normalised - remainder);
-  fraction = WideQ::from_raw(static_cast<std::int64_t>(quotient + (round_up ? 1U : 0U)));
+  fraction = static_cast<std::uint32_t>(quotient + (round_up ? 1U : 0U));
   return true;
 }
 
@@ -118,17 +107,14 @@ CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDi
   const CorrectionRow& hi = table.rows[seg + 1U];
   fx::Status st;
   const LoadQ offset = fx::sub(load_n.q(), lo.load_n.q(), st);
-  WideQ fraction = WideQ::zero();
+  std::uint32_t fraction = 0U;
   if ((!st.ok()) || (!fraction_in(offset, divisors.width[seg], fraction))) {
     return failed;
   }
   const Coefficients c{lerp(lo.c1, hi.c1, fraction, st), lerp(lo.c2, hi.c2, fraction, st),
                        lerp(lo.c3, hi.c3, fraction, st)};
   const Ratio dp = lerp(lo.dp_max_ratio, hi.dp_max_ratio, fraction, st);
-  if (!st.ok()) {
-    return failed;
-  }
-  return CorrectionResult{c, dp, LoadClamp::none, EstimateStatus::ok};
+  return st.ok() ? CorrectionResult{c, dp, LoadClamp::none, EstimateStatus::ok} : failed;
 }
 
 CorrectionDivisors make_correction_divisors(const CorrectionTable& table) noexcept {

@@ -88,13 +88,16 @@ TEST(NormalisedQuotient, QuotientsNearEachFormatsLimitSaturateOnlyBeyondIt) {
 
 TEST(NormalisedQuotient, SmallIntegerQuotientsAreExact) {
   using Out = fx::Q<std::int32_t, 24>;
+  // fx::constant is evaluated when compiled (a run-time call does not link).
+  constexpr Out kThreeAndAHalf = fx::constant<Out>(3.5);
+  constexpr Out kMinusTwo = fx::constant<Out>(-2.0);
   fx::Status st;
   EXPECT_EQ(fx::divide_normalised<Out>(fx::Q<std::int64_t, 40>::from_raw(std::int64_t{7} << 40),
                                        fx::Q<std::int32_t, 16>::from_raw(2 << 16), st),
-            fx::constant<Out>(3.5));
+            kThreeAndAHalf);
   EXPECT_EQ(fx::divide_normalised<Out>(fx::Q<std::int64_t, 40>::from_raw(-(std::int64_t{6} << 40)),
                                        fx::Q<std::int32_t, 24>::from_raw(3 << 24), st),
-            fx::constant<Out>(-2.0));
+            kMinusTwo);
   EXPECT_TRUE(st.ok());
 }
 
