@@ -449,13 +449,18 @@ WheelTwin wheel_twin(const Context& c, const sf::CorrectionResult& corr, std::ui
   const double torque = c.out.monitor.wheels[i].estimate_valid ? d(c.out.monitor.wheels[i].torque_nm) : tw.torque_nm;
   tw.sinkage_m = ref::sinkage_m(k, r, w, torque, dp);
   tw.a_ratio = k.c1 * torque / w;
-  tw.sinkage_bound = kHalfLsbQ24 + ((k.c1 + 2.0 + r) * kU / k.c2) +
+  // docs/flight.md, "Sinkage" (host_tests/flight/estimator_bounds.hpp):
+  // one normalised division of Q23.40 operands.
+  tw.sinkage_bound = kHalfLsbQ24 + (std::fabs(tw.sinkage_m) * std::ldexp(1.0, -29)) + (std::ldexp(1.0, -30) / k.c2) +
+                     (std::ldexp(1.0, -41) / (k.c2 * w)) +
                      (kUlps * (std::fabs(tw.a_ratio) + (r * (std::fabs(k.c3) + std::fabs(dp / w)))) / k.c2);
   const double z_max = d(c.table.monitor.allowed_sinkage_m);
   tw.torque_limit_nm = ref::torque_limit_nm(k, d(corr.dp_max_ratio), r, w, z_max);
   tw.limit_a = ref::current_a(motor, tw.torque_limit_nm, sf::DriveDirection::forward);
   const double gain = motor.gear_ratio * motor.efficiency * motor.kt_nm_per_a;
-  const double torque_limit_bound = kHalfLsbQ15 + (((2.0 * w * kU) + kU) / k.c1);
+  // docs/flight.md, "Current limit": the lever's leading word and the
+  // normalised division.
+  const double torque_limit_bound = kHalfLsbQ15 + (std::fabs(tw.torque_limit_nm) * std::ldexp(1.0, -28));
   tw.limit_bound = kHalfLsbQ20 +
                    (kU * ((1.0 / (motor.efficiency * motor.kt_nm_per_a)) + (1.0 / motor.kt_nm_per_a) + 1.0)) +
                    (torque_limit_bound / gain) + (kUlps * std::fabs(tw.limit_a));

@@ -3,8 +3,8 @@
 // flight code is checked against.
 //
 // The flight module divides by the parameter table's constants (Table 2's
-// segment widths) through reciprocals prepared once per load
-// (constant_divisor.hpp), and claims the result is fx::div's bit for bit;
+// segment widths) through mantissas prepared once per load (correction.hpp's
+// SegmentWidth), and claims the result is fx::div's bit for bit;
 // the motor's N, eta and Kt through one normalised reciprocal of their
 // product (motor.hpp), within the bound current_tolerance_a() states. Before issue 15 each of these functions had a second, dividing
 // entry point in the flight code only so that the claim could be tested;

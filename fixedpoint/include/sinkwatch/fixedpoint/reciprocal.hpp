@@ -24,9 +24,10 @@
 // bound against the exact quotient.
 //
 // Not to be confused with fx::reciprocal (sqrt.hpp: 1/x as a Q value, one
-// division, 0.5 LSB) or flight's ConstantDivisor (constant_divisor.hpp:
-// exact quotients by a table constant, fx::div's bits): this one trades the
-// last bit for one division per run-time divisor and a product per quotient.
+// division, 0.5 LSB): this one trades the last bit for one reciprocal per
+// run-time divisor and a product per quotient. Where the exact quotient is
+// needed (flight's corrections, correction.cpp), the product is corrected
+// against the remainder.
 #ifndef SINKWATCH_FIXEDPOINT_RECIPROCAL_HPP
 #define SINKWATCH_FIXEDPOINT_RECIPROCAL_HPP
 

@@ -8,7 +8,7 @@
 // validate_rover_params() and the wheel-radius consistency check run here,
 // when the parameters are loaded, and the step only reads the outcome. So are
 // the reciprocals of the table constants the step divides by (Table 2's
-// breakpoint spacing, the motor's N, eta and Kt: constant_divisor.hpp).
+// breakpoint spacing, correction.hpp; the motor's N, eta and Kt, motor.hpp).
 //
 // A PreparedParameters is built only by prepare(); a default-constructed one
 // holds no table and makes the step refuse every cycle (invalid_table, stop),
@@ -54,7 +54,7 @@ class PreparedParameters {
   [[nodiscard]] constexpr const RoverParams& rover() const& noexcept { return rover_; }
   const RoverParams& rover() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
   /// Table 2's segment widths and the motor's N, eta, Kt as reciprocals
-  /// (constant_divisor.hpp), for divisions without a division instruction.
+  /// (correction.hpp, motor.hpp), for divisions without a division instruction.
   [[nodiscard]] constexpr const CorrectionDivisors& correction_divisors() const& noexcept {
     return correction_divisors_;
   }
