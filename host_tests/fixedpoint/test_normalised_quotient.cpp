@@ -1,5 +1,5 @@
 // test_normalised_quotient.cpp: fx::divide_normalised (normalised_quotient.hpp)
-// and the long division under it (reciprocal.hpp's detail::divide_64_by_32).
+// and the long division under it (its detail::divide_64_by_32).
 // The long division is checked against the built-in 64-bit division; every
 // quotient against the exact one, computed in double with its own rounding
 // (3 * 2^-53 relative) added to the documented bound 0.5 LSB + |n/d| 2^-29.

@@ -49,53 +49,7 @@ struct NormalisedReciprocal {
 
 namespace detail {
 
-/// The quotients of normalised_quotient.hpp come from a long division: the
-/// two-digit long division of Hacker's Delight (2nd ed., figure 9-3, divlu)
-/// in base 2^16 with 32-bit words only. Each digit's estimate from the
-/// divisor's high half is at most two too large and is corrected at most
-/// twice, so both loops are bounded by two. The result is the exact floor and
-/// remainder (test_normalised_quotient checks them against the built-in
-/// division).
-constexpr std::uint32_t kDigitBase = 0x10000U;
-
-/// One quotient digit of that division: the estimate of `partial` over the
-/// divisor's high digit, corrected at most twice against its low digit (one
-/// correction stops once the remainder leaves the digit: then
-/// kDigitBase * rhat would not fit, and the estimate is right). Both counted
-/// loops are simple (MISRA C++:2023 rule 9.5.1: no break).
-constexpr std::uint32_t quotient_digit(std::uint32_t partial, std::uint32_t v_high, std::uint32_t v_low,
-                                       std::uint32_t next_digit) noexcept {
-  std::uint32_t q = partial / v_high;
-  std::uint32_t rhat = partial - (q * v_high);
-  bool correcting = true;
-  for (std::uint32_t step = 0U; step < 2U; ++step) {
-    correcting = correcting && ((q >= kDigitBase) || ((q * v_low) > ((kDigitBase * rhat) + next_digit)));
-    if (correcting) {
-      --q;
-      rhat += v_high;
-      correcting = rhat < kDigitBase;
-    }
-  }
-  return q;
-}
-
-/// floor((2^63 - 1) / v) for v in [2^31, 2^32), with 32 x 32-bit products
-/// only (no division: a core without a divide instruction pays about 100
-/// instructions for each 32-bit library division, and the long division this
-/// replaces took two of them; docs/performance.md, session 13):
-///  1. a seed y0 ~ 2^47 / v from a 128-entry table of 16-bit values indexed
-///     by v's top byte, within 2^-8 relative;
-///  2. one Newton step in 16 x 16 and 16 x 32-bit products:
-///     z1 ~ 2^62 / v within about 2^-16 relative;
-///  3. a second Newton step at full width: m ~ 2^63 / v within 2 units;
-///  4. exact correction against the remainder 2^63 - 1 - m v, at most two
-///     units down and one up.
-/// The result is the exact floor for every v: checked against the 64-bit
-/// division for all 2^31 divisors (throwaway host driver, 0 differ; the
-/// estimate of step 3 is 2 below to 1 above the floor), and by
-/// test_reciprocal.cpp at every seed interval's ends and at random.
-/// The bounds of the intermediates (each below 2^32, the products below
-/// 2^64) hold for every v in the range; the same driver checked them.
+/// The seeds of floor_two_to_63_less_1_over below (step 1).
 struct ReciprocalSeeds {
   std::uint16_t y0[128];
 };
@@ -130,27 +84,23 @@ constexpr std::uint64_t second_newton_step(std::uint32_t v, std::uint32_t z1) no
   return below ? (twice + step) : (twice - step);
 }
 
-/// floor(u / v) and u mod v for v in [2^31, 2^32) and u < v * 2^32 (the
-/// quotient fits 32 bits; the caller normalises): two digits in base 2^16,
-/// each from quotient_digit. The partial remainders fit 32 bits, and the
-/// wrapping 32-bit arithmetic gives them exactly (Hacker's Delight's divlu).
-constexpr wide::DivMod<std::uint32_t> divide_64_by_32(std::uint64_t u, std::uint32_t v) noexcept {
-  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
-  // v >= 2^31, so the high digit is at least 2^15: the OR changes nothing
-  // but shows the static analyser a divisor that cannot be zero.
-  const std::uint32_t v_high = (v >> 16U) | 0x8000U;
-  const std::uint32_t v_low = v & 0xFFFFU;
-  const auto u_high = static_cast<std::uint32_t>(u / kWord);  // u >> 32 without a library shift
-  const auto u_low = static_cast<std::uint32_t>(u);
-  const std::uint32_t u_high_digit = u_low >> 16U;
-  const std::uint32_t u_low_digit = u_low & 0xFFFFU;
-  const std::uint32_t q1 = quotient_digit(u_high, v_high, v_low, u_high_digit);
-  const std::uint32_t partial = ((u_high * kDigitBase) + u_high_digit) - (q1 * v);
-  const std::uint32_t q0 = quotient_digit(partial, v_high, v_low, u_low_digit);
-  const std::uint32_t remainder = ((partial * kDigitBase) + u_low_digit) - (q0 * v);
-  return wide::DivMod<std::uint32_t>{(q1 * kDigitBase) + q0, remainder};
-}
-
+/// floor((2^63 - 1) / v) for v in [2^31, 2^32), with 32 x 32-bit products
+/// only (no division: a core without a divide instruction pays about 100
+/// instructions for each 32-bit library division, and the long division this
+/// replaces took two of them; docs/performance.md, session 13):
+///  1. a seed y0 ~ 2^47 / v from a 128-entry table of 16-bit values indexed
+///     by v's top byte, within 2^-8 relative;
+///  2. one Newton step in 16 x 16 and 16 x 32-bit products:
+///     z1 ~ 2^62 / v within about 2^-16 relative;
+///  3. a second Newton step at full width: m ~ 2^63 / v within 2 units;
+///  4. exact correction against the remainder 2^63 - 1 - m v, at most two
+///     units down and one up.
+/// The result is the exact floor for every v: checked against the 64-bit
+/// division for all 2^31 divisors (throwaway host driver, 0 differ; the
+/// estimate of step 3 is 2 below to 1 above the floor), and by
+/// test_reciprocal.cpp at every seed interval's ends and at random.
+/// The bounds of the intermediates (each below 2^32, the products below
+/// 2^64) hold for every v in the range; the same driver checked them.
 constexpr std::uint32_t floor_two_to_63_less_1_over(std::uint32_t v) noexcept {
   constexpr std::uint64_t kNumerator = (std::uint64_t{1U} << 63U) - 1U;
   const std::uint32_t y0 = kReciprocalSeeds.y0[(v >> 24U) & 0x7FU];
