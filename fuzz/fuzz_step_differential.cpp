@@ -45,6 +45,7 @@
 #include <cstdlib>
 #include <iterator>
 
+#include "estimator_bounds.hpp"
 #include "rover_test_support.hpp"
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/drawbar_pull.hpp"
@@ -451,8 +452,7 @@ WheelTwin wheel_twin(const Context& c, const sf::CorrectionResult& corr, std::ui
   tw.a_ratio = k.c1 * torque / w;
   // docs/flight.md, "Sinkage" (host_tests/flight/estimator_bounds.hpp):
   // one normalised division of Q23.40 operands.
-  tw.sinkage_bound = kHalfLsbQ24 + (std::fabs(tw.sinkage_m) * std::ldexp(1.0, -29)) + (std::ldexp(1.0, -30) / k.c2) +
-                     (std::ldexp(1.0, -41) / (k.c2 * w)) +
+  tw.sinkage_bound = sinkwatch::test::sinkage_error_bound_m(k.c2, w, tw.sinkage_m) +
                      (kUlps * (std::fabs(tw.a_ratio) + (r * (std::fabs(k.c3) + std::fabs(dp / w)))) / k.c2);
   const double z_max = d(c.table.monitor.allowed_sinkage_m);
   tw.torque_limit_nm = ref::torque_limit_nm(k, d(corr.dp_max_ratio), r, w, z_max);
@@ -460,7 +460,7 @@ WheelTwin wheel_twin(const Context& c, const sf::CorrectionResult& corr, std::ui
   const double gain = motor.gear_ratio * motor.efficiency * motor.kt_nm_per_a;
   // docs/flight.md, "Current limit": the lever's leading word and the
   // normalised division.
-  const double torque_limit_bound = kHalfLsbQ15 + (std::fabs(tw.torque_limit_nm) * std::ldexp(1.0, -28));
+  const double torque_limit_bound = sinkwatch::test::torque_limit_error_bound_nm(tw.torque_limit_nm);
   tw.limit_bound = kHalfLsbQ20 +
                    (kU * ((1.0 / (motor.efficiency * motor.kt_nm_per_a)) + (1.0 / motor.kt_nm_per_a) + 1.0)) +
                    (torque_limit_bound / gain) + (kUlps * std::fabs(tw.limit_a));
