@@ -12,6 +12,8 @@
 #include "sinkwatch/fixedpoint/status.hpp"
 #include "sinkwatch/fixedpoint/trig.hpp"
 
+#include <type_traits>
+
 namespace sinkwatch {
 namespace flight {
 namespace {
@@ -44,6 +46,15 @@ constexpr AngleRad kMaxAttitudeLimit{fx::constant<AngleQ>(limits::kMaxAttitudeLi
 /// than divide by it.
 template <typename P>
 constexpr P kMinLever{fx::constant<P>(0.001)};
+/// The guard of the rocker's lever and the bogie's span in each pass. The
+/// Q6.25 pass decides both against 1 mm before anything can overflow
+/// (loads_in), so a wider pass runs only on levers of at least 1 mm; its own
+/// rounding (a few 2^-16 m in Q15.16) must not decide them again, as it did
+/// for a lever of 1.003 mm that Q15.16 rounded to 0.992 mm (the fuzz finding
+/// of session 13, docs/rover-loads.md 7.4). Half a millimetre there only
+/// keeps the quotients by them finite.
+template <typename P>
+constexpr P kLeverGuard{fx::constant<P>(std::is_same<P, Fine>::value ? 0.001 : 0.0005)};
 template <typename P>
 constexpr P kHalf{fx::constant<P>(0.5)};
 template <typename P>
@@ -263,7 +274,7 @@ bool side_levers(const Links<P>& l, const SidePose<P>& pose, const GravityFrame&
   out.b = fx::neg(xt_b, st);
   const P span = fx::sub(xt_m, xt_r, st);
   const P lever = fx::add(out.a, out.b, st);
-  if ((lever < kMinLever<P>) || (span < kMinLever<P>)) {
+  if ((lever < kLeverGuard<P>) || (span < kLeverGuard<P>)) {
     return false;
   }
   // One division per lever, its quotients as products (section 12.5).
@@ -482,16 +493,18 @@ WheelLoadResult loads_in(const RoverParams& params, const RoverAttitude& attitud
   const GravityFrame g = gravity_frame(attitude, st);
   const Body<P> body = body_of<P>(params, g, st);
   SideTorques<P> tq[kSideCount]{};
-  if (!side_torques(torques, body, g, tq)) {
-    return failed(WheelLoadStatus::overflow);
-  }
+  const bool couples_fit = side_torques(torques, body, g, tq);
   SideLevers<P> side[kSideCount]{};
   P support[kWheelCount]{};
   // The levers come from positions, which never leave P: a collapsed one is
-  // degenerate whatever else overflowed. The lateral span comes after the
-  // quotients by them, and is only trusted when none overflowed.
+  // degenerate whatever else overflowed, the couples included (they only
+  // move the levers' loads, not the levers). The lateral span comes after
+  // the quotients by them, and is only trusted when none overflowed.
   if (!both_sides(params, joints, g, tq, side, st)) {
     return failed(WheelLoadStatus::degenerate);
+  }
+  if (!couples_fit) {
+    return failed(WheelLoadStatus::overflow);
   }
   if (!support_forces(side, body, support, st)) {
     return failed(st.ok() ? WheelLoadStatus::degenerate : WheelLoadStatus::overflow);

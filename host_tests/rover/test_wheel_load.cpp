@@ -483,8 +483,8 @@ struct FarBeyondTipOver {
   double min_share;  ///< the twin's smallest load / m g, for the record
 };
 
-void expect_tip_over_like_the_twin(const FarBeyondTipOver& c) {
-  const RoverParams p = flight::yutu_like_rover_params(flight::kGravityEarth);
+void expect_tip_over_like_the_twin(const FarBeyondTipOver& c,
+                                   const RoverParams& p = flight::yutu_like_rover_params(flight::kGravityEarth)) {
   const flight::RoverAttitude att{flight::AngleRad::from_raw(c.pitch), flight::AngleRad::from_raw(c.roll)};
   flight::JointAnglesRad j{};
   j.rocker_rad[0] = flight::AngleRad::from_raw(c.rocker_left);
@@ -513,6 +513,19 @@ TEST(RoverWheelLoad, ShareBeyondQ6_25IsDecidedAsTipOverInQ10_21) {
 TEST(RoverWheelLoad, ShareBeyondQ10_21IsDecidedAsTipOverInQ15_16) {
   expect_tip_over_like_the_twin({-225615807, -144820051, -74571252, 83272519, 26331901, 102875640, -5578.3});
   expect_tip_over_like_the_twin({-265000558, -62902611, 82426320, -27831358, 12493817, -106800594, -2451.3});
+}
+
+// A rocker lever of 1.003 mm (Q10.21) that Q15.16 rounds to 0.992 mm, with
+// shares beyond Q10.21 (the differential fuzzer's finding of session 13):
+// the Q6.25 pass has decided the lever against 1 mm, so the Q15.16 pass
+// must not call it collapsed; it says tip-over, as the twin does, where it
+// said overflow before.
+TEST(RoverWheelLoad, LeverJustAbove1mmIsNotDecidedAgainInTheWiderPasses) {
+  RoverParams p = flight::yutu_like_rover_params(flight::kGravityEarth);
+  p.com_y_m = flight::LengthM::from_raw(275242);
+  p.com_z_m = flight::LengthM::from_raw(839268);
+  ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
+  expect_tip_over_like_the_twin({-266128588, -232574156, -5713113, -11939, -34406, 3031, -508.2}, p);
 }
 
 // Couples T / (m g cos(pitch) cos(roll)) beyond Q6.25 (a 10 g rover with
