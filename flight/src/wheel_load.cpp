@@ -540,12 +540,15 @@ WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& a
 }
 
 /// The loads with the torques; when the torques alone would lift a wheel,
-/// the loads without them, flagged (section 12.4). At most two evaluations.
+/// or their balance leaves every format (a share beyond +-32,768 normal
+/// weights, which with shares summing to one lifts another wheel), the loads
+/// without them, flagged (section 12.4). At most two evaluations.
 WheelLoadResult loads_with_torques(const RoverParams& params, const RoverAttitude& attitude,
                                    const JointAnglesRad& joints, const DriveTorques& torques) noexcept {
   WheelLoadResult r = loads_of_valid(params, attitude, joints, torques);
   r.torque_fallback_mask = fallback_mask(torques);
-  if ((r.status == WheelLoadStatus::tip_over) && (r.torque_fallback_mask != kEveryTorqueFallsBack)) {
+  const bool torques_unbalanced = (r.status == WheelLoadStatus::tip_over) || (r.status == WheelLoadStatus::overflow);
+  if (torques_unbalanced && (r.torque_fallback_mask != kEveryTorqueFallsBack)) {
     r = loads_of_valid(params, attitude, joints, kNoDriveTorques);
     r.torque_fallback_mask = kEveryTorqueFallsBack;
     r.torque_overload = (r.status == WheelLoadStatus::ok);

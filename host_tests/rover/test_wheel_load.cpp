@@ -529,18 +529,19 @@ TEST(RoverWheelLoad, LeverJustAbove1mmIsNotDecidedAgainInTheWiderPasses) {
 }
 
 // Couples T / (m g cos(pitch) cos(roll)) beyond Q6.25 (a 10 g rover with
-// 10 N m on a wheel: about 600 m) and beyond Q10.21 (100 N m: about 6,000 m):
-// the wider passes still see the torques lift a wheel, so the loads are
-// those without torques, flagged as an overload (section 12.4), never an
-// overflow.
-TEST(RoverWheelLoad, CouplesBeyondQ6_25AndQ10_21AreATorqueOverload) {
+// 10 N m on a wheel: about 600 m), beyond Q10.21 (100 N m: about 6,000 m)
+// and beyond Q15.16 (1,000 N m: about 60,000 m): the wider passes see the
+// torques lift a wheel, or the balance with them leaves every format, so the
+// loads are those without torques, flagged as an overload (section 12.4),
+// never an overflow (the last one was, until session 14's fuzz finding).
+TEST(RoverWheelLoad, CouplesBeyondEachFormatAreATorqueOverload) {
   RoverParams p = flight::yutu_like_rover_params(flight::kGravityMoon);
   p.mass_kg = q<flight::MassKg>(0.01);
   ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
   const flight::WheelLoadResult plain = flight::wheel_loads(p, flight::RoverAttitude{}, flight::JointAnglesRad{},
                                                             flight::kNoDriveTorques);
   ASSERT_EQ(plain.status, WheelLoadStatus::ok);
-  for (const double torque_nm : {10.0, 100.0}) {
+  for (const double torque_nm : {10.0, 100.0, 1000.0}) {
     flight::DriveTorques t{};
     t.usable[0] = true;
     t.torque_nm[0] = q<flight::TorqueNm>(torque_nm);
