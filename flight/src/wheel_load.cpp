@@ -523,9 +523,12 @@ WheelLoadResult loads_in(const RoverParams& params, const RoverAttitude& attitud
 /// wheel lifts (its degenerate guard rounds too coarsely to be trusted: an
 /// overflow left there is a collapsed lateral span in every sampled case,
 /// which the step refuses as it refuses degenerate). Each pass is one
-/// bounded evaluation: at most three (section 7.4).
+/// bounded evaluation: at most three (section 7.4). `beyond_every_format`
+/// tells an overflow of the Q15.16 pass too (the balance itself is beyond
+/// +-32,768 normal weights) from one it took for a collapsed span.
 WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& attitude, const JointAnglesRad& joints,
-                               const DriveTorques& torques) noexcept {
+                               const DriveTorques& torques, bool& beyond_every_format) noexcept {
+  beyond_every_format = false;
   const WheelLoadResult fine = loads_in<Fine>(params, attitude, joints, torques);
   if (fine.status != WheelLoadStatus::overflow) {
     return fine;
@@ -536,20 +539,24 @@ WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& a
   }
   const WheelLoadResult coarse =
       (mid.status == WheelLoadStatus::overflow) ? loads_in<Coarse>(params, attitude, joints, torques) : fine;
+  beyond_every_format = (mid.status == WheelLoadStatus::overflow) && (coarse.status == WheelLoadStatus::overflow);
   return (coarse.status == WheelLoadStatus::tip_over) ? coarse : fine;
 }
 
 /// The loads with the torques; when the torques alone would lift a wheel,
-/// or their balance leaves every format (a share beyond +-32,768 normal
-/// weights, which with shares summing to one lifts another wheel), the loads
-/// without them, flagged (section 12.4). At most two evaluations.
+/// or their balance is beyond every format (shares summing to one, a share
+/// beyond +-32,768 normal weights lifts another wheel), the loads without
+/// them, flagged (section 12.4). An overflow the Q15.16 pass took for a
+/// collapsed span stays an overflow, as the twin's degenerate. At most two
+/// evaluations of loads_of_valid.
 WheelLoadResult loads_with_torques(const RoverParams& params, const RoverAttitude& attitude,
                                    const JointAnglesRad& joints, const DriveTorques& torques) noexcept {
-  WheelLoadResult r = loads_of_valid(params, attitude, joints, torques);
+  bool beyond_every_format = false;
+  WheelLoadResult r = loads_of_valid(params, attitude, joints, torques, beyond_every_format);
   r.torque_fallback_mask = fallback_mask(torques);
-  const bool torques_unbalanced = (r.status == WheelLoadStatus::tip_over) || (r.status == WheelLoadStatus::overflow);
+  const bool torques_unbalanced = (r.status == WheelLoadStatus::tip_over) || beyond_every_format;
   if (torques_unbalanced && (r.torque_fallback_mask != kEveryTorqueFallsBack)) {
-    r = loads_of_valid(params, attitude, joints, kNoDriveTorques);
+    r = loads_of_valid(params, attitude, joints, kNoDriveTorques, beyond_every_format);
     r.torque_fallback_mask = kEveryTorqueFallsBack;
     r.torque_overload = (r.status == WheelLoadStatus::ok);
   }

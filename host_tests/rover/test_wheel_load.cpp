@@ -528,6 +528,44 @@ TEST(RoverWheelLoad, LeverJustAbove1mmIsNotDecidedAgainInTheWiderPasses) {
   expect_tip_over_like_the_twin({-266128588, -232574156, -5713113, -11939, -34406, 3031, -508.2}, p);
 }
 
+// Thousands of newton-metres on a rover whose bogie span, projected from the
+// axles as the torques' balance takes it, is 1.4 mm (a fuzz finding of
+// session 14, after the fallback above): the twin calls the balance with the
+// torques degenerate (a collapsed lateral span) and does not fall back, and
+// the Q15.16 pass takes it for a collapsed span too. That is not a balance
+// beyond every format, so the flight does not fall back to the loads
+// without torques (a tip-over there) either: it stays an overflow, which
+// the step refuses as it refuses degenerate.
+TEST(RoverWheelLoad, ABalanceTakenForACollapsedSpanIsNotATorqueOverload) {
+  RoverParams p = flight::yutu_like_rover_params(flight::kGravityMars);
+  p.com_x_m = flight::LengthM::from_raw(-952);
+  p.com_y_m = flight::LengthM::from_raw(-838861);
+  p.com_z_m = flight::LengthM::from_raw(838861);
+  ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
+  const flight::RoverAttitude att{flight::AngleRad::from_raw(-241591897), flight::AngleRad::from_raw(261786011)};
+  flight::JointAnglesRad j{};
+  j.rocker_rad[0] = flight::AngleRad::from_raw(22817013);
+  j.rocker_rad[1] = flight::AngleRad::from_raw(-192565);
+  j.bogie_rad[0] = flight::AngleRad::from_raw(-60397980);
+  j.bogie_rad[1] = flight::AngleRad::from_raw(-34405);
+  const double torque_nm[flight::kWheelCount] = {5364.285644531, 0.0, -1455.106323242, 4224.239959717, 0.0, 2839.290054321};
+  flight::DriveTorques t{};
+  ground::DriveTorques ref_t{};
+  for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+    t.usable[i] = (torque_nm[i] != 0.0);
+    t.torque_nm[i] = q<flight::TorqueNm>(torque_nm[i]);
+    ref_t.usable[i] = t.usable[i];
+    ref_t.torque_nm[i] = d(t.torque_nm[i]);
+  }
+  const ground::WheelLoads ref =
+      ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att), rover_test::to_ground(j), ref_t);
+  ASSERT_EQ(ref.status, ground::LoadStatus::degenerate);
+  const flight::WheelLoadResult r = flight::wheel_loads(p, att, j, t);
+  EXPECT_EQ(r.status, WheelLoadStatus::overflow);
+  EXPECT_FALSE(r.torque_overload);
+  EXPECT_EQ(r.torque_fallback_mask, 0x12U);  // wheels 1 and 4 had no torque
+}
+
 // Couples T / (m g cos(pitch) cos(roll)) beyond Q6.25 (a 10 g rover with
 // 10 N m on a wheel: about 600 m), beyond Q10.21 (100 N m: about 6,000 m)
 // and beyond Q15.16 (1,000 N m: about 60,000 m): the wider passes see the
