@@ -53,6 +53,14 @@ constexpr P kMinLever{fx::constant<P>(0.001)};
 /// for a lever of 1.003 mm that Q15.16 rounded to 0.992 mm (the fuzz finding
 /// of session 13, docs/rover-loads.md 7.4). Half a millimetre there only
 /// keeps the quotients by them finite.
+/// Whether the lateral span's quotients always fit P: in Q15.16 they do.
+/// Z_s = (y~_front - y~_bogie) / (a + b) is a height difference on one side
+/// (at most 4 m) times tan(roll) (at most 1.8) over a lever of at least
+/// 0.9 mm (1 mm decided in Q6.25, less a few 2^-16 m of rounding): below
+/// 8,000, and Y_s = y~_bogie + b Z_s below 16,010 (b <= 2 m, |y~| <= 10 m),
+/// within +-32,768.
+template <typename P>
+constexpr bool kSpanFits{std::is_same<P, Coarse>::value};
 template <typename P>
 constexpr P kLeverGuard{fx::constant<P>(std::is_same<P, Fine>::value ? 0.001 : 0.0005)};
 template <typename P>
@@ -507,7 +515,10 @@ WheelLoadResult loads_in(const RoverParams& params, const RoverAttitude& attitud
     return failed(WheelLoadStatus::overflow);
   }
   if (!support_forces(side, body, support, st)) {
-    return failed(st.ok() ? WheelLoadStatus::degenerate : WheelLoadStatus::overflow);
+    // A collapsed lateral span. Where another quantity overflowed, Q6.25 and
+    // Q10.21 may have saturated the span's own quotients; Q15.16 cannot
+    // (kSpanFits), so its answer names the span whatever else overflowed.
+    return failed((st.ok() || kSpanFits<P>) ? WheelLoadStatus::degenerate : WheelLoadStatus::overflow);
   }
   if (!st.ok()) {
     return failed(WheelLoadStatus::overflow);

@@ -530,14 +530,15 @@ TEST(RoverWheelLoad, LeverJustAbove1mmIsNotDecidedAgainInTheWiderPasses) {
 
 // Thousands of newton-metres on a rover whose bogie span, projected from the
 // axles as the torques' balance takes it, is 1.4 mm (a fuzz finding of
-// session 14, after the fallback above): the twin calls the balance with the
+// session 14 against the first form of the fallback that
+// CouplesBeyondEachFormatAreATorqueOverload, below, checks): the twin calls the balance with the
 // torques degenerate (a collapsed lateral span) and does not fall back, and
 // the Q15.16 pass takes it for a collapsed span too. That is not a balance
 // beyond every format, so the flight does not fall back to the loads
 // without torques (a tip-over there) either: it stays an overflow, which
 // the step refuses as it refuses degenerate.
-TEST(RoverWheelLoad, ABalanceTakenForACollapsedSpanIsNotATorqueOverload) {
-  RoverParams p = flight::yutu_like_rover_params(flight::kGravityMars);
+void expect_collapsed_span_with_torques(const double (&torque_nm)[flight::kWheelCount]) {
+  RoverParams p = flight::yutu_like_rover_params(flight::kGravityMoon);
   p.com_x_m = flight::LengthM::from_raw(-952);
   p.com_y_m = flight::LengthM::from_raw(-838861);
   p.com_z_m = flight::LengthM::from_raw(838861);
@@ -548,7 +549,6 @@ TEST(RoverWheelLoad, ABalanceTakenForACollapsedSpanIsNotATorqueOverload) {
   j.rocker_rad[1] = flight::AngleRad::from_raw(-192565);
   j.bogie_rad[0] = flight::AngleRad::from_raw(-60397980);
   j.bogie_rad[1] = flight::AngleRad::from_raw(-34405);
-  const double torque_nm[flight::kWheelCount] = {5364.285644531, 0.0, -1455.106323242, 4224.239959717, 0.0, 2839.290054321};
   flight::DriveTorques t{};
   ground::DriveTorques ref_t{};
   for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
@@ -564,6 +564,14 @@ TEST(RoverWheelLoad, ABalanceTakenForACollapsedSpanIsNotATorqueOverload) {
   EXPECT_EQ(r.status, WheelLoadStatus::overflow);
   EXPECT_FALSE(r.torque_overload);
   EXPECT_EQ(r.torque_fallback_mask, 0x12U);  // wheels 1 and 4 had no torque
+}
+
+// The second set is five times larger: another quantity overflows the
+// Q15.16 pass before its span guard, which still names the collapsed span
+// (kSpanFits in wheel_load.cpp; the next fuzz finding).
+TEST(RoverWheelLoad, ABalanceTakenForACollapsedSpanIsNotATorqueOverload) {
+  expect_collapsed_span_with_torques({5364.285644531, 0.0, -1455.106323242, 4224.239959717, 0.0, 2839.290054321});
+  expect_collapsed_span_with_torques({26251.858398438, 0.0, -7121.031158447, 20672.677886963, 0.0, 13894.979782104});
 }
 
 // Couples T / (m g cos(pitch) cos(roll)) beyond Q6.25 (a 10 g rover with
