@@ -481,7 +481,9 @@ WheelLoadResult normal_loads(const P (&support)[kWheelCount], const Body<P>& bod
   r.pitch_rad = pitch_rad;
   r.sin_pitch = g.sin_pitch;
   if (!st.ok()) {
-    // Defensive, unreachable after the tip-over check (docs/coverage.md).
+    // Only the Q15.16 pass gets here with an earlier overflow and no
+    // negative share (loads_in); after a clean pass the products of shares
+    // and the normal weight cannot overflow (docs/coverage.md).
     return failed(WheelLoadStatus::overflow);  // GCOVR_EXCL_LINE
   }
   r.lifting_wheel = kWheelCount;
@@ -520,7 +522,13 @@ WheelLoadResult loads_in(const RoverParams& params, const RoverAttitude& attitud
     // (kSpanFits), so its answer names the span whatever else overflowed.
     return failed((st.ok() || kSpanFits<P>) ? WheelLoadStatus::degenerate : WheelLoadStatus::overflow);
   }
-  if (!st.ok()) {
+  // After an overflow, Q15.16 still reads the shares for a tip-over: with
+  // the couples within range and the span not collapsed, what overflows
+  // there is a share or a side's total beyond +-32,768, and as the shares
+  // sum to one, a share that large means another is negative. A negative
+  // (saturated) share is then a tip-over; without one it stays an
+  // overflow (normal_loads). Q6.25 and Q10.21 leave that to the next pass.
+  if (!st.ok() && !kSpanFits<P>) {
     return failed(WheelLoadStatus::overflow);
   }
   return normal_loads(support, body, g, attitude.pitch_rad, st);

@@ -528,6 +528,60 @@ TEST(RoverWheelLoad, LeverJustAbove1mmIsNotDecidedAgainInTheWiderPasses) {
   expect_tip_over_like_the_twin({-266128588, -232574156, -5713113, -11939, -34406, 3031, -508.2}, p);
 }
 
+// Bogie spans of 1.8 and 1.9 mm, no torque (the fifth fuzz finding of
+// session 14, where the torques had already fallen back): the shares leave
+// every format, Q15.16 included, and the twin says tip-over. The Q15.16
+// pass reads its saturated shares for the tip-over after the overflow
+// (loads_in); before, the step refused the cycle as an overflow.
+TEST(RoverWheelLoad, ShareBeyondEveryFormatIsATipOver) {
+  RoverParams p = flight::yutu_like_rover_params(flight::kGravityEarth);
+  p.com_x_m = flight::LengthM::from_raw(1320);
+  p.com_y_m = flight::LengthM::from_raw(262185);
+  p.com_z_m = flight::LengthM::from_raw(839268);
+  ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
+  expect_tip_over_like_the_twin({257119283, -48226270, 45759016, 45726140, 116192205, 116190445, -143069.5}, p);
+}
+
+// Parameters that pass validate_rover_params() at the edge of its ranges: a
+// rocker whose front axle is 5.5 mm ahead of its pivot, the bogie pivot
+// 1.1 mm behind it (found by a random search over valid parameters, one case
+// in 14.6 million; formerly test_cov_wheel_load.cpp, which expected an
+// overflow). Tilted, the shares leave every format (the twin's smallest is
+// -508,439 m g); the twin says tip-over, and since session 14 so does the
+// Q15.16 pass. Several of its shares saturate there, so the wheel it names
+// is one that lifts (negative in the twin too), not necessarily the lowest.
+TEST(RoverWheelLoad, EdgeOfTheRangesBeyondEveryFormatIsATipOver) {
+  RoverParams p = flight::yutu_like_rover_params(flight::kGravityMoon);
+  p.mass_kg = flight::MassKg::from_raw(44843363);              // 684.3 kg
+  p.gravity_mps2 = flight::AccelMps2::from_raw(70844758);      // 4.22 m/s^2
+  p.wheel_radius_m = flight::LengthM::from_raw(1257371);       // 0.075 m
+  p.track_width_m = flight::LengthM::from_raw(17982918);       // 1.072 m
+  p.com_x_m = flight::LengthM::from_raw(-30890866);            // -1.841 m
+  p.com_y_m = flight::LengthM::from_raw(-4067800);             // -0.242 m
+  p.com_z_m = flight::LengthM::from_raw(-25162605);            // -1.500 m
+  p.rocker_front_axle = flight::SidePointM{flight::LengthM::from_raw(92540), flight::LengthM::from_raw(-23068015)};
+  p.rocker_bogie_pivot = flight::SidePointM{flight::LengthM::from_raw(-17804), flight::LengthM::from_raw(-23989935)};
+  p.bogie_middle_axle = flight::SidePointM{flight::LengthM::from_raw(31117171), flight::LengthM::from_raw(11953817)};
+  p.bogie_rear_axle = flight::SidePointM{flight::LengthM::from_raw(-25849548), flight::LengthM::from_raw(-87804)};
+  p.rocker_limit_rad = flight::AngleRad::from_raw(214748365);    // 0.8 rad
+  p.bogie_limit_rad = flight::AngleRad::from_raw(214748365);     // 0.8 rad
+  p.attitude_limit_rad = flight::AngleRad::from_raw(281857229);  // 1.05 rad
+  ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
+  const flight::RoverAttitude att{flight::AngleRad::from_raw(-168791173), flight::AngleRad::from_raw(-42756740)};
+  flight::JointAnglesRad j{};
+  j.rocker_rad[0] = flight::AngleRad::from_raw(-107096556);
+  j.rocker_rad[1] = flight::AngleRad::from_raw(-60749518);
+  j.bogie_rad[0] = flight::AngleRad::from_raw(-131018337);
+  j.bogie_rad[1] = flight::AngleRad::from_raw(121485577);
+  const ground::WheelLoads ref = ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att),
+                                                     rover_test::to_ground(j), ground::k_no_drive_torques);
+  ASSERT_EQ(ref.status, ground::LoadStatus::tip_over);
+  const flight::WheelLoadResult r = flight::wheel_loads(p, att, j, flight::kNoDriveTorques);
+  EXPECT_EQ(r.status, WheelLoadStatus::tip_over);
+  ASSERT_LT(r.lifting_wheel, flight::kWheelCount);
+  EXPECT_LT(ref.load_n[r.lifting_wheel], 0.0);
+}
+
 // Thousands of newton-metres on a rover whose bogie span, projected from the
 // axles as the torques' balance takes it, is 1.4 mm (a fuzz finding of
 // session 14 against the first form of the fallback that
