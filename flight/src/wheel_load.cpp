@@ -58,7 +58,9 @@ constexpr P kMinLever{fx::constant<P>(0.001)};
 /// (at most 4 m) times tan(roll) (at most 1.8) over a lever of at least
 /// 0.9 mm (1 mm decided in Q6.25, less a few 2^-16 m of rounding): below
 /// 8,000, and Y_s = y~_bogie + b Z_s below 16,010 (b <= 2 m, |y~| <= 10 m),
-/// within +-32,768.
+/// within +-32,768. In range is not precise: with a bogie span of 1 to 2 mm
+/// the middle wheel's share beta is in the hundreds and the Q15.16 span can
+/// be off by a decimetre (an open fuzz finding, docs/assurance.md).
 template <typename P>
 constexpr bool kSpanFits{std::is_same<P, Coarse>::value};
 template <typename P>
