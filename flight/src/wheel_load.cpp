@@ -60,7 +60,8 @@ constexpr P kMinLever{fx::constant<P>(0.001)};
 /// 8,000, and Y_s = y~_bogie + b Z_s below 16,010 (b <= 2 m, |y~| <= 10 m),
 /// within +-32,768. In range is not precise: with a bogie span of 1 to 2 mm
 /// the middle wheel's share beta is in the hundreds and the Q15.16 span can
-/// be off by a decimetre (an open fuzz finding, docs/assurance.md).
+/// be off by a decimetre (the sixth fuzz finding of session 14), which is
+/// why loads_of_valid prefers Q10.21's verdict where that pass had one.
 template <typename P>
 constexpr bool kSpanFits{std::is_same<P, Coarse>::value};
 template <typename P>
@@ -375,9 +376,12 @@ P side_moment(const Body<P>& body, const SideLevers<P>& side, fx::Status& st) no
 }
 
 /// Roll balance (sections 3.5, 7.4 and 12): the left side's share of the
-/// weight; false when the lateral span collapsed.
+/// weight; false when the lateral span collapsed. `clean_to_shares`: the
+/// status was still clean after the roll moment, so whatever overflows
+/// later is a side's total or a share.
 template <typename P>
-bool left_side_total(const SideLevers<P> (&side)[kSideCount], const Body<P>& body, P& left, fx::Status& st) noexcept {
+bool left_side_total(const SideLevers<P> (&side)[kSideCount], const Body<P>& body, P& left, fx::Status& st,
+                     bool& clean_to_shares) noexcept {
   P big_y[kSideCount]{};
   P big_z[kSideCount]{};
   // sum_s (q_s - t_front,s Z_s): exactly zero without torques, so that the
@@ -399,6 +403,7 @@ bool left_side_total(const SideLevers<P> (&side)[kSideCount], const Body<P>& bod
       fx::sub(fx::sub(fx::sub(body.com_yt, fx::mul(body.pivot_moment, fx::add(big_z[0], big_z[1], st), st), st),
                       torque_terms, st),
               big_y[1], st);
+  clean_to_shares = st.ok();
   left = fx::times_reciprocal<P>(roll_moment, fx::normalised_reciprocal(lateral_span), st);
   return true;
 }
@@ -407,9 +412,9 @@ bool left_side_total(const SideLevers<P> (&side)[kSideCount], const Body<P>& bod
 /// normal weight. False when the lateral span collapsed.
 template <typename P>
 bool support_forces(const SideLevers<P> (&side)[kSideCount], const Body<P>& body, P (&support)[kWheelCount],
-                    fx::Status& st) noexcept {
+                    fx::Status& st, bool& clean_to_shares) noexcept {
   P side_total[kSideCount]{};
-  if (!left_side_total(side, body, side_total[0], st)) {
+  if (!left_side_total(side, body, side_total[0], st, clean_to_shares)) {
     return false;
   }
   side_total[1] = fx::sub(kOne<P>, side_total[0], st);
@@ -459,17 +464,24 @@ bool side_torques(const DriveTorques& torques, const Body<P>& body, const Gravit
   return couple_st.ok();
 }
 
-/// The normal loads (each wheel's share times the normal weight): tip_over
-/// when a share is negative.
+/// The wheel of the smallest share (the first of equal ones).
 template <typename P>
-WheelLoadResult normal_loads(const P (&support)[kWheelCount], const Body<P>& body, const GravityFrame& g,
-                             AngleRad pitch_rad, fx::Status& st) noexcept {
+std::uint32_t lowest_share(const P (&support)[kWheelCount]) noexcept {
   std::uint32_t lowest = 0U;
   for (std::uint32_t i = 1U; i < kWheelCount; ++i) {
     if (support[i] < support[lowest]) {
       lowest = i;
     }
   }
+  return lowest;
+}
+
+/// The normal loads (each wheel's share times the normal weight): tip_over
+/// when a share is negative.
+template <typename P>
+WheelLoadResult normal_loads(const P (&support)[kWheelCount], const Body<P>& body, const GravityFrame& g,
+                             AngleRad pitch_rad, fx::Status& st) noexcept {
+  const std::uint32_t lowest = lowest_share(support);
   if (support[lowest].raw() < 0) {
     WheelLoadResult r = failed(WheelLoadStatus::tip_over);
     r.lifting_wheel = lowest;
@@ -518,7 +530,8 @@ WheelLoadResult loads_in(const RoverParams& params, const RoverAttitude& attitud
   if (!couples_fit) {
     return failed(WheelLoadStatus::overflow);
   }
-  if (!support_forces(side, body, support, st)) {
+  bool clean_to_shares = false;
+  if (!support_forces(side, body, support, st, clean_to_shares)) {
     // A collapsed lateral span. Where another quantity overflowed, Q6.25 and
     // Q10.21 may have saturated the span's own quotients; Q15.16 cannot
     // (kSpanFits), so its answer names the span whatever else overflowed.
@@ -529,9 +542,15 @@ WheelLoadResult loads_in(const RoverParams& params, const RoverAttitude& attitud
   // there is a share or a side's total beyond +-32,768, and as the shares
   // sum to one, a share that large means another is negative. A negative
   // (saturated) share is then a tip-over; without one it stays an
-  // overflow (normal_loads). Q6.25 and Q10.21 leave that to the next pass.
+  // overflow (normal_loads). Q6.25 and Q10.21 leave the decision to the
+  // next pass, but where only their side totals or shares overflowed (the
+  // same argument) they name the wheel of a negative (saturated) share in
+  // lifting_wheel, for loads_of_valid.
   if (!st.ok() && !kSpanFits<P>) {
-    return failed(WheelLoadStatus::overflow);
+    WheelLoadResult r = failed(WheelLoadStatus::overflow);
+    const std::uint32_t lowest = lowest_share(support);
+    r.lifting_wheel = (clean_to_shares && (support[lowest].raw() < 0)) ? lowest : kWheelCount;
+    return r;
   }
   return normal_loads(support, body, g, attitude.pitch_rad, st);
 }
@@ -544,9 +563,12 @@ WheelLoadResult loads_in(const RoverParams& params, const RoverAttitude& attitud
 /// wheel lifts (its degenerate guard rounds too coarsely to be trusted: an
 /// overflow left there is a collapsed lateral span in every sampled case,
 /// which the step refuses as it refuses degenerate). Each pass is one
-/// bounded evaluation: at most three (section 7.4). `beyond_every_format`
-/// tells an overflow of the Q15.16 pass too (the balance itself is beyond
-/// +-32,768 normal weights) from one it took for a collapsed span.
+/// bounded evaluation: at most three (section 7.4). Where Q15.16 does not
+/// say tip-over but Q10.21 checked its span with a clean status and only
+/// its side totals or shares overflowed, that is a tip-over (loads_in).
+/// `beyond_every_format` tells an overflow of the Q15.16 pass too (the
+/// balance itself is beyond +-32,768 normal weights) from one it took for a
+/// collapsed span.
 WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& attitude, const JointAnglesRad& joints,
                                const DriveTorques& torques, bool& beyond_every_format) noexcept {
   beyond_every_format = false;
@@ -560,8 +582,20 @@ WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& a
   }
   const WheelLoadResult coarse =
       (mid.status == WheelLoadStatus::overflow) ? loads_in<Coarse>(params, attitude, joints, torques) : fine;
+  if (coarse.status == WheelLoadStatus::tip_over) {
+    return coarse;
+  }
+  if ((mid.status == WheelLoadStatus::overflow) && (mid.lifting_wheel < kWheelCount)) {
+    // Q10.21 checked its lateral span with a clean status and only its side
+    // totals or shares overflowed: a tip-over, whatever Q15.16's coarser
+    // span said (with bogie spans of 1.8 mm it read -0.044 m where Q10.21
+    // read 0.066 m; the sixth fuzz finding of session 14).
+    WheelLoadResult r = failed(WheelLoadStatus::tip_over);
+    r.lifting_wheel = mid.lifting_wheel;
+    return r;
+  }
   beyond_every_format = (mid.status == WheelLoadStatus::overflow) && (coarse.status == WheelLoadStatus::overflow);
-  return (coarse.status == WheelLoadStatus::tip_over) ? coarse : fine;
+  return fine;
 }
 
 /// The loads with the torques; when the torques alone would lift a wheel,

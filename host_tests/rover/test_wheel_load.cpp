@@ -582,6 +582,34 @@ TEST(RoverWheelLoad, EdgeOfTheRangesBeyondEveryFormatIsATipOver) {
   EXPECT_LT(ref.load_n[r.lifting_wheel], 0.0);
 }
 
+// The same rover, tilted a little more (the sixth fuzz finding of session
+// 14): Q10.21 reads the lateral span as 0.066 m with a clean status before
+// its shares overflow, Q15.16 reads it as -0.044 m (the middle wheel's
+// share of the 1.8 mm bogie is about 170 there) and calls it collapsed. The
+// shares alone overflowed Q10.21, so a wheel lifts: a tip-over, as the twin
+// says, where the step refused the cycle before. Saturated shares name a
+// wheel that lifts, not necessarily the lowest.
+TEST(RoverWheelLoad, ShareBeyondQ10_21WithACoarseSpanCollapsedIsATipOver) {
+  RoverParams p = flight::yutu_like_rover_params(flight::kGravityEarth);
+  p.com_x_m = flight::LengthM::from_raw(1320);
+  p.com_y_m = flight::LengthM::from_raw(262185);
+  p.com_z_m = flight::LengthM::from_raw(839268);
+  ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
+  const flight::RoverAttitude att{flight::AngleRad::from_raw(257119037), flight::AngleRad::from_raw(-48226270)};
+  flight::JointAnglesRad j{};
+  j.rocker_rad[0] = flight::AngleRad::from_raw(45759016);
+  j.rocker_rad[1] = flight::AngleRad::from_raw(45726140);
+  j.bogie_rad[0] = flight::AngleRad::from_raw(116192205);
+  j.bogie_rad[1] = flight::AngleRad::from_raw(116190445);
+  const ground::WheelLoads ref = ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att),
+                                                     rover_test::to_ground(j), ground::k_no_drive_torques);
+  ASSERT_EQ(ref.status, ground::LoadStatus::tip_over);
+  const flight::WheelLoadResult r = flight::wheel_loads(p, att, j, flight::kNoDriveTorques);
+  EXPECT_EQ(r.status, WheelLoadStatus::tip_over);
+  ASSERT_LT(r.lifting_wheel, flight::kWheelCount);
+  EXPECT_LT(ref.load_n[r.lifting_wheel], 0.0);
+}
+
 // Thousands of newton-metres on a rover whose bogie span, projected from the
 // axles as the torques' balance takes it, is 1.4 mm (a fuzz finding of
 // session 14 against the first form of the fallback that
