@@ -53,6 +53,8 @@ constexpr P kMinLever{fx::constant<P>(0.001)};
 /// for a lever of 1.003 mm that Q15.16 rounded to 0.992 mm (the fuzz finding
 /// of session 13, docs/rover-loads.md 7.4). Half a millimetre there only
 /// keeps the quotients by them finite.
+template <typename P>
+constexpr P kLeverGuard{fx::constant<P>(std::is_same<P, Fine>::value ? 0.001 : 0.0005)};
 /// Whether the lateral span's quotients always fit P: in Q15.16 they do.
 /// Z_s = (y~_front - y~_bogie) / (a + b) is a height difference on one side
 /// (at most 4 m) times tan(roll) (at most 1.8) over a lever of at least
@@ -64,8 +66,6 @@ constexpr P kMinLever{fx::constant<P>(0.001)};
 /// why loads_of_valid prefers Q10.21's verdict where that pass had one.
 template <typename P>
 constexpr bool kSpanFits{std::is_same<P, Coarse>::value};
-template <typename P>
-constexpr P kLeverGuard{fx::constant<P>(std::is_same<P, Fine>::value ? 0.001 : 0.0005)};
 template <typename P>
 constexpr P kHalf{fx::constant<P>(0.5)};
 template <typename P>
