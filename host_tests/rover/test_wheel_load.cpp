@@ -478,21 +478,38 @@ TEST(RoverParamSection, ParameterTableRejectsABadGeometrySection) {
 /// share of the weight is beyond Q6.25 (-64) or beyond Q10.21 (-1024): the
 /// statics' wider passes (docs/rover-loads.md, section 7.4) must still say
 /// tip-over, with the twin's lifting wheel.
-struct FarBeyondTipOver {
+/// A pose as raw Q3.28 angles.
+struct RawPose {
   std::int32_t pitch, roll, rocker_left, rocker_right, bogie_left, bogie_right;
+};
+
+flight::RoverAttitude attitude_of(const RawPose& pose) {
+  return flight::RoverAttitude{flight::AngleRad::from_raw(pose.pitch), flight::AngleRad::from_raw(pose.roll)};
+}
+
+flight::JointAnglesRad joints_of(const RawPose& pose) {
+  flight::JointAnglesRad j{};
+  j.rocker_rad[0] = flight::AngleRad::from_raw(pose.rocker_left);
+  j.rocker_rad[1] = flight::AngleRad::from_raw(pose.rocker_right);
+  j.bogie_rad[0] = flight::AngleRad::from_raw(pose.bogie_left);
+  j.bogie_rad[1] = flight::AngleRad::from_raw(pose.bogie_right);
+  return j;
+}
+
+/// The twin's loads without torques at a pose.
+ground::WheelLoads twin_without_torques(const RoverParams& p, const RawPose& pose) {
+  return ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(attitude_of(pose)),
+                             rover_test::to_ground(joints_of(pose)), ground::k_no_drive_torques);
+}
+
+struct FarBeyondTipOver {
+  RawPose pose;
   double min_share;  ///< the twin's smallest load / m g, for the record
 };
 
 void expect_tip_over_like_the_twin(const FarBeyondTipOver& c,
                                    const RoverParams& p = flight::yutu_like_rover_params(flight::kGravityEarth)) {
-  const flight::RoverAttitude att{flight::AngleRad::from_raw(c.pitch), flight::AngleRad::from_raw(c.roll)};
-  flight::JointAnglesRad j{};
-  j.rocker_rad[0] = flight::AngleRad::from_raw(c.rocker_left);
-  j.rocker_rad[1] = flight::AngleRad::from_raw(c.rocker_right);
-  j.bogie_rad[0] = flight::AngleRad::from_raw(c.bogie_left);
-  j.bogie_rad[1] = flight::AngleRad::from_raw(c.bogie_right);
-  const ground::WheelLoads ref = ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att),
-                                                     rover_test::to_ground(j), ground::k_no_drive_torques);
+  const ground::WheelLoads ref = twin_without_torques(p, c.pose);
   ASSERT_EQ(ref.status, ground::LoadStatus::tip_over);
   const double mg = d(p.mass_kg) * d(p.gravity_mps2);
   EXPECT_NEAR(ref.min_load_n / mg, c.min_share, 1.0);
@@ -500,19 +517,33 @@ void expect_tip_over_like_the_twin(const FarBeyondTipOver& c,
   for (std::uint32_t i = 1U; i < flight::kWheelCount; ++i) {
     lowest = (ref.load_n[i] < ref.load_n[lowest]) ? i : lowest;
   }
-  const flight::WheelLoadResult r = flight::wheel_loads(p, att, j, flight::kNoDriveTorques);
+  const flight::WheelLoadResult r =
+      flight::wheel_loads(p, attitude_of(c.pose), joints_of(c.pose), flight::kNoDriveTorques);
   EXPECT_EQ(r.status, WheelLoadStatus::tip_over);
   EXPECT_EQ(r.lifting_wheel, lowest);
 }
 
+/// Beyond Q10.21, where shares saturate: without torques the twin says
+/// tip-over, and so does the flight, naming a wheel whose load is negative in
+/// the twin (not necessarily the lowest).
+void expect_a_lifting_wheel_like_the_twin(const RawPose& pose, const RoverParams& p) {
+  const ground::WheelLoads ref = twin_without_torques(p, pose);
+  ASSERT_EQ(ref.status, ground::LoadStatus::tip_over);
+  const flight::WheelLoadResult r =
+      flight::wheel_loads(p, attitude_of(pose), joints_of(pose), flight::kNoDriveTorques);
+  EXPECT_EQ(r.status, WheelLoadStatus::tip_over);
+  ASSERT_LT(r.lifting_wheel, flight::kWheelCount);
+  EXPECT_LT(ref.load_n[r.lifting_wheel], 0.0);
+}
+
 TEST(RoverWheelLoad, ShareBeyondQ6_25IsDecidedAsTipOverInQ10_21) {
-  expect_tip_over_like_the_twin({-249035111, -13546449, -52126579, -64655453, 59230544, -93846949, -208.6});
-  expect_tip_over_like_the_twin({-208467396, -147721787, -91654940, -49777567, 24188275, -70202580, -353.8});
+  expect_tip_over_like_the_twin({{-249035111, -13546449, -52126579, -64655453, 59230544, -93846949}, -208.6});
+  expect_tip_over_like_the_twin({{-208467396, -147721787, -91654940, -49777567, 24188275, -70202580}, -353.8});
 }
 
 TEST(RoverWheelLoad, ShareBeyondQ10_21IsDecidedAsTipOverInQ15_16) {
-  expect_tip_over_like_the_twin({-225615807, -144820051, -74571252, 83272519, 26331901, 102875640, -5578.3});
-  expect_tip_over_like_the_twin({-265000558, -62902611, 82426320, -27831358, 12493817, -106800594, -2451.3});
+  expect_tip_over_like_the_twin({{-225615807, -144820051, -74571252, 83272519, 26331901, 102875640}, -5578.3});
+  expect_tip_over_like_the_twin({{-265000558, -62902611, 82426320, -27831358, 12493817, -106800594}, -2451.3});
 }
 
 // A rocker lever of 1.003 mm (Q10.21) that Q15.16 rounds to 0.992 mm, with
@@ -525,7 +556,7 @@ TEST(RoverWheelLoad, LeverJustAbove1mmIsNotDecidedAgainInTheWiderPasses) {
   p.com_y_m = flight::LengthM::from_raw(275242);
   p.com_z_m = flight::LengthM::from_raw(839268);
   ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
-  expect_tip_over_like_the_twin({-266128588, -232574156, -5713113, -11939, -34406, 3031, -508.2}, p);
+  expect_tip_over_like_the_twin({{-266128588, -232574156, -5713113, -11939, -34406, 3031}, -508.2}, p);
 }
 
 // Bogie spans of 1.8 and 1.9 mm, no torque (the fifth fuzz finding of
@@ -539,7 +570,7 @@ TEST(RoverWheelLoad, ShareBeyondEveryFormatIsATipOver) {
   p.com_y_m = flight::LengthM::from_raw(262185);
   p.com_z_m = flight::LengthM::from_raw(839268);
   ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
-  expect_tip_over_like_the_twin({257119283, -48226270, 45759016, 45726140, 116192205, 116190445, -143069.5}, p);
+  expect_tip_over_like_the_twin({{257119283, -48226270, 45759016, 45726140, 116192205, 116190445}, -143069.5}, p);
 }
 
 // Parameters that pass validate_rover_params() at the edge of its ranges: a
@@ -567,19 +598,7 @@ TEST(RoverWheelLoad, EdgeOfTheRangesBeyondEveryFormatIsATipOver) {
   p.bogie_limit_rad = flight::AngleRad::from_raw(214748365);     // 0.8 rad
   p.attitude_limit_rad = flight::AngleRad::from_raw(281857229);  // 1.05 rad
   ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
-  const flight::RoverAttitude att{flight::AngleRad::from_raw(-168791173), flight::AngleRad::from_raw(-42756740)};
-  flight::JointAnglesRad j{};
-  j.rocker_rad[0] = flight::AngleRad::from_raw(-107096556);
-  j.rocker_rad[1] = flight::AngleRad::from_raw(-60749518);
-  j.bogie_rad[0] = flight::AngleRad::from_raw(-131018337);
-  j.bogie_rad[1] = flight::AngleRad::from_raw(121485577);
-  const ground::WheelLoads ref = ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att),
-                                                     rover_test::to_ground(j), ground::k_no_drive_torques);
-  ASSERT_EQ(ref.status, ground::LoadStatus::tip_over);
-  const flight::WheelLoadResult r = flight::wheel_loads(p, att, j, flight::kNoDriveTorques);
-  EXPECT_EQ(r.status, WheelLoadStatus::tip_over);
-  ASSERT_LT(r.lifting_wheel, flight::kWheelCount);
-  EXPECT_LT(ref.load_n[r.lifting_wheel], 0.0);
+  expect_a_lifting_wheel_like_the_twin({-168791173, -42756740, -107096556, -60749518, -131018337, 121485577}, p);
 }
 
 // The same rover, tilted a little more (the sixth fuzz finding of session
@@ -595,19 +614,7 @@ TEST(RoverWheelLoad, ShareBeyondQ10_21WithACoarseSpanCollapsedIsATipOver) {
   p.com_y_m = flight::LengthM::from_raw(262185);
   p.com_z_m = flight::LengthM::from_raw(839268);
   ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
-  const flight::RoverAttitude att{flight::AngleRad::from_raw(257119037), flight::AngleRad::from_raw(-48226270)};
-  flight::JointAnglesRad j{};
-  j.rocker_rad[0] = flight::AngleRad::from_raw(45759016);
-  j.rocker_rad[1] = flight::AngleRad::from_raw(45726140);
-  j.bogie_rad[0] = flight::AngleRad::from_raw(116192205);
-  j.bogie_rad[1] = flight::AngleRad::from_raw(116190445);
-  const ground::WheelLoads ref = ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att),
-                                                     rover_test::to_ground(j), ground::k_no_drive_torques);
-  ASSERT_EQ(ref.status, ground::LoadStatus::tip_over);
-  const flight::WheelLoadResult r = flight::wheel_loads(p, att, j, flight::kNoDriveTorques);
-  EXPECT_EQ(r.status, WheelLoadStatus::tip_over);
-  ASSERT_LT(r.lifting_wheel, flight::kWheelCount);
-  EXPECT_LT(ref.load_n[r.lifting_wheel], 0.0);
+  expect_a_lifting_wheel_like_the_twin({257119037, -48226270, 45759016, 45726140, 116192205, 116190445}, p);
 }
 
 // Thousands of newton-metres on a rover whose bogie span, projected from the
@@ -625,12 +632,9 @@ void expect_collapsed_span_with_torques(const double (&torque_nm)[flight::kWheel
   p.com_y_m = flight::LengthM::from_raw(-838861);
   p.com_z_m = flight::LengthM::from_raw(838861);
   ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
-  const flight::RoverAttitude att{flight::AngleRad::from_raw(-241591897), flight::AngleRad::from_raw(261786011)};
-  flight::JointAnglesRad j{};
-  j.rocker_rad[0] = flight::AngleRad::from_raw(22817013);
-  j.rocker_rad[1] = flight::AngleRad::from_raw(-192565);
-  j.bogie_rad[0] = flight::AngleRad::from_raw(-60397980);
-  j.bogie_rad[1] = flight::AngleRad::from_raw(-34405);
+  const RawPose pose{-241591897, 261786011, 22817013, -192565, -60397980, -34405};
+  const flight::RoverAttitude att = attitude_of(pose);
+  const flight::JointAnglesRad j = joints_of(pose);
   flight::DriveTorques t{};
   ground::DriveTorques ref_t{};
   for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
