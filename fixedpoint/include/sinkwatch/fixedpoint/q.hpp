@@ -346,8 +346,8 @@ template <typename Out, typename SA, std::int32_t FA, typename SB, std::int32_t 
     // All three formats on 32 bits and a right shift: 32-bit magnitudes, one
     // 32 x 32 -> 64-bit product (below 2^62, so adding the half cannot carry
     // out) and a constant shift; the bits of scale_magnitude's rounding, with
-    // no 64-bit magnitude (docs/performance.md, session 14: -1,440
-    // instructions per step on the Cortex-M0, -996 on the M4).
+    // no 64-bit magnitude (what it saves per step: docs/performance.md,
+    // eighth round).
     const std::uint64_t product = wide::mul_full(detail::magnitude32(a.raw()), detail::magnitude32(b.raw()));
     const std::uint64_t mag =
         (product + (std::uint64_t{1U} << static_cast<std::uint32_t>(shift - 1))) >> static_cast<std::uint32_t>(shift);
