@@ -26,12 +26,17 @@ bool within(Quantity v, Quantity limit) noexcept {
   return (v <= limit) && (v.raw() >= -limit.raw());
 }
 
-/// The acceleration from two successive speeds, (v - v_prev) / dt.
+/// The acceleration from two successive speeds, (v - v_prev) / dt. The
+/// factor 1000 and dt are integers (Q.0): in Q31.32 the product and the
+/// quotient by them are the one-word product and the 64-bit division of
+/// fx::mul and fx::div (no 128-bit arithmetic), the bits of multiplying
+/// and dividing by 1000 and dt in Q31.32 (the same integers, rounded alike).
 bool differenced_accel(SpeedMps speed, SpeedMps previous, std::uint32_t dt_ms, AccelMps2& out) noexcept {
+  using Integer = fx::Q<std::int64_t, 0>;
   fx::Status st;
   const W dv = fx::sub(fx::rescale<W>(speed.q(), st), fx::rescale<W>(previous.q(), st), st);
-  const W per_second = fx::mul(dv, W::from_int(1000, st), st);
-  const W accel = fx::div(per_second, W::from_int(static_cast<std::int64_t>(dt_ms), st), st);
+  const W per_second = fx::mul<W>(dv, Integer::from_raw(1000), st);
+  const W accel = fx::div<W>(per_second, Integer::from_raw(static_cast<std::int64_t>(dt_ms)), st);
   const AccelQ a = fx::rescale<AccelQ>(accel, st);
   out = AccelMps2{a};
   return st.ok();

@@ -5,6 +5,8 @@
 
 #include <cstdint>
 #include <limits>
+#include <random>
+#include <vector>
 
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
@@ -280,6 +282,151 @@ TEST(FxMul, OverflowSaturatesInBothDirections) {
   EXPECT_EQ(s5.bits(), only(Flag::overflow));
 }
 
+// The product's paths (all-32-bit, 32-bit operands into a 64-bit format, one
+// operand within a word, 128-bit) against one exact reference: the full
+// 128-bit product rounded half away from zero and saturated, written out
+// here with the library's 128-bit helpers (no __int128: this test also runs
+// on ARM32). A path that rounded or saturated differently fails here.
+namespace paths {
+
+namespace w = fx::wide;
+
+struct Raw {
+  std::int64_t raw;
+  bool overflow;
+};
+
+template <typename Storage>
+std::int64_t storage_max() {
+  return static_cast<std::int64_t>(std::numeric_limits<Storage>::max());
+}
+
+/// (negative ? -1 : 1) mag saturated into Storage.
+template <typename Storage>
+Raw saturate(bool negative, const w::U128& mag) {
+  const auto top = static_cast<std::uint64_t>(storage_max<Storage>()) + 1U;
+  const w::U128 limit = w::make_u128(negative ? top : (top - 1U));
+  if (w::less(limit, mag)) {
+    return Raw{negative ? -storage_max<Storage>() - 1 : storage_max<Storage>(), true};
+  }
+  // mag <= 2^63 here: its negation is exact in two's complement.
+  const std::uint64_t m = mag.lo;
+  return Raw{negative ? static_cast<std::int64_t>(0U - m) : static_cast<std::int64_t>(m), false};
+}
+
+std::uint64_t magnitude(std::int64_t v) { return (v < 0) ? (0U - static_cast<std::uint64_t>(v)) : static_cast<std::uint64_t>(v); }
+
+template <typename Out, typename A, typename B>
+Raw reference_mul(A a, B b) {
+  const bool negative = (a.raw() < 0) != (b.raw() < 0);
+  w::U128 p = w::mul_full(magnitude(a.raw()), magnitude(b.raw()));
+  const std::int32_t shift = (A::frac_bits + B::frac_bits) - Out::frac_bits;
+  if (shift > 0) {
+    p = w::shr(w::add(p, w::shl(w::make_u128(1U), static_cast<std::uint32_t>(shift - 1))), static_cast<std::uint32_t>(shift));
+  } else if (shift < 0) {
+    const auto up = static_cast<std::uint32_t>(-shift);
+    if (!w::is_zero(w::shr(p, 128U - up))) {
+      return Raw{negative ? -storage_max<typename Out::storage_type>() - 1 : storage_max<typename Out::storage_type>(),
+                 true};
+    }
+    p = w::shl(p, up);
+  }
+  return saturate<typename Out::storage_type>(negative && !w::is_zero(p), p);
+}
+
+template <typename Out, typename A, typename B>
+Raw reference_div(A a, B b) {
+  const bool negative = (a.raw() < 0) != (b.raw() < 0);
+  const std::int32_t k = (Out::frac_bits + B::frac_bits) - A::frac_bits;
+  const w::U128 num = w::shl(w::make_u128(magnitude(a.raw())), static_cast<std::uint32_t>((k > 0) ? k : 0));
+  const w::U128 den = w::shl(w::make_u128(magnitude(b.raw())), static_cast<std::uint32_t>((k < 0) ? -k : 0));
+  const w::DivMod<w::U128> qr = w::divmod(num, den);
+  const bool up = !w::less(qr.remainder, w::sub(den, qr.remainder));
+  const w::U128 mag = up ? w::add(qr.quotient, w::make_u128(1U)) : qr.quotient;
+  return saturate<typename Out::storage_type>(negative && !w::is_zero(mag), mag);
+}
+
+/// Raw values of every bit length, both signs, and the word boundaries.
+template <typename Q>
+std::vector<Q> operands(std::uint32_t seed) {
+  using S = typename Q::storage_type;
+  constexpr std::uint32_t kBits = (sizeof(S) == 8U) ? 64U : 32U;
+  std::vector<Q> out;
+  const std::int64_t edges[] = {0, 1, -1, 0x7FFFFFFF, -0x7FFFFFFF - 1, 0xFFFFFFFFLL, 0x100000000LL, -0x100000000LL,
+                                0x100000001LL, std::numeric_limits<std::int64_t>::max(),
+                                std::numeric_limits<std::int64_t>::min()};
+  for (const std::int64_t e : edges) {
+    if ((e >= static_cast<std::int64_t>(std::numeric_limits<S>::min())) && (e <= storage_max<S>())) {
+      out.push_back(Q::from_raw(static_cast<S>(e)));
+    }
+  }
+  std::mt19937_64 rng(seed);
+  for (std::uint32_t i = 0U; i < 1000U; ++i) {
+    const std::uint64_t bits = rng() >> (i % kBits);
+    const auto raw = static_cast<S>(static_cast<std::int64_t>(bits >> (64U - kBits)));
+    out.push_back(Q::from_raw(raw));
+  }
+  return out;
+}
+
+/// Every pair of the two operand sets (about a million products) through
+/// fx::mul<Out> and the reference: the same raw value and overflow flag.
+template <typename Out, typename A, typename B>
+void expect_mul_like_the_reference(std::uint32_t seed) {
+  const std::vector<A> as = operands<A>(seed);
+  const std::vector<B> bs = operands<B>(seed + 1U);
+  for (const A a : as) {
+    for (const B b : bs) {
+      fx::Status s;
+      const Out got = fx::mul<Out>(a, b, s);
+      const Raw want = reference_mul<Out>(a, b);
+      ASSERT_EQ(static_cast<std::int64_t>(got.raw()), want.raw) << a.raw() << " * " << b.raw();
+      ASSERT_EQ(s.has(Flag::overflow), want.overflow) << a.raw() << " * " << b.raw();
+    }
+  }
+}
+
+template <typename Out, typename A, typename B>
+void expect_div_like_the_reference(std::uint32_t seed) {
+  const std::vector<A> as = operands<A>(seed);
+  const std::vector<B> bs = operands<B>(seed + 1U);
+  for (const A a : as) {
+    for (const B b : bs) {
+      if (b.raw() == 0) {
+        continue;  // FxDiv.ByZeroReportsAndSaturatesBySignOfDividend
+      }
+      fx::Status s;
+      const Out got = fx::div<Out>(a, b, s);
+      const Raw want = reference_div<Out>(a, b);
+      ASSERT_EQ(static_cast<std::int64_t>(got.raw()), want.raw) << a.raw() << " / " << b.raw();
+      ASSERT_EQ(s.has(Flag::overflow), want.overflow) << a.raw() << " / " << b.raw();
+    }
+  }
+}
+
+using Q7_24 = fx::Q<std::int32_t, 24>;
+using Q23_40 = fx::Q<std::int64_t, 40>;
+using Q15_48 = fx::Q<std::int64_t, 48>;
+using Q23_8 = fx::Q<std::int32_t, 8>;
+using Q29_2 = fx::Q<std::int32_t, 2>;
+using QInt64 = fx::Q<std::int64_t, 0>;
+
+}  // namespace paths
+
+TEST(FxMul, EveryPathGivesTheExactProductRoundedAndSaturated) {
+  using namespace paths;
+  expect_mul_like_the_reference<Q31_32, Q31_32, Q31_32>(1U);  // one word, 128-bit
+  expect_mul_like_the_reference<Q31_32, Q7_24, Q31_32>(3U);   // one word (the 32-bit operand)
+  expect_mul_like_the_reference<Q15_16, Q31_32, Q1_30>(5U);   // one word, into 32 bits
+  expect_mul_like_the_reference<Q23_40, Q7_24, Q15_16>(7U);   // 32-bit operands, exact (shift 0)
+  expect_mul_like_the_reference<Q15_48, Q7_24, Q7_24>(9U);    // 32-bit operands, rounded
+  expect_mul_like_the_reference<Q15_16, Q15_16, Q15_16>(11U); // all 32-bit
+  expect_mul_like_the_reference<Q23_40, Q15_16, Q23_8>(13U);  // a left shift (generic path)
+  expect_mul_like_the_reference<Q31_32, Q23_40, Q31_32>(15U); // shift 40: no word path
+  expect_mul_like_the_reference<Q31_32, Q31_32, QInt64>(17U);  // one word, shift 0 (times an integer)
+  expect_mul_like_the_reference<Q31_32, QInt32, Q31_32>(19U);  // the same, the integer on 32 bits
+}
+
 // ---------------------------------------------------------------- div
 
 TEST(FxDiv, WorkedExamples) {
@@ -333,6 +480,18 @@ TEST(FxDiv, OverflowSaturatesInBothDirections) {
   fx::Status s5;
   EXPECT_EQ(fx::div<Q31_32>(Q31_32::max(), Q31_32::lsb(), s5), Q31_32::max());
   EXPECT_EQ(s5.bits(), only(Flag::overflow));
+}
+
+TEST(FxDiv, EveryPathGivesTheExactQuotientRoundedAndSaturated) {
+  using namespace paths;
+  expect_div_like_the_reference<Q31_32, Q7_24, Q7_24>(21U);    // 64-bit: the slip
+  expect_div_like_the_reference<Q31_32, Q31_32, Q31_32>(23U);  // 64-bit or 128-bit by size
+  expect_div_like_the_reference<Q7_24, Q31_32, Q31_32>(25U);
+  expect_div_like_the_reference<Q15_16, Q31_32, Q15_48>(27U);  // k = 32
+  expect_div_like_the_reference<QInt32, Q31_32, Q31_32>(29U);  // k = 0
+  expect_div_like_the_reference<Q31_32, Q31_32, QInt64>(35U);  // k = 0: by an integer (the acceleration)
+  expect_div_like_the_reference<Q29_2, Q23_40, Q23_8>(31U);    // k = -30: the divisor shifted
+  expect_div_like_the_reference<Q15_16, Q15_16, Q15_16>(33U);  // all 32-bit
 }
 
 // ---------------------------------------------------------------- status

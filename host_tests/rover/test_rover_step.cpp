@@ -4,6 +4,8 @@
 // its fail-safe; tip-over stopping the rover at once.
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include <cmath>
 #include <cstdint>
 
@@ -130,6 +132,38 @@ TEST_F(RoverStepTest, AccelerationFromTheSpeedDifference) {
   double sum = 0.0;
   for (const flight::DrawbarPullN p : second.drawbar_pull_n) sum += d(p);
   EXPECT_NEAR(sum, d(rover.mass_kg) * 0.1, 1e-3);  // flat ground: m a
+}
+
+/// (v - v_prev) / dt in Q7.24 as the step defines it: in Q31.32 (2^-32 m/s^2)
+/// round(dv 2^8 1000 / dt), then rounded into Q7.24; both roundings half
+/// away from zero, written out in integers.
+std::int32_t accel_raw_in_q31_32_then_q7_24(std::int32_t speed_raw, std::int32_t previous_raw, std::uint32_t dt_ms) {
+  const std::int64_t dv = static_cast<std::int64_t>(speed_raw) - previous_raw;
+  const std::uint64_t n = static_cast<std::uint64_t>((dv < 0) ? -dv : dv) * 256000U;
+  const std::uint64_t q32 = (n / dt_ms) + ((2U * (n % dt_ms) >= dt_ms) ? 1U : 0U);
+  const auto q24 = static_cast<std::int64_t>((q32 + 128U) >> 8U);
+  return static_cast<std::int32_t>((dv < 0) ? -q24 : q24);
+}
+
+TEST_F(RoverStepTest, DifferencedAccelerationHasTheBitsOfTheQ31_32Quotient) {
+  // Speeds and intervals whose quotients are not exact, both signs; each
+  // cycle's acceleration is this speed less the last one over the interval.
+  std::mt19937 rng(0x15A);
+  flight::RoverTelemetry t = telemetry(2000U);
+  t.accel_valid = false;
+  t.speed_valid = true;
+  t.speed_mps = q<flight::SpeedMps>(0.05);
+  flight::RoverStepOutput out{};
+  step.step(t, t.time, test::prepared_of(table, rover), out);
+  for (int i = 0; i < 40; ++i) {
+    const std::int32_t previous_raw = t.speed_mps.raw();
+    const std::uint32_t dt_ms = 7U + (rng() % 193U);
+    t.time = flight::TimeMs{t.time.ms + dt_ms};
+    t.speed_mps = q<flight::SpeedMps>(0.05 + 0.01 * static_cast<double>(static_cast<int>(rng() % 2001U) - 1000) / 1000.0);
+    step.step(t, t.time, test::prepared_of(table, rover), out);
+    ASSERT_TRUE(out.accel_valid) << i;
+    EXPECT_EQ(out.accel_mps2.raw(), accel_raw_in_q31_32_then_q7_24(t.speed_mps.raw(), previous_raw, dt_ms)) << i;
+  }
 }
 
 TEST_F(RoverStepTest, SlipFromGroundAndRimSpeedAndHighSlipSaturates) {

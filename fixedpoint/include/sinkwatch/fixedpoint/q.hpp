@@ -335,23 +335,62 @@ constexpr Out finish_product(bool negative, const W& product, std::int32_t shift
 }
 }  // namespace detail
 
+namespace detail {
+/// p / 2^Shift rounded half up (a magnitude's ties away from zero), for a
+/// compile-time Shift in [0, 63) and p + 2^(Shift-1) < 2^64 (no carry out).
+template <std::int32_t Shift>
+SW_FX_INLINE constexpr std::uint64_t round_shift_const(std::uint64_t p) noexcept {
+  if constexpr (Shift == 0) {
+    return p;
+  } else {
+    return (p + (std::uint64_t{1U} << static_cast<std::uint32_t>(Shift - 1))) >> static_cast<std::uint32_t>(Shift);
+  }
+}
+
+/// The magnitude w * v / 2^Shift, rounded half up, for w <= 2^63, v <= 2^32
+/// and Shift in [0, 32], without a 128-bit intermediate: with w = hi 2^32 + lo,
+/// w v = hi v 2^32 + lo v and, as 2^Shift divides hi v 2^32,
+///   round(w v / 2^Shift) = hi v 2^(32 - Shift) + round(lo v / 2^Shift)
+/// exactly. hi v <= 2^63 and lo v + 2^(Shift-1) < 2^64 fit 64 bits; false
+/// when the result does not (every format then saturates).
+template <std::int32_t Shift>
+SW_FX_INLINE constexpr bool word_product(std::uint64_t w, std::uint64_t v, std::uint64_t& mag) noexcept {
+  static_assert((Shift >= 0) && (Shift <= 32), "a right shift of 0 to 32 bits");
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  const auto hi = static_cast<std::uint32_t>(w >> 32U);
+  const auto lo = static_cast<std::uint32_t>(w & (kWord - 1U));
+  // v == 2^32 (a Q31.32 one, a whole load's fraction) is a shift.
+  const std::uint64_t high = (v == kWord) ? (std::uint64_t{hi} << 32U) : wide::mul_full(hi, static_cast<std::uint32_t>(v));
+  const std::uint64_t low = (v == kWord) ? (std::uint64_t{lo} << 32U) : wide::mul_full(lo, static_cast<std::uint32_t>(v));
+  const std::uint64_t low_rounded = round_shift_const<Shift>(low);  // low < 2^64 - 2^32: no carry out
+  if constexpr (Shift < 32) {
+    if ((high >> static_cast<std::uint32_t>(32 + Shift)) != 0U) {
+      return false;
+    }
+  }
+  mag = (high << static_cast<std::uint32_t>(32 - Shift)) + low_rounded;
+  return mag >= low_rounded;  // no carry out of 64 bits
+}
+}  // namespace detail
+
 /// a * b in the format Out, rounded to nearest (ties away from zero), within
-/// 0.5 LSB of Out; saturates on overflow.
+/// 0.5 LSB of Out; saturates on overflow. One exact product, rounded once;
+/// the paths below differ only in the width they need (docs/fixedpoint.md
+/// 5.1), so every path gives the same bits.
 template <typename Out, typename SA, std::int32_t FA, typename SB, std::int32_t FB>
 [[nodiscard]] constexpr Out mul(Q<SA, FA> a, Q<SB, FB> b, Status& status) noexcept {
   using W = typename detail::WideFor<SA, SB, typename Out::storage_type>::type;
+  using OutS = typename Out::storage_type;
   const bool negative = detail::is_negative(a.raw()) != detail::is_negative(b.raw());
   constexpr std::int32_t shift = (FA + FB) - Out::frac_bits;
-  if constexpr (std::is_same<W, std::uint64_t>::value && (shift > 0) && (shift < 63)) {
-    // All three formats on 32 bits and a right shift: 32-bit magnitudes, one
-    // 32 x 32 -> 64-bit product (below 2^62, so adding the half cannot carry
-    // out) and a constant shift; the bits of scale_magnitude's rounding, with
-    // no 64-bit magnitude (what it saves per step: docs/performance.md,
-    // eighth round).
+  constexpr bool kWordOperands = (detail::StorageTraits<SA>::bits == 32U) && (detail::StorageTraits<SB>::bits == 32U);
+  if constexpr (kWordOperands && (shift >= 0) && (shift < 63)) {
+    // Both operands on 32 bits and no left shift, whatever Out's storage:
+    // 32-bit magnitudes, one 32 x 32 -> 64-bit product (at most 2^62, so
+    // adding the half cannot carry out) and a constant shift (what it saves
+    // per step: docs/performance.md, eighth and ninth rounds).
     const std::uint64_t product = wide::mul_full(detail::magnitude32(a.raw()), detail::magnitude32(b.raw()));
-    const std::uint64_t mag =
-        (product + (std::uint64_t{1U} << static_cast<std::uint32_t>(shift - 1))) >> static_cast<std::uint32_t>(shift);
-    using OutS = typename Out::storage_type;
+    const std::uint64_t mag = detail::round_shift_const<shift>(product);
     return Out::from_raw(detail::from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
   }
   const std::uint64_t mag_a = detail::magnitude(a.raw());
@@ -366,6 +405,22 @@ template <typename Out, typename SA, std::int32_t FA, typename SB, std::int32_t 
       return detail::finish_product<Out, std::uint64_t>(
           negative, wide::mul_full(static_cast<std::uint32_t>(mag_a), static_cast<std::uint32_t>(mag_b)), shift,
           status);
+    }
+    if constexpr ((shift >= 0) && (shift <= 32)) {
+      // One operand within a word (at most 2^32): two 32 x 32 -> 64-bit
+      // products (detail::word_product), no 128-bit arithmetic. Every
+      // per-cycle product of the flight code with a 64-bit operand is of
+      // this kind (docs/performance.md, ninth round).
+      if ((mag_a <= kWord) || (mag_b <= kWord)) {
+        std::uint64_t mag = 0U;
+        const bool fits = (mag_b <= kWord) ? detail::word_product<shift>(mag_a, mag_b, mag)
+                                           : detail::word_product<shift>(mag_b, mag_a, mag);
+        if (!fits) {
+          status.raise(Flag::overflow);
+          return negative ? Out::min() : Out::max();
+        }
+        return Out::from_raw(detail::from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
+      }
     }
   }
   return detail::finish_product<Out, W>(negative, detail::wide_product<W>(mag_a, mag_b), shift, status);
@@ -394,7 +449,23 @@ template <typename Out, typename SA, std::int32_t FA, typename SB, std::int32_t 
   }
   // raw_out = |a| * 2^(Fo + FB - FA) / |b|; the power of two goes on the
   // dividend when positive and on the divisor when negative, both exact.
-  const std::int32_t k = (Out::frac_bits + FB) - FA;
+  constexpr std::int32_t k = (Out::frac_bits + FB) - FA;
+  if constexpr (!std::is_same<W, std::uint64_t>::value && (k > -64) && (k < 64)) {
+    // Both scaled operands within 64 bits: the same quotient, remainder and
+    // rounding in 64-bit arithmetic, no 128-bit division (the step's slip
+    // and acceleration: docs/performance.md, ninth round).
+    constexpr auto up = static_cast<std::uint32_t>((k > 0) ? k : 0);
+    constexpr auto down = static_cast<std::uint32_t>((k < 0) ? -k : 0);
+    const std::uint64_t mag_a = detail::magnitude(a.raw());
+    const std::uint64_t mag_b = detail::magnitude(b.raw());
+    if ((wide::shr(mag_a, 64U - up) == 0U) && (wide::shr(mag_b, 64U - down) == 0U)) {
+      const std::uint64_t num = wide::shl(mag_a, up);
+      const std::uint64_t den = wide::shl(mag_b, down);
+      const wide::DivMod<std::uint64_t> qr = wide::divmod(num, den);  // den != 0: b != 0, no bit lost
+      const std::uint64_t mag = qr.quotient + ((qr.remainder >= (den - qr.remainder)) ? 1U : 0U);
+      return Out::from_raw(detail::from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
+    }
+  }
   bool num_overflow = false;
   bool den_overflow = false;
   const W num = detail::scale_magnitude(wide::from_u64<W>(detail::magnitude(a.raw())), (k > 0) ? -k : 0,
