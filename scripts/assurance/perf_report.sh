@@ -13,6 +13,14 @@
 #                 -mfpu=fpv4-sp-d16 (the firmware-m4f flags, preset perf-m4).
 #   code_size, stack: arm-none-eabi-size and scripts/stack_report.py on the
 #                 Cortex-M0 and M4 builds (build/perf-m0, build/perf-m4).
+#   wide_instructions_per_step target=cortex-m0 impl=fixed value=<n>
+#                 the instructions of fixedpoint/wide.hpp's 128-bit type per
+#                 step (issue 15 asks for none), from one step of the M0
+#                 driver against the flight library at -O0 -g (preset
+#                 perf-m0-wide: there every instruction keeps its source
+#                 line; the paths taken are those of -Os), mapped by
+#                 scripts/wide_per_step.py; the functions are listed when
+#                 there are any.
 #
 #   scripts/assurance/perf_report.sh [--host-bin DIR]
 # DIR holds perf_step_fixed and perf_step_double (the perf-report target
@@ -112,6 +120,26 @@ opt="-Os -ffunction-sections -fdata-sections -Wno-psabi"
 arm_target perf-m0 cortex-m0 "-mcpu=cortex-m0 -mthumb -mfloat-abi=soft $opt"
 # The M4F's FPU is single precision: the double twin is soft-float there too.
 arm_target perf-m4 cortex-m4 "-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 $opt"
+wide_report() {  # 128-bit instructions per step (issue 15 asks for none), on the M0
+  local dir=build/perf-m0-wide out_dir=build/perf-m0-wide/perf n elf
+  local cpu="-mcpu=cortex-m0 -mthumb -mfloat-abi=soft $opt"
+  cmake --preset perf-m0-wide >/dev/null
+  cmake --build "$dir" --target sinkwatch_flight >/dev/null
+  mkdir -p "$out_dir"
+  arm-none-eabi-gcc $cpu -c perf/arm_start.c -o "$out_dir/arm_start.o"
+  for n in 0 1; do
+    elf="$out_dir/perf_step_fixed_$n.elf"
+    arm-none-eabi-g++ -std=c++17 $cpu -Iflight/include -Ifixedpoint/include -fno-exceptions -fno-rtti \
+      -DPERF_BARE_METAL -DPERF_STEPS="$n" perf/perf_step.cpp "$out_dir/arm_start.o" "$dir/flight/libsinkwatch_flight.a" \
+      -nostartfiles --specs=nosys.specs -Wl,--gc-sections -o "$elf" 2>&1 \
+      | grep -vE 'is not implemented and will always fail|^collect2|in function|warning: .*has a LOAD segment' || true
+    qemu-arm -cpu any -singlestep -d exec,nochain "$elf" 2>&1 >/dev/null |
+      sed -nE 's/^Trace [^[]*\[[0-9a-f]*\/([0-9a-f]+)\/.*/\1/p' | sort | uniq -c >"$out_dir/pcs_$n.txt"
+  done
+  python3 scripts/wide_per_step.py "$out_dir/perf_step_fixed_1.elf" "$out_dir/pcs_1.txt" "$out_dir/pcs_0.txt" 1 cortex-m0
+}
+wide_report
+
 m0=build/perf-m0
 
 # Flight library text (what a firmware links at most) and the stack of a cycle.
