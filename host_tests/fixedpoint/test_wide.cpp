@@ -81,19 +81,27 @@ std::uint32_t bit_length_by_bits(std::uint32_t a) {
   return n;
 }
 
+// Both forms on every target: the count-leading-zeros form where the core
+// has the instruction, and the halving form the ARMv6-M build uses.
 TEST(FxWide, BitLength32EqualsTheBitByBitCount) {
   for (std::uint32_t k = 0U; k < 32U; ++k) {
     const std::uint32_t p = std::uint32_t{1U} << k;
     for (const std::uint32_t a : {p - 1U, p, p + 1U, p | (p - 1U)}) {
       ASSERT_EQ(wide::bit_length32(a), bit_length_by_bits(a)) << a;
+      ASSERT_EQ(wide::bit_length32_by_halves(a), bit_length_by_bits(a)) << a;
     }
   }
   std::mt19937 rng(32U);
   for (int i = 0; i < 10000000; ++i) {
     const std::uint32_t a = static_cast<std::uint32_t>(rng()) >> (static_cast<std::uint32_t>(rng()) % 32U);
     ASSERT_EQ(wide::bit_length32(a), bit_length_by_bits(a)) << a;
+    ASSERT_EQ(wide::bit_length32_by_halves(a), bit_length_by_bits(a)) << a;
   }
 }
+
+static_assert(wide::bit_length32(0U) == 0U, "constexpr: zero has no significant bit");
+static_assert(wide::bit_length32(0x80000000U) == 32U, "constexpr: the top bit");
+static_assert(wide::bit_length32_by_halves(0x00012345U) == 17U, "constexpr: by halves");
 
 TEST(FxWide, LeadingWordIsTheTopThirtyTwoBitsFromTheLeadingOne) {
   EXPECT_EQ(wide::leading_word(0U, 0U), 0U);

@@ -102,9 +102,10 @@ SW_FX_INLINE constexpr bool bit(const U128& a, std::uint32_t n) noexcept { retur
 /// the range five times: 16, 8, 4, 2 and 1 bits, about 20 instructions. The
 /// bit-at-a-time loop it replaces was not turned into a count-leading-zeros
 /// instruction by GCC at -Os (Cortex-M0 and M4) nor at -O2 (x86-64): up to 32
-/// rounds (docs/performance.md, session 13). test_wide.cpp checks it against
-/// the bit-by-bit count.
-SW_FX_INLINE constexpr std::uint32_t bit_length32(std::uint32_t a) noexcept {
+/// rounds (docs/performance.md, session 13). The ARMv6-M build of
+/// bit_length32 uses it; test_wide.cpp checks it against the bit-by-bit
+/// count on every target, as it checks bit_length32.
+SW_FX_INLINE constexpr std::uint32_t bit_length32_by_halves(std::uint32_t a) noexcept {
   std::uint32_t v = a;
   const std::uint32_t s16 = (v >= 0x10000U) ? 16U : 0U;
   v >>= s16;
@@ -117,6 +118,28 @@ SW_FX_INLINE constexpr std::uint32_t bit_length32(std::uint32_t a) noexcept {
   const std::uint32_t s1 = (v >= 0x2U) ? 1U : 0U;
   v >>= s1;
   return s16 + s8 + s4 + s2 + s1 + v;  // v is now 0 (a == 0) or 1
+}
+
+/// True where the core counts leading zeros in one instruction (ARMv7-M's
+/// CLZ: __ARM_FEATURE_CLZ; x86-64's BSR or LZCNT), so GCC's and clang's
+/// __builtin_clz is that instruction; on ARMv6-M it would be a library call
+/// (__clzsi2), and there the halving above is used (docs/misra.md, D-07).
+#if (defined(__ARM_FEATURE_CLZ) || defined(__x86_64__)) && defined(__GNUC__)
+constexpr bool kClzInstruction = true;
+#else
+constexpr bool kClzInstruction = false;
+#endif
+
+/// Number of significant bits of a 32-bit value (0 for a == 0): 32 less the
+/// leading zeros where the core counts them, else by halves. The same count
+/// either way.
+SW_FX_INLINE constexpr std::uint32_t bit_length32(std::uint32_t a) noexcept {
+  if constexpr (kClzInstruction) {
+    // __builtin_clz(0) is undefined: zero is answered first.
+    return (a == 0U) ? 0U : (32U - static_cast<std::uint32_t>(__builtin_clz(a)));
+  } else {
+    return bit_length32_by_halves(a);
+  }
 }
 
 /// Number of significant bits (0 for a == 0), a 32-bit half at a time: a
