@@ -118,7 +118,16 @@ RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) n
   in.slip_known = out.slip_known;
   in.slip = out.slip;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    corr[i] = corrections_at(prepared.table().correction, prepared.correction_divisors(), out.load_n[i]);
+    // Field by field: the result assigned whole is a memcpy call per wheel
+    // on the Cortex-M0 (as in wheel_torques; 318 instructions per step).
+    static_assert(sizeof(CorrectionResult) == 20U, "a field added to CorrectionResult is copied here too");
+    const CorrectionResult c = corrections_at(prepared.table().correction, prepared.correction_divisors(), out.load_n[i]);
+    corr[i].coefficients.c1 = c.coefficients.c1;
+    corr[i].coefficients.c2 = c.coefficients.c2;
+    corr[i].coefficients.c3 = c.coefficients.c3;
+    corr[i].dp_max_ratio = c.dp_max_ratio;
+    corr[i].clamp = c.clamp;
+    corr[i].status = c.status;
     if (corr[i].status != EstimateStatus::ok) {
       out.drawbar_status = DrawbarStatus::invalid_input;
       return RoverStepStatus::drawbar_failed;
