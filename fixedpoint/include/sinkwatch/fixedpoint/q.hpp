@@ -371,16 +371,50 @@ SW_FX_INLINE constexpr bool word_product(std::uint64_t w, std::uint64_t v, std::
   mag = (high << static_cast<std::uint32_t>(32 - Shift)) + low_rounded;
   return mag >= low_rounded;  // no carry out of 64 bits
 }
+
+/// The signed result of a magnitude that fitted 64 bits (`fits`), or
+/// saturated by the sign when it did not (beyond every format).
+template <typename Out>
+SW_FX_INLINE constexpr Out finish_64(bool negative, bool fits, std::uint64_t mag, Status& status) noexcept {
+  if (!fits) {
+    status.raise(Flag::overflow);
+    return negative ? Out::min() : Out::max();
+  }
+  using OutS = typename Out::storage_type;
+  return Out::from_raw(from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
+}
+
+/// |a| |b| 2^-Shift rounded into Out where the formats need a 128-bit
+/// intermediate: in 64 bits when both magnitudes are below 2^32 (one product
+/// instead of four, no 128-bit shifts: docs/performance.md, finding 8) or
+/// one is at most 2^32 and Shift is in [0, 32] (word_product: every
+/// per-cycle product of the flight code with a 64-bit operand, ninth round);
+/// in W otherwise.
+template <typename Out, typename W, std::int32_t Shift>
+constexpr Out mul_magnitudes(bool negative, std::uint64_t mag_a, std::uint64_t mag_b, Status& status) noexcept {
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  if ((mag_a < kWord) && (mag_b < kWord)) {
+    return finish_product<Out, std::uint64_t>(
+        negative, wide::mul_full(static_cast<std::uint32_t>(mag_a), static_cast<std::uint32_t>(mag_b)), Shift, status);
+  }
+  if constexpr ((Shift >= 0) && (Shift <= 32)) {
+    if ((mag_a <= kWord) || (mag_b <= kWord)) {
+      std::uint64_t mag = 0U;
+      const bool fits = (mag_b <= kWord) ? word_product<Shift>(mag_a, mag_b, mag) : word_product<Shift>(mag_b, mag_a, mag);
+      return finish_64<Out>(negative, fits, mag, status);
+    }
+  }
+  return finish_product<Out, W>(negative, wide_product<W>(mag_a, mag_b), Shift, status);
+}
 }  // namespace detail
 
 /// a * b in the format Out, rounded to nearest (ties away from zero), within
 /// 0.5 LSB of Out; saturates on overflow. One exact product, rounded once;
-/// the paths below differ only in the width they need (docs/fixedpoint.md
-/// 5.1), so every path gives the same bits.
+/// the paths differ only in the width they need (docs/fixedpoint.md 4), so
+/// every path gives the same bits.
 template <typename Out, typename SA, std::int32_t FA, typename SB, std::int32_t FB>
 [[nodiscard]] constexpr Out mul(Q<SA, FA> a, Q<SB, FB> b, Status& status) noexcept {
   using W = typename detail::WideFor<SA, SB, typename Out::storage_type>::type;
-  using OutS = typename Out::storage_type;
   const bool negative = detail::is_negative(a.raw()) != detail::is_negative(b.raw());
   constexpr std::int32_t shift = (FA + FB) - Out::frac_bits;
   constexpr bool kWordOperands = (detail::StorageTraits<SA>::bits == 32U) && (detail::StorageTraits<SB>::bits == 32U);
@@ -390,40 +424,14 @@ template <typename Out, typename SA, std::int32_t FA, typename SB, std::int32_t 
     // adding the half cannot carry out) and a constant shift (what it saves
     // per step: docs/performance.md, eighth and ninth rounds).
     const std::uint64_t product = wide::mul_full(detail::magnitude32(a.raw()), detail::magnitude32(b.raw()));
-    const std::uint64_t mag = detail::round_shift_const<shift>(product);
-    return Out::from_raw(detail::from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
+    return detail::finish_64<Out>(negative, true, detail::round_shift_const<shift>(product), status);
+  } else if constexpr (std::is_same<W, std::uint64_t>::value) {
+    return detail::finish_product<Out, W>(
+        negative, detail::wide_product<W>(detail::magnitude(a.raw()), detail::magnitude(b.raw())), shift, status);
+  } else {
+    return detail::mul_magnitudes<Out, W, shift>(negative, detail::magnitude(a.raw()), detail::magnitude(b.raw()),
+                                                 status);
   }
-  const std::uint64_t mag_a = detail::magnitude(a.raw());
-  const std::uint64_t mag_b = detail::magnitude(b.raw());
-  if constexpr (!std::is_same<W, std::uint64_t>::value) {
-    // A product that fits in 64 bits takes the 64-bit path although the
-    // formats would need 128: the same integer and the same rounding, one
-    // product instead of four and no 128-bit shifts (docs/performance.md,
-    // finding 8). Both operands below 2^32 is the cheap sufficient test.
-    constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
-    if ((mag_a < kWord) && (mag_b < kWord)) {
-      return detail::finish_product<Out, std::uint64_t>(
-          negative, wide::mul_full(static_cast<std::uint32_t>(mag_a), static_cast<std::uint32_t>(mag_b)), shift,
-          status);
-    }
-    if constexpr ((shift >= 0) && (shift <= 32)) {
-      // One operand within a word (at most 2^32): two 32 x 32 -> 64-bit
-      // products (detail::word_product), no 128-bit arithmetic. Every
-      // per-cycle product of the flight code with a 64-bit operand is of
-      // this kind (docs/performance.md, ninth round).
-      if ((mag_a <= kWord) || (mag_b <= kWord)) {
-        std::uint64_t mag = 0U;
-        const bool fits = (mag_b <= kWord) ? detail::word_product<shift>(mag_a, mag_b, mag)
-                                           : detail::word_product<shift>(mag_b, mag_a, mag);
-        if (!fits) {
-          status.raise(Flag::overflow);
-          return negative ? Out::min() : Out::max();
-        }
-        return Out::from_raw(detail::from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
-      }
-    }
-  }
-  return detail::finish_product<Out, W>(negative, detail::wide_product<W>(mag_a, mag_b), shift, status);
 }
 
 /// a * b in a's format.
@@ -431,6 +439,27 @@ template <typename S, std::int32_t F>
 [[nodiscard]] constexpr Q<S, F> mul(Q<S, F> a, Q<S, F> b, Status& status) noexcept {
   return mul<Q<S, F>>(a, b, status);
 }
+
+namespace detail {
+/// |a| 2^K / |b| rounded into Out (b != 0) when both scaled operands fit 64
+/// bits: the quotient, remainder and rounding of the 128-bit path from one
+/// 64-bit division (the step's slip and acceleration: docs/performance.md,
+/// ninth round). False, and `out` untouched, when they do not fit.
+template <typename Out, std::int32_t K>
+constexpr bool quotient_in_64_bits(bool negative, std::uint64_t mag_a, std::uint64_t mag_b, Out& out,
+                                   Status& status) noexcept {
+  constexpr std::uint32_t up = (K > 0) ? static_cast<std::uint32_t>(K) : 0U;
+  constexpr std::uint32_t down = (K < 0) ? static_cast<std::uint32_t>(-K) : 0U;
+  if ((wide::shr(mag_a, 64U - up) != 0U) || (wide::shr(mag_b, 64U - down) != 0U)) {
+    return false;
+  }
+  const std::uint64_t den = wide::shl(mag_b, down);  // != 0: b != 0, no bit lost
+  const wide::DivMod<std::uint64_t> qr = wide::divmod(wide::shl(mag_a, up), den);
+  const std::uint64_t mag = qr.quotient + ((qr.remainder >= (den - qr.remainder)) ? 1U : 0U);
+  out = finish_64<Out>(negative, true, mag, status);
+  return true;
+}
+}  // namespace detail
 
 /// a / b in the format Out, rounded to nearest (ties away from zero), within
 /// 0.5 LSB of Out; saturates on overflow. b == 0 raises div_by_zero and gives
@@ -451,19 +480,10 @@ template <typename Out, typename SA, std::int32_t FA, typename SB, std::int32_t 
   // dividend when positive and on the divisor when negative, both exact.
   constexpr std::int32_t k = (Out::frac_bits + FB) - FA;
   if constexpr (!std::is_same<W, std::uint64_t>::value && (k > -64) && (k < 64)) {
-    // Both scaled operands within 64 bits: the same quotient, remainder and
-    // rounding in 64-bit arithmetic, no 128-bit division (the step's slip
-    // and acceleration: docs/performance.md, ninth round).
-    constexpr auto up = static_cast<std::uint32_t>((k > 0) ? k : 0);
-    constexpr auto down = static_cast<std::uint32_t>((k < 0) ? -k : 0);
-    const std::uint64_t mag_a = detail::magnitude(a.raw());
-    const std::uint64_t mag_b = detail::magnitude(b.raw());
-    if ((wide::shr(mag_a, 64U - up) == 0U) && (wide::shr(mag_b, 64U - down) == 0U)) {
-      const std::uint64_t num = wide::shl(mag_a, up);
-      const std::uint64_t den = wide::shl(mag_b, down);
-      const wide::DivMod<std::uint64_t> qr = wide::divmod(num, den);  // den != 0: b != 0, no bit lost
-      const std::uint64_t mag = qr.quotient + ((qr.remainder >= (den - qr.remainder)) ? 1U : 0U);
-      return Out::from_raw(detail::from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
+    Out out{};
+    if (detail::quotient_in_64_bits<Out, k>(negative, detail::magnitude(a.raw()), detail::magnitude(b.raw()), out,
+                                            status)) {
+      return out;
     }
   }
   bool num_overflow = false;

@@ -415,10 +415,12 @@ template <typename S, std::int32_t F>
   // zero divisor below on the path of a one-word b.)
   constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
   if (b >= kWord) {
+    // k in [1, 32] here; the shifts are wide::shl/shr, defined for every
+    // count, because the analyser does not bound a count of leading zeros.
     const std::uint32_t k = wide::bit_length(b) - 32U;
-    const std::uint64_t half = std::uint64_t{1U} << (k - 1U);
-    a = (a >> k) + (((a & half) != 0U) ? 1U : 0U);
-    b = (b >> k) + (((b & half) != 0U) ? 1U : 0U);
+    const std::uint64_t half = wide::shl(std::uint64_t{1U}, k - 1U);
+    a = wide::shr(a, k) + (((a & half) != 0U) ? 1U : 0U);
+    b = wide::shr(b, k) + (((b & half) != 0U) ? 1U : 0U);
   }
   // b = max(|x|, |y|) is zero only for atan2(0, 0) (a non-zero b keeps a
   // bit through the rounding shift). Tested on b itself, the divisor, after
