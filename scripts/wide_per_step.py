@@ -9,8 +9,8 @@ is the first driver, linked against a flight library built with -g (the perf
 presets: -g changes no instruction). Each executed address is mapped to its
 chain of inlined functions (addr2line -i); an instruction counts as 128-bit
 when any function of its chain works on fixedpoint/wide.hpp's U128 (its
-signature names U128, or it is one of the helpers that build one from 64-bit
-words). Prints one line for perf_report.sh, with the functions that executed
+return type or a parameter is U128, or it is one of the helpers that build
+one from 64-bit words; a template argument alone does not count). Prints one line for perf_report.sh, with the functions that executed
 128-bit instructions when there are any (issue 15 asks for none per cycle).
 """
 import collections
@@ -35,8 +35,24 @@ def histogram(path):
     return counts
 
 
+def without_template_arguments(name):
+    """The name with every <...> removed: a function parameterised by the
+    wide type (fx::detail::mul_magnitudes<Out, U128, Shift>) whose own
+    operands are 64-bit is not 128-bit code; its return type and parameters
+    say whether it is."""
+    out, depth = [], 0
+    for c in name:
+        if c == "<":
+            depth += 1
+        elif c == ">" and depth > 0:
+            depth -= 1
+        elif depth == 0:
+            out.append(c)
+    return "".join(out)
+
+
 def is_wide(frame):
-    return ("U128" in frame) or any(frame.startswith(b) for b in U128_BUILDERS)
+    return ("U128" in without_template_arguments(frame)) or any(frame.startswith(b) for b in U128_BUILDERS)
 
 
 def wide_frames(elf, addresses):
