@@ -1,7 +1,8 @@
 // The per-cycle step (docs/rover-loads.md, section 8): a nominal cycle end to
 // end, against the chain of flight functions called one by one; acceleration
-// from the speed difference; slip and high slip; every telemetry failure and
-// its fail-safe; tip-over stopping the rover at once.
+// from the speed difference (its bits, and none from a repeated time stamp);
+// slip and high slip; a wheel carrying exactly 0 N; every telemetry failure
+// and its fail-safe; tip-over stopping the rover at once.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -16,6 +17,7 @@
 #include "sinkwatch/flight/motor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/rover_step.hpp"
+#include "sinkwatch/flight/wheel_load.hpp"
 
 namespace sinkwatch {
 namespace {
@@ -164,6 +166,88 @@ TEST_F(RoverStepTest, DifferencedAccelerationHasTheBitsOfTheQ31_32Quotient) {
     ASSERT_TRUE(out.accel_valid) << i;
     EXPECT_EQ(out.accel_mps2.raw(), accel_raw_in_q31_32_then_q7_24(t.speed_mps.raw(), previous_raw, dt_ms)) << i;
   }
+}
+
+TEST_F(RoverStepTest, SpeedWithTheTimeStampOfTheLastSpeedGivesNoAcceleration) {
+  // A speed sample that reuses the last speed's time stamp (the cycle in
+  // between carried no speed): no differenced acceleration, so the cycle
+  // reports no_acceleration instead of dividing by zero.
+  flight::RoverTelemetry a = telemetry(1000U);  // speed and a measured acceleration
+  a.speed_valid = true;
+  a.speed_mps = q<flight::SpeedMps>(0.05);
+  flight::RoverStepOutput out{};
+  step.step(a, flight::TimeMs{1000U}, test::prepared_of(table, rover), out);
+  ASSERT_EQ(out.status, RoverStepStatus::ok);
+  const flight::RoverTelemetry b = telemetry(1100U);  // no speed, a measured acceleration
+  step.step(b, flight::TimeMs{1100U}, test::prepared_of(table, rover), out);
+  ASSERT_EQ(out.status, RoverStepStatus::ok);
+  flight::RoverTelemetry c = telemetry(1000U);  // the speed sample's time again, not the last cycle's
+  c.accel_valid = false;
+  c.speed_valid = true;
+  c.speed_mps = q<flight::SpeedMps>(0.07);
+  step.step(c, flight::TimeMs{1150U}, test::prepared_of(table, rover), out);
+  EXPECT_EQ(out.status, RoverStepStatus::no_acceleration);
+  EXPECT_FALSE(out.accel_valid);
+  // The control: the speed of c was still remembered (at 1000 ms), so 200 ms
+  // later the difference exists: (0.09 - 0.07) / 0.2 s = 0.1 m/s^2.
+  flight::RoverTelemetry e = telemetry(1200U);
+  e.accel_valid = false;
+  e.speed_valid = true;
+  e.speed_mps = q<flight::SpeedMps>(0.09);
+  flight::RoverStepOutput later{};
+  step.step(e, flight::TimeMs{1200U}, test::prepared_of(table, rover), later);
+  ASSERT_TRUE(later.accel_valid);
+  EXPECT_NEAR(d(later.accel_mps2), 0.1, 1e-6);
+}
+
+/// The largest roll (raw Q3.28) at which no wheel needs a negative load, by
+/// bisection between level ground and a roll that tips the rover over.
+flight::AngleRad last_roll_before_tip_over(const flight::RoverParams& p) {
+  std::int32_t ok_raw = 0;
+  std::int32_t tip_raw = q<flight::AngleRad>(0.99).raw();
+  const flight::JointAnglesRad level_joints{};
+  const auto status_at = [&](std::int32_t roll_raw) {
+    const flight::RoverAttitude at{flight::AngleRad::zero(), flight::AngleRad::from_raw(roll_raw)};
+    return flight::wheel_loads(p, at, level_joints, flight::kNoDriveTorques).status;
+  };
+  EXPECT_EQ(status_at(tip_raw), flight::WheelLoadStatus::tip_over);
+  while (tip_raw - ok_raw > 1) {
+    const std::int32_t mid = ok_raw + ((tip_raw - ok_raw) / 2);
+    if (status_at(mid) == flight::WheelLoadStatus::ok) {
+      ok_raw = mid;
+    } else {
+      tip_raw = mid;
+    }
+  }
+  return flight::AngleRad::from_raw(ok_raw);
+}
+
+TEST_F(RoverStepTest, WheelCarryingExactlyZeroNewtonsFailsTheDrawbarStage) {
+  // The last attitude before tip-over: a wheel carries exactly 0 N (raw 0),
+  // for which the corrections have no row (Eq. 11 divides by W), so the
+  // drawbar stage fails instead of producing pulls.
+  rover.com_z_m = q<flight::LengthM>(0.60);  // a high centre of mass tips within the attitude limit
+  ASSERT_EQ(flight::validate_rover_params(rover), flight::RoverParamStatus::ok);
+  const flight::AngleRad roll = last_roll_before_tip_over(rover);
+  const flight::WheelLoadResult loads =
+      flight::wheel_loads(rover, flight::RoverAttitude{flight::AngleRad::zero(), roll}, flight::JointAnglesRad{},
+                          flight::kNoDriveTorques);
+  ASSERT_EQ(loads.status, flight::WheelLoadStatus::ok);
+  std::int32_t lowest = loads.load_n[0].raw();
+  for (const flight::WheelLoadN& l : loads.load_n) {
+    lowest = (l.raw() < lowest) ? l.raw() : lowest;
+  }
+  // At the last roll before tip-over the lifting wheel's support is below
+  // half an LSB of the load format: its load is exactly zero.
+  ASSERT_EQ(lowest, 0) << "roll " << d(roll);
+  flight::RoverTelemetry t = telemetry(1000U);
+  t.attitude.roll_rad = roll;
+  flight::RoverStepOutput out{};
+  step.step(t, flight::TimeMs{1000U}, test::prepared_of(table, rover), out);
+  EXPECT_TRUE(out.loads_valid);
+  EXPECT_EQ(out.status, RoverStepStatus::drawbar_failed);
+  EXPECT_EQ(out.drawbar_status, flight::DrawbarStatus::invalid_input);
+  EXPECT_FALSE(out.drawbar_valid);
 }
 
 TEST_F(RoverStepTest, SlipFromGroundAndRimSpeedAndHighSlipSaturates) {
