@@ -43,6 +43,16 @@ flight::RoverTelemetry telemetry(std::uint32_t time_ms) {
   return t;
 }
 
+/// A cycle with a ground speed and no measured acceleration: the step
+/// differences the speed.
+flight::RoverTelemetry speed_sample(std::uint32_t time_ms, double speed_mps) {
+  flight::RoverTelemetry t = telemetry(time_ms);
+  t.accel_valid = false;
+  t.speed_valid = true;
+  t.speed_mps = q<flight::SpeedMps>(speed_mps);
+  return t;
+}
+
 class RoverStepTest : public ::testing::Test {
  protected:
   flight::ParameterTable table = flight::default_parameter_table();
@@ -113,10 +123,7 @@ TEST_F(RoverStepTest, ACurrentBeyondTheSensorRangeGivesNoTorqueToTheLoads) {
 }
 
 TEST_F(RoverStepTest, AccelerationFromTheSpeedDifference) {
-  flight::RoverTelemetry t = telemetry(2000U);
-  t.accel_valid = false;
-  t.speed_valid = true;
-  t.speed_mps = q<flight::SpeedMps>(0.05);
+  flight::RoverTelemetry t = speed_sample(2000U, 0.05);
   flight::RoverStepOutput first{};
   step.step(t, flight::TimeMs{2000U}, test::prepared_of(table, rover), first);
   EXPECT_EQ(first.status, RoverStepStatus::no_acceleration);
@@ -151,10 +158,7 @@ TEST_F(RoverStepTest, DifferencedAccelerationHasTheBitsOfTheQ31_32Quotient) {
   // Speeds and intervals whose quotients are not exact, both signs; each
   // cycle's acceleration is this speed less the last one over the interval.
   std::mt19937 rng(0x15A);
-  flight::RoverTelemetry t = telemetry(2000U);
-  t.accel_valid = false;
-  t.speed_valid = true;
-  t.speed_mps = q<flight::SpeedMps>(0.05);
+  flight::RoverTelemetry t = speed_sample(2000U, 0.05);
   flight::RoverStepOutput out{};
   step.step(t, t.time, test::prepared_of(table, rover), out);
   for (int i = 0; i < 40; ++i) {
@@ -181,19 +185,13 @@ TEST_F(RoverStepTest, SpeedWithTheTimeStampOfTheLastSpeedGivesNoAcceleration) {
   const flight::RoverTelemetry b = telemetry(1100U);  // no speed, a measured acceleration
   step.step(b, flight::TimeMs{1100U}, test::prepared_of(table, rover), out);
   ASSERT_EQ(out.status, RoverStepStatus::ok);
-  flight::RoverTelemetry c = telemetry(1000U);  // the speed sample's time again, not the last cycle's
-  c.accel_valid = false;
-  c.speed_valid = true;
-  c.speed_mps = q<flight::SpeedMps>(0.07);
+  const flight::RoverTelemetry c = speed_sample(1000U, 0.07);  // the speed sample's time again, not the last cycle's
   step.step(c, flight::TimeMs{1150U}, test::prepared_of(table, rover), out);
   EXPECT_EQ(out.status, RoverStepStatus::no_acceleration);
   EXPECT_FALSE(out.accel_valid);
   // The control: the speed of c was still remembered (at 1000 ms), so 200 ms
   // later the difference exists: (0.09 - 0.07) / 0.2 s = 0.1 m/s^2.
-  flight::RoverTelemetry e = telemetry(1200U);
-  e.accel_valid = false;
-  e.speed_valid = true;
-  e.speed_mps = q<flight::SpeedMps>(0.09);
+  const flight::RoverTelemetry e = speed_sample(1200U, 0.09);
   flight::RoverStepOutput later{};
   step.step(e, flight::TimeMs{1200U}, test::prepared_of(table, rover), later);
   ASSERT_TRUE(later.accel_valid);
