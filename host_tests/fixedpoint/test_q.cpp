@@ -369,23 +369,27 @@ std::vector<Q> operands(std::uint32_t seed) {
   return out;
 }
 
+/// Which operation a comparison checks: a quotient skips a zero divisor,
+/// left to FxDiv.ByZeroReportsAndSaturatesBySignOfDividend.
+enum class Op { product, quotient };
+
 /// Every pair of the two operand sets (about a million) through the library's
-/// operation and the reference: the same raw value and overflow flag. A zero
-/// divisor is left to FxDiv.ByZeroReportsAndSaturatesBySignOfDividend.
+/// operation and the reference: the same raw value and overflow flag.
 template <typename Out, typename A, typename B, typename Operation, typename Reference>
-void expect_like_the_reference(std::uint32_t seed, const char* op, Operation operation, Reference reference) {
+void expect_like_the_reference(std::uint32_t seed, Op op, Operation operation, Reference reference) {
+  const char* const sign = (op == Op::quotient) ? " / " : " * ";
   const std::vector<A> as = operands<A>(seed);
   const std::vector<B> bs = operands<B>(seed + 1U);
   for (const A a : as) {
     for (const B b : bs) {
-      if ((op[1] == '/') && (b.raw() == 0)) {  // op is " * " or " / "
+      if ((op == Op::quotient) && (b.raw() == 0)) {
         continue;
       }
       fx::Status s;
       const Out got = operation(a, b, s);
       const Raw want = reference(a, b);
-      ASSERT_EQ(static_cast<std::int64_t>(got.raw()), want.raw) << a.raw() << op << b.raw();
-      ASSERT_EQ(s.has(Flag::overflow), want.overflow) << a.raw() << op << b.raw();
+      ASSERT_EQ(static_cast<std::int64_t>(got.raw()), want.raw) << a.raw() << sign << b.raw();
+      ASSERT_EQ(s.has(Flag::overflow), want.overflow) << a.raw() << sign << b.raw();
     }
   }
 }
@@ -393,14 +397,14 @@ void expect_like_the_reference(std::uint32_t seed, const char* op, Operation ope
 template <typename Out, typename A, typename B>
 void expect_mul_like_the_reference(std::uint32_t seed) {
   expect_like_the_reference<Out, A, B>(
-      seed, " * ", [](A a, B b, fx::Status& s) { return fx::mul<Out>(a, b, s); },
+      seed, Op::product, [](A a, B b, fx::Status& s) { return fx::mul<Out>(a, b, s); },
       [](A a, B b) { return reference_mul<Out>(a, b); });
 }
 
 template <typename Out, typename A, typename B>
 void expect_div_like_the_reference(std::uint32_t seed) {
   expect_like_the_reference<Out, A, B>(
-      seed, " / ", [](A a, B b, fx::Status& s) { return fx::div<Out>(a, b, s); },
+      seed, Op::quotient, [](A a, B b, fx::Status& s) { return fx::div<Out>(a, b, s); },
       [](A a, B b) { return reference_div<Out>(a, b); });
 }
 
