@@ -68,8 +68,24 @@ if ! command -v arm-none-eabi-g++ >/dev/null || ! command -v qemu-arm >/dev/null
   echo "note: arm-none-eabi-g++ or qemu-arm missing: Cortex-M figures skipped"
   exit 0
 fi
+# qemu-arm's log of an ELF run with one instruction per translation block and
+# no chaining: one Trace line per executed instruction.
+# shellcheck disable=SC2069  # the log (stderr) to the pipe, the driver's output away
+trace() { qemu-arm -cpu any -singlestep -d exec,nochain "$1" 2>&1 >/dev/null; }
 count_insns() {  # elf -> executed instructions
-  qemu-arm -cpu any -singlestep -d exec,nochain "$1" 2>&1 >/dev/null | grep -c '^Trace'
+  trace "$1" | grep -c '^Trace'
+}
+# The perf driver for <cycles> cycles, linked bare-metal:
+# link_driver <cpu flags> <elf> <cycles> <flight library> <start object> [flags and objects...]
+# (the objects follow the driver's source, as the double twin's always did)
+link_driver() {
+  local cpu=$1 elf=$2 n=$3 lib=$4 start=$5
+  shift 5
+  # shellcheck disable=SC2086
+  arm-none-eabi-g++ -std=c++17 $cpu -Iflight/include -Ifixedpoint/include -Iground/reference/include \
+    -DPERF_BARE_METAL -DPERF_STEPS="$n" perf/perf_step.cpp "$@" "$start" "$lib" \
+    -nostartfiles --specs=nosys.specs -Wl,--gc-sections -o "$elf" 2>&1 \
+    | grep -vE 'is not implemented and will always fail|^collect2|in function|warning: .*has a LOAD segment' || true
 }
 
 # One core: its preset (the flight library as its firmware preset builds it),
@@ -82,7 +98,6 @@ arm_target() {
   local out_dir=$dir/perf
   mkdir -p "$out_dir"
   local inc="-Iflight/include -Ifixedpoint/include -Iground/reference/include"
-  local ld="-nostartfiles --specs=nosys.specs -Wl,--gc-sections"
   local flight_lib="$dir/flight/libsinkwatch_flight.a"
   # shellcheck disable=SC2086
   arm-none-eabi-gcc $cpu -c perf/arm_start.c -o "$out_dir/arm_start.o"
@@ -101,10 +116,7 @@ arm_target() {
     if [ "$impl" = double ]; then extra=(-DPERF_IMPL_DOUBLE); objs=("${ref_objs[@]}"); fi
     for n in 0 "$arm_steps"; do
       elf="$out_dir/perf_step_${impl}_$n.elf"
-      # shellcheck disable=SC2086
-      arm-none-eabi-g++ -std=c++17 $cpu $inc "${extra[@]}" -DPERF_BARE_METAL -DPERF_STEPS="$n" \
-        perf/perf_step.cpp "${objs[@]}" "$out_dir/arm_start.o" "$flight_lib" $ld -o "$elf" 2>&1 \
-        | grep -vE 'is not implemented and will always fail|^collect2|in function|warning: .*has a LOAD segment' || true
+      link_driver "$cpu" "$elf" "$n" "$flight_lib" "$out_dir/arm_start.o" "${extra[@]}" "${objs[@]}"
     done
     out=$(qemu-arm -cpu any "$out_dir/perf_step_${impl}_${arm_steps}.elf")
     check_full "$out" "$arm_steps" "$target $impl"
@@ -126,15 +138,12 @@ wide_report() {  # 128-bit instructions per step (issue 15 asks for none), on th
   cmake --preset perf-m0-wide >/dev/null
   cmake --build "$dir" --target sinkwatch_flight >/dev/null
   mkdir -p "$out_dir"
+  # shellcheck disable=SC2086
   arm-none-eabi-gcc $cpu -c perf/arm_start.c -o "$out_dir/arm_start.o"
   for n in 0 1; do
     elf="$out_dir/perf_step_fixed_$n.elf"
-    arm-none-eabi-g++ -std=c++17 $cpu -Iflight/include -Ifixedpoint/include -fno-exceptions -fno-rtti \
-      -DPERF_BARE_METAL -DPERF_STEPS="$n" perf/perf_step.cpp "$out_dir/arm_start.o" "$dir/flight/libsinkwatch_flight.a" \
-      -nostartfiles --specs=nosys.specs -Wl,--gc-sections -o "$elf" 2>&1 \
-      | grep -vE 'is not implemented and will always fail|^collect2|in function|warning: .*has a LOAD segment' || true
-    qemu-arm -cpu any -singlestep -d exec,nochain "$elf" 2>&1 >/dev/null |
-      sed -nE 's/^Trace [^[]*\[[0-9a-f]*\/([0-9a-f]+)\/.*/\1/p' | sort | uniq -c >"$out_dir/pcs_$n.txt"
+    link_driver "$cpu" "$elf" "$n" "$dir/flight/libsinkwatch_flight.a" "$out_dir/arm_start.o" -fno-exceptions -fno-rtti
+    trace "$elf" | sed -nE 's/^Trace [^[]*\[[0-9a-f]*\/([0-9a-f]+)\/.*/\1/p' | sort | uniq -c >"$out_dir/pcs_$n.txt"
   done
   python3 scripts/wide_per_step.py "$out_dir/perf_step_fixed_1.elf" "$out_dir/pcs_1.txt" "$out_dir/pcs_0.txt" 1 cortex-m0
 }
