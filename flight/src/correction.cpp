@@ -9,28 +9,37 @@ namespace flight {
 
 namespace {
 
-/// |m| / 2^s rounded half away from zero (fx's rounding of a magnitude).
-std::uint64_t round_shift(std::uint64_t m, std::uint32_t s) noexcept {
-  return (m >> s) + ((m >> (s - 1U)) & 1U);
-}
-
 /// a + f (b - a) for the fraction f = fraction / 2^32 in [0, 1), bit for bit
-/// the Q31.32 interpolation (the dividing oracle's, host_tests/flight): in
-/// Q31.32 the span is d 2^8 with d = b - a in raw Q7.24 (|d| < 2^32) and the
-/// step round(f d 2^8 / 2^32) = round(f d / 2^24); f < 2^32 raw keeps f |d|
-/// below 2^64. The value a 2^8 + step then rounds into Q7.24 as fx::rescale
-/// does. The value lies between a and b, so it fits; st is kept for the
-/// saturation contract of from_sign_magnitude.
-Ratio lerp(Ratio a, Ratio b, std::uint32_t fraction, fx::Status& st) noexcept {
-  const std::int64_t d = static_cast<std::int64_t>(b.raw()) - static_cast<std::int64_t>(a.raw());
-  // Both factors are below 2^32: one 32 x 32 -> 64-bit product (no
-  // __aeabi_lmul on the Cortex-M0).
-  const std::uint64_t product =
-      fx::wide::mul_32x32_64(fraction, static_cast<std::uint32_t>(fx::detail::magnitude(d)));
-  const auto step_mag = static_cast<std::int64_t>(round_shift(product, 24U));  // below 2^40
-  const std::int64_t value = (static_cast<std::int64_t>(a.raw()) * 256) + ((d < 0) ? -step_mag : step_mag);
-  const std::uint64_t out_mag = round_shift(fx::detail::magnitude(value), 8U);
-  return Ratio(RatioQ::from_raw(fx::detail::from_sign_magnitude<std::int32_t>(value < 0, out_mag, st)));
+/// the Q31.32 interpolation (the dividing oracle's, host_tests/flight): with
+/// d = b - a (|d| < 2^32) and P = f |d| < 2^64, that interpolation rounds
+/// the step m = round(P / 2^24) (half up) into Q31.32 as a 2^8 +- m, and the
+/// value v = a 2^8 +- m into Q7.24, half away from zero. Since a 2^8 is a
+/// multiple of 2^8, v's rounding is a +- one of two roundings of m / 2^8:
+///   up   = floor((m + 128) / 2^8) = floor((P + 2^31 + 2^23) / 2^32)
+///            when v has d's sign (v rounds away from a),
+///   down = floor((m + 127) / 2^8) = floor((P + 2^31 - 2^23) / 2^32)
+///            when it has not (v crossed zero: it rounds back towards a),
+/// each the high word of one 64-bit sum (floor(floor(x) / k) = floor(x / k)
+/// for integer k). The value lies between a and b, so the result fits Q7.24
+/// and no status is needed (docs/performance.md, session 16).
+Ratio lerp(Ratio a, Ratio b, std::uint32_t fraction) noexcept {
+  const std::int32_t a_raw = a.raw();
+  const bool d_negative = b.raw() < a_raw;
+  // |b - a| in modular 32-bit arithmetic: exact, as it is below 2^32.
+  const std::uint32_t d_magnitude = d_negative ? (static_cast<std::uint32_t>(a_raw) - static_cast<std::uint32_t>(b.raw()))
+                                               : (static_cast<std::uint32_t>(b.raw()) - static_cast<std::uint32_t>(a_raw));
+  const std::uint64_t product = fx::wide::mul_32x32_64(fraction, d_magnitude);
+  const std::uint64_t step = (product + (std::uint64_t{1U} << 23U)) >> 24U;  // m, below 2^40
+  const std::uint64_t whole = static_cast<std::uint64_t>(fx::detail::magnitude(a_raw)) << 8U;  // |a| 2^8
+  // v = a 2^8 +- m has d's sign when a has it too, or when m outweighs a.
+  // (m = |a| 2^8 makes v zero, which both roundings give.)
+  const bool away_from_a = (d_negative == (a_raw < 0)) || (step > whole);
+  constexpr std::uint64_t kHalf = std::uint64_t{1U} << 31U;
+  constexpr std::uint64_t kStepHalf = std::uint64_t{1U} << 23U;
+  const std::uint64_t bias = away_from_a ? (kHalf + kStepHalf) : (kHalf - kStepHalf);
+  const auto rounded = static_cast<std::int64_t>((product + bias) >> 32U);  // below 2^32
+  const std::int64_t value = static_cast<std::int64_t>(a_raw) + (d_negative ? -rounded : rounded);
+  return Ratio(RatioQ::from_raw(static_cast<std::int32_t>(value)));  // between a and b
 }
 
 /// f = offset / width as raw Q0.32, bit for bit fx::div<WideQ>(offset, width).
@@ -111,10 +120,8 @@ CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDi
   if ((!st.ok()) || (!fraction_in(offset, divisors.width[seg], fraction))) {
     return failed;
   }
-  const Coefficients c{lerp(lo.c1, hi.c1, fraction, st), lerp(lo.c2, hi.c2, fraction, st),
-                       lerp(lo.c3, hi.c3, fraction, st)};
-  const Ratio dp = lerp(lo.dp_max_ratio, hi.dp_max_ratio, fraction, st);
-  return st.ok() ? CorrectionResult{c, dp, LoadClamp::none, EstimateStatus::ok} : failed;
+  const Coefficients c{lerp(lo.c1, hi.c1, fraction), lerp(lo.c2, hi.c2, fraction), lerp(lo.c3, hi.c3, fraction)};
+  return CorrectionResult{c, lerp(lo.dp_max_ratio, hi.dp_max_ratio, fraction), LoadClamp::none, EstimateStatus::ok};
 }
 
 CorrectionDivisors make_correction_divisors(const CorrectionTable& table) noexcept {

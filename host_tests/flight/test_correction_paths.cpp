@@ -61,6 +61,39 @@ TEST(CorrectionPaths, RandomTablesOverTheWholeFormatMatchTheQ3132Chain) {
   EXPECT_EQ(segments, 400000U);
 }
 
+// The interpolated value crosses zero where a and b differ in sign; there
+// the 32-bit form rounds back towards a instead of away from it, and its
+// ties (a step of an odd number of half Q7.24 LSB) sit within one raw load
+// of the crossing. Every load of two-row tables around it, both directions.
+TEST(CorrectionPaths, ValuesCrossingZeroRoundLikeTheQ3132Chain) {
+  std::mt19937_64 rng(7U);
+  for (int k = 0; k < 2000; ++k) {
+    CorrectionTable t{};
+    t.count = 2U;
+    const std::int32_t width = static_cast<std::int32_t>(1U + (rng() % 4000U));
+    t.rows[0].load_n = WheelLoadN::from_raw(1000);
+    t.rows[1].load_n = WheelLoadN::from_raw(1000 + width);
+    const auto a = static_cast<std::int32_t>(rng() >> (33U + (rng() % 31U)));
+    const auto b = static_cast<std::int32_t>(rng() >> (33U + (rng() % 31U)));
+    const bool falling = (k % 2) == 0;
+    for (flight::CorrectionRow& row : t.rows) {
+      row.c1 = Ratio::from_raw(0);
+      row.c2 = Ratio::from_raw(0);
+      row.c3 = Ratio::from_raw(0);
+      row.dp_max_ratio = Ratio::from_raw(0);
+    }
+    t.rows[0].c1 = Ratio::from_raw(falling ? a : -a);
+    t.rows[1].c1 = Ratio::from_raw(falling ? -b : b);
+    t.rows[0].c3 = Ratio::from_raw(falling ? -a : a);
+    t.rows[1].c3 = Ratio::from_raw(falling ? b : -b);
+    const flight::CorrectionDivisors divisors = flight::make_correction_divisors(t);
+    for (std::int32_t raw = 1000; raw < 1000 + width; ++raw) {
+      const CorrectionResult expected = oracle::corrections_at(t, WheelLoadN::from_raw(raw));
+      expect_same(flight::corrections_at(t, divisors, WheelLoadN::from_raw(raw)), expected);
+    }
+  }
+}
+
 TEST(CorrectionPaths, ShippedTablesAtEveryLoadStepMatchTheQ3132Chain) {
   for (const flight::ParameterTable& table : {flight::default_parameter_table(), flight::eq15_parameter_table()}) {
     const CorrectionTable& t = table.correction;
