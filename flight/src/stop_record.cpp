@@ -21,7 +21,7 @@ void StopRecorder::remember(const RoverOutput& monitor, std::uint8_t wheels) noe
     const WheelOutput& w = monitor.wheels[i];
     if (w.estimate_valid) {
       recent_m_[i][next_[i]] = w.sinkage_m;
-      next_[i] = static_cast<std::uint8_t>((next_[i] + 1U) % kStopRecordSamples);
+      next_[i] = detail::next_slot<kStopRecordSamples>(next_[i]);
       if (count_[i] < kStopRecordSamples) {
         ++count_[i];
       }

@@ -170,7 +170,7 @@ TractionSample TractionMonitor::resistance_of(const TractionInput& in, std::uint
 
 Ratio TractionMonitor::push_median(Ratio rho) noexcept {
   recent_[recent_next_] = rho;
-  recent_next_ = static_cast<std::uint8_t>((recent_next_ + 1U) % kTractionMedianSamples);
+  recent_next_ = detail::next_slot<kTractionMedianSamples>(recent_next_);
   if (recent_count_ < kTractionMedianSamples) {
     ++recent_count_;
   }
