@@ -21,6 +21,7 @@ PrepareStatus prepare(const ParameterTable& table, const RoverParams& rover, Pre
     // The statics and Eq. 15 must describe the same wheel.
     out.status_ = PrepareStatus::radius_mismatch;
   } else {
+    out.rover_statics_ = make_rover_statics(rover);
     out.status_ = PrepareStatus::ok;
   }
   return out.status_;
@@ -34,6 +35,7 @@ void prepare_validated(const ParameterTable& table, const RoverParams& rover, st
   out.correction_divisors_ = make_correction_divisors(table.correction);
   out.motor_divisors_ = make_motor_divisors(table.motor);
   out.traction_inverse_radius_ = inverse_radius(table.wheel_radius_m);
+  out.rover_statics_ = make_rover_statics(rover);
   out.status_ = PrepareStatus::ok;
 }
 

@@ -26,7 +26,7 @@ namespace {
 /// quotient by a lever of a few millimetres leaves it, far beyond the
 /// stability limit; that evaluation is repeated in Q15.16, which decides the
 /// tip-over there (section 7.4).
-using Fine = fx::Q<std::int32_t, 25>;
+using Fine = StaticsQ;
 using Mid = fx::Q<std::int32_t, 21>;
 using Coarse = fx::Q15_16;
 /// Q3.28: the projection slopes tan(pitch) / cos(roll) and tan(roll), at
@@ -77,15 +77,35 @@ bool within(AngleRad v, AngleRad limit) noexcept { return (v <= limit) && (v.raw
 bool positive_at_most(AngleRad v, AngleRad limit) noexcept { return (v.raw() > 0) && (v <= limit); }
 
 template <typename P>
-struct Point {
-  P x;
-  P z;
-};
+using Point = StaticsPoint<P>;
 
 template <typename P>
 P length(LengthM v, fx::Status& st) noexcept { return fx::rescale<P>(v.q(), st); }
 template <typename P>
 Point<P> length(SidePointM p, fx::Status& st) noexcept { return Point<P>{length<P>(p.x_m, st), length<P>(p.z_m, st)}; }
+
+/// The rover's constants in P (rover_statics.hpp). Exact for validated
+/// parameters (lengths of at most 4 m, a weight of at most 10 kN); `st`
+/// carries a saturation all the same.
+template <typename P>
+StaticsConstants<P> constants_in(const RoverParams& params, fx::Status& st) noexcept {
+  // Both are positive after validation; their product is exact in 64 bits.
+  constexpr std::int32_t kWeightFracBits = MassQ::frac_bits + AccelQ::frac_bits;
+  return StaticsConstants<P>{
+      length<P>(params.rocker_front_axle, st),
+      length<P>(params.rocker_bogie_pivot, st),
+      length<P>(params.bogie_middle_axle, st),
+      length<P>(params.bogie_rear_axle, st),
+      Point<P>{P::zero(), fx::neg(length<P>(params.wheel_radius_m, st), st)},
+      fx::mul(kHalf<P>, length<P>(params.track_width_m, st), st),
+      length<P>(params.com_x_m, st),
+      length<P>(params.com_y_m, st),
+      length<P>(params.com_z_m, st),
+      WheelLoadN{fx::mul<LoadQ>(params.mass_kg.q(), params.gravity_mps2.q(), st)},
+      fx::normalised_reciprocal(
+          static_cast<std::uint64_t>(params.mass_kg.raw()) * static_cast<std::uint64_t>(params.gravity_mps2.raw()),
+          kWeightFracBits)};
+}
 
 /// Rotation in a side's plane, positive raising the +x end. Written into
 /// the caller's point: a returned Point (8 bytes, returned in memory) cost
@@ -188,15 +208,6 @@ struct SideTorques {
   P couple[3];
   bool from_axle[3]{};
 };
-/// The suspension's link vectors, and the contact offset.
-template <typename P>
-struct Links {
-  Point<P> rocker_front;
-  Point<P> rocker_bogie;
-  Point<P> bogie_middle;
-  Point<P> bogie_rear;
-  Point<P> down;  ///< one wheel radius down the body z axis
-};
 
 /// One side's wheel contacts and the bogie pivot, in the body frame.
 template <typename P>
@@ -210,7 +221,7 @@ struct SideContacts {
 /// The contacts one radius below the axles along the body z axis (section 2).
 /// (Sums of points are exact or saturate alike in either order.)
 template <typename P>
-void side_contacts(const Links<P>& l, AngleRad rocker_rad, AngleRad bogie_rad, SideContacts<P>& c,
+void side_contacts(const StaticsConstants<P>& l, AngleRad rocker_rad, AngleRad bogie_rad, SideContacts<P>& c,
                    fx::Status& st) noexcept {
   const fx::Q3_28 rocker = rocker_rad.q();
   // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
@@ -271,7 +282,7 @@ struct SidePose {
 
 /// One side's projected levers; false when a lever collapsed.
 template <typename P>
-bool side_levers(const Links<P>& l, const SidePose<P>& pose, const GravityFrame& g, const SideTorques<P>& tq, SideLevers<P>& out,
+bool side_levers(const StaticsConstants<P>& l, const SidePose<P>& pose, const GravityFrame& g, const SideTorques<P>& tq, SideLevers<P>& out,
                  fx::Status& st) noexcept {
   const K kx = g.kx;
   const P radius = fx::neg(l.down.z, st);
@@ -314,13 +325,12 @@ GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexce
   const fx::SinCos pitch_sc = fx::sincos(attitude.pitch_rad.q(), st);
   const fx::SinCos roll_sc = fx::sincos(attitude.roll_rad.q(), st);
   // cos(pitch) cos(roll) >= cos^2(1.05 rad) > 0.24: the reciprocals exist.
-  GravityFrame g{};
-  g.sin_pitch = pitch_sc.sin;
-  g.normal_fraction = fx::mul(pitch_sc.cos, roll_sc.cos, st);
-  g.inv_normal_fraction = fx::normalised_reciprocal(g.normal_fraction);
-  g.kx = fx::times_reciprocal<K>(pitch_sc.sin, g.inv_normal_fraction, st);
-  g.ky = fx::times_reciprocal<K>(roll_sc.sin, fx::normalised_reciprocal(roll_sc.cos), st);
-  return g;
+  // Built whole (no zeroed frame filled in: a memset on the Cortex-M0).
+  const fx::Q1_30 normal_fraction = fx::mul(pitch_sc.cos, roll_sc.cos, st);
+  const fx::NormalisedReciprocal inv_normal_fraction = fx::normalised_reciprocal(normal_fraction);
+  const K kx = fx::times_reciprocal<K>(pitch_sc.sin, inv_normal_fraction, st);
+  const K ky = fx::times_reciprocal<K>(roll_sc.sin, fx::normalised_reciprocal(roll_sc.cos), st);
+  return GravityFrame{pitch_sc.sin, normal_fraction, inv_normal_fraction, kx, ky};
 }
 
 /// The weight and where it acts. Every balance is solved in fractions of the
@@ -335,34 +345,21 @@ struct Body {
 };
 
 template <typename P>
-Body<P> body_of(const RoverParams& params, const GravityFrame& g, fx::Status& st) noexcept {
-  Body<P> b{};
-  const LoadQ weight_n = fx::mul<LoadQ>(params.mass_kg.q(), params.gravity_mps2.q(), st);
-  b.weight_normal_n = WheelLoadN{fx::mul<LoadQ>(weight_n, g.normal_fraction, st)};
-  // Both are positive after validation; their product is exact in 64 bits.
-  constexpr std::int32_t kWeightFracBits = MassQ::frac_bits + AccelQ::frac_bits;
-  b.inv_weight = fx::normalised_reciprocal(static_cast<std::uint64_t>(params.mass_kg.raw()) *
-                                       static_cast<std::uint64_t>(params.gravity_mps2.raw()),
-                                   kWeightFracBits);
-  const P com_z = length<P>(params.com_z_m, st);
-  const P com_xt = project(length<P>(params.com_x_m, st), com_z, g.kx, st);
-  b.com_yt = project(length<P>(params.com_y_m, st), com_z, g.ky, st);
-  b.pivot_moment = fx::mul(kHalf<P>, com_xt, st);
-  return b;
+Body<P> body_of(const StaticsConstants<P>& k, const GravityFrame& g, fx::Status& st) noexcept {
+  const WheelLoadN weight_normal_n{fx::mul<LoadQ>(k.weight_n.q(), g.normal_fraction, st)};
+  const P com_xt = project(k.com_x, k.com_z, g.kx, st);
+  const P com_yt = project(k.com_y, k.com_z, g.ky, st);
+  return Body<P>{weight_normal_n, k.inv_weight, com_yt, fx::mul(kHalf<P>, com_xt, st)};
 }
 
 /// Both sides' levers; false when one collapsed.
 template <typename P>
-bool both_sides(const RoverParams& params, const JointAnglesRad& joints, const GravityFrame& g,
+bool both_sides(const StaticsConstants<P>& k, const JointAnglesRad& joints, const GravityFrame& g,
                 const SideTorques<P> (&tq)[kSideCount], SideLevers<P> (&side)[kSideCount], fx::Status& st) noexcept {
-  const P half_track = fx::mul(kHalf<P>, length<P>(params.track_width_m, st), st);
-  const Links<P> links{length<P>(params.rocker_front_axle, st), length<P>(params.rocker_bogie_pivot, st),
-                    length<P>(params.bogie_middle_axle, st), length<P>(params.bogie_rear_axle, st),
-                    Point<P>{P::zero(), fx::neg(length<P>(params.wheel_radius_m, st), st)}};
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    const P y_side = (s == 0U) ? half_track : fx::neg(half_track, st);
+    const P y_side = (s == 0U) ? k.half_track : fx::neg(k.half_track, st);
     const SidePose<P> pose{joints.rocker_rad[s], joints.bogie_rad[s], y_side};
-    if (!side_levers(links, pose, g, tq[s], side[s], st)) {
+    if (!side_levers(k, pose, g, tq[s], side[s], st)) {
       return false;
     }
   }
@@ -505,17 +502,18 @@ WheelLoadResult normal_loads(const P (&support)[kWheelCount], const Body<P>& bod
   return r;
 }
 
-/// The loads in the format P for parameters that passed validate_rover_params().
+/// The loads in the format P for parameters that passed validate_rover_params()
+/// and their constants `k` in P.
 template <typename P>
-WheelLoadResult loads_in(const RoverParams& params, const RoverAttitude& attitude, const JointAnglesRad& joints,
-                         const DriveTorques& torques) noexcept {
+WheelLoadResult loads_in(const RoverParams& params, const StaticsConstants<P>& k, const RoverAttitude& attitude,
+                         const JointAnglesRad& joints, const DriveTorques& torques) noexcept {
   const WheelLoadStatus input_status = check_inputs(params, attitude, joints);
   if (input_status != WheelLoadStatus::ok) {
     return failed(input_status);
   }
   fx::Status st;
   const GravityFrame g = gravity_frame(attitude, st);
-  const Body<P> body = body_of<P>(params, g, st);
+  const Body<P> body = body_of<P>(k, g, st);
   SideTorques<P> tq[kSideCount]{};
   const bool couples_fit = side_torques(torques, body, g, tq);
   SideLevers<P> side[kSideCount]{};
@@ -524,7 +522,7 @@ WheelLoadResult loads_in(const RoverParams& params, const RoverAttitude& attitud
   // degenerate whatever else overflowed, the couples included (they only
   // move the levers' loads, not the levers). The lateral span comes after
   // the quotients by them, and is only trusted when none overflowed.
-  if (!both_sides(params, joints, g, tq, side, st)) {
+  if (!both_sides(k, joints, g, tq, side, st)) {
     return failed(WheelLoadStatus::degenerate);
   }
   if (!couples_fit) {
@@ -555,7 +553,17 @@ WheelLoadResult loads_in(const RoverParams& params, const RoverAttitude& attitud
   return normal_loads(support, body, g, attitude.pitch_rad, st);
 }
 
-/// The loads in Q6.25. Where an intermediate leaves that format (a quotient
+/// The loads in the format P, its constants converted from `params` (the
+/// wider passes, which run only where Q6.25 overflowed).
+template <typename P>
+WheelLoadResult loads_converted(const RoverParams& params, const RoverAttitude& attitude, const JointAnglesRad& joints,
+                                const DriveTorques& torques) noexcept {
+  fx::Status st;
+  const StaticsConstants<P> k = constants_in<P>(params, st);
+  return st.ok() ? loads_in<P>(params, k, attitude, joints, torques) : failed(WheelLoadStatus::overflow);
+}
+
+/// The loads in Q6.25 from the prepared constants `fine`. Where an intermediate leaves that format (a quotient
 /// by a lever of a few millimetres, far beyond the stability limit), the
 /// same balance in Q10.21 decides whether a wheel lifts or the lateral span
 /// collapsed; its loads are too coarse to be taken, so an ok there stays
@@ -569,19 +577,20 @@ WheelLoadResult loads_in(const RoverParams& params, const RoverAttitude& attitud
 /// `beyond_every_format` tells an overflow of the Q15.16 pass too (the
 /// balance itself is beyond +-32,768 normal weights) from one it took for a
 /// collapsed span.
-WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& attitude, const JointAnglesRad& joints,
-                               const DriveTorques& torques, bool& beyond_every_format) noexcept {
+WheelLoadResult loads_of_valid(const RoverParams& params, const RoverStatics& constants, const RoverAttitude& attitude,
+                               const JointAnglesRad& joints, const DriveTorques& torques,
+                               bool& beyond_every_format) noexcept {
   beyond_every_format = false;
-  const WheelLoadResult fine = loads_in<Fine>(params, attitude, joints, torques);
+  const WheelLoadResult fine = loads_in<Fine>(params, constants, attitude, joints, torques);
   if (fine.status != WheelLoadStatus::overflow) {
     return fine;
   }
-  const WheelLoadResult mid = loads_in<Mid>(params, attitude, joints, torques);
+  const WheelLoadResult mid = loads_converted<Mid>(params, attitude, joints, torques);
   if ((mid.status == WheelLoadStatus::tip_over) || (mid.status == WheelLoadStatus::degenerate)) {
     return mid;
   }
   const WheelLoadResult coarse =
-      (mid.status == WheelLoadStatus::overflow) ? loads_in<Coarse>(params, attitude, joints, torques) : fine;
+      (mid.status == WheelLoadStatus::overflow) ? loads_converted<Coarse>(params, attitude, joints, torques) : fine;
   if (coarse.status == WheelLoadStatus::tip_over) {
     return coarse;
   }
@@ -604,14 +613,15 @@ WheelLoadResult loads_of_valid(const RoverParams& params, const RoverAttitude& a
 /// them, flagged (section 12.4). An overflow the Q15.16 pass took for a
 /// collapsed span stays an overflow, as the twin's degenerate. At most two
 /// evaluations of loads_of_valid.
-WheelLoadResult loads_with_torques(const RoverParams& params, const RoverAttitude& attitude,
-                                   const JointAnglesRad& joints, const DriveTorques& torques) noexcept {
+WheelLoadResult loads_with_torques(const RoverParams& params, const RoverStatics& constants,
+                                   const RoverAttitude& attitude, const JointAnglesRad& joints,
+                                   const DriveTorques& torques) noexcept {
   bool beyond_every_format = false;
-  WheelLoadResult r = loads_of_valid(params, attitude, joints, torques, beyond_every_format);
+  WheelLoadResult r = loads_of_valid(params, constants, attitude, joints, torques, beyond_every_format);
   r.torque_fallback_mask = fallback_mask(torques);
   const bool torques_unbalanced = (r.status == WheelLoadStatus::tip_over) || beyond_every_format;
   if (torques_unbalanced && (r.torque_fallback_mask != kEveryTorqueFallsBack)) {
-    r = loads_of_valid(params, attitude, joints, kNoDriveTorques, beyond_every_format);
+    r = loads_of_valid(params, constants, attitude, joints, kNoDriveTorques, beyond_every_format);
     r.torque_fallback_mask = kEveryTorqueFallsBack;
     r.torque_overload = (r.status == WheelLoadStatus::ok);
   }
@@ -629,6 +639,11 @@ WheelLoadResult loads_with_torques(const RoverParams& params, const RoverAttitud
 
 }  // namespace
 
+RoverStatics make_rover_statics(const RoverParams& params) noexcept {
+  fx::Status st;
+  return constants_in<Fine>(params, st);
+}
+
 RoverParamStatus validate_rover_params(const RoverParams& p) noexcept {
   const RoverParamStatus body = validate_body(p);
   return (body != RoverParamStatus::ok) ? body : validate_suspension(p);
@@ -639,7 +654,7 @@ WheelLoadResult wheel_loads(const RoverParams& params, const RoverAttitude& atti
   if (validate_rover_params(params) != RoverParamStatus::ok) {
     return refused_loads(torques);
   }
-  return loads_with_torques(params, attitude, joints, torques);
+  return loads_with_torques(params, make_rover_statics(params), attitude, joints, torques);
 }
 
 WheelLoadResult wheel_loads(const PreparedParameters& prepared, const RoverAttitude& attitude,
@@ -647,7 +662,7 @@ WheelLoadResult wheel_loads(const PreparedParameters& prepared, const RoverAttit
   if (!prepared.ready()) {
     return refused_loads(torques);
   }
-  return loads_with_torques(prepared.rover(), attitude, joints, torques);
+  return loads_with_torques(prepared.rover(), prepared.rover_statics(), attitude, joints, torques);
 }
 
 }  // namespace flight

@@ -101,6 +101,46 @@ TEST_F(PreparedTest, PreparedParametersAreACopy) {
   EXPECT_NE(p.rover().mass_kg, rover.mass_kg);
 }
 
+// The statics' constants are the rover's own numbers: every length exactly
+// (Q7.24 into Q6.25 is a left shift for lengths of at most 4 m), the weight
+// m g rounded once, and its reciprocal within 2^-29 relative. Rovers at the
+// validated limits as well as the default.
+TEST_F(PreparedTest, PreparedStaticsHoldTheRoverLengthsExactlyAndItsWeight) {
+  flight::RoverParams extreme = rover;
+  extreme.mass_kg = flight::MassKg{fx::constant<flight::MassQ>(1000.0)};
+  extreme.gravity_mps2 = flight::AccelMps2{fx::constant<flight::AccelQ>(10.0)};
+  extreme.track_width_m = flight::LengthM{fx::constant<flight::LengthQ>(4.0)};
+  extreme.rocker_front_axle.x_m = flight::LengthM{fx::constant<flight::LengthQ>(2.0)};
+  extreme.bogie_rear_axle.z_m = flight::LengthM{fx::constant<flight::LengthQ>(-2.0)};
+  extreme.com_y_m = flight::LengthM::from_raw(-33554431);  // just inside half the track
+  for (const flight::RoverParams& r : {rover, extreme}) {
+    flight::PreparedParameters p;
+    ASSERT_EQ(flight::prepare(table, r, p), PrepareStatus::ok);
+    const flight::RoverStatics& k = p.rover_statics();
+    const auto exact = [](flight::StaticsQ v, flight::LengthM expected) {
+      EXPECT_EQ(fx::to_double(v), fx::to_double(expected.q()));
+    };
+    const auto exact_point = [&exact](flight::StaticsPoint<flight::StaticsQ> v, flight::SidePointM expected) {
+      exact(v.x, expected.x_m);
+      exact(v.z, expected.z_m);
+    };
+    exact_point(k.rocker_front, r.rocker_front_axle);
+    exact_point(k.rocker_bogie, r.rocker_bogie_pivot);
+    exact_point(k.bogie_middle, r.bogie_middle_axle);
+    exact_point(k.bogie_rear, r.bogie_rear_axle);
+    EXPECT_EQ(k.down.x.raw(), 0);
+    EXPECT_EQ(fx::to_double(k.down.z), -fx::to_double(r.wheel_radius_m.q()));
+    EXPECT_EQ(2.0 * fx::to_double(k.half_track), fx::to_double(r.track_width_m.q()));
+    exact(k.com_x, r.com_x_m);
+    exact(k.com_y, r.com_y_m);
+    exact(k.com_z, r.com_z_m);
+    const double weight = fx::to_double(r.mass_kg.q()) * fx::to_double(r.gravity_mps2.q());
+    EXPECT_LE(std::fabs(fx::to_double(k.weight_n.q()) - weight), std::ldexp(1.0, -17) + 1e-9);  // half an LSB
+    const double inverse = std::ldexp(static_cast<double>(k.inv_weight.mantissa), -k.inv_weight.scale);
+    EXPECT_LE(std::fabs((inverse * weight) - 1.0), std::ldexp(1.0, -29));
+  }
+}
+
 TEST_F(PreparedTest, CurrentLimitOnPreparedDivisorsIsWithinItsBoundOfTheDividingOracle) {
   // Loads below, inside (on and between breakpoints) and above Table 2.
   const flight::CorrectionDivisors cd = flight::make_correction_divisors(table.correction);

@@ -8,7 +8,8 @@
 // validate_rover_params() and the wheel-radius consistency check run here,
 // when the parameters are loaded, and the step only reads the outcome. So are
 // the reciprocals of the table constants the step divides by (Table 2's
-// breakpoint spacing, correction.hpp; the motor's N, eta and Kt, motor.hpp).
+// breakpoint spacing, correction.hpp; the motor's N, eta and Kt, motor.hpp),
+// and the rover's lengths and weight in the statics' format (rover_statics.hpp).
 //
 // A PreparedParameters is built only by prepare(); a default-constructed one
 // holds no table and makes the step refuse every cycle (invalid_table, stop),
@@ -24,6 +25,7 @@
 #include "sinkwatch/flight/motor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
+#include "sinkwatch/flight/rover_statics.hpp"
 #include "sinkwatch/flight/traction.hpp"
 
 namespace sinkwatch {
@@ -64,6 +66,10 @@ class PreparedParameters {
   /// 1/r of the table's wheel radius for the motion-resistance check's
   /// thrust (traction.hpp): a product per cycle instead of a division.
   [[nodiscard]] constexpr InverseRadius traction_inverse_radius() const noexcept { return traction_inverse_radius_; }
+  /// The rover's lengths and weight in the statics' Q6.25; meaningful only
+  /// when ready().
+  [[nodiscard]] constexpr const RoverStatics& rover_statics() const& noexcept { return rover_statics_; }
+  const RoverStatics& rover_statics() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
   /// CRC-32 of the bytes load() took the table from (0 for the built-in
   /// default and for prepare()).
   [[nodiscard]] constexpr std::uint32_t table_crc() const noexcept { return table_crc_; }
@@ -80,6 +86,7 @@ class PreparedParameters {
   CorrectionDivisors correction_divisors_{};
   MotorDivisors motor_divisors_{};
   InverseRadius traction_inverse_radius_{};
+  RoverStatics rover_statics_{};
   std::uint32_t table_crc_{0U};
 };
 

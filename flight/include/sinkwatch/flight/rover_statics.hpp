@@ -1,0 +1,63 @@
+// rover_statics.hpp: the rover's lengths and weight in the formats of the
+// wheel-load statics (wheel_load.hpp; docs/rover-loads.md, section 7.4),
+// converted once per parameter load instead of once per control cycle.
+//
+// The statics solve every balance in metres, with forces as fractions of the
+// normal weight, first in Q6.25 (StaticsQ). The link vectors, the half track,
+// the centre of mass, the weight m g and its reciprocal depend only on the
+// rover parameters, so prepare() converts them once (PreparedParameters holds
+// them) and each cycle starts from the attitude and the joint angles. For
+// parameters that validate_rover_params() accepts every length is at most
+// 4 m (rover_limits.hpp): each conversion from Q7.24 is exact, in Q6.25 and
+// in the statics' wider fallback formats alike.
+#ifndef SINKWATCH_FLIGHT_ROVER_STATICS_HPP
+#define SINKWATCH_FLIGHT_ROVER_STATICS_HPP
+
+#include <cstdint>
+
+#include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/reciprocal.hpp"
+#include "sinkwatch/flight/rover_geometry.hpp"
+#include "sinkwatch/flight/units.hpp"
+
+namespace sinkwatch {
+namespace flight {
+
+/// The statics' first format: Q6.25, metres and shares of the normal weight.
+using StaticsQ = fx::Q<std::int32_t, 25>;
+
+/// A point in one side's plane (x forward, z up), in the format P.
+template <typename P>
+struct StaticsPoint {
+  P x;
+  P z;
+};
+
+/// The rover's constant quantities of the statics, in the format P.
+template <typename P>
+struct StaticsConstants {
+  StaticsPoint<P> rocker_front;  ///< RoverParams::rocker_front_axle
+  StaticsPoint<P> rocker_bogie;  ///< RoverParams::rocker_bogie_pivot
+  StaticsPoint<P> bogie_middle;  ///< RoverParams::bogie_middle_axle
+  StaticsPoint<P> bogie_rear;    ///< RoverParams::bogie_rear_axle
+  StaticsPoint<P> down;          ///< one wheel radius down the body z axis
+  P half_track;                  ///< half the track width
+  P com_x;                       ///< the centre of mass, body frame
+  P com_y;
+  P com_z;
+  WheelLoadN weight_n;                  ///< m g, newtons (Q15.16, rounded once)
+  fx::NormalisedReciprocal inv_weight;  ///< 1 / (m g), from the exact product of mass and gravity
+};
+
+/// The constants in Q6.25, the format of every cycle's first evaluation.
+using RoverStatics = StaticsConstants<StaticsQ>;
+
+/// The constants of `params`, which validate_rover_params() accepted (for
+/// other parameters the values are meaningless; prepare() only keeps them
+/// with a valid rover).
+[[nodiscard]] RoverStatics make_rover_statics(const RoverParams& params) noexcept;
+
+}  // namespace flight
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_FLIGHT_ROVER_STATICS_HPP
