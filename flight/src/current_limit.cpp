@@ -4,6 +4,8 @@
 #include "sinkwatch/fixedpoint/normalised_quotient.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
 
+#include "of_valid.hpp"
+
 namespace sinkwatch {
 namespace flight {
 
@@ -21,14 +23,9 @@ fx::ScaledMagnitude load_times(fx::Q<std::int64_t, 48> lever, WheelLoadN load_n)
                              ((16 + 48) + 32) - static_cast<std::int32_t>(bits)};
 }
 
-}  // namespace
-
-TorqueLimitResult torque_limit(const Coefficients& c, Ratio dp_max_ratio, LengthM radius_m, WheelLoadN load_n,
-                               SinkageM allowed_sinkage_m) noexcept {
-  const EstimateStatus input_status = check_estimator_inputs(c, radius_m, load_n);
-  if (input_status != EstimateStatus::ok) {
-    return TorqueLimitResult{TorqueNm::zero(), input_status};
-  }
+/// torque_limit() for inputs check_estimator_inputs() accepts.
+TorqueLimitResult torque_limit_of_valid(const Coefficients& c, Ratio dp_max_ratio, LengthM radius_m,
+                                        WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
   fx::Status st;
   // T_max = W L / C1 with the lever L = r (DP_max/W + C3) + C2 z_max, one
   // division (docs/flight.md, "Current limit"). L is exact in Q15.48: each of
@@ -44,24 +41,57 @@ TorqueLimitResult torque_limit(const Coefficients& c, Ratio dp_max_ratio, Length
   return TorqueLimitResult{TorqueNm(t_max), EstimateStatus::ok};
 }
 
-CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams& motor,
-                                 const MotorDivisors& divisors, LengthM radius_m, WheelLoadN load_n,
-                                 SinkageM allowed_sinkage_m) noexcept {
+/// The limit from T_max: the motor model in the forward direction (a
+/// magnitude in the direction of motion: I0 adds).
+CurrentLimitResult limit_from_torque(const CorrectionResult& corr, const MotorParams& motor,
+                                     const MotorDivisors& divisors, TorqueLimitResult t) noexcept {
   // Each return builds the whole result (no zeroed result overwritten
   // field by field: the Cortex-M0 build cleared it with a memset per wheel).
-  if (corr.status != EstimateStatus::ok) {
-    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, corr.status};
-  }
-  const TorqueLimitResult t = torque_limit(corr.coefficients, corr.dp_max_ratio, radius_m, load_n, allowed_sinkage_m);
   if (t.status != EstimateStatus::ok) {
     return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, t.status};
   }
-  // The limit is a magnitude in the direction of motion: forward, I0 adds.
-  const CurrentResult i = current_from_torque(motor, divisors, t.torque_nm, DriveDirection::forward);
+  const CurrentResult i = detail::current_of_valid_motor(motor, divisors, t.torque_nm, DriveDirection::forward);
   if (i.status != EstimateStatus::ok) {
     return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, i.status};
   }
   return CurrentLimitResult{i.current_a, t.torque_nm, corr.clamp, EstimateStatus::ok};
+}
+
+}  // namespace
+
+TorqueLimitResult torque_limit(const Coefficients& c, Ratio dp_max_ratio, LengthM radius_m, WheelLoadN load_n,
+                               SinkageM allowed_sinkage_m) noexcept {
+  const EstimateStatus input_status = check_estimator_inputs(c, radius_m, load_n);
+  if (input_status != EstimateStatus::ok) {
+    return TorqueLimitResult{TorqueNm::zero(), input_status};
+  }
+  return torque_limit_of_valid(c, dp_max_ratio, radius_m, load_n, allowed_sinkage_m);
+}
+
+CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams& motor,
+                                 const MotorDivisors& divisors, LengthM radius_m, WheelLoadN load_n,
+                                 SinkageM allowed_sinkage_m) noexcept {
+  if (corr.status != EstimateStatus::ok) {
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, corr.status};
+  }
+  const TorqueLimitResult t = torque_limit(corr.coefficients, corr.dp_max_ratio, radius_m, load_n, allowed_sinkage_m);
+  // The motor is checked after T_max, as current_from_torque() would.
+  const EstimateStatus motor_status = (t.status == EstimateStatus::ok) ? check_motor(motor) : EstimateStatus::ok;
+  if (motor_status != EstimateStatus::ok) {
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, motor_status};
+  }
+  return limit_from_torque(corr, motor, divisors, t);
+}
+
+CurrentLimitResult detail::current_limit_of_valid(const CorrectionResult& corr, const MotorParams& motor,
+                                                  const MotorDivisors& divisors, LengthM radius_m,
+                                                  WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
+  if (corr.status != EstimateStatus::ok) {
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, corr.status};
+  }
+  return limit_from_torque(corr, motor, divisors,
+                           torque_limit_of_valid(corr.coefficients, corr.dp_max_ratio, radius_m, load_n,
+                                                 allowed_sinkage_m));
 }
 
 }  // namespace flight

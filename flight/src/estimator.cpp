@@ -4,6 +4,8 @@
 
 #include "sinkwatch/fixedpoint/normalised_quotient.hpp"
 
+#include "of_valid.hpp"
+
 namespace sinkwatch {
 namespace flight {
 
@@ -27,6 +29,11 @@ SinkageResult sinkage_from_pull(const Coefficients& c, LengthM radius_m, WheelLo
   if (input_status != EstimateStatus::ok) {
     return SinkageResult{SinkageM::zero(), input_status};
   }
+  return detail::sinkage_of_valid(c, radius_m, load_n, torque_nm, drawbar_pull_n);
+}
+
+SinkageResult detail::sinkage_of_valid(const Coefficients& c, LengthM radius_m, WheelLoadN load_n,
+                                       TorqueNm torque_nm, DrawbarPullN drawbar_pull_n) noexcept {
   fx::Status st;
   // z = (C1 T - r C3 W - r DP) / (C2 W): one division, its operands in
   // Q23.40 on 64 bits (docs/flight.md, "Sinkage"). C1 T, r DP and C2 W are

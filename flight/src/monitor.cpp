@@ -2,6 +2,7 @@
 #include "sinkwatch/flight/monitor.hpp"
 
 #include "n_of_m.hpp"
+#include "of_valid.hpp"
 
 #include "sinkwatch/flight/current_limit.hpp"
 #include "sinkwatch/flight/estimator.hpp"
@@ -67,16 +68,22 @@ bool estimate(const WheelInput& input, const PreparedParameters& prepared, Wheel
       (input.corrections != nullptr)
           ? *input.corrections
           : corrections_at(table.correction, prepared.correction_divisors(), input.load_n);
-  const SinkageResult sink = ((torque.status == EstimateStatus::ok) && (corr.status == EstimateStatus::ok))
-                                 ? sinkage_from_pull(corr.coefficients, table.wheel_radius_m, input.load_n,
-                                                     torque.torque_nm, input.drawbar_pull_n)
-                                 : SinkageResult{SinkageM::zero(), EstimateStatus::overflow};
-  const SinkageM allowed = table.monitor.allowed_sinkage_m;
-  const CurrentLimitResult limit =
-      current_limit(corr, table.motor, prepared.motor_divisors(), table.wheel_radius_m, input.load_n, allowed);
   out.clamp = corr.clamp;
-  if ((torque.status != EstimateStatus::ok) || (sink.status != EstimateStatus::ok) ||
-      (limit.status != EstimateStatus::ok)) {
+  // The coefficients, radius and load checked once for Eq. 11 and the limit
+  // (the corrections may be the caller's); the motor is the validated
+  // table's (of_valid.hpp).
+  const EstimateStatus inputs = (corr.status == EstimateStatus::ok)
+                                    ? check_estimator_inputs(corr.coefficients, table.wheel_radius_m, input.load_n)
+                                    : corr.status;
+  if ((torque.status != EstimateStatus::ok) || (inputs != EstimateStatus::ok)) {
+    return false;
+  }
+  const SinkageResult sink = detail::sinkage_of_valid(corr.coefficients, table.wheel_radius_m, input.load_n,
+                                                      torque.torque_nm, input.drawbar_pull_n);
+  const SinkageM allowed = table.monitor.allowed_sinkage_m;
+  const CurrentLimitResult limit = detail::current_limit_of_valid(corr, table.motor, prepared.motor_divisors(),
+                                                                  table.wheel_radius_m, input.load_n, allowed);
+  if ((sink.status != EstimateStatus::ok) || (limit.status != EstimateStatus::ok)) {
     return false;
   }
   out.estimate_valid = true;

@@ -4,6 +4,8 @@
 // normalised reciprocal, whose error is relative (docs/flight.md bounds both).
 #include "sinkwatch/flight/motor.hpp"
 
+#include "of_valid.hpp"
+
 namespace sinkwatch {
 namespace flight {
 
@@ -30,6 +32,11 @@ TorqueResult torque_from_current(const MotorParams& motor, CurrentA current_a, D
   if (motor_status != EstimateStatus::ok) {
     return TorqueResult{TorqueNm::zero(), motor_status};
   }
+  return detail::torque_of_valid_motor(motor, current_a, direction);
+}
+
+TorqueResult detail::torque_of_valid_motor(const MotorParams& motor, CurrentA current_a,
+                                           DriveDirection direction) noexcept {
   if (!direction_is_valid(direction)) {
     return TorqueResult{TorqueNm::zero(), EstimateStatus::invalid_direction};
   }
@@ -58,6 +65,11 @@ CurrentResult current_from_torque(const MotorParams& motor, const MotorDivisors&
   if (motor_status != EstimateStatus::ok) {
     return CurrentResult{CurrentA::zero(), motor_status};
   }
+  return detail::current_of_valid_motor(motor, divisors, torque_nm, direction);
+}
+
+CurrentResult detail::current_of_valid_motor(const MotorParams& motor, const MotorDivisors& divisors,
+                                             TorqueNm torque_nm, DriveDirection direction) noexcept {
   if (!direction_is_valid(direction)) {
     return CurrentResult{CurrentA::zero(), EstimateStatus::invalid_direction};
   }

@@ -2,6 +2,8 @@
 // rover_step.hpp and docs/rover-loads.md, section 8.
 #include "sinkwatch/flight/rover_step.hpp"
 
+#include "of_valid.hpp"
+
 #include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
@@ -68,7 +70,8 @@ bool motion_in_range(const RoverTelemetry& t) noexcept {
 [[gnu::noinline]] void wheel_torques(const PreparedParameters& prepared, const RoverTelemetry& t,
                    TorqueResult (&torque)[kWheelCount]) noexcept {
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    const TorqueResult r = torque_from_current(prepared.table().motor, t.current_a[i], t.direction[i]);
+    // The validated table's motor: no check_motor() per wheel (of_valid.hpp).
+    const TorqueResult r = detail::torque_of_valid_motor(prepared.table().motor, t.current_a[i], t.direction[i]);
     torque[i].torque_nm = r.torque_nm;
     torque[i].status = r.status;
   }
