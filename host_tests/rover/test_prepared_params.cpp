@@ -107,11 +107,11 @@ TEST_F(PreparedTest, PreparedParametersAreACopy) {
 // validated limits as well as the default.
 TEST_F(PreparedTest, PreparedStaticsHoldTheRoverLengthsExactlyAndItsWeight) {
   flight::RoverParams extreme = rover;
-  extreme.mass_kg = flight::MassKg{fx::constant<flight::MassQ>(1000.0)};
-  extreme.gravity_mps2 = flight::AccelMps2{fx::constant<flight::AccelQ>(10.0)};
-  extreme.track_width_m = flight::LengthM{fx::constant<flight::LengthQ>(4.0)};
-  extreme.rocker_front_axle.x_m = flight::LengthM{fx::constant<flight::LengthQ>(2.0)};
-  extreme.bogie_rear_axle.z_m = flight::LengthM{fx::constant<flight::LengthQ>(-2.0)};
+  extreme.mass_kg = q<flight::MassKg>(1000.0);
+  extreme.gravity_mps2 = q<flight::AccelMps2>(10.0);
+  extreme.track_width_m = q<flight::LengthM>(4.0);
+  extreme.rocker_front_axle.x_m = q<flight::LengthM>(2.0);
+  extreme.bogie_rear_axle.z_m = q<flight::LengthM>(-2.0);
   extreme.com_y_m = flight::LengthM::from_raw(-33554431);  // just inside half the track
   for (const flight::RoverParams& r : {rover, extreme}) {
     flight::PreparedParameters p;
