@@ -86,9 +86,6 @@ CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams
 CurrentLimitResult detail::current_limit_of_valid(const CorrectionResult& corr, const MotorParams& motor,
                                                   const MotorDivisors& divisors, LengthM radius_m,
                                                   WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
-  if (corr.status != EstimateStatus::ok) {
-    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, corr.status};
-  }
   return limit_from_torque(corr, motor, divisors,
                            torque_limit_of_valid(corr.coefficients, corr.dp_max_ratio, radius_m, load_n,
                                                  allowed_sinkage_m));

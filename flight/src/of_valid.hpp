@@ -34,9 +34,9 @@ namespace detail {
 [[nodiscard]] SinkageResult sinkage_of_valid(const Coefficients& c, LengthM radius_m, WheelLoadN load_n,
                                              TorqueNm torque_nm, DrawbarPullN drawbar_pull_n) noexcept;
 
-/// current_limit() for a motor check_motor() accepts and, when
-/// corrections.status is ok, corrections, radius and load that
-/// check_estimator_inputs() accepts.
+/// current_limit() for corrections whose status is ok, with coefficients,
+/// radius and load that check_estimator_inputs() accepts, and a motor
+/// check_motor() accepts.
 [[nodiscard]] CurrentLimitResult current_limit_of_valid(const CorrectionResult& corrections, const MotorParams& motor,
                                                         const MotorDivisors& divisors, LengthM radius_m,
                                                         WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept;
