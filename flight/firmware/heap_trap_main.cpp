@@ -116,14 +116,11 @@ void exercise_rover(const fl::ParameterTable& table) {
   keep(static_cast<std::int64_t>(fl::validate_rover_params(rover)));
   const fl::RoverAttitude attitude{fl::AngleRad::from_raw(g_raw_in[6]), fl::AngleRad::from_raw(g_raw_in[6])};
   const fl::JointAnglesRad joints{};
-  const fl::WheelLoadResult loads = fl::wheel_loads(rover, attitude, joints, fl::kNoDriveTorques);
-  keep(loads.load_n[0].raw());
   fl::DrawbarInput in{};
   in.slip_known = true;
   for (std::uint32_t i = 0U; i < fl::kWheelCount; ++i) {
     in.dp_max_ratio[i] = fl::Ratio::from_raw(g_raw_in[5] / 4);
   }
-  keep(fl::drawbar_pulls(rover, loads, in).total_n.raw());
   static fl::PreparedParameters prepared;
   keep(static_cast<std::int64_t>(fl::prepare(table, rover, prepared)));
   const fl::WheelLoadResult prepared_loads = fl::wheel_loads(prepared, attitude, joints, fl::kNoDriveTorques);

@@ -147,17 +147,6 @@ DrawbarResult pulls_of_valid(const RoverParams& params, const WheelLoadResult& l
 
 }  // namespace
 
-DrawbarResult drawbar_pulls(const RoverParams& params, const WheelLoadResult& loads,
-                            const DrawbarInput& input) noexcept {
-  if (loads.status != WheelLoadStatus::ok) {
-    return failed(DrawbarStatus::invalid_loads);
-  }
-  if (validate_rover_params(params) != RoverParamStatus::ok) {
-    return failed(DrawbarStatus::invalid_input);
-  }
-  return pulls_of_valid(params, loads, input);
-}
-
 DrawbarResult drawbar_pulls(const PreparedParameters& prepared, const WheelLoadResult& loads,
                             const DrawbarInput& input) noexcept {
   if (loads.status != WheelLoadStatus::ok) {

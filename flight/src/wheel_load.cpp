@@ -27,8 +27,8 @@ namespace {
 /// stability limit; that evaluation is repeated in Q15.16, which decides the
 /// tip-over there (section 7.4).
 using Fine = StaticsQ;
-using Mid = fx::Q<std::int32_t, 21>;
-using Coarse = fx::Q15_16;
+using Mid = StaticsMidQ;
+using Coarse = StaticsCoarseQ;
 /// Q3.28: the projection slopes tan(pitch) / cos(roll) and tan(roll), at
 /// most 3.5 within the attitude limit of 1.05 rad.
 using K = fx::Q<std::int32_t, 28>;
@@ -84,9 +84,9 @@ P length(LengthM v, fx::Status& st) noexcept { return fx::rescale<P>(v.q(), st);
 template <typename P>
 Point<P> length(SidePointM p, fx::Status& st) noexcept { return Point<P>{length<P>(p.x_m, st), length<P>(p.z_m, st)}; }
 
-/// The rover's constants in P (rover_statics.hpp). Exact for validated
-/// parameters (lengths of at most 4 m, a weight of at most 10 kN); `st`
-/// carries a saturation all the same.
+/// The rover's constants in P (rover_statics.hpp). Within every format for
+/// validated parameters (lengths of at most 4 m, a weight of at most 10 kN);
+/// `st` carries a saturation all the same.
 template <typename P>
 StaticsConstants<P> constants_in(const RoverParams& params, fx::Status& st) noexcept {
   // Both are positive after validation; their product is exact in 64 bits.
@@ -553,17 +553,7 @@ WheelLoadResult loads_in(const RoverParams& params, const StaticsConstants<P>& k
   return normal_loads(support, body, g, attitude.pitch_rad, st);
 }
 
-/// The loads in the format P, its constants converted from `params` (the
-/// wider passes, which run only where Q6.25 overflowed).
-template <typename P>
-WheelLoadResult loads_converted(const RoverParams& params, const RoverAttitude& attitude, const JointAnglesRad& joints,
-                                const DriveTorques& torques) noexcept {
-  fx::Status st;
-  const StaticsConstants<P> k = constants_in<P>(params, st);
-  return st.ok() ? loads_in<P>(params, k, attitude, joints, torques) : failed(WheelLoadStatus::overflow);
-}
-
-/// The loads in Q6.25 from the prepared constants `fine`. Where an intermediate leaves that format (a quotient
+/// The loads in Q6.25 from the prepared constants. Where an intermediate leaves that format (a quotient
 /// by a lever of a few millimetres, far beyond the stability limit), the
 /// same balance in Q10.21 decides whether a wheel lifts or the lateral span
 /// collapsed; its loads are too coarse to be taken, so an ok there stays
@@ -581,16 +571,16 @@ WheelLoadResult loads_of_valid(const RoverParams& params, const RoverStatics& co
                                const JointAnglesRad& joints, const DriveTorques& torques,
                                bool& beyond_every_format) noexcept {
   beyond_every_format = false;
-  const WheelLoadResult fine = loads_in<Fine>(params, constants, attitude, joints, torques);
+  const WheelLoadResult fine = loads_in<Fine>(params, constants.fine, attitude, joints, torques);
   if (fine.status != WheelLoadStatus::overflow) {
     return fine;
   }
-  const WheelLoadResult mid = loads_converted<Mid>(params, attitude, joints, torques);
+  const WheelLoadResult mid = loads_in<Mid>(params, constants.mid, attitude, joints, torques);
   if ((mid.status == WheelLoadStatus::tip_over) || (mid.status == WheelLoadStatus::degenerate)) {
     return mid;
   }
   const WheelLoadResult coarse =
-      (mid.status == WheelLoadStatus::overflow) ? loads_converted<Coarse>(params, attitude, joints, torques) : fine;
+      (mid.status == WheelLoadStatus::overflow) ? loads_in<Coarse>(params, constants.coarse, attitude, joints, torques) : fine;
   if (coarse.status == WheelLoadStatus::tip_over) {
     return coarse;
   }
@@ -640,21 +630,14 @@ WheelLoadResult loads_with_torques(const RoverParams& params, const RoverStatics
 }  // namespace
 
 RoverStatics make_rover_statics(const RoverParams& params) noexcept {
+  // Within every format for validated parameters (constants_in): no status to read.
   fx::Status st;
-  return constants_in<Fine>(params, st);
+  return RoverStatics{constants_in<Fine>(params, st), constants_in<Mid>(params, st), constants_in<Coarse>(params, st)};
 }
 
 RoverParamStatus validate_rover_params(const RoverParams& p) noexcept {
   const RoverParamStatus body = validate_body(p);
   return (body != RoverParamStatus::ok) ? body : validate_suspension(p);
-}
-
-WheelLoadResult wheel_loads(const RoverParams& params, const RoverAttitude& attitude, const JointAnglesRad& joints,
-                            const DriveTorques& torques) noexcept {
-  if (validate_rover_params(params) != RoverParamStatus::ok) {
-    return refused_loads(torques);
-  }
-  return loads_with_torques(params, make_rover_statics(params), attitude, joints, torques);
 }
 
 WheelLoadResult wheel_loads(const PreparedParameters& prepared, const RoverAttitude& attitude,

@@ -72,6 +72,17 @@ inline flight::PreparedParameters prepared_of(const flight::ParameterTable& tabl
   return prepared_of(table, rover);
 }
 
+/// The rover parameters prepared with the default table, its wheel radius
+/// set to theirs (prepare() wants the two equal), for wheel_loads() and
+/// drawbar_pulls(), which take prepared parameters only: ready() exactly when
+/// validate_rover_params() accepts them, so those give invalid_params and
+/// invalid_input for the parameters it refuses.
+inline flight::PreparedParameters prepared_rover(const flight::RoverParams& rover) {
+  flight::ParameterTable table = flight::default_parameter_table();
+  table.wheel_radius_m = rover.wheel_radius_m;
+  return prepared_of(table, rover);
+}
+
 }  // namespace test
 }  // namespace sinkwatch
 

@@ -21,6 +21,8 @@ constexpr sf::CurrentA kCurrent{fx::constant<sf::CurrentQ>(0.35)};
 int main() {
   const sf::RoverParams rover = sf::yutu_like_rover_params(sf::kGravityMoon);
   const sf::ParameterTable table = sf::default_parameter_table();
+  sf::PreparedParameters prepared{};  // once per load
+  static_cast<void>(sf::prepare(table, rover, prepared));
   constexpr int kCalls = 20000;
   std::int64_t checksum = 0;
 
@@ -29,19 +31,19 @@ int main() {
     const sf::RoverAttitude att{sf::AngleRad::from_raw((i % 1000) * 100000), sf::AngleRad::from_raw((i % 700) * -90000)};
     sf::JointAnglesRad j{};
     j.rocker_rad[0] = sf::AngleRad::from_raw((i % 300) * 100000);
-    checksum += sf::wheel_loads(rover, att, j, sf::kNoDriveTorques).load_n[0].raw();
+    checksum += sf::wheel_loads(prepared, att, j, sf::kNoDriveTorques).load_n[0].raw();
   }
   auto t1 = std::chrono::steady_clock::now();
   std::printf("wheel_loads:    %.2f us per call\n",
               std::chrono::duration<double, std::micro>(t1 - t0).count() / kCalls);
 
-  const sf::WheelLoadResult loads = sf::wheel_loads(rover, sf::RoverAttitude{}, sf::JointAnglesRad{}, sf::kNoDriveTorques);
+  const sf::WheelLoadResult loads = sf::wheel_loads(prepared, sf::RoverAttitude{}, sf::JointAnglesRad{}, sf::kNoDriveTorques);
   sf::DrawbarInput in{};
   for (sf::Ratio& r : in.dp_max_ratio) r = kDpMaxRatio;
   t0 = std::chrono::steady_clock::now();
   for (int i = 0; i < kCalls; ++i) {
     in.accel_mps2 = sf::AccelMps2::from_raw(i * 10);
-    checksum += sf::drawbar_pulls(rover, loads, in).dp_n[2].raw();
+    checksum += sf::drawbar_pulls(prepared, loads, in).dp_n[2].raw();
   }
   t1 = std::chrono::steady_clock::now();
   std::printf("drawbar_pulls:  %.2f us per call\n",
@@ -55,8 +57,6 @@ int main() {
     t.current_a[w] = kCurrent;
     t.direction[w] = sf::DriveDirection::forward;
   }
-  sf::PreparedParameters prepared{};  // once per load
-  static_cast<void>(sf::prepare(table, rover, prepared));
   sf::RoverStepOutput out{};  // one record every cycle overwrites
   t0 = std::chrono::steady_clock::now();
   for (int i = 0; i < kCalls; ++i) {

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 
+#include "prepared_support.hpp"
 #include "sinkwatch/flight/drawbar_pull.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
@@ -88,8 +89,8 @@ struct Expected {
 };
 
 inline Expected evaluate(const Case& c) {
-  const flight::WheelLoadResult loads = flight::wheel_loads(c.params, c.attitude, c.joints, c.torques);
-  const flight::DrawbarResult dp = flight::drawbar_pulls(c.params, loads, c.drawbar);
+  const flight::WheelLoadResult loads = flight::wheel_loads(test::prepared_rover(c.params), c.attitude, c.joints, c.torques);
+  const flight::DrawbarResult dp = flight::drawbar_pulls(test::prepared_rover(c.params), loads, c.drawbar);
   Expected e{};
   e.load_status = static_cast<std::uint8_t>(loads.status);
   e.lifting_wheel = loads.lifting_wheel;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <random>
 
+#include "prepared_support.hpp"
 #include "rover_test_support.hpp"
 #include "sinkwatch/flight/drawbar_pull.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
@@ -29,7 +30,7 @@ struct Scene {
 
 Scene scene(double pitch, double roll) {
   Scene s{flight::yutu_like_rover_params(flight::kGravityMoon), {}, 0.0};
-  s.loads = flight::wheel_loads(s.params, rover_test::attitude(pitch, roll), rover_test::joints(0.1, -0.1, 0.2, -0.05), flight::kNoDriveTorques);
+  s.loads = flight::wheel_loads(test::prepared_rover(s.params), rover_test::attitude(pitch, roll), rover_test::joints(0.1, -0.1, 0.2, -0.05), flight::kNoDriveTorques);
   s.mg = d(s.params.mass_kg) * d(s.params.gravity_mps2);
   return s;
 }
@@ -54,7 +55,7 @@ TEST(RoverDrawbarPull, SharesBalanceTheSlopeAndSplitByLoad) {
   const Scene s = scene(0.2, 0.05);
   ASSERT_EQ(s.loads.status, flight::WheelLoadStatus::ok);
   const flight::DrawbarInput in = input(0.02, 0.2, 0.5);
-  const flight::DrawbarResult r = flight::drawbar_pulls(s.params, s.loads, in);
+  const flight::DrawbarResult r = flight::drawbar_pulls(test::prepared_rover(s.params), s.loads, in);
   ASSERT_EQ(r.status, DrawbarStatus::ok);
   const double m = d(s.params.mass_kg);
   const double g = d(s.params.gravity_mps2);
@@ -86,8 +87,8 @@ TEST(RoverDrawbarPull, SineFromTheLoadsGivesTheSameBitsAsComputedAfresh) {
     flight::WheelLoadResult without_sine = s.loads;
     without_sine.pitch_rad = flight::AngleRad::zero();
     without_sine.sin_pitch = sinkwatch::fx::Q1_30::zero();
-    const flight::DrawbarResult reused = flight::drawbar_pulls(s.params, s.loads, in);
-    const flight::DrawbarResult fresh = flight::drawbar_pulls(s.params, without_sine, in);
+    const flight::DrawbarResult reused = flight::drawbar_pulls(test::prepared_rover(s.params), s.loads, in);
+    const flight::DrawbarResult fresh = flight::drawbar_pulls(test::prepared_rover(s.params), without_sine, in);
     ASSERT_EQ(reused.status, fresh.status) << pitch;
     EXPECT_EQ(reused.total_n, fresh.total_n) << pitch;
     for (std::size_t i = 0; i < 6; ++i) EXPECT_EQ(reused.dp_n[i], fresh.dp_n[i]) << pitch << " wheel " << i;
@@ -145,7 +146,7 @@ TEST(RoverDrawbarPull, SplitByLoadIsTheDivisionsRoundedFractionBitForBit) {
       loads.load_n[trial % 6] = flight::WheelLoadN{flight::LoadQ::from_raw(static_cast<std::int32_t>(dominant))};
     }
     const flight::DrawbarInput in = input(10.0 - (0.01 * static_cast<double>(trial % 5)), 0.9, 2.0);
-    const flight::DrawbarResult r = flight::drawbar_pulls(p, loads, in);
+    const flight::DrawbarResult r = flight::drawbar_pulls(test::prepared_rover(p), loads, in);
     if (r.status == DrawbarStatus::invalid_loads) continue;  // every load zero
     // Loads of a few LSB pull more than DP_max allows: those are capped.
     ASSERT_TRUE((r.status == DrawbarStatus::ok) || (r.status == DrawbarStatus::capped)) << trial;
@@ -161,7 +162,7 @@ TEST(RoverDrawbarPull, SplitByLoadIsTheDivisionsRoundedFractionBitForBit) {
 
 TEST(RoverDrawbarPull, DecelerationDownhillGivesNegativePull) {
   const Scene s = scene(-0.15, 0.0);
-  const flight::DrawbarResult r = flight::drawbar_pulls(s.params, s.loads, input(-0.01, -0.15, 0.5));
+  const flight::DrawbarResult r = flight::drawbar_pulls(test::prepared_rover(s.params), s.loads, input(-0.01, -0.15, 0.5));
   ASSERT_EQ(r.status, DrawbarStatus::ok);
   for (const flight::DrawbarPullN dp : r.dp_n) EXPECT_LT(dp.raw(), 0);
 }
@@ -171,7 +172,7 @@ TEST(RoverDrawbarPull, ShareBeyondDpMaxIsCapped) {
   // a = 1 m/s^2 on the Moon: m a = 140 N, 0.61 of the weight, above DP_max/W = 0.3.
   flight::DrawbarInput in = input(1.0, 0.0, 0.3);
   in.dp_max_ratio[4] = q<flight::Ratio>(0.9);  // this wheel's soil can take its share
-  const flight::DrawbarResult r = flight::drawbar_pulls(s.params, s.loads, in);
+  const flight::DrawbarResult r = flight::drawbar_pulls(test::prepared_rover(s.params), s.loads, in);
   ASSERT_EQ(r.status, DrawbarStatus::capped);
   EXPECT_EQ(r.capped_mask, 0x2FU);  // all but wheel 4
   const double total = d(s.params.mass_kg) * 1.0;
@@ -182,7 +183,7 @@ TEST(RoverDrawbarPull, ShareBeyondDpMaxIsCapped) {
     EXPECT_NEAR(d(r.dp_n[i]), expected, rover_test::drawbar_bound_n(s.mg, total)) << i;
   }
   // Negative side: braking hard is capped at -DP_max.
-  const flight::DrawbarResult neg = flight::drawbar_pulls(s.params, s.loads, input(-1.0, 0.0, 0.3));
+  const flight::DrawbarResult neg = flight::drawbar_pulls(test::prepared_rover(s.params), s.loads, input(-1.0, 0.0, 0.3));
   ASSERT_EQ(neg.status, DrawbarStatus::capped);
   EXPECT_NEAR(d(neg.dp_n[0]), -0.3 * d(s.loads.load_n[0]), rover_test::drawbar_bound_n(s.mg, total));
 }
@@ -192,29 +193,29 @@ TEST(RoverDrawbarPull, HighSlipTakesEveryWheelAtDpMax) {
   flight::DrawbarInput in = input(0.0, 0.1, 0.35);
   in.slip_known = true;
   in.slip = s.params.high_slip;  // at the level: saturated
-  const flight::DrawbarResult r = flight::drawbar_pulls(s.params, s.loads, in);
+  const flight::DrawbarResult r = flight::drawbar_pulls(test::prepared_rover(s.params), s.loads, in);
   ASSERT_EQ(r.status, DrawbarStatus::saturated);
   for (std::size_t i = 0; i < 6; ++i) {
     EXPECT_NEAR(d(r.dp_n[i]), 0.35 * d(s.loads.load_n[i]), rover_test::drawbar_bound_n(s.mg, 0.0)) << i;
   }
   in.slip = q<flight::Ratio>(0.59);  // just below: the balance
-  EXPECT_EQ(flight::drawbar_pulls(s.params, s.loads, in).status, DrawbarStatus::ok);
+  EXPECT_EQ(flight::drawbar_pulls(test::prepared_rover(s.params), s.loads, in).status, DrawbarStatus::ok);
   in.slip_known = false;
   in.slip = q<flight::Ratio>(0.95);  // a value that is not a measurement is ignored
-  EXPECT_EQ(flight::drawbar_pulls(s.params, s.loads, in).status, DrawbarStatus::ok);
+  EXPECT_EQ(flight::drawbar_pulls(test::prepared_rover(s.params), s.loads, in).status, DrawbarStatus::ok);
 }
 
 TEST(RoverDrawbarPull, InvalidInputsReturnStatusNotNumber) {
   const Scene s = scene(0.0, 0.0);
   const auto expect_invalid = [&](const flight::WheelLoadResult& loads, const flight::DrawbarInput& in,
                                   DrawbarStatus expected) {
-    const flight::DrawbarResult r = flight::drawbar_pulls(s.params, loads, in);
+    const flight::DrawbarResult r = flight::drawbar_pulls(test::prepared_rover(s.params), loads, in);
     EXPECT_EQ(r.status, expected);
     EXPECT_FALSE(flight::usable(r.status));
     for (const flight::DrawbarPullN dp : r.dp_n) EXPECT_EQ(dp.raw(), 0);
   };
   const flight::WheelLoadResult tipped =
-      flight::wheel_loads(s.params, rover_test::attitude(0.0, 0.8), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
+      flight::wheel_loads(test::prepared_rover(s.params), rover_test::attitude(0.0, 0.8), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
   ASSERT_EQ(tipped.status, flight::WheelLoadStatus::tip_over);
   expect_invalid(tipped, input(0.0, 0.0, 0.3), DrawbarStatus::invalid_loads);
   expect_invalid(s.loads, input(10.5, 0.0, 0.3), DrawbarStatus::invalid_input);
@@ -231,7 +232,7 @@ TEST(RoverDrawbarPull, InvalidInputsReturnStatusNotNumber) {
   expect_invalid(s.loads, bad_slip, DrawbarStatus::invalid_input);
   flight::RoverParams bad_params = s.params;
   bad_params.mass_kg = flight::MassKg::zero();
-  EXPECT_EQ(flight::drawbar_pulls(bad_params, s.loads, input(0.0, 0.0, 0.3)).status, DrawbarStatus::invalid_input);
+  EXPECT_EQ(flight::drawbar_pulls(test::prepared_rover(bad_params), s.loads, input(0.0, 0.0, 0.3)).status, DrawbarStatus::invalid_input);
 }
 
 TEST(RoverDrawbarPull, ReferenceTwinAgreesOnTheSameCases) {
@@ -245,7 +246,7 @@ TEST(RoverDrawbarPull, ReferenceTwinAgreesOnTheSameCases) {
   p.high_slip = d(s.params.high_slip);
   for (const double accel : {-0.5, 0.0, 0.03, 0.5}) {
     const flight::DrawbarInput in = input(accel, 0.25, 0.4);
-    const flight::DrawbarResult r = flight::drawbar_pulls(s.params, s.loads, in);
+    const flight::DrawbarResult r = flight::drawbar_pulls(test::prepared_rover(s.params), s.loads, in);
     const ground::DrawbarPulls ref =
         ground::drawbar_pulls(g, loads, ground::DrawbarInput{d(in.accel_mps2), d(in.pitch_rad), false, 0.0}, p);
     ASSERT_TRUE(flight::usable(r.status));
@@ -254,6 +255,69 @@ TEST(RoverDrawbarPull, ReferenceTwinAgreesOnTheSameCases) {
       EXPECT_NEAR(d(r.dp_n[i]), ref.dp_n[i], rover_test::drawbar_bound_n(s.mg, ref.total_n)) << accel << " " << i;
     }
   }
+}
+
+// Loads the load model itself would not produce, as a caller with its own
+// load source could: every load zero, one load negative, loads at the top
+// of the load format whose DP_max (up to twice the load) does not fit it;
+// and a downhill slope past the attitude limit. Each is refused with its
+// status, never turned into pulls (folded in from test_cov_drawbar_pull.cpp).
+flight::WheelLoadResult equal_loads(double each_n) {
+  flight::WheelLoadResult r{};
+  for (flight::WheelLoadN& l : r.load_n) {
+    l = q<flight::WheelLoadN>(each_n);
+  }
+  r.weight_normal_n = q<flight::WheelLoadN>(6.0 * each_n > 30000.0 ? 30000.0 : 6.0 * each_n);
+  r.status = flight::WheelLoadStatus::ok;
+  return r;
+}
+
+flight::DrawbarInput level_input(double dp_max_ratio) {
+  flight::DrawbarInput in{};
+  for (flight::Ratio& r : in.dp_max_ratio) {
+    r = q<flight::Ratio>(dp_max_ratio);
+  }
+  return in;
+}
+
+const flight::PreparedParameters& moon_rover() {
+  static const flight::PreparedParameters prepared =
+      test::prepared_rover(flight::yutu_like_rover_params(flight::kGravityMoon));
+  return prepared;
+}
+
+TEST(DrawbarPullsGivenLoads, AllLoadsZeroIsInvalidLoads) {
+  const flight::DrawbarResult r = flight::drawbar_pulls(moon_rover(), equal_loads(0.0), level_input(0.5));
+  EXPECT_EQ(r.status, DrawbarStatus::invalid_loads);
+  EXPECT_FALSE(flight::usable(r.status));
+}
+
+TEST(DrawbarPullsGivenLoads, NegativeLoadIsInvalidInput) {
+  flight::WheelLoadResult loads = equal_loads(37.8);
+  loads.load_n[4] = q<flight::WheelLoadN>(-1.0);
+  EXPECT_EQ(flight::drawbar_pulls(moon_rover(), loads, level_input(0.5)).status, DrawbarStatus::invalid_input);
+}
+
+TEST(DrawbarPullsGivenLoads, DownhillBeyondTheAttitudeLimitIsInvalidInput) {
+  flight::DrawbarInput in = level_input(0.5);
+  in.pitch_rad = q<flight::AngleRad>(-1.01);  // the Yutu-like limit is 1.0 rad
+  EXPECT_EQ(flight::drawbar_pulls(moon_rover(), equal_loads(37.8), in).status, DrawbarStatus::invalid_input);
+  in.pitch_rad = q<flight::AngleRad>(-0.99);
+  EXPECT_TRUE(flight::usable(flight::drawbar_pulls(moon_rover(), equal_loads(37.8), in).status));
+}
+
+TEST(DrawbarPullsGivenLoads, SaturatedPullBeyondTheLoadFormatIsOverflowNotANumber) {
+  flight::DrawbarInput in = level_input(2.0);
+  in.slip_known = true;
+  in.slip = q<flight::Ratio>(0.9);  // above high_slip (0.6): every wheel at DP_max = 2 W
+  // 20000 N per wheel: DP_max = 40000 N does not fit Q15.16 (max 32768 N).
+  const flight::DrawbarResult big = flight::drawbar_pulls(moon_rover(), equal_loads(20000.0), in);
+  EXPECT_EQ(big.status, DrawbarStatus::overflow);
+  EXPECT_EQ(big.dp_n[0], flight::DrawbarPullN::zero());
+  // The control: 10000 N per wheel gives 20000 N, which fits.
+  const flight::DrawbarResult fits = flight::drawbar_pulls(moon_rover(), equal_loads(10000.0), in);
+  ASSERT_EQ(fits.status, DrawbarStatus::saturated);
+  EXPECT_NEAR(d(fits.dp_n[0]), 20000.0, 0.01);
 }
 
 }  // namespace

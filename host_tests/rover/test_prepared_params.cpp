@@ -78,7 +78,7 @@ TEST_F(PreparedTest, UnpreparedParametersStopTheRover) {
   const flight::WheelLoadResult loads = flight::wheel_loads(none, rover_test::attitude(0.0, 0.0),
                                                             rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
   EXPECT_EQ(loads.status, flight::WheelLoadStatus::invalid_params);
-  flight::WheelLoadResult good = flight::wheel_loads(rover, rover_test::attitude(0.0, 0.0),
+  flight::WheelLoadResult good = flight::wheel_loads(test::prepared_rover(rover), rover_test::attitude(0.0, 0.0),
                                                      rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
   ASSERT_EQ(good.status, flight::WheelLoadStatus::ok);
   flight::DrawbarInput in{};
@@ -102,7 +102,8 @@ TEST_F(PreparedTest, PreparedParametersAreACopy) {
 }
 
 // The statics' constants are the rover's own numbers: every length exactly
-// (Q7.24 into Q6.25 is a left shift for lengths of at most 4 m), the weight
+// in Q6.25 (Q7.24 into Q6.25 is a left shift for lengths of at most 4 m) and
+// within half an LSB in Q10.21 and Q15.16 (one rounding), the weight
 // m g rounded once, and its reciprocal within 2^-29 relative. Rovers at the
 // validated limits as well as the default.
 TEST_F(PreparedTest, PreparedStaticsHoldTheRoverLengthsExactlyAndItsWeight) {
@@ -116,24 +117,36 @@ TEST_F(PreparedTest, PreparedStaticsHoldTheRoverLengthsExactlyAndItsWeight) {
   for (const flight::RoverParams& r : {rover, extreme}) {
     flight::PreparedParameters p;
     ASSERT_EQ(flight::prepare(table, r, p), PrepareStatus::ok);
-    const flight::RoverStatics& k = p.rover_statics();
-    const auto exact = [](flight::StaticsQ v, flight::LengthM expected) {
-      EXPECT_EQ(fx::to_double(v), fx::to_double(expected.q()));
+    // Every length within half an LSB of its format: exactly in Q6.25.
+    fx::Status st;
+    const auto lengths_exact = [&r, &st](const auto& k) {
+      // `lsb`: the rounding allowed in a format coarser than Q7.24.
+      const auto exact = [](auto v, flight::LengthM expected, double lsb = 0.5) {
+        const double allowed = std::ldexp(lsb, -decltype(v)::frac_bits);
+        const double error = std::fabs(fx::to_double(v) - fx::to_double(expected.q()));
+        EXPECT_LE(error, (decltype(v)::frac_bits >= flight::LengthQ::frac_bits) ? 0.0 : allowed);
+      };
+      const auto exact_point = [&exact](auto v, flight::SidePointM expected) {
+        exact(v.x, expected.x_m);
+        exact(v.z, expected.z_m);
+      };
+      exact_point(k.rocker_front, r.rocker_front_axle);
+      exact_point(k.rocker_bogie, r.rocker_bogie_pivot);
+      exact_point(k.bogie_middle, r.bogie_middle_axle);
+      exact_point(k.bogie_rear, r.bogie_rear_axle);
+      EXPECT_EQ(k.down.x.raw(), 0);
+      exact(fx::neg(k.down.z, st), r.wheel_radius_m);
+      // Half the track: the length rounded, then halved and rounded again.
+      constexpr fx::Q1_30 kHalf = fx::constant<fx::Q1_30>(0.5);
+      exact(k.half_track, flight::LengthM{fx::mul<flight::LengthQ>(kHalf, r.track_width_m.q(), st)}, 0.75);
+      exact(k.com_x, r.com_x_m);
+      exact(k.com_y, r.com_y_m);
+      exact(k.com_z, r.com_z_m);
     };
-    const auto exact_point = [&exact](flight::StaticsPoint<flight::StaticsQ> v, flight::SidePointM expected) {
-      exact(v.x, expected.x_m);
-      exact(v.z, expected.z_m);
-    };
-    exact_point(k.rocker_front, r.rocker_front_axle);
-    exact_point(k.rocker_bogie, r.rocker_bogie_pivot);
-    exact_point(k.bogie_middle, r.bogie_middle_axle);
-    exact_point(k.bogie_rear, r.bogie_rear_axle);
-    EXPECT_EQ(k.down.x.raw(), 0);
-    EXPECT_EQ(fx::to_double(k.down.z), -fx::to_double(r.wheel_radius_m.q()));
-    EXPECT_EQ(2.0 * fx::to_double(k.half_track), fx::to_double(r.track_width_m.q()));
-    exact(k.com_x, r.com_x_m);
-    exact(k.com_y, r.com_y_m);
-    exact(k.com_z, r.com_z_m);
+    lengths_exact(p.rover_statics().fine);
+    lengths_exact(p.rover_statics().mid);
+    lengths_exact(p.rover_statics().coarse);
+    const flight::StaticsConstants<flight::StaticsQ>& k = p.rover_statics().fine;
     const double weight = fx::to_double(r.mass_kg.q()) * fx::to_double(r.gravity_mps2.q());
     EXPECT_LE(std::fabs(fx::to_double(k.weight_n.q()) - weight), std::ldexp(1.0, -17) + 1e-9);  // half an LSB
     const double inverse = std::ldexp(static_cast<double>(k.inv_weight.mantissa), -k.inv_weight.scale);
@@ -218,7 +231,7 @@ TEST_F(PreparedTest, StepEqualsItsStagesChainedByHand) {
       torques.usable[i] = out.health.current_usable[i] && (torque[i].status == flight::EstimateStatus::ok);
       torques.torque_nm[i] = torques.usable[i] ? torque[i].torque_nm : flight::TorqueNm::zero();
     }
-    const flight::WheelLoadResult loads = flight::wheel_loads(rover, t.attitude, t.joints, torques);
+    const flight::WheelLoadResult loads = flight::wheel_loads(test::prepared_rover(rover), t.attitude, t.joints, torques);
     ASSERT_EQ(loads.status, flight::WheelLoadStatus::ok) << k;
     EXPECT_EQ(out.torque_fallback_mask, loads.torque_fallback_mask) << k;
     flight::DrawbarInput in{};
@@ -227,7 +240,7 @@ TEST_F(PreparedTest, StepEqualsItsStagesChainedByHand) {
     for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
       in.dp_max_ratio[i] = test::corrections_of(table.correction, loads.load_n[i]).dp_max_ratio;
     }
-    const flight::DrawbarResult dp = flight::drawbar_pulls(rover, loads, in);
+    const flight::DrawbarResult dp = flight::drawbar_pulls(test::prepared_rover(rover), loads, in);
     ASSERT_TRUE(flight::usable(dp.status)) << k;
     flight::WheelInput inputs[flight::kMaxWheels]{};
     for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
@@ -315,7 +328,7 @@ TEST_F(PreparedTest, DrawbarSharesEqualTheQ3132DivisionOfTheLoads) {
     for (flight::Ratio& r : in.dp_max_ratio) {
       r = q<flight::Ratio>(0.05 + (0.3 * static_cast<double>(rng() % 6U)));
     }
-    const flight::DrawbarResult dp = flight::drawbar_pulls(rover, loads, in);
+    const flight::DrawbarResult dp = flight::drawbar_pulls(test::prepared_rover(rover), loads, in);
     if (!flight::usable(dp.status)) {
       continue;  // every load zero
     }

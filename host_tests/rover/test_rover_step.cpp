@@ -79,7 +79,7 @@ TEST_F(RoverStepTest, NominalCycleGivesEveryNumberAndMatchesTheChain) {
     torques.torque_nm[i] = flight::torque_from_current(table.motor, t.current_a[i], t.direction[i]).torque_nm;
     torques.usable[i] = true;
   }
-  const flight::WheelLoadResult loads = flight::wheel_loads(rover, t.attitude, t.joints, torques);
+  const flight::WheelLoadResult loads = flight::wheel_loads(test::prepared_rover(rover), t.attitude, t.joints, torques);
   ASSERT_EQ(loads.status, flight::WheelLoadStatus::ok);
   EXPECT_EQ(out.torque_fallback_mask, 0U);
   EXPECT_FALSE(out.torque_overload);
@@ -89,7 +89,7 @@ TEST_F(RoverStepTest, NominalCycleGivesEveryNumberAndMatchesTheChain) {
   for (std::size_t i = 0; i < flight::kWheelCount; ++i) {
     in.dp_max_ratio[i] = test::corrections_of(table.correction, loads.load_n[i]).dp_max_ratio;
   }
-  const flight::DrawbarResult dp = flight::drawbar_pulls(rover, loads, in);
+  const flight::DrawbarResult dp = flight::drawbar_pulls(test::prepared_rover(rover), loads, in);
   ASSERT_TRUE(flight::usable(dp.status));
   for (std::size_t i = 0; i < flight::kWheelCount; ++i) {
     EXPECT_EQ(out.load_n[i], loads.load_n[i]);
@@ -206,7 +206,7 @@ flight::AngleRad last_roll_before_tip_over(const flight::RoverParams& p) {
   const flight::JointAnglesRad level_joints{};
   const auto status_at = [&](std::int32_t roll_raw) {
     const flight::RoverAttitude at{flight::AngleRad::zero(), flight::AngleRad::from_raw(roll_raw)};
-    return flight::wheel_loads(p, at, level_joints, flight::kNoDriveTorques).status;
+    return flight::wheel_loads(test::prepared_rover(p), at, level_joints, flight::kNoDriveTorques).status;
   };
   EXPECT_EQ(status_at(tip_raw), flight::WheelLoadStatus::tip_over);
   while (tip_raw - ok_raw > 1) {
@@ -228,7 +228,7 @@ TEST_F(RoverStepTest, WheelCarryingExactlyZeroNewtonsFailsTheDrawbarStage) {
   ASSERT_EQ(flight::validate_rover_params(rover), flight::RoverParamStatus::ok);
   const flight::AngleRad roll = last_roll_before_tip_over(rover);
   const flight::WheelLoadResult loads =
-      flight::wheel_loads(rover, flight::RoverAttitude{flight::AngleRad::zero(), roll}, flight::JointAnglesRad{},
+      flight::wheel_loads(test::prepared_rover(rover), flight::RoverAttitude{flight::AngleRad::zero(), roll}, flight::JointAnglesRad{},
                           flight::kNoDriveTorques);
   ASSERT_EQ(loads.status, flight::WheelLoadStatus::ok);
   std::int32_t lowest = loads.load_n[0].raw();

@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "prepared_support.hpp"
 #include "rover_test_support.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
@@ -37,7 +38,7 @@ TEST(RoverWheelLoad, FlatGroundDefaultGivesEqualSixths) {
   for (const flight::AccelMps2 g : {flight::kGravityMoon, flight::kGravityMars, flight::kGravityEarth}) {
     const RoverParams p = flight::yutu_like_rover_params(g);
     const double sixth = weight(p) / 6.0;
-    const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
+    const flight::WheelLoadResult r = flight::wheel_loads(test::prepared_rover(p), rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
     ASSERT_EQ(r.status, WheelLoadStatus::ok);
     const ground::WheelLoads ref =
         ground::wheel_loads(rover_test::to_ground(p), ground::Attitude{}, ground::JointAngles{}, ground::k_no_drive_torques);
@@ -74,7 +75,7 @@ TEST(RoverWheelLoad, FlatGroundOffCentreMatchesAnalyticSplit) {
     expected[3 * s + 2] = (1.0 - beta) * (side[s] - front);
   }
   const ground::WheelLoads ref = ground::wheel_loads(g, ground::Attitude{}, ground::JointAngles{}, ground::k_no_drive_torques);
-  const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
+  const flight::WheelLoadResult r = flight::wheel_loads(test::prepared_rover(p), rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
   ASSERT_EQ(ref.status, ground::LoadStatus::ok);
   ASSERT_EQ(r.status, WheelLoadStatus::ok);
   for (std::size_t i = 0; i < 6; ++i) {
@@ -107,7 +108,7 @@ TEST(RoverWheelLoad, LoadsSumToNormalWeightComponent) {
     double ref_sum = 0.0;
     for (const double w : ref.load_n) ref_sum += w;  // holds for tip_over numbers too
     EXPECT_NEAR(ref_sum, expected, 1e-9 * mg);
-    const flight::WheelLoadResult r = flight::wheel_loads(p, att, j, flight::kNoDriveTorques);
+    const flight::WheelLoadResult r = flight::wheel_loads(test::prepared_rover(p), att, j, flight::kNoDriveTorques);
     if (r.status != WheelLoadStatus::ok) {
       continue;
     }
@@ -136,7 +137,7 @@ TEST(RoverWheelLoad, PurePitchMatchesHandComputation) {
     const double bogie = mg / 2.0 - front;
     const double expected[3] = {front * std::cos(th), beta * bogie * std::cos(th),
                                 (1.0 - beta) * bogie * std::cos(th)};
-    const flight::WheelLoadResult r = flight::wheel_loads(p, att, rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
+    const flight::WheelLoadResult r = flight::wheel_loads(test::prepared_rover(p), att, rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
     ASSERT_EQ(r.status, WheelLoadStatus::ok) << theta;
     for (std::size_t s = 0; s < 2; ++s) {
       for (std::size_t k = 0; k < 3; ++k) {
@@ -145,7 +146,7 @@ TEST(RoverWheelLoad, PurePitchMatchesHandComputation) {
     }
   }
   // The numbers quoted in the document (0.3 rad, Earth).
-  const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0.3, 0.0), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
+  const flight::WheelLoadResult r = flight::wheel_loads(test::prepared_rover(p), rover_test::attitude(0.3, 0.0), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
   ASSERT_EQ(r.status, WheelLoadStatus::ok);
   EXPECT_NEAR(d(r.load_n[0]), 134.40, 0.005);
   EXPECT_NEAR(d(r.load_n[1]), 164.00, 0.005);
@@ -160,7 +161,7 @@ TEST(RoverWheelLoad, PureRollMatchesHandComputation) {
     const double ph = d(att.roll_rad);
     const double left = mg * (0.45 - 0.55 * std::tan(ph)) / 0.9;
     const double right = mg - left;
-    const flight::WheelLoadResult r = flight::wheel_loads(p, att, rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
+    const flight::WheelLoadResult r = flight::wheel_loads(test::prepared_rover(p), att, rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
     ASSERT_EQ(r.status, WheelLoadStatus::ok) << phi;
     for (std::size_t k = 0; k < 3; ++k) {
       EXPECT_NEAR(d(r.load_n[k]), left / 3.0 * std::cos(ph), rover_test::load_bound_n(mg)) << phi;
@@ -216,9 +217,9 @@ TEST(RoverWheelLoad, BeyondStabilityLimitReturnsStatusNotNumber) {
   };
   for (const Case& c : cases) {
     const flight::WheelLoadResult inside =
-        flight::wheel_loads(p, rover_test::attitude(c.pitch * 0.98, c.roll * 0.98), zero, flight::kNoDriveTorques);
+        flight::wheel_loads(test::prepared_rover(p), rover_test::attitude(c.pitch * 0.98, c.roll * 0.98), zero, flight::kNoDriveTorques);
     EXPECT_EQ(inside.status, WheelLoadStatus::ok) << c.pitch << " " << c.roll;
-    const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(c.pitch, c.roll), zero, flight::kNoDriveTorques);
+    const flight::WheelLoadResult r = flight::wheel_loads(test::prepared_rover(p), rover_test::attitude(c.pitch, c.roll), zero, flight::kNoDriveTorques);
     EXPECT_EQ(r.status, WheelLoadStatus::tip_over) << c.pitch << " " << c.roll;
     ASSERT_LT(r.lifting_wheel, flight::kWheelCount);
     EXPECT_NE((c.lifting_mask >> r.lifting_wheel) & 1U, 0U) << r.lifting_wheel;
@@ -227,8 +228,8 @@ TEST(RoverWheelLoad, BeyondStabilityLimitReturnsStatusNotNumber) {
   }
   // A rocker at its limit brings the pitch limit down (section 4: 26 deg).
   const flight::JointAnglesRad rocked = rover_test::joints(0.35, -0.35, 0, 0);
-  EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(0.44, 0.0), rocked, flight::kNoDriveTorques).status, WheelLoadStatus::ok);
-  EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(0.47, 0.0), rocked, flight::kNoDriveTorques).status, WheelLoadStatus::tip_over);
+  EXPECT_EQ(flight::wheel_loads(test::prepared_rover(p), rover_test::attitude(0.44, 0.0), rocked, flight::kNoDriveTorques).status, WheelLoadStatus::ok);
+  EXPECT_EQ(flight::wheel_loads(test::prepared_rover(p), rover_test::attitude(0.47, 0.0), rocked, flight::kNoDriveTorques).status, WheelLoadStatus::tip_over);
 }
 
 // ------------------------------------------------------------ input statuses
@@ -236,17 +237,17 @@ TEST(RoverWheelLoad, BeyondStabilityLimitReturnsStatusNotNumber) {
 TEST(RoverWheelLoad, AttitudeAndJointsBeyondLimitsAreRejected) {
   const RoverParams p = earth();
   const flight::JointAnglesRad zero = rover_test::joints(0, 0, 0, 0);
-  EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(1.01, 0), zero, flight::kNoDriveTorques).status, WheelLoadStatus::attitude_out_of_range);
-  EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(0, -1.01), zero, flight::kNoDriveTorques).status, WheelLoadStatus::attitude_out_of_range);
+  EXPECT_EQ(flight::wheel_loads(test::prepared_rover(p), rover_test::attitude(1.01, 0), zero, flight::kNoDriveTorques).status, WheelLoadStatus::attitude_out_of_range);
+  EXPECT_EQ(flight::wheel_loads(test::prepared_rover(p), rover_test::attitude(0, -1.01), zero, flight::kNoDriveTorques).status, WheelLoadStatus::attitude_out_of_range);
   flight::RoverAttitude extreme{flight::AngleRad{flight::AngleQ::min()}, flight::AngleRad::zero()};
-  EXPECT_EQ(flight::wheel_loads(p, extreme, zero, flight::kNoDriveTorques).status, WheelLoadStatus::attitude_out_of_range);
+  EXPECT_EQ(flight::wheel_loads(test::prepared_rover(p), extreme, zero, flight::kNoDriveTorques).status, WheelLoadStatus::attitude_out_of_range);
   const flight::RoverAttitude level = rover_test::attitude(0, 0);
-  EXPECT_EQ(flight::wheel_loads(p, level, rover_test::joints(0.36, 0, 0, 0), flight::kNoDriveTorques).status,
+  EXPECT_EQ(flight::wheel_loads(test::prepared_rover(p), level, rover_test::joints(0.36, 0, 0, 0), flight::kNoDriveTorques).status,
             WheelLoadStatus::joint_out_of_range);
-  EXPECT_EQ(flight::wheel_loads(p, level, rover_test::joints(0, 0, 0, -0.51), flight::kNoDriveTorques).status,
+  EXPECT_EQ(flight::wheel_loads(test::prepared_rover(p), level, rover_test::joints(0, 0, 0, -0.51), flight::kNoDriveTorques).status,
             WheelLoadStatus::joint_out_of_range);
   // The limits themselves are inside.
-  EXPECT_EQ(flight::wheel_loads(p, level, rover_test::joints(0.35, -0.35, 0.5, -0.5), flight::kNoDriveTorques).status, WheelLoadStatus::ok);
+  EXPECT_EQ(flight::wheel_loads(test::prepared_rover(p), level, rover_test::joints(0.35, -0.35, 0.5, -0.5), flight::kNoDriveTorques).status, WheelLoadStatus::ok);
 }
 
 TEST(RoverWheelLoad, EveryParameterRuleHasItsReason) {
@@ -278,7 +279,7 @@ TEST(RoverWheelLoad, EveryParameterRuleHasItsReason) {
     RoverParams p = good;
     m.apply(p);
     EXPECT_EQ(flight::validate_rover_params(p), m.expected);
-    EXPECT_EQ(flight::wheel_loads(p, rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques).status,
+    EXPECT_EQ(flight::wheel_loads(test::prepared_rover(p), rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques).status,
               WheelLoadStatus::invalid_params);
   }
 }
@@ -290,7 +291,7 @@ TEST(RoverWheelLoad, CollapsedLeverIsDegenerateNotANumber) {
   p.bogie_middle_axle = flight::SidePointM{q<flight::LengthM>(0.0005), q<flight::LengthM>(0.10)};
   p.bogie_rear_axle = flight::SidePointM{q<flight::LengthM>(-0.0001), q<flight::LengthM>(-0.30)};
   ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
-  const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
+  const flight::WheelLoadResult r = flight::wheel_loads(test::prepared_rover(p), rover_test::attitude(0, 0), rover_test::joints(0, 0, 0, 0), flight::kNoDriveTorques);
   EXPECT_EQ(r.status, WheelLoadStatus::degenerate);
   EXPECT_EQ(ground::wheel_loads(rover_test::to_ground(p), ground::Attitude{}, ground::JointAngles{}, ground::k_no_drive_torques).status,
             ground::LoadStatus::degenerate);
@@ -318,7 +319,7 @@ TEST(RoverWheelLoad, DriveTorqueLiftsTheFrontAndPressesTheRear) {
   // N per side before the roll balance (which is symmetric here).
   const RoverParams p = earth();
   const flight::JointAnglesRad zero = rover_test::joints(0, 0, 0, 0);
-  const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0, 0), zero, all_torques(10.0));
+  const flight::WheelLoadResult r = flight::wheel_loads(test::prepared_rover(p), rover_test::attitude(0, 0), zero, all_torques(10.0));
   ASSERT_EQ(r.status, WheelLoadStatus::ok);
   EXPECT_EQ(r.torque_fallback_mask, 0U);
   EXPECT_FALSE(r.torque_overload);
@@ -336,18 +337,18 @@ TEST(RoverWheelLoad, UnusableTorqueFallsBackToTheStaticsAndSaysSo) {
   const RoverParams p = earth();
   const flight::RoverAttitude att = rover_test::attitude(0.15, -0.05);
   const flight::JointAnglesRad j = rover_test::joints(0.05, -0.05, 0.1, -0.1);
-  const flight::WheelLoadResult none = flight::wheel_loads(p, att, j, flight::kNoDriveTorques);
+  const flight::WheelLoadResult none = flight::wheel_loads(test::prepared_rover(p), att, j, flight::kNoDriveTorques);
   EXPECT_EQ(none.torque_fallback_mask, 0x3FU);
   flight::DriveTorques torques = all_torques(12.0);
   for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) torques.usable[i] = false;
   // Unusable wheels ignore whatever torque value they carry: the old statics, bit for bit.
-  const flight::WheelLoadResult ignored = flight::wheel_loads(p, att, j, torques);
+  const flight::WheelLoadResult ignored = flight::wheel_loads(test::prepared_rover(p), att, j, torques);
   EXPECT_EQ(ignored.torque_fallback_mask, 0x3FU);
   for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) EXPECT_EQ(ignored.load_n[i], none.load_n[i]) << i;
   // One wheel's current is bad: only its bit, and its loads follow the twin.
   torques = all_torques(12.0);
   torques.usable[4] = false;
-  const flight::WheelLoadResult one = flight::wheel_loads(p, att, j, torques);
+  const flight::WheelLoadResult one = flight::wheel_loads(test::prepared_rover(p), att, j, torques);
   ASSERT_EQ(one.status, WheelLoadStatus::ok);
   EXPECT_EQ(one.torque_fallback_mask, 1U << 4U);
   ground::DriveTorques gt{};
@@ -368,15 +369,15 @@ TEST(RoverWheelLoad, TorquesThatWouldLiftAWheelFallBackToTheWeightAlone) {
   // stability stays the weight's decision (not tip_over).
   const RoverParams p = earth();
   const flight::JointAnglesRad zero = rover_test::joints(0, 0, 0, 0);
-  const flight::WheelLoadResult r = flight::wheel_loads(p, rover_test::attitude(0, 0), zero, all_torques(100.0));
+  const flight::WheelLoadResult r = flight::wheel_loads(test::prepared_rover(p), rover_test::attitude(0, 0), zero, all_torques(100.0));
   ASSERT_EQ(r.status, WheelLoadStatus::ok);
   EXPECT_TRUE(r.torque_overload);
   EXPECT_EQ(r.torque_fallback_mask, 0x3FU);
-  const flight::WheelLoadResult none = flight::wheel_loads(p, rover_test::attitude(0, 0), zero, flight::kNoDriveTorques);
+  const flight::WheelLoadResult none = flight::wheel_loads(test::prepared_rover(p), rover_test::attitude(0, 0), zero, flight::kNoDriveTorques);
   for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) EXPECT_EQ(r.load_n[i], none.load_n[i]) << i;
   // Beyond the weight's own stability limit it is still tip_over.
   const flight::WheelLoadResult tipped =
-      flight::wheel_loads(p, rover_test::attitude(0.0, 0.8), zero, all_torques(100.0));
+      flight::wheel_loads(test::prepared_rover(p), rover_test::attitude(0.0, 0.8), zero, all_torques(100.0));
   EXPECT_EQ(tipped.status, WheelLoadStatus::tip_over);
   EXPECT_FALSE(tipped.torque_overload);
 }
@@ -518,7 +519,7 @@ void expect_tip_over_like_the_twin(const FarBeyondTipOver& c,
     lowest = (ref.load_n[i] < ref.load_n[lowest]) ? i : lowest;
   }
   const flight::WheelLoadResult r =
-      flight::wheel_loads(p, attitude_of(c.pose), joints_of(c.pose), flight::kNoDriveTorques);
+      flight::wheel_loads(test::prepared_rover(p), attitude_of(c.pose), joints_of(c.pose), flight::kNoDriveTorques);
   EXPECT_EQ(r.status, WheelLoadStatus::tip_over);
   EXPECT_EQ(r.lifting_wheel, lowest);
 }
@@ -530,7 +531,7 @@ void expect_a_lifting_wheel_like_the_twin(const RawPose& pose, const RoverParams
   const ground::WheelLoads ref = twin_without_torques(p, pose);
   ASSERT_EQ(ref.status, ground::LoadStatus::tip_over);
   const flight::WheelLoadResult r =
-      flight::wheel_loads(p, attitude_of(pose), joints_of(pose), flight::kNoDriveTorques);
+      flight::wheel_loads(test::prepared_rover(p), attitude_of(pose), joints_of(pose), flight::kNoDriveTorques);
   EXPECT_EQ(r.status, WheelLoadStatus::tip_over);
   ASSERT_LT(r.lifting_wheel, flight::kWheelCount);
   EXPECT_LT(ref.load_n[r.lifting_wheel], 0.0);
@@ -646,7 +647,7 @@ void expect_collapsed_span_with_torques(const double (&torque_nm)[flight::kWheel
   const ground::WheelLoads ref =
       ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att), rover_test::to_ground(j), ref_t);
   ASSERT_EQ(ref.status, ground::LoadStatus::degenerate);
-  const flight::WheelLoadResult r = flight::wheel_loads(p, att, j, t);
+  const flight::WheelLoadResult r = flight::wheel_loads(test::prepared_rover(p), att, j, t);
   EXPECT_EQ(r.status, WheelLoadStatus::overflow);
   EXPECT_FALSE(r.torque_overload);
   EXPECT_EQ(r.torque_fallback_mask, 0x12U);  // wheels 1 and 4 had no torque
@@ -670,14 +671,14 @@ TEST(RoverWheelLoad, CouplesBeyondEachFormatAreATorqueOverload) {
   RoverParams p = flight::yutu_like_rover_params(flight::kGravityMoon);
   p.mass_kg = q<flight::MassKg>(0.01);
   ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
-  const flight::WheelLoadResult plain = flight::wheel_loads(p, flight::RoverAttitude{}, flight::JointAnglesRad{},
+  const flight::WheelLoadResult plain = flight::wheel_loads(test::prepared_rover(p), flight::RoverAttitude{}, flight::JointAnglesRad{},
                                                             flight::kNoDriveTorques);
   ASSERT_EQ(plain.status, WheelLoadStatus::ok);
   for (const double torque_nm : {10.0, 100.0, 1000.0}) {
     flight::DriveTorques t{};
     t.usable[0] = true;
     t.torque_nm[0] = q<flight::TorqueNm>(torque_nm);
-    const flight::WheelLoadResult r = flight::wheel_loads(p, flight::RoverAttitude{}, flight::JointAnglesRad{}, t);
+    const flight::WheelLoadResult r = flight::wheel_loads(test::prepared_rover(p), flight::RoverAttitude{}, flight::JointAnglesRad{}, t);
     EXPECT_EQ(r.status, WheelLoadStatus::ok) << torque_nm;
     EXPECT_TRUE(r.torque_overload) << torque_nm;
     EXPECT_EQ(r.torque_fallback_mask, flight::kEveryTorqueFallsBack) << torque_nm;

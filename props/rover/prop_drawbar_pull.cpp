@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "prepared_support.hpp"
 #include "rover_test_support.hpp"
 #include "sinkwatch/flight/drawbar_pull.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
@@ -37,7 +38,7 @@ RC_GTEST_PROP(RoverDrawbarPullProp, FixedPointWithinBoundOfReference, ()) {
   const flight::AngleRad pitch = raw_within(flight::AngleRad{flight::AngleQ::from_raw(-pitch_limit.raw())}, pitch_limit);
   const flight::AngleRad roll = raw_within(flight::AngleRad{flight::AngleQ::from_raw(-pitch_limit.raw())}, pitch_limit);
   const flight::JointAnglesRad joints = rover_test::joints(0.1, -0.1, 0.0, 0.2);
-  const flight::WheelLoadResult loads = flight::wheel_loads(p, flight::RoverAttitude{pitch, roll}, joints, flight::kNoDriveTorques);
+  const flight::WheelLoadResult loads = flight::wheel_loads(test::prepared_rover(p), flight::RoverAttitude{pitch, roll}, joints, flight::kNoDriveTorques);
   RC_PRE(loads.status == flight::WheelLoadStatus::ok);
 
   flight::DrawbarInput in{};
@@ -55,7 +56,7 @@ RC_GTEST_PROP(RoverDrawbarPullProp, FixedPointWithinBoundOfReference, ()) {
     in.dp_max_ratio[i] = raw_within(flight::Ratio::from_raw(1), flight::kMaxDpMaxRatio);
     gp.dp_max_over_w[i] = d(in.dp_max_ratio[i]);
   }
-  const flight::DrawbarResult r = flight::drawbar_pulls(p, loads, in);
+  const flight::DrawbarResult r = flight::drawbar_pulls(test::prepared_rover(p), loads, in);
 
   ground::WheelLoads gl;
   gl.status = ground::LoadStatus::ok;

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "prepared_support.hpp"
 #include "rover_test_support.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
@@ -58,7 +59,7 @@ RC_GTEST_PROP(RoverWheelLoadProp, FixedPointWithinBoundOfReference, ()) {
     j.rocker_rad[s] = angle_within(p.rocker_limit_rad);
     j.bogie_rad[s] = angle_within(p.bogie_limit_rad);
   }
-  const flight::WheelLoadResult r = flight::wheel_loads(p, att, j, flight::kNoDriveTorques);
+  const flight::WheelLoadResult r = flight::wheel_loads(test::prepared_rover(p), att, j, flight::kNoDriveTorques);
   const ground::WheelLoads ref =
       ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att), rover_test::to_ground(j), ground::k_no_drive_torques);
   const double mg = d(p.mass_kg) * d(p.gravity_mps2);
@@ -128,7 +129,7 @@ RC_GTEST_PROP(RoverWheelLoadProp, WithTorquesWithinBoundOfReference, ()) {
     j.bogie_rad[s] = angle_within(p.bogie_limit_rad);
   }
   const flight::DriveTorques torques = envelope_torques(p);
-  const flight::WheelLoadResult r = flight::wheel_loads(p, att, j, torques);
+  const flight::WheelLoadResult r = flight::wheel_loads(test::prepared_rover(p), att, j, torques);
   const ground::WheelLoads ref = ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att),
                                                      rover_test::to_ground(j), to_ground(torques));
   double torque_sum = 0.0;
@@ -174,7 +175,7 @@ RC_GTEST_PROP(RoverWheelLoadProp, StabilityDecisionAgreesOutsideTheBand, ()) {
   const flight::RoverAttitude att =
       pitch_axis ? rover_test::attitude(angle, 0.0) : rover_test::attitude(0.0, angle);
   const flight::JointAnglesRad zero = rover_test::joints(0, 0, 0, 0);
-  const flight::WheelLoadResult r = flight::wheel_loads(p, att, zero, flight::kNoDriveTorques);
+  const flight::WheelLoadResult r = flight::wheel_loads(test::prepared_rover(p), att, zero, flight::kNoDriveTorques);
   const ground::WheelLoads ref =
       ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att), rover_test::to_ground(zero), ground::k_no_drive_torques);
   const double bound = rover_test::load_bound_n(d(p.mass_kg) * d(p.gravity_mps2));

@@ -65,11 +65,9 @@ struct DrawbarResult {
   return (s == DrawbarStatus::ok) || (s == DrawbarStatus::capped) || (s == DrawbarStatus::saturated);
 }
 
-[[nodiscard]] DrawbarResult drawbar_pulls(const RoverParams& params, const WheelLoadResult& loads,
-                                          const DrawbarInput& input) noexcept;
-
-/// The same for parameters checked once per load (prepared_params.hpp):
-/// invalid_input unless prepared.ready(), and no validation per call.
+/// The drawbar pulls for rover parameters checked once per load (prepare(),
+/// prepared_params.hpp): invalid_input unless prepared.ready(), and no
+/// validation per call.
 [[nodiscard]] DrawbarResult drawbar_pulls(const PreparedParameters& prepared, const WheelLoadResult& loads,
                                           const DrawbarInput& input) noexcept;
 

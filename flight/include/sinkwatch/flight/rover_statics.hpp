@@ -3,13 +3,17 @@
 // converted once per parameter load instead of once per control cycle.
 //
 // The statics solve every balance in metres, with forces as fractions of the
-// normal weight, first in Q6.25 (StaticsQ). The link vectors, the half track,
-// the centre of mass, the weight m g and its reciprocal depend only on the
-// rover parameters, so prepare() converts them once (PreparedParameters holds
-// them) and each cycle starts from the attitude and the joint angles. For
-// parameters that validate_rover_params() accepts every length is at most
-// 4 m (rover_limits.hpp): each conversion from Q7.24 is exact, in Q6.25 and
-// in the statics' wider fallback formats alike.
+// normal weight, first in Q6.25 and, where an intermediate leaves it (a
+// quotient by a lever of a few millimetres, far beyond the stability limit),
+// again in Q10.21 and then Q15.16 (docs/rover-loads.md, section 7.4). The
+// link vectors, the half track, the centre of mass, the weight m g and its
+// reciprocal depend only on the rover parameters, so prepare() converts them
+// once into each of the three formats (PreparedParameters holds them: 204
+// bytes, none of them on the step's stack) and each cycle starts from the
+// attitude and the joint angles. For parameters that validate_rover_params()
+// accepts every length is at most 4 m (rover_limits.hpp): its conversion from
+// Q7.24 is exact in Q6.25 and rounded once in Q10.21 and Q15.16, the same
+// values the passes computed per cycle before session 16.
 #ifndef SINKWATCH_FLIGHT_ROVER_STATICS_HPP
 #define SINKWATCH_FLIGHT_ROVER_STATICS_HPP
 
@@ -23,8 +27,10 @@
 namespace sinkwatch {
 namespace flight {
 
-/// The statics' first format: Q6.25, metres and shares of the normal weight.
-using StaticsQ = fx::Q<std::int32_t, 25>;
+/// The statics' formats: metres and shares of the normal weight.
+using StaticsQ = fx::Q<std::int32_t, 25>;        ///< Q6.25, every cycle's first evaluation
+using StaticsMidQ = fx::Q<std::int32_t, 21>;     ///< Q10.21, where Q6.25 overflowed
+using StaticsCoarseQ = fx::Q<std::int32_t, 16>;  ///< Q15.16, where Q10.21 overflowed too
 
 /// A point in one side's plane (x forward, z up), in the format P.
 template <typename P>
@@ -49,8 +55,12 @@ struct StaticsConstants {
   fx::NormalisedReciprocal inv_weight;  ///< 1 / (m g), from the exact product of mass and gravity
 };
 
-/// The constants in Q6.25, the format of every cycle's first evaluation.
-using RoverStatics = StaticsConstants<StaticsQ>;
+/// The constants in each of the statics' formats.
+struct RoverStatics {
+  StaticsConstants<StaticsQ> fine;
+  StaticsConstants<StaticsMidQ> mid;
+  StaticsConstants<StaticsCoarseQ> coarse;
+};
 
 /// The constants of `params`, which validate_rover_params() accepted (for
 /// other parameters the values are meaningless; prepare() only keeps them

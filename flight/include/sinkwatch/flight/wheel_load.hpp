@@ -117,12 +117,9 @@ struct WheelLoadResult {
 };
 
 /// The quasi-static wheel loads with the drive torques' reactions; bounded,
-/// no allocation, every input checked.
-[[nodiscard]] WheelLoadResult wheel_loads(const RoverParams& params, const RoverAttitude& attitude,
-                                          const JointAnglesRad& joints, const DriveTorques& torques) noexcept;
-
-/// The same for parameters checked once per load (prepared_params.hpp):
-/// invalid_params unless prepared.ready(), and no validation per call.
+/// no allocation, every input checked. The rover parameters are checked once
+/// per load (prepare(), prepared_params.hpp): invalid_params unless
+/// prepared.ready(), and no validation per call.
 [[nodiscard]] WheelLoadResult wheel_loads(const PreparedParameters& prepared, const RoverAttitude& attitude,
                                           const JointAnglesRad& joints, const DriveTorques& torques) noexcept;
 
