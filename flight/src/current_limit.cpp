@@ -44,7 +44,7 @@ TorqueLimitResult torque_limit_of_valid(const Coefficients& c, Ratio dp_max_rati
 /// The limit from T_max: the motor model in the forward direction (a
 /// magnitude in the direction of motion: I0 adds).
 CurrentLimitResult limit_from_torque(const CorrectionResult& corr, const MotorParams& motor,
-                                     const MotorDivisors& divisors, TorqueLimitResult t) noexcept {
+                                     const MotorDivisors& divisors, const TorqueLimitResult& t) noexcept {
   // Each return builds the whole result (no zeroed result overwritten
   // field by field: the Cortex-M0 build cleared it with a memset per wheel).
   if (t.status != EstimateStatus::ok) {
@@ -86,9 +86,11 @@ CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams
 CurrentLimitResult detail::current_limit_of_valid(const CorrectionResult& corr, const MotorParams& motor,
                                                   const MotorDivisors& divisors, LengthM radius_m,
                                                   WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
-  return limit_from_torque(corr, motor, divisors,
-                           torque_limit_of_valid(corr.coefficients, corr.dp_max_ratio, radius_m, load_n,
-                                                 allowed_sinkage_m));
+  // By reference, built in place: passed by value, the 8-byte result was a
+  // memcpy per wheel on the Cortex-M0.
+  const TorqueLimitResult t =
+      torque_limit_of_valid(corr.coefficients, corr.dp_max_ratio, radius_m, load_n, allowed_sinkage_m);
+  return limit_from_torque(corr, motor, divisors, t);
 }
 
 }  // namespace flight
