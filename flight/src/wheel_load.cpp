@@ -6,6 +6,7 @@
 
 #include "sinkwatch/flight/rover_limits.hpp"
 
+#include "sinkwatch/fixedpoint/bounded.hpp"
 #include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/reciprocal.hpp"
@@ -32,6 +33,13 @@ using Coarse = StaticsCoarseQ;
 /// Q3.28: the projection slopes tan(pitch) / cos(roll) and tan(roll), at
 /// most 3.5 within the attitude limit of 1.05 rad.
 using K = fx::Q<std::int32_t, 28>;
+/// |tan(pitch) / cos(roll)| <= sin(1.05) / cos^2(1.05) = 3.5034 and
+/// |tan(roll)| <= tan(1.05) = 1.7433 within kMaxAttitudeLimitRad; the
+/// bounds leave room for their rounding (gravity_frame checks them).
+constexpr std::uint32_t kKxBound = static_cast<std::uint32_t>(fx::constant<K>(3.51).raw());
+constexpr std::uint32_t kKyBound = static_cast<std::uint32_t>(fx::constant<K>(1.75).raw());
+using Kx = fx::Bounded<K, kKxBound>;
+using Ky = fx::Bounded<K, kKyBound>;
 
 constexpr MassKg kMaxMass{fx::constant<MassQ>(limits::kMaxMassKg)};
 constexpr AccelMps2 kMaxGravity{fx::constant<AccelQ>(limits::kMaxGravityMps2)};
@@ -77,12 +85,15 @@ bool within(AngleRad v, AngleRad limit) noexcept { return (v <= limit) && (v.raw
 bool positive_at_most(AngleRad v, AngleRad limit) noexcept { return (v.raw() > 0) && (v <= limit); }
 
 template <typename P>
-using Point = StaticsPoint<P>;
-
-template <typename P>
 P length(LengthM v, fx::Status& st) noexcept { return fx::rescale<P>(v.q(), st); }
 template <typename P>
-Point<P> length(SidePointM p, fx::Status& st) noexcept { return Point<P>{length<P>(p.x_m, st), length<P>(p.z_m, st)}; }
+StaticsLength<P> link_length(LengthM v, fx::Status& st) noexcept {
+  return fx::bound_to<kLinkBound<P>>(length<P>(v, st), st);
+}
+template <typename P>
+StaticsLink<P> link(SidePointM p, fx::Status& st) noexcept {
+  return StaticsLink<P>{link_length<P>(p.x_m, st), link_length<P>(p.z_m, st)};
+}
 
 /// The rover's constants in P (rover_statics.hpp). Within every format for
 /// validated parameters (lengths of at most 4 m, a weight of at most 10 kN);
@@ -92,40 +103,26 @@ StaticsConstants<P> constants_in(const RoverParams& params, fx::Status& st) noex
   // Both are positive after validation; their product is exact in 64 bits.
   constexpr std::int32_t kWeightFracBits = MassQ::frac_bits + AccelQ::frac_bits;
   return StaticsConstants<P>{
-      length<P>(params.rocker_front_axle, st),
-      length<P>(params.rocker_bogie_pivot, st),
-      length<P>(params.bogie_middle_axle, st),
-      length<P>(params.bogie_rear_axle, st),
-      Point<P>{P::zero(), fx::neg(length<P>(params.wheel_radius_m, st), st)},
-      fx::mul(kHalf<P>, length<P>(params.track_width_m, st), st),
-      length<P>(params.com_x_m, st),
-      length<P>(params.com_y_m, st),
-      length<P>(params.com_z_m, st),
+      link<P>(params.rocker_front_axle, st),
+      link<P>(params.rocker_bogie_pivot, st),
+      link<P>(params.bogie_middle_axle, st),
+      link<P>(params.bogie_rear_axle, st),
+      fx::bound_to<kRadiusBound<P>>(length<P>(params.wheel_radius_m, st), st),
+      fx::bound_to<kLinkBound<P>>(fx::mul(kHalf<P>, length<P>(params.track_width_m, st), st), st),
+      link_length<P>(params.com_x_m, st),
+      link_length<P>(params.com_y_m, st),
+      link_length<P>(params.com_z_m, st),
       WheelLoadN{fx::mul<LoadQ>(params.mass_kg.q(), params.gravity_mps2.q(), st)},
       fx::normalised_reciprocal(
           static_cast<std::uint64_t>(params.mass_kg.raw()) * static_cast<std::uint64_t>(params.gravity_mps2.raw()),
           kWeightFracBits)};
 }
 
-/// Rotation in a side's plane, positive raising the +x end. Written into
-/// the caller's point: a returned Point (8 bytes, returned in memory) cost
-/// the Cortex-M0 a memcpy per use (docs/performance.md, session 13).
-template <typename P>
-void rotate(Point<P> p, fx::SinCos sc, Point<P>& out, fx::Status& st) noexcept {
-  out.x = fx::sub(fx::mul<P>(p.x, sc.cos, st), fx::mul<P>(p.z, sc.sin, st), st);
-  out.z = fx::add(fx::mul<P>(p.x, sc.sin, st), fx::mul<P>(p.z, sc.cos, st), st);
-}
-
-/// a += b.
-template <typename P>
-void shift_by(Point<P>& a, Point<P> b, fx::Status& st) noexcept {
-  a.x = fx::add(a.x, b.x, st);
-  a.z = fx::add(a.z, b.z, st);
-}
-
 /// v - z k: the coordinate of a point projected along gravity (section 3.2).
-template <typename P>
-P project(P v, P z, K k, fx::Status& st) noexcept { return fx::sub(v, fx::mul<P>(z, k, st), st); }
+template <typename P, std::uint32_t V, std::uint32_t Z, std::uint32_t KB>
+auto project(fx::Bounded<P, V> v, fx::Bounded<P, Z> z, fx::Bounded<K, KB> k) noexcept {
+  return fx::sub(v, fx::mul<P>(z, k));
+}
 
 WheelLoadResult failed(WheelLoadStatus status) noexcept {
   WheelLoadResult r{};
@@ -209,35 +206,44 @@ struct SideTorques {
   bool from_axle[3]{};
 };
 
-/// One side's wheel contacts and the bogie pivot, in the body frame.
+/// The rotated links' bound (fx::rotated): about 1.414 times a link's.
 template <typename P>
-struct SideContacts {
-  Point<P> pivot_b;
-  Point<P> front;
-  Point<P> middle;
-  Point<P> rear;
+constexpr std::uint32_t kRotatedLink = static_cast<std::uint32_t>(fx::detail::kRotatedBound<kLinkBound<P>>);
+template <typename P>
+using Radius = fx::Bounded<P, kRadiusBound<P>>;
+
+/// One side's axles and bogie pivot in the body frame (the contacts lie one
+/// wheel radius below the axles along the body z axis, section 2).
+template <typename P>
+struct SideAxles {
+  fx::BoundedPoint<P, kRotatedLink<P>> pivot;
+  fx::BoundedPoint<P, kRotatedLink<P>> front;
+  fx::BoundedPoint<P, 2U * kRotatedLink<P>> middle;  ///< the pivot plus its rotated link
+  fx::BoundedPoint<P, 2U * kRotatedLink<P>> rear;
 };
 
-/// The contacts one radius below the axles along the body z axis (section 2).
-/// (Sums of points are exact or saturate alike in either order.)
+/// a + b for two points.
+template <typename P, std::uint32_t A, std::uint32_t B>
+fx::BoundedPoint<P, A + B> sum(fx::BoundedPoint<P, A> a, fx::BoundedPoint<P, B> b) noexcept {
+  return fx::BoundedPoint<P, A + B>{fx::add(a.x, b.x), fx::add(a.z, b.z)};
+}
+
 template <typename P>
-void side_contacts(const StaticsConstants<P>& l, AngleRad rocker_rad, AngleRad bogie_rad, SideContacts<P>& c,
-                   fx::Status& st) noexcept {
+void side_axles(const StaticsConstants<P>& k, AngleRad rocker_rad, AngleRad bogie_rad, SideAxles<P>& axles,
+                fx::Status& st) noexcept {
   const fx::Q3_28 rocker = rocker_rad.q();
   // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
   const fx::Q3_28 bogie_abs = fx::add(rocker, bogie_rad.q(), st);
   // One range reduction per angle (fx::sincos), the bits of sin and cos apart.
-  const fx::SinCos rocker_sc = fx::sincos(rocker, st);
-  const fx::SinCos bogie_sc = fx::sincos(bogie_abs, st);
-  rotate(l.rocker_bogie, rocker_sc, c.pivot_b, st);
-  rotate(l.rocker_front, rocker_sc, c.front, st);
-  shift_by(c.front, l.down, st);
-  rotate(l.bogie_middle, bogie_sc, c.middle, st);
-  shift_by(c.middle, c.pivot_b, st);
-  shift_by(c.middle, l.down, st);
-  rotate(l.bogie_rear, bogie_sc, c.rear, st);
-  shift_by(c.rear, c.pivot_b, st);
-  shift_by(c.rear, l.down, st);
+  const fx::BoundedSinCos rocker_sc = fx::bound_sincos(fx::sincos(rocker, st), st);
+  const fx::BoundedSinCos bogie_sc = fx::bound_sincos(fx::sincos(bogie_abs, st), st);
+  fx::BoundedPoint<P, kRotatedLink<P>> link{};
+  fx::rotated(k.rocker_bogie, rocker_sc, axles.pivot);
+  fx::rotated(k.rocker_front, rocker_sc, axles.front);
+  fx::rotated(k.bogie_middle, bogie_sc, link);
+  axles.middle = sum(link, axles.pivot);
+  fx::rotated(k.bogie_rear, bogie_sc, link);
+  axles.rear = sum(link, axles.pivot);
 }
 
 /// Gravity's direction in the body frame (section 3.2).
@@ -245,31 +251,40 @@ struct GravityFrame {
   fx::Q1_30 sin_pitch;        ///< kept for the drawbar pulls (WheelLoadResult::sin_pitch)
   fx::Q1_30 normal_fraction;  ///< cos(pitch) cos(roll): the weight's share normal to the ground
   fx::NormalisedReciprocal inv_normal_fraction;
-  K kx;  ///< tan(pitch) / cos(roll)
-  K ky;  ///< tan(roll)
+  Kx kx;  ///< tan(pitch) / cos(roll)
+  Ky ky;  ///< tan(roll)
 };
+
+/// z of a wheel's contact, one radius below its axle.
+template <typename P, std::uint32_t M>
+auto contact_z(fx::BoundedPoint<P, M> axle, Radius<P> radius) noexcept {
+  return fx::sub(axle.z, radius);
+}
 
 /// x~ of a wheel: from its axle when its torque is used (the soil force
 /// reaches the link there, section 12), else from its contact.
-template <typename P>
-P wheel_xt(Point<P> contact, bool from_axle, P radius, K kx, fx::Status& st) noexcept {
-  const P z = from_axle ? fx::add(contact.z, radius, st) : contact.z;
-  return project(contact.x, z, kx, st);
+template <typename P, std::uint32_t M>
+auto wheel_xt(fx::BoundedPoint<P, M> axle, bool from_axle, Radius<P> radius, Kx kx) noexcept {
+  const auto below = contact_z(axle, radius);
+  using Z = decltype(below);
+  const Z z = from_axle ? fx::widen<Z::max_mag>(axle.z) : below;
+  return project(axle.x, z, kx);
 }
 
 /// The lateral positions and the torque terms of one side (sections 3.5 and
-/// 12.2), from its contacts and its bogie's projected span.
+/// 12.2), from its axles and its bogie's projected span.
 template <typename P>
-void side_lateral(const SideContacts<P>& c, P y_side, K ky, fx::NormalisedReciprocal inv_span, const SideTorques<P>& tq,
-                  SideLevers<P>& out, fx::Status& st) noexcept {
-  out.yt_front = project(y_side, c.front.z, ky, st);
-  const P yt_m = project(y_side, c.middle.z, ky, st);
-  const P yt_r = project(y_side, c.rear.z, ky, st);
+void side_lateral(const SideAxles<P>& axles, Radius<P> radius, StaticsLength<P> y_side, Ky ky,
+                  fx::NormalisedReciprocal inv_span, const SideTorques<P>& tq, SideLevers<P>& out,
+                  fx::Status& st) noexcept {
+  out.yt_front = project(y_side, contact_z(axles.front, radius), ky).q();
+  const auto yt_m = project(y_side, contact_z(axles.middle, radius), ky);
+  const auto yt_r = project(y_side, contact_z(axles.rear, radius), ky);
   // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
-  out.yt_bogie = fx::add(yt_r, fx::mul(out.beta, fx::sub(yt_m, yt_r, st), st), st);
+  out.yt_bogie = fx::add(yt_r.q(), fx::mul(out.beta, fx::sub(yt_m, yt_r).q(), st), st);
   out.front_couple = tq.couple[0];
   out.bogie_shift = fx::times_reciprocal<P>(fx::add(tq.couple[1], tq.couple[2], st), inv_span, st);
-  out.yt_rear_minus_middle = fx::sub(yt_r, yt_m, st);
+  out.yt_rear_minus_middle = fx::sub(yt_r, yt_m).q();
 }
 
 /// One side: its joint angles and the lateral position of its contacts.
@@ -277,33 +292,33 @@ template <typename P>
 struct SidePose {
   AngleRad rocker_rad;
   AngleRad bogie_rad;
-  P y_side;
+  StaticsLength<P> y_side;
 };
 
-/// One side's projected levers; false when a lever collapsed.
+/// One side's projected levers; false when a lever collapsed. The positions
+/// are bounded (fx::Bounded): every projected coordinate within +-30 m, a
+/// span or lever within +-59 m, inside Q6.25's +-64 m.
 template <typename P>
-bool side_levers(const StaticsConstants<P>& l, const SidePose<P>& pose, const GravityFrame& g, const SideTorques<P>& tq, SideLevers<P>& out,
-                 fx::Status& st) noexcept {
-  const K kx = g.kx;
-  const P radius = fx::neg(l.down.z, st);
-  SideContacts<P> c{};
-  side_contacts(l, pose.rocker_rad, pose.bogie_rad, c, st);
-  const P xt_f = wheel_xt(c.front, tq.from_axle[0], radius, kx, st);
-  const P xt_m = wheel_xt(c.middle, tq.from_axle[1], radius, kx, st);
-  const P xt_r = wheel_xt(c.rear, tq.from_axle[2], radius, kx, st);
-  const P xt_b = project(c.pivot_b.x, c.pivot_b.z, kx, st);
-  out.a = xt_f;
-  out.b = fx::neg(xt_b, st);
-  const P span = fx::sub(xt_m, xt_r, st);
-  const P lever = fx::add(out.a, out.b, st);
+bool side_levers(const StaticsConstants<P>& k, const SidePose<P>& pose, const GravityFrame& g,
+                 const SideTorques<P>& tq, SideLevers<P>& out, fx::Status& st) noexcept {
+  SideAxles<P> axles{};
+  side_axles(k, pose.rocker_rad, pose.bogie_rad, axles, st);
+  const auto xt_f = wheel_xt(axles.front, tq.from_axle[0], k.wheel_radius, g.kx);
+  const auto xt_m = wheel_xt(axles.middle, tq.from_axle[1], k.wheel_radius, g.kx);
+  const auto xt_r = wheel_xt(axles.rear, tq.from_axle[2], k.wheel_radius, g.kx);
+  const auto xt_b = project(axles.pivot.x, axles.pivot.z, g.kx);
+  out.a = xt_f.q();
+  out.b = fx::neg(xt_b).q();
+  const P span = fx::sub(xt_m, xt_r).q();
+  const P lever = fx::sub(xt_f, xt_b).q();
   if ((lever < kLeverGuard<P>) || (span < kLeverGuard<P>)) {
     return false;
   }
   // One division per lever, its quotients as products (section 12.5).
   out.lever = fx::normalised_reciprocal(lever);
   const fx::NormalisedReciprocal inv_span = fx::normalised_reciprocal(span);
-  out.beta = fx::times_reciprocal<P>(fx::sub(xt_b, xt_r, st), inv_span, st);
-  side_lateral(c, pose.y_side, g.ky, inv_span, tq, out, st);
+  out.beta = fx::times_reciprocal<P>(fx::sub(xt_b, xt_r).q(), inv_span, st);
+  side_lateral(axles, k.wheel_radius, pose.y_side, g.ky, inv_span, tq, out, st);
   return true;
 }
 
@@ -328,8 +343,9 @@ GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexce
   // Built whole (no zeroed frame filled in: a memset on the Cortex-M0).
   const fx::Q1_30 normal_fraction = fx::mul(pitch_sc.cos, roll_sc.cos, st);
   const fx::NormalisedReciprocal inv_normal_fraction = fx::normalised_reciprocal(normal_fraction);
-  const K kx = fx::times_reciprocal<K>(pitch_sc.sin, inv_normal_fraction, st);
-  const K ky = fx::times_reciprocal<K>(roll_sc.sin, fx::normalised_reciprocal(roll_sc.cos), st);
+  const Kx kx = fx::bound_to<kKxBound>(fx::times_reciprocal<K>(pitch_sc.sin, inv_normal_fraction, st), st);
+  const Ky ky =
+      fx::bound_to<kKyBound>(fx::times_reciprocal<K>(roll_sc.sin, fx::normalised_reciprocal(roll_sc.cos), st), st);
   return GravityFrame{pitch_sc.sin, normal_fraction, inv_normal_fraction, kx, ky};
 }
 
@@ -347,9 +363,10 @@ struct Body {
 template <typename P>
 Body<P> body_of(const StaticsConstants<P>& k, const GravityFrame& g, fx::Status& st) noexcept {
   const WheelLoadN weight_normal_n{fx::mul<LoadQ>(k.weight_n.q(), g.normal_fraction, st)};
-  const P com_xt = project(k.com_x, k.com_z, g.kx, st);
-  const P com_yt = project(k.com_y, k.com_z, g.ky, st);
-  return Body<P>{weight_normal_n, k.inv_weight, com_yt, fx::mul(kHalf<P>, com_xt, st)};
+  const auto com_xt = project(k.com_x, k.com_z, g.kx);
+  const auto com_yt = project(k.com_y, k.com_z, g.ky);
+  constexpr auto kHalfBounded = fx::bounded_raw<P, kHalf<P>.raw()>();
+  return Body<P>{weight_normal_n, k.inv_weight, com_yt.q(), fx::mul<P>(kHalfBounded, com_xt).q()};
 }
 
 /// Both sides' levers; false when one collapsed.
@@ -357,7 +374,7 @@ template <typename P>
 bool both_sides(const StaticsConstants<P>& k, const JointAnglesRad& joints, const GravityFrame& g,
                 const SideTorques<P> (&tq)[kSideCount], SideLevers<P> (&side)[kSideCount], fx::Status& st) noexcept {
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    const P y_side = (s == 0U) ? k.half_track : fx::neg(k.half_track, st);
+    const StaticsLength<P> y_side = (s == 0U) ? k.half_track : fx::neg(k.half_track);
     const SidePose<P> pose{joints.rocker_rad[s], joints.bogie_rad[s], y_side};
     if (!side_levers(k, pose, g, tq[s], side[s], st)) {
       return false;

@@ -1,0 +1,192 @@
+// bounded.hpp: 32-bit fixed-point values whose range is proven at compile
+// time, and the operations that need no saturation check because of it.
+//
+// A Bounded<Q, M> is a Q value with |raw| <= M. Each operation computes the
+// bound of its result from its operands' bounds (interval arithmetic on the
+// magnitudes, rounding included) and static_asserts that it fits the 32-bit
+// format, so at run time a sum is one integer add and a product one
+// 32 x 32 -> 64-bit product and its rounding: no test, no status. A value
+// enters through bound_to<M>(q, status), the one run-time check (beyond M it
+// saturates to +-M and raises overflow, as a checked operation would), or
+// from a compile-time constant (bounded_raw), and leaves through q().
+//
+// Rounding and results: the same bits as the checked operations of q.hpp
+// (fx::add, fx::sub, fx::neg, fx::mul: ties away from zero on the
+// magnitude, within 0.5 LSB of the output), which never saturate on these
+// operands because of the bounds; host_tests/fixedpoint/test_bounded.cpp and
+// props/fixedpoint/prop_bounded.cpp compare them bit for bit.
+//
+// rotated() is the one operation whose bound is not interval arithmetic: the
+// components of a point turned by an angle whose sine and cosine come from
+// fx::sincos (each within 1 LSB of Q1.30 of the exact value, so
+// sin^2 + cos^2 <= (1 + 2^-29)^2) are at most sqrt(2) times the point's
+// bound, plus one LSB for the two rounded products (docs/fixedpoint.md,
+// "Bounded values").
+#ifndef SINKWATCH_FIXEDPOINT_BOUNDED_HPP
+#define SINKWATCH_FIXEDPOINT_BOUNDED_HPP
+
+#include <cstdint>
+#include <type_traits>
+
+#include "sinkwatch/fixedpoint/inline.hpp"
+#include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/status.hpp"
+#include "sinkwatch/fixedpoint/trig.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
+
+namespace sinkwatch {
+namespace fx {
+
+/// The largest bound a 32-bit format holds: INT32_MAX (|INT32_MIN| is never
+/// a bound, so negation is exact).
+constexpr std::uint32_t kMaxBound = 0x7FFFFFFFU;
+
+/// A Q value of 32-bit storage with |raw()| <= MaxMag.
+template <typename QType, std::uint32_t MaxMag>
+class Bounded {
+  static_assert(std::is_same<typename QType::storage_type, std::int32_t>::value, "Bounded holds 32-bit formats");
+  static_assert(MaxMag <= kMaxBound, "a bound beyond the 32-bit format");
+
+ public:
+  using q_type = QType;
+  static constexpr std::uint32_t max_mag = MaxMag;
+
+  constexpr Bounded() noexcept = default;
+
+  /// The raw bits `raw`, which the caller has proven within MaxMag (only the
+  /// operations below and bound_to use it).
+  [[nodiscard]] SW_FX_INLINE static constexpr Bounded trusted(std::int32_t raw) noexcept { return Bounded(raw); }
+
+  [[nodiscard]] SW_FX_INLINE constexpr QType q() const noexcept { return QType::from_raw(raw_); }
+  [[nodiscard]] SW_FX_INLINE constexpr std::int32_t raw() const noexcept { return raw_; }
+
+ private:
+  SW_FX_INLINE constexpr explicit Bounded(std::int32_t raw) noexcept : raw_(raw) {}
+  std::int32_t raw_{0};
+};
+
+/// q within +-MaxMag; beyond it, +-MaxMag by its sign and overflow raised.
+template <std::uint32_t MaxMag, typename S, std::int32_t F>
+[[nodiscard]] SW_FX_INLINE constexpr Bounded<Q<S, F>, MaxMag> bound_to(Q<S, F> q, Status& status) noexcept {
+  constexpr auto kLimit = static_cast<std::int32_t>(MaxMag);
+  using B = Bounded<Q<S, F>, MaxMag>;
+  if (q.raw() > kLimit) {
+    status.raise(Flag::overflow);
+    return B::trusted(kLimit);
+  }
+  if (q.raw() < -kLimit) {
+    status.raise(Flag::overflow);
+    return B::trusted(-kLimit);
+  }
+  return B::trusted(q.raw());
+}
+
+/// The compile-time constant Raw * 2^-F, bounded by its own magnitude.
+template <typename QType, std::int32_t Raw>
+[[nodiscard]] constexpr Bounded<QType, static_cast<std::uint32_t>((Raw < 0) ? -Raw : Raw)> bounded_raw() noexcept {
+  static_assert(Raw > -static_cast<std::int32_t>(kMaxBound) - 1, "INT32_MIN has no 32-bit magnitude");
+  return Bounded<QType, static_cast<std::uint32_t>((Raw < 0) ? -Raw : Raw)>::trusted(Raw);
+}
+
+/// The same value under a looser bound (so that two branches share a type).
+template <std::uint32_t Wider, typename QType, std::uint32_t M>
+[[nodiscard]] SW_FX_INLINE constexpr Bounded<QType, Wider> widen(Bounded<QType, M> a) noexcept {
+  static_assert(Wider >= M, "widen loosens a bound, never tightens it");
+  return Bounded<QType, Wider>::trusted(a.raw());
+}
+
+/// a + b, exact: |a + b| <= A + B, which fits.
+template <typename QType, std::uint32_t A, std::uint32_t B>
+[[nodiscard]] SW_FX_INLINE constexpr Bounded<QType, A + B> add(Bounded<QType, A> a, Bounded<QType, B> b) noexcept {
+  static_assert(A <= (kMaxBound - B), "the sum's bound leaves the format");
+  return Bounded<QType, A + B>::trusted(static_cast<std::int32_t>(a.raw() + b.raw()));
+}
+
+/// a - b, exact: |a - b| <= A + B, which fits.
+template <typename QType, std::uint32_t A, std::uint32_t B>
+[[nodiscard]] SW_FX_INLINE constexpr Bounded<QType, A + B> sub(Bounded<QType, A> a, Bounded<QType, B> b) noexcept {
+  static_assert(A <= (kMaxBound - B), "the difference's bound leaves the format");
+  return Bounded<QType, A + B>::trusted(static_cast<std::int32_t>(a.raw() - b.raw()));
+}
+
+/// -a, exact (no bound reaches INT32_MIN).
+template <typename QType, std::uint32_t A>
+[[nodiscard]] SW_FX_INLINE constexpr Bounded<QType, A> neg(Bounded<QType, A> a) noexcept {
+  return Bounded<QType, A>::trusted(static_cast<std::int32_t>(-a.raw()));
+}
+
+namespace detail {
+/// The bound of a product's magnitude |a| |b| 2^-Shift rounded half up, for
+/// |a| <= A and |b| <= B: the rounding is monotonic, so it is A B's.
+template <std::uint32_t A, std::uint32_t B, std::int32_t Shift>
+constexpr std::uint64_t kProductBound = round_shift_const<Shift>(std::uint64_t{A} * std::uint64_t{B});
+
+/// a b 2^-Shift rounded to nearest, ties away from zero, as fx::mul rounds
+/// it, for a product whose rounded magnitude the caller has bounded below
+/// 2^31. One function per shift, whatever the bounds (they only live in the
+/// types): the statics' three formats share five.
+template <std::int32_t Shift>
+constexpr std::int32_t product_rounded(std::int32_t a, std::int32_t b) noexcept {
+  static_assert((Shift >= 0) && (Shift < 63), "a product rounded by a right shift");
+  // |a| |b| <= 2^62: the rounding's half cannot carry out of 64 bits.
+  const std::uint64_t product = wide::mul_full(magnitude32(a), magnitude32(b));
+  const auto bits = static_cast<std::int32_t>(round_shift_const<Shift>(product));  // below 2^31: the bound
+  return ((a < 0) != (b < 0)) ? -bits : bits;
+}
+}  // namespace detail
+
+/// a * b in Out (32-bit storage, no more fraction bits than a and b have
+/// together), rounded to nearest, ties away from zero: fx::mul's bits.
+template <typename Out, typename QA, std::uint32_t A, typename QB, std::uint32_t B>
+[[nodiscard]] SW_FX_INLINE constexpr auto mul(Bounded<QA, A> a, Bounded<QB, B> b) noexcept {
+  constexpr std::int32_t kShift = (QA::frac_bits + QB::frac_bits) - Out::frac_bits;
+  static_assert((kShift >= 0) && (kShift < 63), "a product rounded by a right shift");
+  constexpr std::uint64_t kBound = detail::kProductBound<A, B, kShift>;
+  static_assert(kBound <= kMaxBound, "the product's bound leaves the format");
+  return Bounded<Out, static_cast<std::uint32_t>(kBound)>::trusted(detail::product_rounded<kShift>(a.raw(), b.raw()));
+}
+
+/// fx::sincos's sine and cosine as bounded Q1.30 values (within 1 LSB of
+/// values of magnitude at most one; bound_to checks it all the same).
+struct BoundedSinCos {
+  Bounded<Q1_30, 0x40000000U> sin;
+  Bounded<Q1_30, 0x40000000U> cos;
+};
+
+[[nodiscard]] SW_FX_INLINE constexpr BoundedSinCos bound_sincos(SinCos sc, Status& status) noexcept {
+  return BoundedSinCos{bound_to<0x40000000U>(sc.sin, status), bound_to<0x40000000U>(sc.cos, status)};
+}
+
+namespace detail {
+/// Bound of x cos - z sin and x sin + z cos for |x|, |z| <= M: the exact
+/// value is at most |(x, z)| sqrt(sin^2 + cos^2) <= sqrt(2) M (1 + 2^-29),
+/// below M * 1.41422 (sqrt(2) (1 + 2^-29) = 1.4142135651...), and the two
+/// products round by half an LSB each.
+template <std::uint32_t M>
+constexpr std::uint64_t kRotatedBound = ((std::uint64_t{M} * 141422U) / 100000U) + 2U;
+}  // namespace detail
+
+/// A point (x forward, z up) of bounded coordinates.
+template <typename QType, std::uint32_t M>
+struct BoundedPoint {
+  Bounded<QType, M> x;
+  Bounded<QType, M> z;
+};
+
+/// p turned by the angle of `sc` (positive raising the +x end): x cos - z sin,
+/// x sin + z cos, each product rounded as fx::mul rounds it. Written into
+/// the caller's point (a returned 8-byte point is a copy on the Cortex-M0).
+template <typename QType, std::uint32_t M>
+SW_FX_INLINE void rotated(BoundedPoint<QType, M> p, BoundedSinCos sc,
+                          BoundedPoint<QType, static_cast<std::uint32_t>(detail::kRotatedBound<M>)>& out) noexcept {
+  constexpr std::uint64_t kBound = detail::kRotatedBound<M>;
+  static_assert(kBound <= kMaxBound, "the rotated point's bound leaves the format");
+  using Out = Bounded<QType, static_cast<std::uint32_t>(kBound)>;
+  out.x = Out::trusted(sub(mul<QType>(p.x, sc.cos), mul<QType>(p.z, sc.sin)).raw());
+  out.z = Out::trusted(add(mul<QType>(p.x, sc.sin), mul<QType>(p.z, sc.cos)).raw());
+}
+
+}  // namespace fx
+}  // namespace sinkwatch
+
+#endif  // SINKWATCH_FIXEDPOINT_BOUNDED_HPP

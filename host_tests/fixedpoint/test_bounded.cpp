@@ -1,0 +1,141 @@
+// Bounded values (fixedpoint/bounded.hpp): the entry check saturates and
+// reports, the bounds in the types are what the operations can reach, and
+// every operation gives the bits of the checked one it replaces.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <random>
+#include <type_traits>
+
+#include "sinkwatch/fixedpoint/bounded.hpp"
+#include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/trig.hpp"
+
+namespace {
+
+namespace fx = sinkwatch::fx;
+using Q6_25 = fx::Q<std::int32_t, 25>;
+using Q15_16 = fx::Q<std::int32_t, 16>;
+
+constexpr std::uint32_t kTwoMetres = 2U << 25U;  // 2.0 in Q6.25
+constexpr std::uint32_t kOneQ30 = 1U << 30U;     // 1.0 in Q1.30
+constexpr std::uint32_t kKx = 942229340U;        // about 3.51 in Q3.28
+
+/// A raw value uniformly in [-m, m].
+std::int32_t draw(std::mt19937& rng, std::uint32_t m) {
+  std::uniform_int_distribution<std::int32_t> d(-static_cast<std::int32_t>(m), static_cast<std::int32_t>(m));
+  return d(rng);
+}
+
+TEST(BoundedTest, BoundToKeepsValuesWithinTheBoundAndSaturatesBeyondIt) {
+  const std::int32_t m = static_cast<std::int32_t>(kTwoMetres);
+  for (const std::int32_t v : {0, 1, -1, m, -m, m - 1, -(m - 1)}) {
+    fx::Status st;
+    EXPECT_EQ(fx::bound_to<kTwoMetres>(Q6_25::from_raw(v), st).raw(), v);
+    EXPECT_TRUE(st.ok()) << v;
+  }
+  fx::Status above;
+  EXPECT_EQ(fx::bound_to<kTwoMetres>(Q6_25::from_raw(m + 1), above).raw(), m);
+  EXPECT_TRUE(above.has(fx::Flag::overflow));
+  fx::Status below;
+  EXPECT_EQ(fx::bound_to<kTwoMetres>(Q6_25::min(), below).raw(), -m);
+  EXPECT_TRUE(below.has(fx::Flag::overflow));
+}
+
+TEST(BoundedTest, ResultTypesCarryTheIntervalBounds) {
+  using Link = fx::Bounded<Q6_25, kTwoMetres>;
+  using Unit = fx::Bounded<fx::Q1_30, kOneQ30>;
+  static_assert(std::is_same<decltype(fx::add(Link{}, Link{})), fx::Bounded<Q6_25, 2U * kTwoMetres>>::value, "sum");
+  static_assert(std::is_same<decltype(fx::sub(Link{}, Link{})), fx::Bounded<Q6_25, 2U * kTwoMetres>>::value, "diff");
+  static_assert(std::is_same<decltype(fx::neg(Link{})), Link>::value, "neg");
+  static_assert(std::is_same<decltype(fx::mul<Q6_25>(Link{}, Unit{})), Link>::value, "a product by one or less");
+  // The bound is reached: the largest operands give it exactly.
+  const auto top = fx::mul<Q6_25>(fx::bounded_raw<Q6_25, static_cast<std::int32_t>(kTwoMetres)>(),
+                                   fx::bounded_raw<fx::Q1_30, -static_cast<std::int32_t>(kOneQ30)>());
+  EXPECT_EQ(top.raw(), -static_cast<std::int32_t>(kTwoMetres));
+  EXPECT_EQ(fx::widen<3U * kTwoMetres>(Link::trusted(5)).raw(), 5);
+}
+
+TEST(BoundedTest, SumsDifferencesAndNegationsEqualTheCheckedOperations) {
+  std::mt19937 rng(20261125U);
+  using Big = fx::Bounded<Q6_25, 0x3FFFFFFFU>;
+  for (int i = 0; i < 100000; ++i) {
+    const Big a = Big::trusted(draw(rng, Big::max_mag));
+    const Big b = Big::trusted(draw(rng, Big::max_mag));
+    fx::Status st;
+    EXPECT_EQ(fx::add(a, b).raw(), fx::add(a.q(), b.q(), st).raw());
+    EXPECT_EQ(fx::sub(a, b).raw(), fx::sub(a.q(), b.q(), st).raw());
+    EXPECT_EQ(fx::neg(a).raw(), fx::neg(a.q(), st).raw());
+    ASSERT_TRUE(st.ok());
+  }
+}
+
+/// Random operands within the bounds, with their extremes and the ties of
+/// the rounding weighted in; the product equals fx::mul's, which stays clean.
+template <typename Out, typename QA, std::uint32_t A, typename QB, std::uint32_t B>
+void expect_products_match(std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  constexpr std::int32_t kShift = (QA::frac_bits + QB::frac_bits) - Out::frac_bits;
+  const std::int32_t extremes_a[] = {0, 1, -1, static_cast<std::int32_t>(A), -static_cast<std::int32_t>(A)};
+  const std::int32_t extremes_b[] = {0, 1, -1, static_cast<std::int32_t>(B), -static_cast<std::int32_t>(B),
+                                     std::int32_t{1} << (kShift - 1), -(std::int32_t{1} << (kShift - 1)),
+                                     3 * (std::int32_t{1} << (kShift - 1))};
+  for (int i = 0; i < 200000; ++i) {
+    const std::int32_t ra = (i % 4 == 0) ? extremes_a[static_cast<std::size_t>(i / 4) % 5U] : draw(rng, A);
+    const std::int32_t rb = (i % 3 == 0) ? extremes_b[static_cast<std::size_t>(i / 3) % 8U] : draw(rng, B);
+    const auto a = fx::Bounded<QA, A>::trusted(ra);
+    const auto b = fx::Bounded<QB, B>::trusted((static_cast<std::uint32_t>(rb < 0 ? -rb : rb) <= B) ? rb : 1);
+    fx::Status st;
+    const Out checked = fx::mul<Out>(a.q(), b.q(), st);
+    const auto bounded = fx::mul<Out>(a, b);
+    ASSERT_EQ(bounded.raw(), checked.raw()) << ra << " * " << b.raw();
+    ASSERT_TRUE(st.ok());
+    ASSERT_LE(static_cast<std::uint32_t>(bounded.raw() < 0 ? -bounded.raw() : bounded.raw()),
+              decltype(bounded)::max_mag);
+  }
+}
+
+TEST(BoundedTest, ProductsEqualTheCheckedProductBitForBit) {
+  // The statics' products: a length by a sine or cosine, by a projection
+  // slope, by one half; in Q6.25 and in Q15.16.
+  expect_products_match<Q6_25, Q6_25, kTwoMetres, fx::Q1_30, kOneQ30>(1U);
+  expect_products_match<Q6_25, Q6_25, 4U * kTwoMetres, fx::Q3_28, kKx>(2U);
+  expect_products_match<Q6_25, Q6_25, 0x7FFFFFFFU, Q6_25, 1U << 24U>(3U);
+  expect_products_match<Q15_16, Q15_16, 0x7FFFFFFFU, fx::Q1_30, kOneQ30>(4U);
+  expect_products_match<Q15_16, Q15_16, 1U << 20U, fx::Q3_28, kKx>(5U);
+}
+
+TEST(BoundedTest, RotatedPointsStayWithinTheirBoundAndEqualTheCheckedRotation) {
+  using Link = fx::Bounded<Q6_25, kTwoMetres>;
+  using Rotated = fx::BoundedPoint<Q6_25, static_cast<std::uint32_t>(fx::detail::kRotatedBound<kTwoMetres>)>;
+  const std::int32_t m = static_cast<std::int32_t>(kTwoMetres);
+  std::mt19937 rng(7U);
+  std::uint32_t largest = 0U;
+  // Angles over two turns, the corners of the link's square (the largest
+  // norm) and random points.
+  for (std::int32_t k = -20000; k <= 20000; ++k) {
+    const fx::Q3_28 angle = fx::Q3_28::from_raw(k * 40000);
+    fx::Status st;
+    const fx::SinCos sc = fx::sincos(angle, st);
+    const fx::BoundedSinCos bsc = fx::bound_sincos(sc, st);
+    ASSERT_TRUE(st.ok());
+    const std::int32_t x = (k % 3 == 0) ? draw(rng, kTwoMetres) : (((k & 1) != 0) ? m : -m);
+    const std::int32_t z = (k % 3 == 0) ? draw(rng, kTwoMetres) : (((k & 2) != 0) ? m : -m);
+    Rotated out{};
+    fx::rotated(fx::BoundedPoint<Q6_25, kTwoMetres>{Link::trusted(x), Link::trusted(z)}, bsc, out);
+    const Q6_25 cx = fx::sub(fx::mul<Q6_25>(Q6_25::from_raw(x), sc.cos, st), fx::mul<Q6_25>(Q6_25::from_raw(z), sc.sin, st), st);
+    const Q6_25 cz = fx::add(fx::mul<Q6_25>(Q6_25::from_raw(x), sc.sin, st), fx::mul<Q6_25>(Q6_25::from_raw(z), sc.cos, st), st);
+    ASSERT_EQ(out.x.raw(), cx.raw());
+    ASSERT_EQ(out.z.raw(), cz.raw());
+    for (const std::int32_t v : {out.x.raw(), out.z.raw()}) {
+      const auto mag = static_cast<std::uint32_t>(v < 0 ? -v : v);
+      ASSERT_LE(mag, Rotated{}.x.max_mag);
+      largest = (mag > largest) ? mag : largest;
+    }
+  }
+  // The bound is tight: it is sqrt(2) times 2 m plus 2^-17 of it, and the
+  // corners at 45 degrees come within that margin.
+  EXPECT_GT(largest, Rotated{}.x.max_mag - 1024U);
+}
+
+}  // namespace
