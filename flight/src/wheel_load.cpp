@@ -237,13 +237,13 @@ void side_axles(const StaticsConstants<P>& k, AngleRad rocker_rad, AngleRad bogi
   // One range reduction per angle (fx::sincos), the bits of sin and cos apart.
   const fx::BoundedSinCos rocker_sc = fx::bound_sincos(fx::sincos(rocker, st), st);
   const fx::BoundedSinCos bogie_sc = fx::bound_sincos(fx::sincos(bogie_abs, st), st);
-  fx::BoundedPoint<P, kRotatedLink<P>> link{};
+  fx::BoundedPoint<P, kRotatedLink<P>> turned{};
   fx::rotated(k.rocker_bogie, rocker_sc, axles.pivot);
   fx::rotated(k.rocker_front, rocker_sc, axles.front);
-  fx::rotated(k.bogie_middle, bogie_sc, link);
-  axles.middle = sum(link, axles.pivot);
-  fx::rotated(k.bogie_rear, bogie_sc, link);
-  axles.rear = sum(link, axles.pivot);
+  fx::rotated(k.bogie_middle, bogie_sc, turned);
+  axles.middle = sum(turned, axles.pivot);
+  fx::rotated(k.bogie_rear, bogie_sc, turned);
+  axles.rear = sum(turned, axles.pivot);
 }
 
 /// Gravity's direction in the body frame (section 3.2).
@@ -261,6 +261,14 @@ auto contact_z(fx::BoundedPoint<P, M> axle, Radius<P> radius) noexcept {
   return fx::sub(axle.z, radius);
 }
 
+/// One side's contact heights.
+template <typename P>
+struct ContactHeights {
+  fx::Bounded<P, kRotatedLink<P> + kRadiusBound<P>> front;
+  fx::Bounded<P, (2U * kRotatedLink<P>) + kRadiusBound<P>> middle;
+  fx::Bounded<P, (2U * kRotatedLink<P>) + kRadiusBound<P>> rear;
+};
+
 /// x~ of a wheel: from its axle when its torque is used (the soil force
 /// reaches the link there, section 12), else from its contact.
 template <typename P, std::uint32_t M>
@@ -272,14 +280,13 @@ auto wheel_xt(fx::BoundedPoint<P, M> axle, bool from_axle, Radius<P> radius, Kx 
 }
 
 /// The lateral positions and the torque terms of one side (sections 3.5 and
-/// 12.2), from its axles and its bogie's projected span.
+/// 12.2), from its contacts' heights and its bogie's projected span.
 template <typename P>
-void side_lateral(const SideAxles<P>& axles, Radius<P> radius, StaticsLength<P> y_side, Ky ky,
-                  fx::NormalisedReciprocal inv_span, const SideTorques<P>& tq, SideLevers<P>& out,
-                  fx::Status& st) noexcept {
-  out.yt_front = project(y_side, contact_z(axles.front, radius), ky).q();
-  const auto yt_m = project(y_side, contact_z(axles.middle, radius), ky);
-  const auto yt_r = project(y_side, contact_z(axles.rear, radius), ky);
+void side_lateral(const ContactHeights<P>& z, StaticsLength<P> y_side, Ky ky, fx::NormalisedReciprocal inv_span,
+                  const SideTorques<P>& tq, SideLevers<P>& out, fx::Status& st) noexcept {
+  out.yt_front = project(y_side, z.front, ky).q();
+  const auto yt_m = project(y_side, z.middle, ky);
+  const auto yt_r = project(y_side, z.rear, ky);
   // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
   out.yt_bogie = fx::add(yt_r.q(), fx::mul(out.beta, fx::sub(yt_m, yt_r).q(), st), st);
   out.front_couple = tq.couple[0];
@@ -318,7 +325,9 @@ bool side_levers(const StaticsConstants<P>& k, const SidePose<P>& pose, const Gr
   out.lever = fx::normalised_reciprocal(lever);
   const fx::NormalisedReciprocal inv_span = fx::normalised_reciprocal(span);
   out.beta = fx::times_reciprocal<P>(fx::sub(xt_b, xt_r).q(), inv_span, st);
-  side_lateral(axles, k.wheel_radius, pose.y_side, g.ky, inv_span, tq, out, st);
+  const ContactHeights<P> z{contact_z(axles.front, k.wheel_radius), contact_z(axles.middle, k.wheel_radius),
+                            contact_z(axles.rear, k.wheel_radius)};
+  side_lateral(z, pose.y_side, g.ky, inv_span, tq, out, st);
   return true;
 }
 
@@ -365,8 +374,8 @@ Body<P> body_of(const StaticsConstants<P>& k, const GravityFrame& g, fx::Status&
   const WheelLoadN weight_normal_n{fx::mul<LoadQ>(k.weight_n.q(), g.normal_fraction, st)};
   const auto com_xt = project(k.com_x, k.com_z, g.kx);
   const auto com_yt = project(k.com_y, k.com_z, g.ky);
-  constexpr auto kHalfBounded = fx::bounded_raw<P, kHalf<P>.raw()>();
-  return Body<P>{weight_normal_n, k.inv_weight, com_yt.q(), fx::mul<P>(kHalfBounded, com_xt).q()};
+  constexpr auto kHalfRaw = static_cast<std::int32_t>(1U << static_cast<std::uint32_t>(P::frac_bits - 1));
+  return Body<P>{weight_normal_n, k.inv_weight, com_yt.q(), fx::mul<P>(fx::bounded_raw<P, kHalfRaw>(), com_xt).q()};
 }
 
 /// Both sides' levers; false when one collapsed.
