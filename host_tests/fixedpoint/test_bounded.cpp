@@ -89,6 +89,9 @@ void expect_products_match(std::uint32_t seed) {
     const Out checked = fx::mul<Out>(a.q(), b.q(), st);
     const auto bounded = fx::mul<Out>(a, b);
     ASSERT_EQ(bounded.raw(), checked.raw()) << ra << " * " << b.raw();
+    // Both forms of the rounding, whichever this core uses.
+    ASSERT_EQ(fx::detail::product_rounded_by_magnitudes<kShift>(a.raw(), b.raw()), checked.raw());
+    ASSERT_EQ(fx::detail::product_rounded_signed<kShift>(a.raw(), b.raw()), checked.raw());
     ASSERT_TRUE(st.ok());
     ASSERT_LE(static_cast<std::uint32_t>(bounded.raw() < 0 ? -bounded.raw() : bounded.raw()),
               decltype(bounded)::max_mag);
@@ -123,8 +126,10 @@ TEST(BoundedTest, RotatedPointsStayWithinTheirBoundAndEqualTheCheckedRotation) {
     const std::int32_t z = (k % 3 == 0) ? draw(rng, kTwoMetres) : (((k & 2) != 0) ? m : -m);
     Rotated out{};
     fx::rotated(fx::BoundedPoint<Q6_25, kTwoMetres>{Link::trusted(x), Link::trusted(z)}, bsc, out);
-    const Q6_25 cx = fx::sub(fx::mul<Q6_25>(Q6_25::from_raw(x), sc.cos, st), fx::mul<Q6_25>(Q6_25::from_raw(z), sc.sin, st), st);
-    const Q6_25 cz = fx::add(fx::mul<Q6_25>(Q6_25::from_raw(x), sc.sin, st), fx::mul<Q6_25>(Q6_25::from_raw(z), sc.cos, st), st);
+    const Q6_25 qx = Q6_25::from_raw(x);
+    const Q6_25 qz = Q6_25::from_raw(z);
+    const Q6_25 cx = fx::sub(fx::mul<Q6_25>(qx, sc.cos, st), fx::mul<Q6_25>(qz, sc.sin, st), st);
+    const Q6_25 cz = fx::add(fx::mul<Q6_25>(qx, sc.sin, st), fx::mul<Q6_25>(qz, sc.cos, st), st);
     ASSERT_EQ(out.x.raw(), cx.raw());
     ASSERT_EQ(out.z.raw(), cz.raw());
     for (const std::int32_t v : {out.x.raw(), out.z.raw()}) {
