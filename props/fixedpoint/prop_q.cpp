@@ -31,6 +31,7 @@ using QInt32 = fx::Q<std::int32_t, 0>;
 using QInt64 = fx::Q<std::int64_t, 0>;
 using Q1_62 = fx::Q<std::int64_t, 62>;
 using Q7_24 = fx::Q<std::int32_t, 24>;
+using Q23_40 = fx::Q<std::int64_t, 40>;
 
 // ------------------------------------------------------------ operations
 
@@ -419,6 +420,10 @@ FX_MIXED_MUL_DIV(Q1_30_from_Q31_32_Q15_16, fx::Q1_30, fx::Q31_32, fx::Q15_16)
 FX_MIXED_MUL_DIV(Q1_62_from_Q31_32_Q31_32, Q1_62, fx::Q31_32, fx::Q31_32)
 FX_MIXED_MUL_DIV(Int64_from_Q1_62_Int32, QInt64, Q1_62, QInt32)
 FX_MIXED_MUL_DIV(Q7_24_from_Q1_30_Q1_30, Q7_24, fx::Q1_30, fx::Q1_30)
+// Two 32-bit operands into 64 bits: the products that cannot saturate
+// (exact with no shift, as Eq. 11's Q23.40 terms; INT32_MIN squared is 2^62).
+FX_MIXED_MUL_DIV(Int64_from_Int32_Int32, QInt64, QInt32, QInt32)
+FX_MIXED_MUL_DIV(Q23_40_from_Q7_24_Q15_16, Q23_40, Q7_24, fx::Q15_16)
 
 #define FX_MIXED_RESCALE(Name, Out, In)                                          \
   RC_GTEST_PROP(FxMixed, Rescale_##Name, ()) {                                   \

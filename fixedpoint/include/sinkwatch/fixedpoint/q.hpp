@@ -424,7 +424,17 @@ template <typename Out, typename SA, std::int32_t FA, typename SB, std::int32_t 
     // adding the half cannot carry out) and a constant shift (what it saves
     // per step: docs/performance.md, eighth and ninth rounds).
     const std::uint64_t product = wide::mul_full(detail::magnitude32(a.raw()), detail::magnitude32(b.raw()));
-    return detail::finish_64<Out>(negative, true, detail::round_shift_const<shift>(product), status);
+    const std::uint64_t mag = detail::round_shift_const<shift>(product);
+    if constexpr (std::is_same<typename Out::storage_type, std::int64_t>::value) {
+      // |a b| <= 2^62 < 2^63 - 1 whatever the shift: a 64-bit result cannot
+      // saturate, so no test (the Q23.40 and Q15.48 products of Eq. 11 and
+      // the torque limit; docs/performance.md, session 17).
+      static_cast<void>(status);
+      const auto m = static_cast<std::int64_t>(mag);
+      return Out::from_raw(negative ? -m : m);
+    } else {
+      return detail::finish_64<Out>(negative, true, mag, status);
+    }
   } else if constexpr (std::is_same<W, std::uint64_t>::value) {
     return detail::finish_product<Out, W>(
         negative, detail::wide_product<W>(detail::magnitude(a.raw()), detail::magnitude(b.raw())), shift, status);
