@@ -304,10 +304,13 @@ struct SidePose {
 
 /// One side's projected levers; false when a lever collapsed. The positions
 /// are bounded (fx::Bounded): every projected coordinate within +-30 m, a
-/// span or lever within +-59 m, inside Q6.25's +-64 m.
+/// span or lever within +-59 m, inside Q6.25's +-64 m. Out of line: inlined
+/// into the three passes, its values took loads_of_valid's frame from 512 to
+/// 600 bytes on the Cortex-M0 and sw_step's stack to 1,064 B, beyond the
+/// 1 KiB budget; out of line it is 1,024 B (docs/performance.md, session 17).
 template <typename P>
-bool side_levers(const StaticsConstants<P>& k, const SidePose<P>& pose, const GravityFrame& g,
-                 const SideTorques<P>& tq, SideLevers<P>& out, fx::Status& st) noexcept {
+[[gnu::noinline]] bool side_levers(const StaticsConstants<P>& k, const SidePose<P>& pose, const GravityFrame& g,
+                                   const SideTorques<P>& tq, SideLevers<P>& out, fx::Status& st) noexcept {
   SideAxles<P> axles{};
   side_axles(k, pose.rocker_rad, pose.bogie_rad, axles, st);
   const auto xt_f = wheel_xt(axles.front, tq.from_axle[0], k.wheel_radius, g.kx);
