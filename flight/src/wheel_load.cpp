@@ -229,21 +229,23 @@ fx::BoundedPoint<P, A + B> sum(fx::BoundedPoint<P, A> a, fx::BoundedPoint<P, B> 
 }
 
 template <typename P>
-void side_axles(const StaticsConstants<P>& k, AngleRad rocker_rad, AngleRad bogie_rad, SideAxles<P>& axles,
-                fx::Status& st) noexcept {
+SideAxles<P> side_axles(const StaticsConstants<P>& k, AngleRad rocker_rad, AngleRad bogie_rad, fx::Status& st) noexcept {
   const fx::Q3_28 rocker = rocker_rad.q();
   // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
   const fx::Q3_28 bogie_abs = fx::add(rocker, bogie_rad.q(), st);
   // One range reduction per angle (fx::sincos), the bits of sin and cos apart.
   const fx::BoundedSinCos rocker_sc = fx::bound_sincos(fx::sincos(rocker, st), st);
   const fx::BoundedSinCos bogie_sc = fx::bound_sincos(fx::sincos(bogie_abs, st), st);
-  fx::BoundedPoint<P, kRotatedLink<P>> turned{};
-  fx::rotated(k.rocker_bogie, rocker_sc, axles.pivot);
-  fx::rotated(k.rocker_front, rocker_sc, axles.front);
-  fx::rotated(k.bogie_middle, bogie_sc, turned);
-  axles.middle = sum(turned, axles.pivot);
-  fx::rotated(k.bogie_rear, bogie_sc, turned);
-  axles.rear = sum(turned, axles.pivot);
+  // Built whole from its points (a zeroed record filled in is a memset).
+  fx::BoundedPoint<P, kRotatedLink<P>> pivot{};
+  fx::BoundedPoint<P, kRotatedLink<P>> front{};
+  fx::BoundedPoint<P, kRotatedLink<P>> middle{};
+  fx::BoundedPoint<P, kRotatedLink<P>> rear{};
+  fx::rotated(k.rocker_bogie, rocker_sc, pivot);
+  fx::rotated(k.rocker_front, rocker_sc, front);
+  fx::rotated(k.bogie_middle, bogie_sc, middle);
+  fx::rotated(k.bogie_rear, bogie_sc, rear);
+  return SideAxles<P>{pivot, front, sum(middle, pivot), sum(rear, pivot)};
 }
 
 /// Gravity's direction in the body frame (section 3.2).
@@ -311,8 +313,7 @@ struct SidePose {
 template <typename P>
 [[gnu::noinline]] bool side_levers(const StaticsConstants<P>& k, const SidePose<P>& pose, const GravityFrame& g,
                                    const SideTorques<P>& tq, SideLevers<P>& out, fx::Status& st) noexcept {
-  SideAxles<P> axles{};
-  side_axles(k, pose.rocker_rad, pose.bogie_rad, axles, st);
+  const SideAxles<P> axles = side_axles(k, pose.rocker_rad, pose.bogie_rad, st);
   const auto xt_f = wheel_xt(axles.front, tq.from_axle[0], k.wheel_radius, g.kx);
   const auto xt_m = wheel_xt(axles.middle, tq.from_axle[1], k.wheel_radius, g.kx);
   const auto xt_r = wheel_xt(axles.rear, tq.from_axle[2], k.wheel_radius, g.kx);
