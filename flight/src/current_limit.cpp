@@ -26,15 +26,18 @@ fx::ScaledMagnitude load_times(fx::Q<std::int64_t, 48> lever, WheelLoadN load_n)
 /// torque_limit() for inputs check_estimator_inputs() accepts.
 TorqueLimitResult torque_limit_of_valid(const Coefficients& c, Ratio dp_max_ratio, LengthM radius_m,
                                         WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
-  fx::Status st;
   // T_max = W L / C1 with the lever L = r (DP_max/W + C3) + C2 z_max, one
-  // division (docs/flight.md, "Current limit"). L is exact in Q15.48: each of
-  // its products is at most 2^57 raw, their sum below 2^58.
-  using Lever = fx::Q<std::int64_t, 48>;
-  const Lever traction_lever = fx::add(fx::mul<Lever>(radius_m.q(), dp_max_ratio.q(), st),
-                                       fx::mul<Lever>(radius_m.q(), c.c3.q(), st), st);
-  const Lever lever = fx::add(traction_lever, fx::mul<Lever>(c.c2.q(), allowed_sinkage_m.q(), st), st);
-  const LoadQ t_max = fx::divide_normalised<LoadQ>(load_times(lever, load_n), fx::to_scaled(c.c1.q()), st);
+  // division (docs/flight.md, "Current limit"). L is exact in Q15.48: for
+  // accepted inputs (0 < r <= 2 m, |C2| <= 4, |C3| <= 1) and any 32-bit
+  // DP_max/W and z_max its products are at most 2^56, 2^49 and 2^57 raw and
+  // their sum below 2^58, so the sum is plain 64-bit arithmetic: the bits of
+  // the saturating sum it replaced, which could not saturate either.
+  const std::int64_t lever = (fx::wide::mul_32x32_64(radius_m.raw(), dp_max_ratio.raw()) +
+                              fx::wide::mul_32x32_64(radius_m.raw(), c.c3.raw())) +
+                             fx::wide::mul_32x32_64(c.c2.raw(), allowed_sinkage_m.raw());
+  fx::Status st;
+  const LoadQ t_max = fx::divide_normalised<LoadQ>(load_times(fx::Q<std::int64_t, 48>::from_raw(lever), load_n),
+                                                   fx::to_scaled(c.c1.q()), st);
   if (!st.ok()) {
     return TorqueLimitResult{TorqueNm::zero(), EstimateStatus::overflow};
   }

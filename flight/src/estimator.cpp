@@ -2,7 +2,9 @@
 // bound per step.
 #include "sinkwatch/flight/estimator.hpp"
 
+#include "sinkwatch/fixedpoint/bounded.hpp"
 #include "sinkwatch/fixedpoint/normalised_quotient.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
 
 #include "of_valid.hpp"
 
@@ -34,19 +36,24 @@ SinkageResult sinkage_from_pull(const Coefficients& c, LengthM radius_m, WheelLo
 
 SinkageResult detail::sinkage_of_valid(const Coefficients& c, LengthM radius_m, WheelLoadN load_n,
                                        TorqueNm torque_nm, DrawbarPullN drawbar_pull_n) noexcept {
-  fx::Status st;
   // z = (C1 T - r C3 W - r DP) / (C2 W): one division, its operands in
   // Q23.40 on 64 bits (docs/flight.md, "Sinkage"). C1 T, r DP and C2 W are
-  // exact products; r C3 (|r C3| <= 2) is rounded to Q2.29 before it meets
-  // W, so r C3 W is one product rounded to Q23.40. Every term is below 2^57.5
-  // raw, their sum below 2^59: no intermediate can overflow.
+  // exact products; r C3 is rounded to Q2.29 before it meets W, so r C3 W is
+  // one product rounded to Q23.40. For inputs check_estimator_inputs()
+  // accepts (|C1|, |C2| <= 4, |C3| <= 1, 0 < r <= 2 m; T, DP and W any
+  // 32-bit value) the terms are at most 2^57, 2^56 and 2^56 + 1 raw
+  // (|r C3| <= 2, 2^30 in Q2.29), their sum below 2^58: no intermediate can
+  // overflow, so the sum is plain 64-bit arithmetic without saturation
+  // tests, and each product is fx::mul's rounding of the exact product
+  // (ties away from zero), bit for bit the checked chain it replaced.
+  const std::int64_t drive = fx::wide::mul_32x32_64(c.c1.raw(), torque_nm.raw());
+  const std::int64_t pull_moment = fx::wide::mul_32x32_64(radius_m.raw(), drawbar_pull_n.raw());
+  const std::int32_t r_c3 = fx::detail::product_rounded<(2 * LengthQ::frac_bits) - 29>(radius_m.raw(), c.c3.raw());
+  const std::int64_t offset_moment = fx::detail::wide_product_rounded<(29 + LoadQ::frac_bits) - 40>(r_c3, load_n.raw());
   using Moment = fx::Q<std::int64_t, 40>;
-  const Moment drive = fx::mul<Moment>(c.c1.q(), torque_nm.q(), st);
-  const Moment pull_moment = fx::mul<Moment>(radius_m.q(), drawbar_pull_n.q(), st);
-  const auto r_c3 = fx::mul<fx::Q<std::int32_t, 29>>(radius_m.q(), c.c3.q(), st);
-  const Moment offset_moment = fx::mul<Moment>(r_c3, load_n.q(), st);
-  const Moment numerator = fx::sub(fx::sub(drive, pull_moment, st), offset_moment, st);
-  const Moment denominator = fx::mul<Moment>(c.c2.q(), load_n.q(), st);
+  const Moment numerator = Moment::from_raw((drive - pull_moment) - offset_moment);
+  const Moment denominator = Moment::from_raw(fx::wide::mul_32x32_64(c.c2.raw(), load_n.raw()));
+  fx::Status st;
   const LengthQ z = fx::divide_normalised<LengthQ>(numerator, denominator, st);
   if (!st.ok()) {
     return SinkageResult{SinkageM::zero(), EstimateStatus::overflow};

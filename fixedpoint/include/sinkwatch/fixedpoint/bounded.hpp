@@ -150,6 +150,19 @@ SW_FX_INLINE constexpr std::int32_t product_rounded_signed(std::int32_t a, std::
   return static_cast<std::int32_t>(floored - kOffsetAfterShift);
 }
 
+/// a b 2^-Shift rounded to nearest, ties away from zero (fx::mul's bits),
+/// as a 64-bit value: |a b| <= 2^62, so the half added to the magnitude
+/// cannot carry out and the result always fits. For products whose
+/// operands' bounds the caller has proven but whose result needs more than
+/// 32 bits (Eq. 11's r C3 W in Q23.40).
+template <std::int32_t Shift>
+SW_FX_INLINE constexpr std::int64_t wide_product_rounded(std::int32_t a, std::int32_t b) noexcept {
+  static_assert((Shift >= 0) && (Shift < 63), "a product rounded by a right shift of 0 to 62 bits");
+  const std::uint64_t mag = round_shift_const<Shift>(wide::mul_32x32_64(magnitude32(a), magnitude32(b)));
+  const auto m = static_cast<std::int64_t>(mag);  // <= 2^62
+  return ((a < 0) != (b < 0)) ? -m : m;
+}
+
 /// The bounded product's rounding, by the core's cheaper form (the same
 /// bits; test_bounded checks both on every target). One function per shift,
 /// whatever the bounds (they only live in the types), and not forced inline:
