@@ -42,54 +42,62 @@ Ratio lerp(Ratio a, Ratio b, std::uint32_t fraction) noexcept {
   return Ratio(RatioQ::from_raw(static_cast<std::int32_t>(value)));  // between a and b
 }
 
-/// f = offset / width as raw Q0.32, bit for bit fx::div<WideQ>(offset, width).
-/// With a = offset 2^shift < v = width 2^shift and m = floor((2^63 - 1)/v),
-/// q' = floor(a m / 2^31) is the quotient q = floor(a 2^32 / v) or up to three
-/// below it (m > (2^63 - 1)/v - 1 and a < 2^32), so the remainder
-/// a 2^32 - q' v (below 4 v < 2^34) corrects it in at most three steps. Then
-/// q is rounded half up, as fx::div rounds a magnitude: below 2^32, since
-/// offset < width < 2^31 raw keeps offset / width below 1 - 2^-31. False when there is no
-/// segment or the offset is not in [0, width) (a table validate() refuses).
-bool fraction_in(LoadQ offset, SegmentWidth width, std::uint32_t& fraction) noexcept {
-  // The offset's sign and its place below the width are defensive: the
-  // segment search gives W_k <= W < W_k+1; a branch no input takes.
-  const std::uint64_t shifted =
-      fx::wide::shl(static_cast<std::uint64_t>(fx::detail::magnitude(offset.raw())), width.shift);
-  if ((width.normalised == 0U) || (offset.raw() < 0) || (shifted >= width.normalised)) {
-    return false;
-  }
-  const auto a = static_cast<std::uint32_t>(shifted);
+/// f = offset / width as raw Q0.32, bit for bit fx::div<WideQ>(offset, width),
+/// for 0 <= offset < width (raw Q15.16; the caller checks it). Then
+/// a = offset 2^shift < v = width 2^shift < 2^32 is exact in 32 bits. With
+/// m = floor((2^63 - 1)/v), q' = floor(a m / 2^31) is the quotient
+/// q = floor(a 2^32 / v) or up to three below it (m > (2^63 - 1)/v - 1 and
+/// a < 2^32), so the remainder a 2^32 - q' v (below 4 v < 2^34) corrects it
+/// in at most three steps. Then q is rounded half up, as fx::div rounds a
+/// magnitude: below 2^32, since offset < width < 2^31 raw keeps
+/// offset / width below 1 - 2^-31.
+std::uint32_t fraction_of(std::uint32_t offset, const SegmentWidth& width) noexcept {
+  const std::uint32_t a = offset << width.shift;  // < width.normalised
   std::uint64_t quotient = fx::wide::mul_32x32_64(a, width.mantissa) >> 31U;  // < 2^32
   constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
   std::uint64_t remainder =
-      (shifted * kWord) - fx::wide::mul_32x32_64(static_cast<std::uint32_t>(quotient), width.normalised);
+      (std::uint64_t{a} * kWord) - fx::wide::mul_32x32_64(static_cast<std::uint32_t>(quotient), width.normalised);
   for (std::uint32_t step = 0U; step < 3U; ++step) {
     const bool short_by_one = remainder >= width.normalised;
     quotient += short_by_one ? 1U : 0U;
     remainder -= short_by_one ? width.normalised : 0U;
   }
   const bool round_up = remainder >= (width.normalised - remainder);
-  fraction = static_cast<std::uint32_t>(quotient + (round_up ? 1U : 0U));
-  return true;
+  return static_cast<std::uint32_t>(quotient + (round_up ? 1U : 0U));
+}
+
+/// W - W_k as an exact unsigned offset when 0 <= W - W_k < width (raw
+/// Q15.16), in `offset`; false otherwise (no segment, or a load outside it:
+/// a table validate() refuses; the segment search gives W_k <= W < W_k+1).
+/// W >= W_k makes the difference of the two 32-bit values non-negative and
+/// below 2^32, so the modular unsigned difference is exact.
+bool offset_in(WheelLoadN load_n, WheelLoadN start_n, const SegmentWidth& width, std::uint32_t& offset) noexcept {
+  if ((width.normalised == 0U) || (load_n < start_n)) {
+    return false;
+  }
+  offset = static_cast<std::uint32_t>(load_n.raw()) - static_cast<std::uint32_t>(start_n.raw());
+  return offset < (width.normalised >> width.shift);  // the width, exactly
 }
 
 CorrectionResult from_row(const CorrectionRow& row, LoadClamp clamp) noexcept {
   return CorrectionResult{Coefficients{row.c1, row.c2, row.c3}, row.dp_max_ratio, clamp, EstimateStatus::ok};
 }
 
+/// No number: `status` says why.
+CorrectionResult refused(EstimateStatus status) noexcept {
+  return CorrectionResult{Coefficients{Ratio::zero(), Ratio::zero(), Ratio::zero()}, Ratio::zero(), LoadClamp::none,
+                          status};
+}
+
 }  // namespace
 
 CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDivisors& divisors,
                                 WheelLoadN load_n) noexcept {
-  const CorrectionResult failed{Coefficients{Ratio::zero(), Ratio::zero(), Ratio::zero()}, Ratio::zero(),
-                                LoadClamp::none, EstimateStatus::invalid_coefficient};
   if ((table.count == 0U) || (table.count > kMaxCorrectionRows)) {
-    return failed;
+    return refused(EstimateStatus::invalid_coefficient);
   }
   if (load_n <= WheelLoadN::zero()) {
-    CorrectionResult r = failed;
-    r.status = EstimateStatus::invalid_load;
-    return r;
+    return refused(EstimateStatus::invalid_load);
   }
   const std::uint8_t last = static_cast<std::uint8_t>(table.count - 1U);
   if (load_n < table.rows[0].load_n) {
@@ -114,12 +122,11 @@ CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDi
   }
   const CorrectionRow& lo = table.rows[seg];
   const CorrectionRow& hi = table.rows[seg + 1U];
-  fx::Status st;
-  const LoadQ offset = fx::sub(load_n.q(), lo.load_n.q(), st);
-  std::uint32_t fraction = 0U;
-  if ((!st.ok()) || (!fraction_in(offset, divisors.width[seg], fraction))) {
-    return failed;
+  std::uint32_t offset = 0U;
+  if (!offset_in(load_n, lo.load_n, divisors.width[seg], offset)) {
+    return refused(EstimateStatus::invalid_coefficient);
   }
+  const std::uint32_t fraction = fraction_of(offset, divisors.width[seg]);
   const Coefficients c{lerp(lo.c1, hi.c1, fraction), lerp(lo.c2, hi.c2, fraction), lerp(lo.c3, hi.c3, fraction)};
   return CorrectionResult{c, lerp(lo.dp_max_ratio, hi.dp_max_ratio, fraction), LoadClamp::none, EstimateStatus::ok};
 }
