@@ -1,6 +1,9 @@
 // Section 7's maximum drive current (current_limit.hpp).
 #include "sinkwatch/flight/current_limit.hpp"
 
+#include <cstdint>
+#include <limits>
+
 #include "sinkwatch/fixedpoint/normalised_quotient.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
 
@@ -45,7 +48,11 @@ TorqueLimitResult torque_limit_of_valid(const Coefficients& c, Ratio dp_max_rati
 }
 
 /// The limit from T_max: the motor model in the forward direction (a
-/// magnitude in the direction of motion: I0 adds).
+/// magnitude in the direction of motion: I0 adds), current_from_torque()'s
+/// bits for a motor check_motor() accepts. T_max times the prepared
+/// reciprocal of the gain is below 2^62 raw (a 32 x 32-bit product shifted
+/// right), I0 below 2^31, so their sum is exact in 64 bits; only a current
+/// beyond Q11.20 is refused, as rescaling the sum would refuse it.
 CurrentLimitResult limit_from_torque(const CorrectionResult& corr, const MotorParams& motor,
                                      const MotorDivisors& divisors, const TorqueLimitResult& t) noexcept {
   // Each return builds the whole result (no zeroed result overwritten
@@ -53,11 +60,17 @@ CurrentLimitResult limit_from_torque(const CorrectionResult& corr, const MotorPa
   if (t.status != EstimateStatus::ok) {
     return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, t.status};
   }
-  const CurrentResult i = detail::current_of_valid_motor(motor, divisors, t.torque_nm, DriveDirection::forward);
-  if (i.status != EstimateStatus::ok) {
-    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, i.status};
+  using WideCurrentQ = fx::Q<std::int64_t, CurrentQ::frac_bits>;
+  fx::Status st;  // div_by_zero only for a motor without a reciprocal
+  const WideCurrentQ driving = fx::times_reciprocal<WideCurrentQ>(t.torque_nm.q(), divisors.inverse_gain, st);
+  const std::int64_t total = driving.raw() + static_cast<std::int64_t>(motor.no_load_current_a.raw());
+  constexpr std::int64_t kMin = std::numeric_limits<std::int32_t>::min();
+  constexpr std::int64_t kMax = std::numeric_limits<std::int32_t>::max();
+  if ((!st.ok()) || (total < kMin) || (total > kMax)) {
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, EstimateStatus::overflow};
   }
-  return CurrentLimitResult{i.current_a, t.torque_nm, corr.clamp, EstimateStatus::ok};
+  const CurrentA limit(CurrentQ::from_raw(static_cast<std::int32_t>(total)));
+  return CurrentLimitResult{limit, t.torque_nm, corr.clamp, EstimateStatus::ok};
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include "n_of_m.hpp"
 #include "of_valid.hpp"
 
+#include "sinkwatch/fixedpoint/bounded.hpp"
+
 #include "sinkwatch/flight/current_limit.hpp"
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/motor.hpp"
@@ -21,9 +23,13 @@ CurrentA directional(CurrentA current_a, DriveDirection direction, fx::Status& s
   return (direction == DriveDirection::reverse) ? CurrentA(fx::neg(current_a.q(), st)) : current_a;
 }
 
-/// f * I_max, in amperes.
-CurrentA fraction_of(Ratio f, CurrentA limit, fx::Status& st) noexcept {
-  return CurrentA(fx::mul<CurrentQ>(f.q(), limit.q(), st));
+/// f * I_max, in amperes, for a fraction f in (0, 1] (validate() accepts
+/// the caution fraction in (0, 1] and the hysteresis in [0, f), so f and
+/// f - h both are): |f I_max| <= |I_max| fits, and the product is fx::mul's
+/// rounding (ties away from zero) without its saturation test.
+CurrentA fraction_of(std::int32_t fraction_raw, CurrentA limit) noexcept {
+  constexpr std::int32_t kShift = RatioQ::frac_bits;  // Q7.24 x Q11.20 -> Q11.20
+  return CurrentA(CurrentQ::from_raw(fx::detail::product_rounded<kShift>(fraction_raw, limit.raw())));
 }
 
 /// Is the sample usable? The checks go from the cheapest and most
@@ -114,21 +120,20 @@ struct Evidence {
 };
 
 Evidence evidence_of(CurrentA directed, const WheelOutput& out, const MonitorParams& mp) noexcept {
-  fx::Status st;
-  const CurrentA caution_current = fraction_of(mp.current_caution_fraction, out.current_limit_a, st);
-  const CurrentA clear_current =
-      fraction_of(Ratio(fx::sub(mp.current_caution_fraction.q(), mp.current_hysteresis_fraction.q(), st)),
-                  out.current_limit_a, st);
-  const SinkageM clear_sinkage(fx::sub(mp.caution_sinkage_m.q(), mp.sinkage_hysteresis_m.q(), st));
+  // The thresholds of a validated table (monitor.hpp): f - h and the
+  // caution level less its hysteresis are positive and exact (h in [0, f),
+  // the hysteresis in [0, caution)), so no threshold saturates.
+  const std::int32_t f = mp.current_caution_fraction.raw();
+  const CurrentA caution_current = fraction_of(f, out.current_limit_a);
+  const CurrentA clear_current = fraction_of(f - mp.current_hysteresis_fraction.raw(), out.current_limit_a);
+  const SinkageM clear_sinkage(LengthQ::from_raw(mp.caution_sinkage_m.raw() - mp.sinkage_hysteresis_m.raw()));
   Evidence e{};
   e.current_stop = directed >= out.current_limit_a;
   e.stop = e.current_stop || (out.sinkage_m >= mp.stop_sinkage_m);
   e.caution = e.stop || (directed >= caution_current) || (out.sinkage_m >= mp.caution_sinkage_m);
-  // A saturated threshold (validated tables cannot produce one) never clears.
-  e.clear = st.ok() && (directed < clear_current) && (out.sinkage_m < clear_sinkage);
+  e.clear = (directed < clear_current) && (out.sinkage_m < clear_sinkage);
   return e;
 }
-
 
 }  // namespace
 

@@ -3,6 +3,7 @@
 // every operation gives the bits of the checked one it replaces.
 #include <gtest/gtest.h>
 
+#include <climits>
 #include <cstdint>
 #include <random>
 #include <type_traits>
@@ -106,6 +107,36 @@ TEST(BoundedTest, ProductsEqualTheCheckedProductBitForBit) {
   expect_products_match<Q6_25, Q6_25, 0x7FFFFFFFU, Q6_25, 1U << 24U>(3U);
   expect_products_match<Q15_16, Q15_16, 0x7FFFFFFFU, fx::Q1_30, kOneQ30>(4U);
   expect_products_match<Q15_16, Q15_16, 1U << 20U, fx::Q3_28, kKx>(5U);
+}
+
+/// wide_product_rounded<Shift> against fx::mul into the 64-bit format with
+/// Shift fewer fraction bits, over the whole of both 32-bit operands.
+template <std::int32_t Shift>
+void expect_wide_products_match(std::uint32_t seed) {
+  using In = fx::Q<std::int32_t, 30>;
+  using Out = fx::Q<std::int64_t, 60 - Shift>;
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<std::int32_t> any(INT32_MIN, INT32_MAX);
+  const std::int32_t extremes[] = {0, 1, -1, INT32_MAX, INT32_MIN, INT32_MIN + 1, 1 << 16, -(1 << 16), 3};
+  for (int i = 0; i < 400000; ++i) {
+    const std::int32_t a = (i % 5 == 0) ? extremes[static_cast<std::size_t>(i / 5) % 9U] : any(rng);
+    const std::int32_t b = (i % 7 == 0) ? extremes[static_cast<std::size_t>(i / 7) % 9U] : any(rng);
+    fx::Status st;
+    const Out checked = fx::mul<Out>(In::from_raw(a), In::from_raw(b), st);
+    ASSERT_TRUE(st.ok());
+    ASSERT_EQ(fx::detail::wide_product_rounded<Shift>(a, b), checked.raw()) << a << " * " << b;
+  }
+}
+
+TEST(BoundedTest, WideProductsEqualTheCheckedProductBitForBit) {
+  // Eq. 11's r C3 W (Q2.29 x Q15.16 -> Q23.40), the exact products, and a
+  // rounding at every shift the helper allows (ties included: odd multiples
+  // of the half among the extremes' products).
+  expect_wide_products_match<5>(11U);
+  expect_wide_products_match<0>(12U);
+  expect_wide_products_match<1>(13U);
+  expect_wide_products_match<31>(14U);
+  expect_wide_products_match<60>(15U);
 }
 
 TEST(BoundedTest, RotatedPointsStayWithinTheirBoundAndEqualTheCheckedRotation) {
