@@ -179,8 +179,12 @@ void reset_cycle_fields(RoverStepOutput& out) noexcept {
   out.drawbar_status = DrawbarStatus::invalid_loads;
   out.loads_valid = false;
   out.drawbar_valid = false;
+  // One array per loop: GCC distributes a loop that stores into two arrays
+  // into two memset calls (about 60 Cortex-M0 instructions each for 24 bytes).
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     out.load_n[i] = WheelLoadN::zero();
+  }
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     out.drawbar_pull_n[i] = DrawbarPullN::zero();
   }
   out.accel_valid = false;
