@@ -49,29 +49,9 @@ struct NormalisedReciprocal {
 
 namespace detail {
 
-/// The seeds of floor_two_to_63_less_1_over below (step 1).
-struct ReciprocalSeeds {
-  std::uint16_t y0[128];
-};
-
-/// y0[i] = floor(2^24 / (2 (128 + i) + 1)): 2^47 / v at the middle of the
-/// interval v / 2^24 in [128 + i, 129 + i).
-constexpr ReciprocalSeeds make_reciprocal_seeds() noexcept {
-  ReciprocalSeeds t{};
-  for (std::uint32_t i = 0U; i < 128U; ++i) {
-    t.y0[i] = static_cast<std::uint16_t>(0x1000000U / ((2U * (128U + i)) + 1U));
-  }
-  return t;
-}
-constexpr ReciprocalSeeds kReciprocalSeeds = make_reciprocal_seeds();
-
-/// Step 2: z1 ~ 2^62 / v. p = v y0 / 2^16 ~ 2^31 (below 2^32), c = 2^32 - p,
-/// z1 = y0 c / 2^16 = y0 (2 - v y0 / 2^47) 2^15, each product below 2^32.
-constexpr std::uint32_t first_newton_step(std::uint32_t v, std::uint32_t y0) noexcept {
-  const std::uint32_t p = ((v >> 16U) * y0) + (((v & 0xFFFFU) * y0) >> 16U);
-  const std::uint32_t c = 0U - p;  // 2^32 - p: wraps by design
-  return (y0 * (c >> 16U)) + ((y0 * (c & 0xFFFFU)) >> 16U);
-}
+// Steps 1 and 2 (wide::detail::kReciprocalSeeds, first_newton_step) are in
+// wide.hpp: the 64 / 32-bit division without a divide instruction
+// (wide::divide_64_by_32_by_reciprocal) starts from the same z1.
 
 /// Step 3: m ~ 2^63 / v = 2 z1 (1 + d / 2^62), d = 2^62 - v z1 (|d| < 2^47).
 constexpr std::uint64_t second_newton_step(std::uint32_t v, std::uint32_t z1) noexcept {
@@ -103,8 +83,8 @@ constexpr std::uint64_t second_newton_step(std::uint32_t v, std::uint32_t z1) no
 /// 2^64) hold for every v in the range; the same driver checked them.
 constexpr std::uint32_t floor_two_to_63_less_1_over(std::uint32_t v) noexcept {
   constexpr std::uint64_t kNumerator = (std::uint64_t{1U} << 63U) - 1U;
-  const std::uint32_t y0 = kReciprocalSeeds.y0[(v >> 24U) & 0x7FU];
-  const std::uint64_t estimate = second_newton_step(v, first_newton_step(v, y0));
+  const std::uint32_t y0 = wide::detail::kReciprocalSeeds.y0[(v >> 24U) & 0x7FU];
+  const std::uint64_t estimate = second_newton_step(v, wide::detail::first_newton_step(v, y0));
   // The floor is at most 2^32 - 1 (v = 2^31); so is the estimate after this.
   auto m = static_cast<std::uint32_t>((estimate > 0xFFFFFFFFU) ? 0xFFFFFFFFU : estimate);
   std::uint64_t product = wide::mul_32x32_64(m, v);
