@@ -369,8 +369,8 @@ constexpr std::uint32_t kDigitBase = 0x10000U;
 /// against its low digit (one correction stops once the remainder leaves the
 /// digit: then kDigitBase * rhat would not fit, and the estimate is right).
 /// Both counted loops are simple (MISRA C++:2023 rule 9.5.1: no break).
-constexpr std::uint32_t quotient_digit(std::uint32_t partial, std::uint32_t v_high, std::uint32_t v_low,
-                                       std::uint32_t next_digit) noexcept {
+SW_FX_INLINE constexpr std::uint32_t quotient_digit(std::uint32_t partial, std::uint32_t v_high, std::uint32_t v_low,
+                                                    std::uint32_t next_digit) noexcept {
   std::uint32_t q = partial / v_high;
   std::uint32_t rhat = partial - (q * v_high);
   bool correcting = true;
@@ -430,13 +430,11 @@ SW_FX_INLINE constexpr DigitStep digit_by_reciprocal(std::uint32_t partial, std:
 
 }  // namespace detail
 
-/// floor(u / v) and u mod v for v in [2^31, 2^32) and u < v * 2^32 (the
-/// quotient fits 32 bits; the caller normalises): two base-2^16 digits, each
-/// from detail::quotient_digit's 32-bit division by the divisor's high
-/// half. The partial remainders fit 32 bits, and the wrapping 32-bit
-/// arithmetic gives them exactly (Hacker's Delight's divlu). The form for
-/// cores with a divide instruction.
-constexpr DivMod<std::uint32_t> divide_64_by_32_by_digits(std::uint64_t u, std::uint32_t v) noexcept {
+namespace detail {
+/// divide_64_by_32_by_digits's quotient (low word) and remainder (high
+/// word), packed as packed_by_reciprocal's below (two registers, no frame
+/// for the result).
+constexpr std::uint64_t packed_by_digits(std::uint64_t u, std::uint32_t v) noexcept {
   constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
   // v >= 2^31, so the high digit is at least 2^15: the OR changes nothing
   // but shows the static analyser a divisor that cannot be zero.
@@ -446,27 +444,50 @@ constexpr DivMod<std::uint32_t> divide_64_by_32_by_digits(std::uint64_t u, std::
   const auto u_low = static_cast<std::uint32_t>(u);
   const std::uint32_t u_high_digit = u_low >> 16U;
   const std::uint32_t u_low_digit = u_low & 0xFFFFU;
-  const std::uint32_t q1 = detail::quotient_digit(u_high, v_high, v_low, u_high_digit);
-  const std::uint32_t partial = ((u_high * detail::kDigitBase) + u_high_digit) - (q1 * v);
-  const std::uint32_t q0 = detail::quotient_digit(partial, v_high, v_low, u_low_digit);
-  const std::uint32_t remainder = ((partial * detail::kDigitBase) + u_low_digit) - (q0 * v);
-  return DivMod<std::uint32_t>{(q1 * detail::kDigitBase) + q0, remainder};
+  const std::uint32_t q1 = quotient_digit(u_high, v_high, v_low, u_high_digit);
+  const std::uint32_t partial = ((u_high * kDigitBase) + u_high_digit) - (q1 * v);
+  const std::uint32_t q0 = quotient_digit(partial, v_high, v_low, u_low_digit);
+  const std::uint32_t remainder = ((partial * kDigitBase) + u_low_digit) - (q0 * v);
+  return (static_cast<std::uint64_t>(remainder) << 32U) | ((q1 * kDigitBase) + q0);
 }
+}  // namespace detail
+
+/// floor(u / v) and u mod v for v in [2^31, 2^32) and u < v * 2^32 (the
+/// quotient fits 32 bits; the caller normalises): two base-2^16 digits, each
+/// from detail::quotient_digit's 32-bit division by the divisor's high
+/// half. The partial remainders fit 32 bits, and the wrapping 32-bit
+/// arithmetic gives them exactly (Hacker's Delight's divlu). The form for
+/// cores with a divide instruction.
+SW_FX_INLINE constexpr DivMod<std::uint32_t> divide_64_by_32_by_digits(std::uint64_t u, std::uint32_t v) noexcept {
+  const std::uint64_t packed = detail::packed_by_digits(u, v);
+  return DivMod<std::uint32_t>{static_cast<std::uint32_t>(packed), static_cast<std::uint32_t>(packed >> 32U)};
+}
+
+namespace detail {
+/// divide_64_by_32_by_reciprocal's quotient (low word) and remainder (high
+/// word) as one 64-bit value: AAPCS returns it in two registers, where a
+/// two-word struct goes through the caller's memory (16 more bytes of frame
+/// on the step's deepest path on the Cortex-M0, through normalised_reciprocal).
+constexpr std::uint64_t packed_by_reciprocal(std::uint64_t u, std::uint32_t v) noexcept {
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  const std::uint32_t r = digit_reciprocal(v);
+  const auto u_high = static_cast<std::uint32_t>(u / kWord);
+  const auto u_low = static_cast<std::uint32_t>(u);
+  const DigitStep high = digit_by_reciprocal(u_high, u_low >> 16U, v, r);
+  const DigitStep low = digit_by_reciprocal(high.remainder, u_low & 0xFFFFU, v, r);
+  return (static_cast<std::uint64_t>(low.remainder) << 32U) | ((high.digit << 16U) | low.digit);
+}
+}  // namespace detail
 
 /// The same quotient and remainder with no division: a reciprocal of v to
 /// 17 bits (a seed and one Newton step, four 16 x 16-bit products), then the
 /// same two base-2^16 digits, each estimated from it and corrected at most
 /// twice against the exact remainder (detail::digit_by_reciprocal). The form
-/// for cores without a divide instruction: about 90 instructions on the
-/// Cortex-M0 against about 270 for the digits' two library divisions.
-constexpr DivMod<std::uint32_t> divide_64_by_32_by_reciprocal(std::uint64_t u, std::uint32_t v) noexcept {
-  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
-  const std::uint32_t r = detail::digit_reciprocal(v);
-  const auto u_high = static_cast<std::uint32_t>(u / kWord);
-  const auto u_low = static_cast<std::uint32_t>(u);
-  const detail::DigitStep high = detail::digit_by_reciprocal(u_high, u_low >> 16U, v, r);
-  const detail::DigitStep low = detail::digit_by_reciprocal(high.remainder, u_low & 0xFFFFU, v, r);
-  return DivMod<std::uint32_t>{(high.digit << 16U) | low.digit, low.remainder};
+/// for cores without a divide instruction: about 100 instructions on the
+/// Cortex-M0 against about 280 for the digits' two library divisions.
+SW_FX_INLINE constexpr DivMod<std::uint32_t> divide_64_by_32_by_reciprocal(std::uint64_t u, std::uint32_t v) noexcept {
+  const std::uint64_t packed = detail::packed_by_reciprocal(u, v);
+  return DivMod<std::uint32_t>{static_cast<std::uint32_t>(packed), static_cast<std::uint32_t>(packed >> 32U)};
 }
 
 /// floor(u / v) and u mod v for v in [2^31, 2^32) and u < v * 2^32, in the
