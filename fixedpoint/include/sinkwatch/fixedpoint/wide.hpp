@@ -99,25 +99,39 @@ SW_FX_INLINE constexpr bool bit(std::uint64_t a, std::uint32_t n) noexcept { ret
 SW_FX_INLINE constexpr bool bit(const U128& a, std::uint32_t n) noexcept { return (shr(a, n).lo & 1U) != 0U; }
 
 /// Number of significant bits of a 32-bit value (0 for a == 0), by halving
-/// the range five times: 16, 8, 4, 2 and 1 bits, about 20 instructions. The
-/// bit-at-a-time loop it replaces was not turned into a count-leading-zeros
-/// instruction by GCC at -Os (Cortex-M0 and M4) nor at -O2 (x86-64): up to 32
-/// rounds (docs/performance.md, session 13). The ARMv6-M build of
-/// bit_length32 uses it; test_wide.cpp checks it against the bit-by-bit
-/// count on every target, as it checks bit_length32.
+/// the range five times: 16, 8, 4, 2 and 1 bits. The bit-at-a-time loop it
+/// replaces was not turned into a count-leading-zeros instruction by GCC at
+/// -Os (Cortex-M0 and M4) nor at -O2 (x86-64): up to 32 rounds
+/// (docs/performance.md, session 13). Each halving is a branch around a
+/// shift and an add: on the Cortex-M0 (no conditional execution) about 14
+/// instructions, where the same halvings as selects (s = (v >= 2^16) ? 16 :
+/// 0, ...) took about 36 (session 18). The ARMv6-M build of bit_length32
+/// uses it; test_wide.cpp checks it against the bit-by-bit count on every
+/// target, as it checks bit_length32.
 SW_FX_INLINE constexpr std::uint32_t bit_length32_by_halves(std::uint32_t a) noexcept {
   std::uint32_t v = a;
-  const std::uint32_t s16 = (v >= 0x10000U) ? 16U : 0U;
-  v >>= s16;
-  const std::uint32_t s8 = (v >= 0x100U) ? 8U : 0U;
-  v >>= s8;
-  const std::uint32_t s4 = (v >= 0x10U) ? 4U : 0U;
-  v >>= s4;
-  const std::uint32_t s2 = (v >= 0x4U) ? 2U : 0U;
-  v >>= s2;
-  const std::uint32_t s1 = (v >= 0x2U) ? 1U : 0U;
-  v >>= s1;
-  return s16 + s8 + s4 + s2 + s1 + v;  // v is now 0 (a == 0) or 1
+  std::uint32_t bits = 0U;
+  if ((v >> 16U) != 0U) {
+    v >>= 16U;
+    bits += 16U;
+  }
+  if ((v >> 8U) != 0U) {
+    v >>= 8U;
+    bits += 8U;
+  }
+  if ((v >> 4U) != 0U) {
+    v >>= 4U;
+    bits += 4U;
+  }
+  if ((v >> 2U) != 0U) {
+    v >>= 2U;
+    bits += 2U;
+  }
+  if ((v >> 1U) != 0U) {
+    v >>= 1U;
+    bits += 1U;
+  }
+  return bits + v;  // v is now 0 (a == 0) or 1
 }
 
 /// True where the core counts leading zeros in one instruction (ARMv7-M's
