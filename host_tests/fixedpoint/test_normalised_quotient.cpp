@@ -1,11 +1,13 @@
 // test_normalised_quotient.cpp: fx::divide_normalised (normalised_quotient.hpp)
-// and the long division under it (its detail::divide_64_by_32).
+// and the long division under it (wide::divide_64_by_32, both forms: by
+// digits and by reciprocal, wide.hpp).
 // The long division is checked against the built-in 64-bit division; every
 // quotient against the exact one, computed in double with its own rounding
 // (3 * 2^-53 relative) added to the documented bound 0.5 LSB + |n/d| 2^-29.
 // Plain integer and double arithmetic only, so the test runs under qemu-arm.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -14,6 +16,7 @@
 #include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/normalised_quotient.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
 
 namespace {
 
@@ -46,20 +49,119 @@ void expect_within_bound(fx::ScaledMagnitude n, fx::ScaledMagnitude d) {
   EXPECT_LE(std::fabs(static_cast<double>(got.raw()) - exact_raw), slack) << n.magnitude << " / " << d.magnitude;
 }
 
-TEST(NormalisedQuotient, LongDivisionEqualsTheBuiltInDivision) {
+/// Both forms of the 64 / 32-bit long division (wide.hpp), and the one this
+/// core takes, give the built-in division's quotient and remainder.
+void expect_long_division_exact(std::uint64_t u, std::uint32_t v) {
+  const std::uint64_t quotient = u / v;
+  const std::uint64_t remainder = u % v;
+  const fx::wide::DivMod<std::uint32_t> by_digits = fx::wide::divide_64_by_32_by_digits(u, v);
+  const fx::wide::DivMod<std::uint32_t> by_reciprocal = fx::wide::divide_64_by_32_by_reciprocal(u, v);
+  const fx::wide::DivMod<std::uint32_t> selected = fx::wide::divide_64_by_32(u, v);
+  ASSERT_EQ(by_digits.quotient, quotient) << u << " / " << v;
+  ASSERT_EQ(by_digits.remainder, remainder) << u << " / " << v;
+  ASSERT_EQ(by_reciprocal.quotient, quotient) << u << " / " << v;
+  ASSERT_EQ(by_reciprocal.remainder, remainder) << u << " / " << v;
+  ASSERT_EQ(selected.quotient, quotient) << u << " / " << v;
+  ASSERT_EQ(selected.remainder, remainder) << u << " / " << v;
+}
+
+/// Dividends for the divisor v that stress the digits' corrections: the
+/// extremes, every remainder's extremes, quotients at the digits' edges.
+void expect_long_division_exact_at_edges(std::uint32_t v, std::mt19937_64& rng) {
+  const std::uint64_t top = std::uint64_t{v} << 32U;  // the first dividend whose quotient needs 33 bits
+  constexpr std::uint32_t kQuotients[] = {0U, 1U, 0xFFFFU, 0x10000U, 0x1FFFFU, 0xFFFF0000U, 0xFFFF0001U,
+                                          0xFFFFFFFEU, 0xFFFFFFFFU};
+  for (const std::uint32_t q : kQuotients) {
+    const std::uint64_t base = std::uint64_t{q} * v;
+    expect_long_division_exact(base, v);
+    expect_long_division_exact(base + (v - 1U), v);
+    expect_long_division_exact(base + (v / 2U), v);
+  }
+  expect_long_division_exact(top - 1U, v);
+  expect_long_division_exact(top - 2U, v);
+  for (int i = 0; i < 64; ++i) {
+    // The high word at its largest (v - 1), any low word; any quotient with
+    // the largest remainder.
+    expect_long_division_exact(top - 1U - (rng() & 0xFFFFFFFFU), v);
+    expect_long_division_exact((std::uint64_t{static_cast<std::uint32_t>(rng())} * v) + (v - 1U), v);
+  }
+}
+
+// Both forms in constant evaluation: 2^63 - 1 = (2^32 - 1) 2^31 + (2^31 - 1),
+// and 0xFFFFFFFEFFFFFFFF = (2^32 - 1)^2 + (2^32 - 2).
+static_assert(fx::wide::divide_64_by_32_by_digits(0x7FFFFFFFFFFFFFFFULL, 0x80000000U).quotient == 0xFFFFFFFFU,
+              "by digits: the largest quotient");
+static_assert(fx::wide::divide_64_by_32_by_reciprocal(0x7FFFFFFFFFFFFFFFULL, 0x80000000U).quotient == 0xFFFFFFFFU,
+              "by reciprocal: the largest quotient");
+static_assert(fx::wide::divide_64_by_32_by_reciprocal(0x7FFFFFFFFFFFFFFFULL, 0x80000000U).remainder == 0x7FFFFFFFU,
+              "by reciprocal: its remainder");
+static_assert(fx::wide::divide_64_by_32_by_reciprocal(0xFFFFFFFEFFFFFFFFULL, 0xFFFFFFFFU).remainder == 0xFFFFFFFEU,
+              "by reciprocal: the largest divisor");
+static_assert(fx::wide::divmod_by_word_normalising(0xFFFFFFFFFFFFFFFFULL, 3U).quotient == 0x5555555555555555ULL,
+              "normalising: a 64-bit quotient");
+
+TEST(NormalisedQuotient, LongDivisionEqualsTheBuiltInDivisionAtEdges) {
+  std::mt19937_64 rng(20261126U);
+  // The smallest and largest divisors, and both ends and the middle of every
+  // seed interval of the reciprocal (v / 2^24 in [k, k + 1)): the estimate's
+  // error is largest at v = 2^31 and moves with the seed.
+  for (std::uint32_t k = 128U; k < 256U; ++k) {
+    const std::uint32_t start = k << 24U;
+    const std::uint32_t last = start + 0xFFFFFFU;
+    for (const std::uint32_t v : {start, start + 1U, start + 0x800000U, last - 1U, last}) {
+      expect_long_division_exact_at_edges(v, rng);
+    }
+  }
+  expect_long_division_exact((std::uint64_t{0x80000000U} << 32U) - 1U, 0x80000000U);
+  constexpr std::uint64_t kLargest = (std::uint64_t{0xFFFFFFFFU} << 32U) - 1U;
+  EXPECT_EQ(fx::wide::divide_64_by_32(kLargest, 0xFFFFFFFFU).quotient, 0xFFFFFFFFU);
+  EXPECT_EQ(fx::wide::divide_64_by_32(kLargest, 0xFFFFFFFFU).remainder, 0xFFFFFFFEU);
+}
+
+TEST(NormalisedQuotient, LongDivisionEqualsTheBuiltInDivisionForRandomOperands) {
   std::mt19937_64 rng(20261125U);
-  for (int i = 0; i < 2000000; ++i) {
+  for (int i = 0; i < 1000000; ++i) {
     const auto v = static_cast<std::uint32_t>(rng() | 0x80000000U);
     const std::uint64_t u = rng() % (std::uint64_t{v} << 32U);  // u < v 2^32: the quotient fits 32 bits
-    const fx::wide::DivMod<std::uint32_t> qr = fx::detail::divide_64_by_32(u, v);
-    ASSERT_EQ(qr.quotient, u / v) << u << " / " << v;
-    ASSERT_EQ(qr.remainder, u % v) << u << " / " << v;
+    expect_long_division_exact(u, v);
+    // Divisors near 2^31, where the reciprocal's error is largest.
+    const std::uint32_t small = 0x80000000U + static_cast<std::uint32_t>(rng() % 0x1000000U);
+    expect_long_division_exact(rng() % (std::uint64_t{small} << 32U), small);
   }
-  // The largest dividend for the smallest and the largest divisor.
-  EXPECT_EQ(fx::detail::divide_64_by_32((std::uint64_t{0x80000000U} << 32U) - 1U, 0x80000000U).quotient, 0xFFFFFFFFU);
-  constexpr std::uint64_t kLargest = (std::uint64_t{0xFFFFFFFFU} << 32U) - 1U;
-  EXPECT_EQ(fx::detail::divide_64_by_32(kLargest, 0xFFFFFFFFU).quotient, 0xFFFFFFFFU);
-  EXPECT_EQ(fx::detail::divide_64_by_32(kLargest, 0xFFFFFFFFU).remainder, 0xFFFFFFFEU);
+}
+
+/// The digits' reciprocal r ~ 2^48 / v is below it by at most 1.5 * 2^32 / v
+/// (docs/fixedpoint.md 5.8): r v < 2^48 and 2^48 - r v <= 3 * 2^31.
+void expect_digit_reciprocal_bounded(std::uint32_t v) {
+  const std::uint64_t product = std::uint64_t{fx::wide::detail::digit_reciprocal(v)} * v;
+  constexpr std::uint64_t kTwoTo48 = std::uint64_t{1U} << 48U;
+  ASSERT_LT(product, kTwoTo48) << v;
+  ASSERT_LE(kTwoTo48 - product, std::uint64_t{3U} << 31U) << v;
+}
+
+TEST(NormalisedQuotient, DigitReciprocalIsBelowTwoTo48OverVWithinItsBound) {
+  for (std::uint32_t k = 128U; k < 256U; ++k) {
+    const std::uint32_t start = k << 24U;
+    for (std::uint32_t j = 0U; j < 0x1000U; ++j) {
+      expect_digit_reciprocal_bounded(start + j);
+      expect_digit_reciprocal_bounded(start + 0xFFFFFFU - j);
+      expect_digit_reciprocal_bounded(start + (j << 12U));
+    }
+    // Where the seed is exact (v near 2^47 / y0) the Newton step's estimate
+    // comes closest to 2^62 / v, and only the "- 1" of digit_reciprocal keeps
+    // r v below 2^48 (without it, 282 divisors within 2^16 of these centres
+    // give r v >= 2^48; found by a scan of all 2^31 divisors).
+    const std::uint64_t centre = (std::uint64_t{1U} << 47U) / fx::wide::detail::kReciprocalSeeds.y0[k - 128U];
+    const std::uint64_t first = std::max<std::uint64_t>(centre - 0x20000U, start);
+    const std::uint64_t last = std::min<std::uint64_t>(centre + 0x20000U, start + 0xFFFFFFU);
+    for (std::uint64_t v = first; v <= last; ++v) {
+      expect_digit_reciprocal_bounded(static_cast<std::uint32_t>(v));
+    }
+  }
+  std::mt19937_64 rng(5U);
+  for (int i = 0; i < 1000000; ++i) {
+    expect_digit_reciprocal_bounded(static_cast<std::uint32_t>(rng() | 0x80000000U));
+  }
 }
 
 TEST(NormalisedQuotient, RandomOperandsOfEveryLengthAreWithinTheBound) {

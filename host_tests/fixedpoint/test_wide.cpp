@@ -202,4 +202,71 @@ TEST(FxWide, LongDivisionSkippingTheLeadingZeroQuotientBitsIsExact) {
   EXPECT_EQ(compared, 400000U);
 }
 
+/// divmod_by_word_normalising (the one-word divisor's form without a divide
+/// instruction, wide.hpp) and wide::divmod on 64 bits give the built-in
+/// quotient and remainder.
+void expect_word_division_exact(std::uint64_t num, std::uint32_t den) {
+  const wide::DivMod<std::uint64_t> normalising = wide::divmod_by_word_normalising(num, den);
+  ASSERT_EQ(normalising.quotient, num / den) << num << " / " << den;
+  ASSERT_EQ(normalising.remainder, num % den) << num << " / " << den;
+  const wide::DivMod<std::uint64_t> selected = wide::divmod(num, std::uint64_t{den});
+  ASSERT_EQ(selected.quotient, num / den) << num << " / " << den;
+  ASSERT_EQ(selected.remainder, num % den) << num << " / " << den;
+}
+
+/// A random value of exactly `bits` significant bits (0 for bits == 0).
+std::uint64_t of_length(std::mt19937_64& rng, std::uint32_t bits) {
+  if (bits == 0U) {
+    return 0U;
+  }
+  const std::uint64_t top = std::uint64_t{1U} << (bits - 1U);
+  return top | (rng() & (top - 1U));
+}
+
+// Every divisor length (so every normalising shift 0..31) against every
+// dividend length, at random and at the edges: powers of two, all ones, the
+// largest dividend, remainders of den - 1.
+TEST(FxWide, DivisionByAOneWordDivisorEqualsTheBuiltInDivision) {
+  std::mt19937_64 rng(16U);
+  for (std::uint32_t d_len = 1U; d_len <= 32U; ++d_len) {
+    const std::uint32_t power = 1U << (d_len - 1U);
+    const std::uint32_t ones = (d_len == 32U) ? 0xFFFFFFFFU : ((1U << d_len) - 1U);
+    for (const std::uint32_t den : {power, ones, power + 1U, ones - 1U}) {
+      if (den == 0U) {
+        continue;
+      }
+      for (const std::uint64_t num : {std::uint64_t{0U}, std::uint64_t{1U}, std::uint64_t{den} - 1U,
+                                      std::uint64_t{den}, kAllOnes, kAllOnes - 1U, std::uint64_t{1U} << 63U,
+                                      std::uint64_t{0xFFFFFFFFU}, std::uint64_t{1U} << 32U,
+                                      (kAllOnes / den) * den, ((kAllOnes / den) * den) - 1U}) {
+        expect_word_division_exact(num, den);
+      }
+    }
+    for (std::uint32_t n_len = 0U; n_len <= 64U; ++n_len) {
+      for (int i = 0; i < 400; ++i) {
+        const auto den = static_cast<std::uint32_t>(of_length(rng, d_len));
+        const std::uint64_t num = of_length(rng, n_len);
+        expect_word_division_exact(num, den);
+        // The same quotient with the largest remainder, where it fits.
+        const std::uint64_t q = num / den;
+        if (q <= ((kAllOnes - (den - 1U)) / den)) {
+          expect_word_division_exact((q * den) + (den - 1U), den);
+        }
+      }
+    }
+  }
+}
+
+// Two-word divisors keep the built-in division.
+TEST(FxWide, DivisionByATwoWordDivisorEqualsTheBuiltInDivision) {
+  std::mt19937_64 rng(17U);
+  for (int i = 0; i < 100000; ++i) {
+    const std::uint64_t den = of_length(rng, 33U + static_cast<std::uint32_t>(rng() % 32U));
+    const std::uint64_t num = rng();
+    const wide::DivMod<std::uint64_t> qr = wide::divmod(num, den);
+    ASSERT_EQ(qr.quotient, num / den);
+    ASSERT_EQ(qr.remainder, num % den);
+  }
+}
+
 }  // namespace

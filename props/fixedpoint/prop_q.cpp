@@ -20,6 +20,7 @@
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/sqrt.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
 
 namespace {
 
@@ -454,6 +455,46 @@ FX_MIXED_SQRT_RECIP(Q1_30_from_Q15_16, fx::Q1_30, fx::Q15_16)
 FX_MIXED_SQRT_RECIP(Q31_32_from_Q15_16, fx::Q31_32, fx::Q15_16)
 FX_MIXED_SQRT_RECIP(Q15_16_from_Q31_32, fx::Q15_16, fx::Q31_32)
 FX_MIXED_SQRT_RECIP(Q1_30_from_Int64, fx::Q1_30, QInt64)
+
+// ------------------------------------------------------------ divisions without a divide instruction
+
+// The forms the Cortex-M0 takes (wide.hpp; the host takes the built-in
+// division): the 64 / 32-bit long division by reciprocal, the one by digits,
+// and the normalising division of any 64-bit dividend by a one-word divisor,
+// each against the built-in quotient and remainder. RapidCheck's integers
+// weight 0, 1 and the extremes.
+RC_GTEST_PROP(FxWideDivision, LongDivisionFormsEqualTheBuiltInDivision, ()) {
+  const auto v = *rc::gen::arbitrary<std::uint32_t>() | 0x80000000U;
+  const auto raw = *rc::gen::arbitrary<std::uint64_t>();
+  // u < v 2^32: below it as drawn, or its top edge, or a quotient with the largest remainder.
+  const std::uint64_t top = std::uint64_t{v} << 32U;
+  std::uint64_t u = raw % top;
+  switch (*rc::gen::inRange(0, 3)) {
+    case 0:
+      u = top - 1U - (raw % 4096U);
+      break;
+    case 1:
+      u = (std::uint64_t{static_cast<std::uint32_t>(raw)} * v) + (v - 1U);
+      break;
+    default:
+      break;
+  }
+  const fx::wide::DivMod<std::uint32_t> by_reciprocal = fx::wide::divide_64_by_32_by_reciprocal(u, v);
+  const fx::wide::DivMod<std::uint32_t> by_digits = fx::wide::divide_64_by_32_by_digits(u, v);
+  RC_ASSERT(by_reciprocal.quotient == u / v);
+  RC_ASSERT(by_reciprocal.remainder == u % v);
+  RC_ASSERT(by_digits.quotient == u / v);
+  RC_ASSERT(by_digits.remainder == u % v);
+}
+
+RC_GTEST_PROP(FxWideDivision, OneWordDivisorEqualsTheBuiltInDivision, ()) {
+  const auto num = *rc::gen::arbitrary<std::uint64_t>();
+  const auto shift = static_cast<std::uint32_t>(*rc::gen::inRange(0, 32));
+  const std::uint32_t den = (*rc::gen::arbitrary<std::uint32_t>() >> shift) | 1U;
+  const fx::wide::DivMod<std::uint64_t> qr = fx::wide::divmod_by_word_normalising(num, den);
+  RC_ASSERT(qr.quotient == num / den);
+  RC_ASSERT(qr.remainder == num % den);
+}
 
 // ------------------------------------------------------------ exhaustive
 

@@ -9,8 +9,10 @@
 // each),
 //
 //   |n| ~ N * 2^a,  |d| ~ D * 2^b,  N, D in [2^31, 2^32),
-//   q = floor(N 2^31 / D), in (2^30, 2^32)  (detail::divide_64_by_32 below:
-//         two 32 / 16-bit divisions on a core without a divide instruction),
+//   q = floor(N 2^31 / D), in (2^30, 2^32)  (wide::divide_64_by_32, exact:
+//         two base-2^16 digits, each from a 32-bit division where the core
+//         has a divide instruction, else from a reciprocal of D and 16-bit
+//         products with at most two corrections; docs/fixedpoint.md 5.8),
 //
 // and n / d ~ q * 2^(a - b - 31). The floor loses < 2^-30 relative, the
 // truncations < 2^-31 each (in opposite directions for n and d), so
@@ -54,57 +56,6 @@ template <typename S, std::int32_t F>
 
 namespace detail {
 
-/// The quotients below come from a long division: the
-/// two-digit long division of Hacker's Delight (2nd ed., figure 9-3, divlu)
-/// in base 2^16 with 32-bit words only. Each digit's estimate from the
-/// divisor's high half is at most two too large and is corrected at most
-/// twice, so both loops are bounded by two. The result is the exact floor and
-/// remainder (test_normalised_quotient checks them against the built-in
-/// division).
-constexpr std::uint32_t kDigitBase = 0x10000U;
-
-/// One quotient digit of that division: the estimate of `partial` over the
-/// divisor's high digit, corrected at most twice against its low digit (one
-/// correction stops once the remainder leaves the digit: then
-/// kDigitBase * rhat would not fit, and the estimate is right). Both counted
-/// loops are simple (MISRA C++:2023 rule 9.5.1: no break).
-constexpr std::uint32_t quotient_digit(std::uint32_t partial, std::uint32_t v_high, std::uint32_t v_low,
-                                       std::uint32_t next_digit) noexcept {
-  std::uint32_t q = partial / v_high;
-  std::uint32_t rhat = partial - (q * v_high);
-  bool correcting = true;
-  for (std::uint32_t step = 0U; step < 2U; ++step) {
-    correcting = correcting && ((q >= kDigitBase) || ((q * v_low) > ((kDigitBase * rhat) + next_digit)));
-    if (correcting) {
-      --q;
-      rhat += v_high;
-      correcting = rhat < kDigitBase;
-    }
-  }
-  return q;
-}
-
-/// floor(u / v) and u mod v for v in [2^31, 2^32) and u < v * 2^32 (the
-/// quotient fits 32 bits; the caller normalises): two digits in base 2^16,
-/// each from quotient_digit. The partial remainders fit 32 bits, and the
-/// wrapping 32-bit arithmetic gives them exactly (Hacker's Delight's divlu).
-constexpr wide::DivMod<std::uint32_t> divide_64_by_32(std::uint64_t u, std::uint32_t v) noexcept {
-  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
-  // v >= 2^31, so the high digit is at least 2^15: the OR changes nothing
-  // but shows the static analyser a divisor that cannot be zero.
-  const std::uint32_t v_high = (v >> 16U) | 0x8000U;
-  const std::uint32_t v_low = v & 0xFFFFU;
-  const auto u_high = static_cast<std::uint32_t>(u / kWord);  // u >> 32 without a library shift
-  const auto u_low = static_cast<std::uint32_t>(u);
-  const std::uint32_t u_high_digit = u_low >> 16U;
-  const std::uint32_t u_low_digit = u_low & 0xFFFFU;
-  const std::uint32_t q1 = quotient_digit(u_high, v_high, v_low, u_high_digit);
-  const std::uint32_t partial = ((u_high * kDigitBase) + u_high_digit) - (q1 * v);
-  const std::uint32_t q0 = quotient_digit(partial, v_high, v_low, u_low_digit);
-  const std::uint32_t remainder = ((partial * kDigitBase) + u_low_digit) - (q0 * v);
-  return wide::DivMod<std::uint32_t>{(q1 * kDigitBase) + q0, remainder};
-}
-
 /// q * 2^exponent rounded to an integer (to nearest, ties up) for q < 2^32;
 /// all ones when it needs more than 64 bits (every format then saturates).
 constexpr std::uint64_t scale_quotient(std::uint32_t q, std::int32_t exponent) noexcept {
@@ -146,7 +97,7 @@ template <typename Out>
   // d's, so the quotient fits 32 bits.
   const std::uint64_t n_leading = wide::leading_word(n.magnitude, n_bits);
   const std::uint32_t d_leading = wide::leading_word(d.magnitude, d_bits);
-  const std::uint32_t q = detail::divide_64_by_32(n_leading << 31U, d_leading).quotient;
+  const std::uint32_t q = wide::divide_64_by_32(n_leading << 31U, d_leading).quotient;
   // n/d ~ q * 2^(n_bits - d_bits - 31 - n.frac + d.frac); in Out's raw units
   // q * 2^exponent with:
   const std::int32_t exponent = ((static_cast<std::int32_t>(n_bits) - static_cast<std::int32_t>(d_bits)) - 31) -

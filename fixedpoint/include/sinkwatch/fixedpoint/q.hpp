@@ -454,7 +454,9 @@ namespace detail {
 /// |a| 2^K / |b| rounded into Out (b != 0) when both scaled operands fit 64
 /// bits: the quotient, remainder and rounding of the 128-bit path from one
 /// 64-bit division (the step's slip and acceleration: docs/performance.md,
-/// ninth round). False, and `out` untouched, when they do not fit.
+/// ninth round; wide::divmod, which divides by a one-word divisor without a
+/// library call on a core without a divide instruction, docs/fixedpoint.md
+/// 5.8). False, and `out` untouched, when they do not fit.
 template <typename Out, std::int32_t K>
 constexpr bool quotient_in_64_bits(bool negative, std::uint64_t mag_a, std::uint64_t mag_b, Out& out,
                                    Status& status) noexcept {

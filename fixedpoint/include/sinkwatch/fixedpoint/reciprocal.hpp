@@ -49,76 +49,17 @@ struct NormalisedReciprocal {
 
 namespace detail {
 
-/// The seeds of floor_two_to_63_less_1_over below (step 1).
-struct ReciprocalSeeds {
-  std::uint16_t y0[128];
-};
-
-/// y0[i] = floor(2^24 / (2 (128 + i) + 1)): 2^47 / v at the middle of the
-/// interval v / 2^24 in [128 + i, 129 + i).
-constexpr ReciprocalSeeds make_reciprocal_seeds() noexcept {
-  ReciprocalSeeds t{};
-  for (std::uint32_t i = 0U; i < 128U; ++i) {
-    t.y0[i] = static_cast<std::uint16_t>(0x1000000U / ((2U * (128U + i)) + 1U));
-  }
-  return t;
-}
-constexpr ReciprocalSeeds kReciprocalSeeds = make_reciprocal_seeds();
-
-/// Step 2: z1 ~ 2^62 / v. p = v y0 / 2^16 ~ 2^31 (below 2^32), c = 2^32 - p,
-/// z1 = y0 c / 2^16 = y0 (2 - v y0 / 2^47) 2^15, each product below 2^32.
-constexpr std::uint32_t first_newton_step(std::uint32_t v, std::uint32_t y0) noexcept {
-  const std::uint32_t p = ((v >> 16U) * y0) + (((v & 0xFFFFU) * y0) >> 16U);
-  const std::uint32_t c = 0U - p;  // 2^32 - p: wraps by design
-  return (y0 * (c >> 16U)) + ((y0 * (c & 0xFFFFU)) >> 16U);
-}
-
-/// Step 3: m ~ 2^63 / v = 2 z1 (1 + d / 2^62), d = 2^62 - v z1 (|d| < 2^47).
-constexpr std::uint64_t second_newton_step(std::uint32_t v, std::uint32_t z1) noexcept {
-  constexpr std::uint64_t kTwoTo62 = std::uint64_t{1U} << 62U;
-  const std::uint64_t t = wide::mul_32x32_64(v, z1);
-  const bool below = t <= kTwoTo62;
-  const std::uint64_t d_mag = below ? (kTwoTo62 - t) : (t - kTwoTo62);
-  const std::uint64_t step = wide::mul_32x32_64(z1, static_cast<std::uint32_t>(d_mag >> 15U)) >> 46U;
-  const std::uint64_t twice = 2U * static_cast<std::uint64_t>(z1);
-  return below ? (twice + step) : (twice - step);
-}
-
-/// floor((2^63 - 1) / v) for v in [2^31, 2^32), with 32 x 32-bit products
-/// only (no division: a core without a divide instruction pays about 100
-/// instructions for each 32-bit library division, and the long division this
-/// replaces took two of them; docs/performance.md, session 13):
-///  1. a seed y0 ~ 2^47 / v from a 128-entry table of 16-bit values indexed
-///     by v's top byte, within 2^-8 relative;
-///  2. one Newton step in 16 x 16 and 16 x 32-bit products:
-///     z1 ~ 2^62 / v within about 2^-16 relative;
-///  3. a second Newton step at full width: m ~ 2^63 / v within 2 units;
-///  4. exact correction against the remainder 2^63 - 1 - m v, at most two
-///     units down and one up.
-/// The result is the exact floor for every v: checked against the 64-bit
-/// division for all 2^31 divisors (throwaway host driver, 0 differ; the
-/// estimate of step 3 is 2 below to 1 above the floor), and by
-/// test_reciprocal.cpp at every seed interval's ends and at random.
-/// The bounds of the intermediates (each below 2^32, the products below
-/// 2^64) hold for every v in the range; the same driver checked them.
+/// floor((2^63 - 1) / v) for v in [2^31, 2^32): the quotient of the exact
+/// 64 / 32-bit division (2^63 - 1 < v 2^32, so it fits 32 bits), which on a
+/// core without a divide instruction takes no division either
+/// (wide::divide_64_by_32_by_reciprocal: a seed, one Newton step and 16-bit
+/// products, docs/fixedpoint.md 5.8). Until session 18 this was a second
+/// Newton step at full width and a correction against the remainder (about
+/// 150 instructions on the Cortex-M0 and 57 on the M4, against about 110
+/// and 50 now), the same floor.
 constexpr std::uint32_t floor_two_to_63_less_1_over(std::uint32_t v) noexcept {
   constexpr std::uint64_t kNumerator = (std::uint64_t{1U} << 63U) - 1U;
-  const std::uint32_t y0 = kReciprocalSeeds.y0[(v >> 24U) & 0x7FU];
-  const std::uint64_t estimate = second_newton_step(v, first_newton_step(v, y0));
-  // The floor is at most 2^32 - 1 (v = 2^31); so is the estimate after this.
-  auto m = static_cast<std::uint32_t>((estimate > 0xFFFFFFFFU) ? 0xFFFFFFFFU : estimate);
-  std::uint64_t product = wide::mul_32x32_64(m, v);
-  // Two counted corrections down, one up (MISRA C++:2023 9.5.1: simple loops).
-  for (std::uint32_t step = 0U; step < 2U; ++step) {
-    if (product > kNumerator) {
-      --m;
-      product -= v;
-    }
-  }
-  if ((kNumerator - product) >= v) {
-    ++m;
-  }
-  return m;
+  return wide::divide_64_by_32(kNumerator, v).quotient;
 }
 
 }  // namespace detail

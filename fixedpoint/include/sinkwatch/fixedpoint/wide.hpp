@@ -99,25 +99,39 @@ SW_FX_INLINE constexpr bool bit(std::uint64_t a, std::uint32_t n) noexcept { ret
 SW_FX_INLINE constexpr bool bit(const U128& a, std::uint32_t n) noexcept { return (shr(a, n).lo & 1U) != 0U; }
 
 /// Number of significant bits of a 32-bit value (0 for a == 0), by halving
-/// the range five times: 16, 8, 4, 2 and 1 bits, about 20 instructions. The
-/// bit-at-a-time loop it replaces was not turned into a count-leading-zeros
-/// instruction by GCC at -Os (Cortex-M0 and M4) nor at -O2 (x86-64): up to 32
-/// rounds (docs/performance.md, session 13). The ARMv6-M build of
-/// bit_length32 uses it; test_wide.cpp checks it against the bit-by-bit
-/// count on every target, as it checks bit_length32.
+/// the range five times: 16, 8, 4, 2 and 1 bits. The bit-at-a-time loop it
+/// replaces was not turned into a count-leading-zeros instruction by GCC at
+/// -Os (Cortex-M0 and M4) nor at -O2 (x86-64): up to 32 rounds
+/// (docs/performance.md, session 13). Each halving is a branch around a
+/// shift and an add: on the Cortex-M0 (no conditional execution) about 14
+/// instructions, where the same halvings as selects (s = (v >= 2^16) ? 16 :
+/// 0, ...) took about 36 (session 18). The ARMv6-M build of bit_length32
+/// uses it; test_wide.cpp checks it against the bit-by-bit count on every
+/// target, as it checks bit_length32.
 SW_FX_INLINE constexpr std::uint32_t bit_length32_by_halves(std::uint32_t a) noexcept {
   std::uint32_t v = a;
-  const std::uint32_t s16 = (v >= 0x10000U) ? 16U : 0U;
-  v >>= s16;
-  const std::uint32_t s8 = (v >= 0x100U) ? 8U : 0U;
-  v >>= s8;
-  const std::uint32_t s4 = (v >= 0x10U) ? 4U : 0U;
-  v >>= s4;
-  const std::uint32_t s2 = (v >= 0x4U) ? 2U : 0U;
-  v >>= s2;
-  const std::uint32_t s1 = (v >= 0x2U) ? 1U : 0U;
-  v >>= s1;
-  return s16 + s8 + s4 + s2 + s1 + v;  // v is now 0 (a == 0) or 1
+  std::uint32_t bits = 0U;
+  if ((v >> 16U) != 0U) {
+    v >>= 16U;
+    bits += 16U;
+  }
+  if ((v >> 8U) != 0U) {
+    v >>= 8U;
+    bits += 8U;
+  }
+  if ((v >> 4U) != 0U) {
+    v >>= 4U;
+    bits += 4U;
+  }
+  if ((v >> 2U) != 0U) {
+    v >>= 2U;
+    bits += 2U;
+  }
+  if ((v >> 1U) != 0U) {
+    v >>= 1U;
+    bits += 1U;
+  }
+  return bits + v;  // v is now 0 (a == 0) or 1
 }
 
 /// True where the core counts leading zeros in one instruction (ARMv7-M's
@@ -316,8 +330,228 @@ struct DivMod {
   W remainder;
 };
 
-/// num / den by the built-in operator; den != 0 is the caller's duty.
+/// True where the core divides 32-bit words in one instruction: ARMv7-M's
+/// and ARMv8-M's UDIV (__ARM_FEATURE_IDIV), x86-64's DIV. Elsewhere (ARMv6-M,
+/// ARMv7-A without the division extension) every `/` on 32 or 64 bits is a
+/// library call (on the Cortex-M0 __aeabi_uidiv about 97 instructions for a
+/// 16-bit quotient, __aeabi_uldivmod 500 to 1,100), and the divisions below
+/// are formed from a reciprocal and 16 x 16-bit products instead
+/// (docs/misra.md, D-07; docs/fixedpoint.md 5.8). The same quotient and
+/// remainder either way.
+#if defined(__ARM_FEATURE_IDIV) || defined(__x86_64__)
+constexpr bool kDivideInstruction = true;
+#else
+constexpr bool kDivideInstruction = false;
+#endif
+
+namespace detail {
+
+/// The seeds of the reciprocals below and in reciprocal.hpp.
+struct ReciprocalSeeds {
+  std::uint16_t y0[128];
+};
+
+/// y0[i] = floor(2^24 / (2 (128 + i) + 1)): 2^47 / v at the middle of the
+/// interval v / 2^24 in [128 + i, 129 + i).
+constexpr ReciprocalSeeds make_reciprocal_seeds() noexcept {
+  ReciprocalSeeds t{};
+  for (std::uint32_t i = 0U; i < 128U; ++i) {
+    t.y0[i] = static_cast<std::uint16_t>(0x1000000U / ((2U * (128U + i)) + 1U));
+  }
+  return t;
+}
+/// One table for the program (inline: not one per translation unit).
+inline constexpr ReciprocalSeeds kReciprocalSeeds = make_reciprocal_seeds();
+
+/// One Newton step from the seed y0 ~ 2^47 / v (v in [2^31, 2^32)):
+/// p = v y0 / 2^16 ~ 2^31 (below 2^32), c = 2^32 - p,
+/// z1 = y0 c / 2^16 = y0 (2 - v y0 / 2^47) 2^15 ~ 2^62 / v, each product
+/// below 2^32. With y0 = (1 - e) 2^47 / v, z1 = (1 - e^2) 2^62 / v less its
+/// floor (below 1) plus at most y0 / 2^16 < 1 from p's: so z1 < 2^62 / v + 1
+/// for every v (docs/fixedpoint.md 5.8).
+SW_FX_INLINE constexpr std::uint32_t first_newton_step(std::uint32_t v, std::uint32_t y0) noexcept {
+  const std::uint32_t p = ((v >> 16U) * y0) + (((v & 0xFFFFU) * y0) >> 16U);
+  const std::uint32_t c = 0U - p;  // 2^32 - p: wraps by design
+  return (y0 * (c >> 16U)) + ((y0 * (c & 0xFFFFU)) >> 16U);
+}
+
+/// The long division of divide_64_by_32_by_digits: Hacker's Delight (2nd
+/// ed., figure 9-3, divlu) in base 2^16 with 32-bit words only.
+constexpr std::uint32_t kDigitBase = 0x10000U;
+
+/// One quotient digit of that division: the estimate of `partial` over the
+/// divisor's high digit, at most two too large, corrected at most twice
+/// against its low digit (one correction stops once the remainder leaves the
+/// digit: then kDigitBase * rhat would not fit, and the estimate is right).
+/// Both counted loops are simple (MISRA C++:2023 rule 9.5.1: no break).
+SW_FX_INLINE constexpr std::uint32_t quotient_digit(std::uint32_t partial, std::uint32_t v_high, std::uint32_t v_low,
+                                                    std::uint32_t next_digit) noexcept {
+  std::uint32_t q = partial / v_high;
+  std::uint32_t rhat = partial - (q * v_high);
+  bool correcting = true;
+  for (std::uint32_t step = 0U; step < 2U; ++step) {
+    correcting = correcting && ((q >= kDigitBase) || ((q * v_low) > ((kDigitBase * rhat) + next_digit)));
+    if (correcting) {
+      --q;
+      rhat += v_high;
+      correcting = rhat < kDigitBase;
+    }
+  }
+  return q;
+}
+
+/// r = floor((z1 - 1) / 2^14) ~ 2^48 / v from below, for v in [2^31, 2^32):
+/// r v < 2^48 (z1 - 1 < 2^62 / v) and 2^48 - r v <= 1.5 * 2^32 (the
+/// largest at v = 2^31; docs/fixedpoint.md 5.8), so r < 2^17.
+SW_FX_INLINE constexpr std::uint32_t digit_reciprocal(std::uint32_t v) noexcept {
+  return (first_newton_step(v, kReciprocalSeeds.y0[(v >> 24U) & 0x7FU]) - 1U) >> 14U;
+}
+
+/// A quotient digit and the remainder after it.
+struct DigitStep {
+  std::uint32_t digit;
+  std::uint32_t remainder;
+};
+
+/// floor(x / v) and x mod v for x = partial 2^16 + next (partial < v, next <
+/// 2^16, so the digit is below 2^16), v in [2^31, 2^32) and r =
+/// digit_reciprocal(v). The estimate floor(partial r / 2^32), from a 16 x
+/// 17-bit and a 16 x 16-bit product, is the digit or one or two below it
+/// (docs/fixedpoint.md 5.8), so two counted corrections against the exact
+/// remainder finish it. That remainder, below 3 v < 2^34 before them, is
+/// kept as two words: the low one by the wrapping product (as divlu's), the
+/// high one (0, 1 or 2) from digit v's high word and the borrow.
+SW_FX_INLINE constexpr DigitStep digit_by_reciprocal(std::uint32_t partial, std::uint32_t next, std::uint32_t v,
+                                                     std::uint32_t r) noexcept {
+  // partial r / 2^16 without the 17-bit r on 16 bits: the low half takes
+  // r / 2, losing under 2^-15 of the unit; the sum is below 2^32.
+  const std::uint32_t scaled = ((partial >> 16U) * r) + (((partial & 0xFFFFU) * (r >> 1U)) >> 15U);
+  std::uint32_t digit = scaled >> 16U;
+  const std::uint32_t dividend_low = (partial << 16U) | next;
+  std::uint32_t low = dividend_low - (digit * v);  // wraps by design: the low word of x - digit v
+  // floor(digit v / 2^32): digit v / 2^16 = digit (v / 2^16) + digit (v mod 2^16) / 2^16 < 2^32.
+  const std::uint32_t product_high = ((digit * (v >> 16U)) + ((digit * (v & 0xFFFFU)) >> 16U)) >> 16U;
+  std::uint32_t high = (partial >> 16U) - product_high - ((low > dividend_low) ? 1U : 0U);
+  // MISRA C++:2023 9.5.1: a simple counted loop, no break.
+  for (std::uint32_t step = 0U; step < 2U; ++step) {
+    if ((high != 0U) || (low >= v)) {
+      high -= (low < v) ? 1U : 0U;
+      low -= v;
+      ++digit;
+    }
+  }
+  return DigitStep{digit, low};
+}
+
+}  // namespace detail
+
+namespace detail {
+/// divide_64_by_32_by_digits's quotient (low word) and remainder (high
+/// word), packed as packed_by_reciprocal's below (two registers, no frame
+/// for the result).
+constexpr std::uint64_t packed_by_digits(std::uint64_t u, std::uint32_t v) noexcept {
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  // v >= 2^31, so the high digit is at least 2^15: the OR changes nothing
+  // but shows the static analyser a divisor that cannot be zero.
+  const std::uint32_t v_high = (v >> 16U) | 0x8000U;
+  const std::uint32_t v_low = v & 0xFFFFU;
+  const auto u_high = static_cast<std::uint32_t>(u / kWord);  // u >> 32 without a library shift
+  const auto u_low = static_cast<std::uint32_t>(u);
+  const std::uint32_t u_high_digit = u_low >> 16U;
+  const std::uint32_t u_low_digit = u_low & 0xFFFFU;
+  const std::uint32_t q1 = quotient_digit(u_high, v_high, v_low, u_high_digit);
+  const std::uint32_t partial = ((u_high * kDigitBase) + u_high_digit) - (q1 * v);
+  const std::uint32_t q0 = quotient_digit(partial, v_high, v_low, u_low_digit);
+  const std::uint32_t remainder = ((partial * kDigitBase) + u_low_digit) - (q0 * v);
+  return (static_cast<std::uint64_t>(remainder) << 32U) | ((q1 * kDigitBase) + q0);
+}
+}  // namespace detail
+
+/// floor(u / v) and u mod v for v in [2^31, 2^32) and u < v * 2^32 (the
+/// quotient fits 32 bits; the caller normalises): two base-2^16 digits, each
+/// from detail::quotient_digit's 32-bit division by the divisor's high
+/// half. The partial remainders fit 32 bits, and the wrapping 32-bit
+/// arithmetic gives them exactly (Hacker's Delight's divlu). The form for
+/// cores with a divide instruction.
+SW_FX_INLINE constexpr DivMod<std::uint32_t> divide_64_by_32_by_digits(std::uint64_t u, std::uint32_t v) noexcept {
+  const std::uint64_t packed = detail::packed_by_digits(u, v);
+  return DivMod<std::uint32_t>{static_cast<std::uint32_t>(packed), static_cast<std::uint32_t>(packed >> 32U)};
+}
+
+namespace detail {
+/// divide_64_by_32_by_reciprocal's quotient (low word) and remainder (high
+/// word) as one 64-bit value: AAPCS returns it in two registers, where a
+/// two-word struct goes through the caller's memory (16 more bytes of frame
+/// on the step's deepest path on the Cortex-M0, through normalised_reciprocal).
+constexpr std::uint64_t packed_by_reciprocal(std::uint64_t u, std::uint32_t v) noexcept {
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  const std::uint32_t r = digit_reciprocal(v);
+  const auto u_high = static_cast<std::uint32_t>(u / kWord);
+  const auto u_low = static_cast<std::uint32_t>(u);
+  const DigitStep high = digit_by_reciprocal(u_high, u_low >> 16U, v, r);
+  const DigitStep low = digit_by_reciprocal(high.remainder, u_low & 0xFFFFU, v, r);
+  return (static_cast<std::uint64_t>(low.remainder) << 32U) | ((high.digit << 16U) | low.digit);
+}
+}  // namespace detail
+
+/// The same quotient and remainder with no division: a reciprocal of v to
+/// 17 bits (a seed and one Newton step, four 16 x 16-bit products), then the
+/// same two base-2^16 digits, each estimated from it and corrected at most
+/// twice against the exact remainder (detail::digit_by_reciprocal). The form
+/// for cores without a divide instruction: about 100 instructions on the
+/// Cortex-M0 against about 280 for the digits' two library divisions.
+SW_FX_INLINE constexpr DivMod<std::uint32_t> divide_64_by_32_by_reciprocal(std::uint64_t u, std::uint32_t v) noexcept {
+  const std::uint64_t packed = detail::packed_by_reciprocal(u, v);
+  return DivMod<std::uint32_t>{static_cast<std::uint32_t>(packed), static_cast<std::uint32_t>(packed >> 32U)};
+}
+
+/// floor(u / v) and u mod v for v in [2^31, 2^32) and u < v * 2^32, in the
+/// core's cheaper form (kDivideInstruction); both are exact.
+constexpr DivMod<std::uint32_t> divide_64_by_32(std::uint64_t u, std::uint32_t v) noexcept {
+  if constexpr (kDivideInstruction) {
+    return divide_64_by_32_by_digits(u, v);
+  } else {
+    return divide_64_by_32_by_reciprocal(u, v);
+  }
+}
+
+/// num / den and num mod den for a one-word divisor (den != 0) and any
+/// 64-bit dividend, with no library division: den shifted left by s until
+/// its top bit is set, the dividend by the same s into three words, then two
+/// divide_64_by_32_by_reciprocal (the high two words, then the remainder and
+/// the low word: each partial dividend's high word is below the divisor), the
+/// remainder shifted back. Exact: (num 2^s) / (den 2^s) has num / den's
+/// quotient and 2^s times its remainder.
+constexpr DivMod<std::uint64_t> divmod_by_word_normalising(std::uint64_t num, std::uint32_t den) noexcept {
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  const std::uint32_t s = 32U - bit_length32(den);  // 0..31: den != 0
+  const std::uint32_t v = den << s;
+  const auto high = static_cast<std::uint32_t>(num / kWord);
+  const auto low = static_cast<std::uint32_t>(num);
+  // The dividend times 2^s, 96 bits: top < 2^s <= v.
+  const std::uint32_t top = (s == 0U) ? 0U : (high >> (32U - s));
+  const std::uint32_t middle = (s == 0U) ? high : ((high << s) | (low >> (32U - s)));
+  // A quotient below 2^32 (top == 0, middle < v) needs the second division only.
+  const bool one_word = (top == 0U) && (middle < v);
+  const DivMod<std::uint32_t> upper = one_word ? DivMod<std::uint32_t>{0U, middle}
+                                               : divide_64_by_32_by_reciprocal((std::uint64_t{top} << 32U) | middle, v);
+  const DivMod<std::uint32_t> lower =
+      divide_64_by_32_by_reciprocal((std::uint64_t{upper.remainder} << 32U) | (low << s), v);
+  return DivMod<std::uint64_t>{(std::uint64_t{upper.quotient} << 32U) | lower.quotient, lower.remainder >> s};
+}
+
+/// num / den (den != 0 is the caller's duty). By the built-in operator where
+/// the core divides (a library call on 32-bit ARM, one instruction on
+/// x86-64); without a divide instruction a one-word divisor takes
+/// divmod_by_word_normalising (on the Cortex-M0 about 160 instructions for
+/// the step's slip ratio and 190 for random operands, against 520 and 1,080
+/// for __aeabi_uldivmod). The same quotient and remainder.
 constexpr DivMod<std::uint64_t> divmod(std::uint64_t num, std::uint64_t den) noexcept {
+  if constexpr (!kDivideInstruction) {
+    if (den < (std::uint64_t{1U} << 32U)) {
+      return divmod_by_word_normalising(num, static_cast<std::uint32_t>(den));
+    }
+  }
   return DivMod<std::uint64_t>{num / den, num % den};
 }
 
