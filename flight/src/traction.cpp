@@ -3,6 +3,7 @@
 
 #include "median.hpp"
 #include "n_of_m.hpp"
+#include "sinkwatch/fixedpoint/normalised_quotient.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
@@ -16,7 +17,6 @@ using fx::wide::mul_32x32_64;
 using n_of_m::count_bits;
 using n_of_m::shift_in;
 
-constexpr std::uint64_t kMsPerSecond = 1000U;
 /// |sum T| below 2^31 raw (2^-16 N m, so 32768 N m): the bound that keeps the
 /// thrust product in 64 bits (docs/traction.md, "Arithmetic and error").
 constexpr std::uint64_t kMaxTorqueSumQ16 = (std::uint64_t{1U} << 31U) - 1U;
@@ -62,20 +62,74 @@ WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels) noexcept {
   return s;
 }
 
-/// n / d rounded half away from zero, as a raw Q7.24 ratio (d > 0); one
-/// 64-bit division. Beyond Q7.24 it saturates and raises overflow.
+/// n / d rounded half away from zero, as a raw Q7.24 ratio (d > 0), by
+/// detail::rounded_quotient. Beyond Q7.24 it saturates and raises overflow.
 Ratio rounded_ratio(std::int64_t n, std::uint64_t d, fx::Status& st) noexcept {
   const bool negative = n < 0;
-  const std::uint64_t magnitude = fx::detail::magnitude(n);
-  std::uint64_t quotient = magnitude / d;
-  const std::uint64_t remainder = magnitude - (quotient * d);
-  if (remainder >= (d - remainder)) {
-    ++quotient;
-  }
-  return Ratio::from_raw(fx::detail::from_sign_magnitude<RatioQ::storage_type>(negative && (quotient != 0U), quotient, st));
+  const std::uint64_t quotient = detail::rounded_quotient(fx::detail::magnitude(n), d);
+  return Ratio::from_raw(
+      fx::detail::from_sign_magnitude<RatioQ::storage_type>(negative && (quotient != 0U), quotient, st));
+}
+
+/// ceil(2^41 / 1000): x * kPerThousand / 2^41 is floor(x / 1000) for every
+/// 32-bit x. It exceeds 2^41 / 1000 by e / 1000 with e = 1000 kPerThousand -
+/// 2^41 = 448, so x kPerThousand / 2^41 = x / 1000 + x e / (1000 2^41), and
+/// with x = 1000 q + r (r <= 999) the fraction r / 1000 + x e / (1000 2^41)
+/// stays below 1 because x e < 2^32 * 2^9 = 2^41 (Granlund and Montgomery,
+/// "Division by invariant integers using multiplication", 1994, Theorem 4.2).
+constexpr std::uint32_t kPerThousand = 2199023256U;
+constexpr std::uint32_t kPerThousandShift = 41U;
+
+/// floor(x / 1000) without a division: a library call of about 100
+/// instructions on the Cortex-M0, which has no divide instruction.
+std::uint32_t thousandths(std::uint32_t x) noexcept {
+  return static_cast<std::uint32_t>(mul_32x32_64(x, kPerThousand) >> kPerThousandShift);
 }
 
 }  // namespace
+
+namespace detail {
+
+std::uint64_t rounded_quotient(std::uint64_t n, std::uint64_t d) noexcept {
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  const auto n_high = static_cast<std::uint32_t>(n / kWord);  // n >> 32 without a library shift
+  if ((d >= kWord) || (n_high >= d)) {
+    // A load sum of 65,536 N or more, or a quotient of 2^32 or more (a ratio
+    // far beyond Q7.24): the library division.
+    std::uint64_t quotient = n / d;
+    const std::uint64_t remainder = n - (quotient * d);
+    if (remainder >= (d - remainder)) {
+      ++quotient;
+    }
+    return quotient;
+  }
+  // Normalised: the divisor's leading one at bit 31, the dividend shifted
+  // with it (n_high < d < 2^(32 - shift), so nothing leaves the top), in
+  // 32-bit words (a 64-bit shift by a run-time count is a library call on
+  // 32-bit cores). n < d 2^32 makes the quotient fit 32 bits, as
+  // divide_64_by_32 needs.
+  const auto divisor = static_cast<std::uint32_t>(d);
+  const std::uint32_t shift = 32U - fx::wide::bit_length32(divisor);
+  const auto n_low = static_cast<std::uint32_t>(n);
+  const std::uint32_t u_high = (shift == 0U) ? n_high : ((n_high << shift) | (n_low >> (32U - shift)));
+  const std::uint64_t u = (static_cast<std::uint64_t>(u_high) * kWord) + static_cast<std::uint64_t>(n_low << shift);
+  const fx::wide::DivMod<std::uint32_t> qr = fx::detail::divide_64_by_32(u, divisor << shift);
+  // The remainder comes scaled by 2^shift, as the divisor: the same test
+  // as r >= d - r.
+  const std::uint32_t rest = (divisor << shift) - qr.remainder;
+  return static_cast<std::uint64_t>(qr.quotient) + ((qr.remainder >= rest) ? 1U : 0U);
+}
+
+std::uint64_t travelled_q24(std::uint32_t speed_q24, std::uint32_t dt_ms) noexcept {
+  // |v| = 1000 a + b: |v| dt + 500 = 1000 a dt + (b dt + 500), so the
+  // quotient by 1000 is a dt plus that of b dt + 500 (< 2^21), exactly.
+  // a <= 2^31 / 1000, so a dt <= 2,147,483 * 2000 < 2^32.
+  const std::uint32_t a = thousandths(speed_q24);
+  const std::uint32_t b = speed_q24 - (a * 1000U);
+  return static_cast<std::uint64_t>(a * dt_ms) + thousandths((b * dt_ms) + 500U);
+}
+
+}  // namespace detail
 
 InverseRadius inverse_radius(LengthM wheel_radius_m) noexcept {
   if ((wheel_radius_m < kMinRadiusM) || (wheel_radius_m > kMaxRadiusM)) {
@@ -186,9 +240,8 @@ void TractionMonitor::advance(const TractionInput& in, Ratio rho_med, const Trac
   }
   // |v| dt / 1000: |v| (<= 2^31, 2^-24 m/s) times dt (<= 2000 ms) is below
   // 2^42; the division by 1000 rounds once (half up) into 2^-24 m.
-  const std::uint64_t speed = fx::detail::magnitude(in.speed_mps.raw());
-  const std::uint64_t step_q24 =
-      (mul_32x32_64(static_cast<std::uint32_t>(speed), dt_ms) + (kMsPerSecond / 2U)) / kMsPerSecond;
+  const std::uint32_t speed = fx::detail::magnitude32(in.speed_mps.raw());
+  const std::uint64_t step_q24 = detail::travelled_q24(speed, dt_ms);
   fx::Status st;
   const LengthM step_m = LengthM::from_raw(fx::detail::from_sign_magnitude<LengthQ::storage_type>(false, step_q24, st));
   const LengthM travelled{fx::add(since_mark_m_.q(), step_m.q(), st)};
