@@ -223,12 +223,33 @@ TractionSample TractionMonitor::resistance_of(const TractionInput& in, std::uint
 }
 
 Ratio TractionMonitor::push_median(Ratio rho) noexcept {
+  // The window's values stay sorted: the oldest value leaves (any copy of
+  // it: equal ratios are the same bits), the new one is inserted in order.
+  // The median of the multiset is the same as that of a sorted copy
+  // (median_of), without the copy, its zeroing and the sort.
+  std::uint8_t kept = recent_count_;
+  if (kept == kTractionMedianSamples) {
+    const Ratio oldest = recent_[recent_next_];
+    bool found = false;
+    for (std::uint8_t i = 0U; i < kTractionMedianSamples; ++i) {
+      found = found || (sorted_[i] == oldest);
+      if (found && ((i + 1U) < kTractionMedianSamples)) {
+        sorted_[i] = sorted_[i + 1U];
+      }
+    }
+    --kept;
+  }
+  std::uint8_t slot = kept;
+  while ((slot > 0U) && (rho < sorted_[slot - 1U])) {
+    sorted_[slot] = sorted_[slot - 1U];
+    --slot;
+  }
+  sorted_[slot] = rho;
   recent_[recent_next_] = rho;
   recent_next_ = detail::next_slot<kTractionMedianSamples>(recent_next_);
-  if (recent_count_ < kTractionMedianSamples) {
-    ++recent_count_;
-  }
-  return detail::median_of(recent_, recent_count_);
+  recent_count_ = static_cast<std::uint8_t>(kept + 1U);
+  // The lower middle of an even count, as median_of.
+  return sorted_[static_cast<std::uint8_t>(kept / 2U)];
 }
 
 void TractionMonitor::advance(const TractionInput& in, Ratio rho_med, const TractionParams& params) noexcept {

@@ -170,6 +170,9 @@ class TractionMonitor {
 
   TractionState state_{TractionState::nominal};
   Ratio recent_[kTractionMedianSamples];  ///< the last rho, oldest overwritten
+  /// The first recent_count_ of them, ascending: kept sorted as each sample
+  /// replaces the oldest, so that the median is read, not sorted for.
+  Ratio sorted_[kTractionMedianSamples];
   std::uint8_t recent_count_{0U};
   std::uint8_t recent_next_{0U};
   /// The trend's history: rho_med at each mark and the distance from the
