@@ -329,8 +329,8 @@ RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParame
 void RoverStep::traction_stage(const RoverTelemetry& t, const PreparedParameters& prepared,
                                RoverStepOutput& out) noexcept {
   traction_input(t, out, traction_in_);
-  out.traction = traction_.step(traction_in_, prepared.table().traction, prepared.table().monitor,
-                                prepared.traction_inverse_radius());
+  traction_.step(traction_in_, prepared.table().traction, prepared.table().monitor, prepared.traction_inverse_radius(),
+                 out.traction);
 }
 
 void RoverStep::monitor_stage(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared,

@@ -33,33 +33,39 @@ constexpr std::int32_t kMarksPerSpan = 8;
 /// direction) and W, as raw Q15.16 integers (2^-16 N m, 2^-16 N): at most six
 /// values below 2^31 in magnitude, so every sum is exact in 64 bits.
 struct WheelSums {
-  std::int64_t torque_q16{0};
-  std::int64_t pull_q16{0};
-  std::int64_t load_q16{0};
-  std::uint8_t wheels{0U};
-  bool mixed{false};
+  std::int64_t torque_q16;
+  std::int64_t pull_q16;
+  std::int64_t load_q16;
+  std::uint32_t wheels;
+  bool mixed;
 };
 
+/// The sums in locals (registers), the record built once at the end: not a
+/// zeroed record added to in memory, wheel by wheel.
 WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels) noexcept {
-  WheelSums s{};
-  bool have_direction = false;
-  DriveDirection direction = DriveDirection::forward;
-  for (std::uint8_t i = 0U; (i < wheels) && (i < kWheelCount); ++i) {
+  const std::uint32_t monitored = (wheels < kWheelCount) ? wheels : kWheelCount;
+  std::int64_t torque = 0;
+  std::int64_t pull = 0;
+  std::int64_t load = 0;
+  std::uint32_t used = 0U;
+  bool mixed = false;
+  DriveDirection first = DriveDirection::forward;
+  for (std::uint32_t i = 0U; i < monitored; ++i) {
     if (in.torque_valid[i]) {
-      if (have_direction && (in.direction[i] != direction)) {
-        s.mixed = true;
-      }
-      have_direction = true;
-      direction = in.direction[i];
-      const std::int64_t pull = in.drawbar_pull_n[i].raw();
+      const DriveDirection direction = in.direction[i];
+      // All one way: each wheel's direction that of the first wheel with a
+      // torque (the same as each that of the wheel before it).
+      first = (used == 0U) ? direction : first;
+      mixed = mixed || (direction != first);
+      const std::int64_t p = in.drawbar_pull_n[i].raw();
       // Reverse: the pull that drives the rover backwards is -DP.
-      s.pull_q16 += (direction == DriveDirection::reverse) ? -pull : pull;
-      s.torque_q16 += in.torque_nm[i].raw();
-      s.load_q16 += in.load_n[i].raw();
-      ++s.wheels;
+      pull += (direction == DriveDirection::reverse) ? -p : p;
+      torque += in.torque_nm[i].raw();
+      load += in.load_n[i].raw();
+      ++used;
     }
   }
-  return s;
+  return WheelSums{torque, pull, load, used, mixed};
 }
 
 /// n / d rounded half away from zero, as a raw Q7.24 ratio (d > 0), by
@@ -321,16 +327,27 @@ void TractionMonitor::push_history(bool caution, bool stop, bool clear) noexcept
   clear_history_ = shift_in(clear_history_, clear);
 }
 
+namespace {
+
+/// Set bits among the newest `window` of `history`: none when the history
+/// is empty (the usual case of the stop and caution histories), without the
+/// count.
+std::uint8_t evidence(std::uint16_t history, std::uint8_t window) noexcept {
+  return (history == 0U) ? std::uint8_t{0U} : count_bits(history, window);
+}
+
+}  // namespace
+
 void TractionMonitor::transition(const MonitorParams& monitor, TractionOutput& out) noexcept {
   if (state_ == TractionState::stop) {
     return;  // latched until clear_stop()
   }
-  if (count_bits(stop_history_, monitor.window_m) >= monitor.trip_n) {
+  if (evidence(stop_history_, monitor.window_m) >= monitor.trip_n) {
     state_ = TractionState::stop;
     out.stop_tripped = true;
-  } else if ((state_ == TractionState::nominal) && (count_bits(caution_history_, monitor.window_m) >= monitor.trip_n)) {
+  } else if ((state_ == TractionState::nominal) && (evidence(caution_history_, monitor.window_m) >= monitor.trip_n)) {
     state_ = TractionState::caution;
-  } else if ((state_ == TractionState::caution) && (count_bits(clear_history_, monitor.window_m) >= monitor.clear_n)) {
+  } else if ((state_ == TractionState::caution) && (evidence(clear_history_, monitor.window_m) >= monitor.clear_n)) {
     state_ = TractionState::nominal;
   } else {
     // No change.
@@ -367,10 +384,24 @@ TractionSample TractionMonitor::evaluate(const TractionInput& input, const Tract
 TractionOutput TractionMonitor::step(const TractionInput& input, const TractionParams& params,
                                      const MonitorParams& monitor, InverseRadius per_radius) noexcept {
   TractionOutput out{};
+  step(input, params, monitor, per_radius, out);
+  return out;
+}
+
+void TractionMonitor::step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
+                           InverseRadius per_radius, TractionOutput& out) noexcept {
+  // Every field, as TractionOutput{} has them (the record is the previous
+  // cycle's).
+  out.stop_tripped = false;
+  out.rho_valid = false;
+  out.resistance = Ratio::zero();
+  out.resistance_median = Ratio::zero();
+  out.trend_known = false;
+  out.resistance_ahead = Ratio::zero();
   if (!traction_check_on(params)) {
     out.state = TractionState::off;
     out.sample = TractionSample::check_off;
-    return out;
+    return;
   }
   Ratio rho{};
   out.sample = resistance_of(input, monitor.wheel_count, per_radius, rho);
@@ -390,7 +421,6 @@ TractionOutput TractionMonitor::step(const TractionInput& input, const TractionP
   push_history(caution, stop, clear);
   transition(monitor, out);
   out.state = state_;
-  return out;
 }
 
 }  // namespace flight

@@ -823,17 +823,29 @@ TEST(TractionRound12, TheMonitorGivesTheSameOutputsAsBeforeOnRandomDrives) {
     const InverseRadius per_r = f.one_in(10U) ? f.radius() : inverse_radius(q<LengthM>(radius_m));
     before::TractionMonitor then;
     TractionMonitor returned;
+    TractionMonitor in_place;
+    TractionOutput out{};
     std::uint32_t time_ms = 1000U;
     double rho = f.uniform(0.0, 0.3);
     for (std::uint32_t k = 0U; k < 500U; ++k) {
       if (f.one_in(150U)) {
         then.clear_stop();
         returned.clear_stop();
+        in_place.clear_stop();
       }
       const TractionInput in = f.input(time_ms, rho, radius_m);
       const TractionOutput want = then.step(in, params, monitor, per_r);
       expect_same_output(returned.step(in, params, monitor, per_r), want, k);
-      ASSERT_EQ(returned.state(), then.state()) << "seed " << seed << " cycle " << k;
+      // The in-place form writes every field of the previous cycle's record.
+      out.stop_tripped = !out.stop_tripped;
+      out.rho_valid = !out.rho_valid;
+      out.trend_known = !out.trend_known;
+      out.resistance = Ratio::from_raw(out.resistance.raw() ^ 0x5A5A5A5A);
+      out.resistance_median = Ratio::from_raw(~out.resistance_median.raw());
+      out.resistance_ahead = Ratio::from_raw(out.resistance_ahead.raw() + 12345);
+      in_place.step(in, params, monitor, per_r, out);
+      expect_same_output(out, want, k);
+      ASSERT_EQ(in_place.state(), then.state()) << "seed " << seed << " cycle " << k;
       if (::testing::Test::HasFatalFailure()) {
         FAIL() << "seed " << seed;
       }

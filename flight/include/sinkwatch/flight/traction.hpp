@@ -142,6 +142,10 @@ class TractionMonitor {
   /// (the N-of-M window). `per_radius` is the table's 1/r (inverse_radius()).
   TractionOutput step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
                       InverseRadius per_radius) noexcept;
+  /// The same cycle into `out`, every field written (the rover step's
+  /// record: no output built and copied).
+  void step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
+            InverseRadius per_radius, TractionOutput& out) noexcept;
 
   /// Back to NOMINAL with empty histories (the ground's re-plan).
   void clear_stop() noexcept;
