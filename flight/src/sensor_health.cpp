@@ -100,12 +100,10 @@ bool angle_beyond(AngleRad a, AngleRad reference, std::uint32_t tolerance) noexc
   return distance(a.raw(), reference.raw()) > tolerance;
 }
 
-/// A jump from the previous raw value (`off_previous`) that is also a jump
-/// from the last value that was not a spike (`off_good`): one wild sample,
-/// or the first of a burst. A sample back near the last good value (the
-/// spike has passed) or near the previous one (a level change, e.g. a bias
-/// step) is not a spike.
-bool is_spike(bool off_previous, bool off_good) noexcept { return off_previous && off_good; }
+// A spike is a jump from the previous raw value that is also a jump from
+// the last value that was not a spike: one wild sample, or the first of a
+// burst. A sample back near the last good value (the spike has passed) or
+// near the previous one (a level change, e.g. a bias step) is not a spike.
 
 bool attitude_equal(const RoverAttitude& a, const RoverAttitude& b) noexcept {
   return (a.pitch_rad == b.pitch_rad) && (a.roll_rad == b.roll_rad);
@@ -120,9 +118,10 @@ bool any_joint_equal(const JointAnglesRad& a, const JointAnglesRad& b) noexcept 
   return equal;
 }
 
-/// One joint's spike: beyond the previous sample and the last good one.
+/// One joint's spike: beyond the previous sample and the last good one (the
+/// second distance only for a joint beyond the first).
 bool joint_spike(AngleRad a, AngleRad previous, AngleRad good, std::uint32_t tolerance) noexcept {
-  return is_spike(angle_beyond(a, previous, tolerance), angle_beyond(a, good, tolerance));
+  return angle_beyond(a, previous, tolerance) && angle_beyond(a, good, tolerance);
 }
 
 bool joints_spike(const JointAnglesRad& a, const JointAnglesRad& previous, const JointAnglesRad& good,
@@ -227,7 +226,11 @@ void SensorHealthMonitor::currents(const HealthSample& s, const HealthParams& p,
                         trip_at(p.stuck_cycles), trip_at(p.implausible_cycles), s.driving};
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     const SensorHealth verdict = current_verdict(track_[i], current_history_[i], s, i, k);
-    const SensorHealth h = settle(track_[i], verdict, p.recover_cycles);
+    // settle() of the usual sample, an ok one of a channel with no fault to
+    // recover from, without the call.
+    const bool steady = (verdict == SensorHealth::ok) && !track_[i].faulted;
+    const SensorHealth h = steady ? SensorHealth::ok : settle(track_[i], verdict, p.recover_cycles);
+    track_[i].health = h;
     r.channel[i] = h;
     r.current_usable[i] = usable(h);
     tally(counters_.by_health[i][static_cast<std::uint8_t>(h)]);
@@ -247,8 +250,10 @@ SensorHealth SensorHealthMonitor::imu_channel(const HealthSample& s, const Healt
     t.same_run = repeat_run(t.same_run, attitude_equal(s.attitude, last_attitude_), s.driving);
     const bool pitch_off_good = angle_beyond(s.attitude.pitch_rad, step_attitude_.pitch_rad, tolerance);
     const bool roll_off_good = angle_beyond(s.attitude.roll_rad, step_attitude_.roll_rad, tolerance);
-    spike = is_spike(angle_beyond(s.attitude.pitch_rad, last_attitude_.pitch_rad, tolerance), pitch_off_good) ||
-            is_spike(angle_beyond(s.attitude.roll_rad, last_attitude_.roll_rad, tolerance), roll_off_good);
+    // A spike is beyond the previous sample too (that distance only for an
+    // angle beyond the last good one).
+    spike = (pitch_off_good && angle_beyond(s.attitude.pitch_rad, last_attitude_.pitch_rad, tolerance)) ||
+            (roll_off_good && angle_beyond(s.attitude.roll_rad, last_attitude_.roll_rad, tolerance));
     off_good = pitch_off_good || roll_off_good;
   }
   t.spike_run = spike ? bump(t.spike_run) : 0U;
