@@ -48,15 +48,16 @@ WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels) noexcept {
   std::int64_t pull = 0;
   std::int64_t load = 0;
   std::uint32_t used = 0U;
-  bool mixed = false;
-  DriveDirection first = DriveDirection::forward;
+  // All one way when every bit of the directions is the same in all of
+  // them: their OR equals their AND (two different values differ in a bit,
+  // which is then in the OR and not in the AND).
+  std::uint32_t any_bits = 0U;
+  std::uint32_t all_bits = 0xFFU;
   for (std::uint32_t i = 0U; i < monitored; ++i) {
     if (in.torque_valid[i]) {
       const DriveDirection direction = in.direction[i];
-      // All one way: each wheel's direction that of the first wheel with a
-      // torque (the same as each that of the wheel before it).
-      first = (used == 0U) ? direction : first;
-      mixed = mixed || (direction != first);
+      any_bits |= static_cast<std::uint32_t>(direction);
+      all_bits &= static_cast<std::uint32_t>(direction);
       const std::int64_t p = in.drawbar_pull_n[i].raw();
       // Reverse: the pull that drives the rover backwards is -DP.
       pull += (direction == DriveDirection::reverse) ? -p : p;
@@ -65,7 +66,7 @@ WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels) noexcept {
       ++used;
     }
   }
-  return WheelSums{torque, pull, load, used, mixed};
+  return WheelSums{torque, pull, load, used, (used > 0U) && (any_bits != all_bits)};
 }
 
 /// n / d rounded half away from zero, as a raw Q7.24 ratio (d > 0), by
