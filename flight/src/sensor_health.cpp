@@ -14,7 +14,7 @@ constexpr std::uint8_t kRunMax = 0xFFU;
 constexpr std::uint32_t kNeverReached = 0x100U;
 /// Above |a - b| <= 2^32 for any two currents along their directions (raw
 /// 32-bit values or their negations): the step tolerance of a check that is off.
-constexpr std::int64_t kNoCurrentSpike = std::int64_t{1} << 32U;
+constexpr std::int64_t kNoCurrentSpike = static_cast<std::int64_t>(std::uint64_t{1U} << 32U);
 /// 2^32 - 1, the largest difference of two raw 32-bit values: the step
 /// tolerance of an angle check that is off (no difference is beyond it).
 constexpr std::uint32_t kNoAngleSpike = 0xFFFFFFFFU;

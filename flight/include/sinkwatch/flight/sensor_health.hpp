@@ -109,8 +109,8 @@ struct HealthSample {
   const RoverAttitude& attitude;
   const JointAnglesRad& joints;
   const SensorPresence& presence;
-  bool driving;     ///< the rim speed is known and at least kMinRimSpeedForSlip
-  bool clock_jump;  ///< more than the stale timeout since the last fresh sample, or backwards
+  bool driving{false};     ///< the rim speed is known and at least kMinRimSpeedForSlip
+  bool clock_jump{false};  ///< more than the stale timeout since the last fresh sample, or backwards
 };
 
 namespace detail {
