@@ -2,6 +2,8 @@
 // docs/fault-tolerance.md).
 #include "sinkwatch/flight/sensor_health.hpp"
 
+#include "sinkwatch/fixedpoint/q.hpp"
+
 namespace sinkwatch {
 namespace flight {
 namespace {
@@ -12,9 +14,6 @@ using detail::HealthTrack;
 constexpr std::uint8_t kRunMax = 0xFFU;
 /// A run length no 8-bit run reaches: the threshold of a check that is off.
 constexpr std::uint32_t kNeverReached = 0x100U;
-/// Above |a - b| <= 2^32 for any two currents along their directions (raw
-/// 32-bit values or their negations): the step tolerance of a check that is off.
-constexpr std::int64_t kNoCurrentSpike = static_cast<std::int64_t>(std::uint64_t{1U} << 32U);
 /// 2^32 - 1, the largest difference of two raw 32-bit values: the step
 /// tolerance of an angle check that is off (no difference is beyond it).
 constexpr std::uint32_t kNoAngleSpike = 0xFFFFFFFFU;
@@ -65,20 +64,6 @@ SensorHealth settle(HealthTrack& t, SensorHealth raw_verdict, std::uint8_t recov
 /// A spike, and spikes in a row a noise burst.
 SensorHealth spike_verdict(std::uint8_t spike_run) noexcept {
   return (spike_run >= 2U) ? SensorHealth::noisy : SensorHealth::spike;
-}
-
-/// A current's step limit as the tolerance |a - b| may reach without a
-/// spike; a zero limit switches the check off.
-std::int64_t current_tolerance(CurrentA limit) noexcept {
-  return (limit.raw() > 0) ? static_cast<std::int64_t>(limit.raw()) : kNoCurrentSpike;
-}
-
-/// |a - b| > tolerance, in 64 bits so that no difference of two raw values
-/// overflows (both are raw 32-bit values or their negations: |a - b| <= 2^32).
-bool beyond(std::int64_t a, std::int64_t b, std::int64_t tolerance) noexcept {
-  const std::int64_t d = a - b;
-  const std::int64_t magnitude = (d < 0) ? -d : d;
-  return magnitude > tolerance;
 }
 
 /// An angle's step limit as the tolerance the distance() of two raw angles
@@ -141,6 +126,45 @@ std::int64_t directed_raw(CurrentA current_a, DriveDirection direction) noexcept
   return (direction == DriveDirection::reverse) ? -raw : raw;
 }
 
+/// A current's step limit as the tolerances |D_a - D_b| may reach without a
+/// spike (D = reading or -reading in reverse, in [-2^31, 2^31]): with one
+/// direction (at most 2^32 - 1, so 2^32 - 1 switches the check off) and
+/// across a reversal (at most 2^32, so 2^32 switches it off).
+struct CurrentTolerance {
+  std::uint32_t one_way;
+  std::uint64_t reversed;
+};
+
+CurrentTolerance current_tolerance(CurrentA limit) noexcept {
+  if (limit.raw() > 0) {
+    const auto t = static_cast<std::uint32_t>(limit.raw());
+    return CurrentTolerance{t, t};
+  }
+  return CurrentTolerance{0xFFFFFFFFU, std::uint64_t{1U} << 32U};
+}
+
+/// |D_a - D_b| > tolerance for two currents along their directions: with
+/// one direction the difference is +-(r_a - r_b), whose magnitude distance()
+/// gives exactly in 32 bits (the usual case); across a reversal it is
+/// +-(r_a + r_b), up to 2^32, in 64 bits.
+bool current_beyond(std::int32_t reading_a, bool reverse_a, std::int32_t reading_b, bool reverse_b,
+                    const CurrentTolerance& tolerance) noexcept {
+  if (reverse_a == reverse_b) {
+    return distance(reading_a, reading_b) > tolerance.one_way;
+  }
+  const std::int64_t sum = static_cast<std::int64_t>(reading_a) + static_cast<std::int64_t>(reading_b);
+  return fx::detail::magnitude(sum) > tolerance.reversed;
+}
+
+/// D >= level for a current along its direction (D as in current_beyond):
+/// a 32-bit comparison forward, the negation widened in reverse.
+bool directed_at_least(std::int32_t reading, bool reverse, std::int32_t level) noexcept {
+  if (!reverse) {
+    return reading >= level;
+  }
+  return -static_cast<std::int64_t>(reading) >= static_cast<std::int64_t>(level);
+}
+
 /// At least three of the other five wheels draw more than twice the
 /// no-load current: the rover is pulling, so a wheel that draws less than
 /// the no-load current transmits no torque. Asked only about a wheel below
@@ -160,13 +184,19 @@ bool others_pull(const HealthSample& s, std::int32_t no_load_raw, std::uint32_t 
 /// The current checks' parameters, prepared once per sample for the six
 /// wheels (a zero run or step limit as a threshold never reached).
 struct CurrentChecks {
-  std::int64_t step_tolerance;
+  CurrentTolerance step_tolerance;
   std::int32_t no_load_raw;
   std::int32_t range_raw;
   std::uint32_t stuck_at;
   std::uint32_t implausible_at;
   bool driving;
 };
+
+/// A jump from the previous sample and from the last one that was not a spike.
+bool current_spike(const CurrentHistory& h, std::int32_t reading, bool reverse, const CurrentChecks& k) noexcept {
+  return current_beyond(reading, reverse, h.last_reading, h.last_reverse, k.step_tolerance) &&
+         current_beyond(reading, reverse, h.good_reading, h.good_reverse, k.step_tolerance);
+}
 
 /// One wheel's current this sample, before settle(): its runs in `t`, its
 /// previous values in `h`.
@@ -182,27 +212,28 @@ SensorHealth current_verdict(HealthTrack& t, CurrentHistory& h, const HealthSamp
   // Stuck compares the register as read (a held value stays held when the
   // direction reverses).
   const std::int32_t reading = s.current_a[wheel].raw();
-  const std::int64_t raw = directed_raw(s.current_a[wheel], s.direction[wheel]);
+  const bool reverse = s.direction[wheel] == DriveDirection::reverse;
   bool spike = false;
   if (t.have_last) {
     t.same_run = repeat_run(t.same_run, reading == h.last_reading, k.driving);
-    spike = beyond(raw, h.last_raw, k.step_tolerance) && beyond(raw, h.good_raw, k.step_tolerance);
+    spike = current_spike(h, reading, reverse, k);
   }
   t.spike_run = spike ? bump(t.spike_run) : 0U;
   t.have_last = true;
-  h.last_raw = raw;
   h.last_reading = reading;
+  h.last_reverse = reverse;
   if (spike) {
     return spike_verdict(t.spike_run);
   }
-  h.good_raw = raw;
+  h.good_reading = reading;
+  h.good_reverse = reverse;
   // Stuck: the value repeated stuck_cycles times, identical to the bit.
   if (t.same_run >= k.stuck_at) {
     return SensorHealth::stuck;
   }
-  const bool stalled = raw >= static_cast<std::int64_t>(k.range_raw);
+  const bool stalled = directed_at_least(reading, reverse, k.range_raw);
   const bool free_wheel =
-      k.driving && (raw < static_cast<std::int64_t>(k.no_load_raw)) && others_pull(s, k.no_load_raw, wheel);
+      k.driving && !directed_at_least(reading, reverse, k.no_load_raw) && others_pull(s, k.no_load_raw, wheel);
   t.bad_run = (free_wheel || stalled) ? bump(t.bad_run) : 0U;
   return (t.bad_run >= k.implausible_at) ? SensorHealth::implausible : SensorHealth::ok;
 }
@@ -222,8 +253,12 @@ void SensorHealthMonitor::count(SensorChannel c, SensorHealth h) noexcept {
 
 void SensorHealthMonitor::currents(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
                                    CurrentA current_range_a, SensorHealthReport& r) noexcept {
-  const CurrentChecks k{current_tolerance(p.current_step_a), no_load_a.raw(), current_range_a.raw(),
-                        trip_at(p.stuck_cycles), trip_at(p.implausible_cycles), s.driving};
+  const CurrentChecks k{current_tolerance(p.current_step_a),
+                        no_load_a.raw(),
+                        current_range_a.raw(),
+                        trip_at(p.stuck_cycles),
+                        trip_at(p.implausible_cycles),
+                        s.driving};
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     const SensorHealth verdict = current_verdict(track_[i], current_history_[i], s, i, k);
     // settle() of the usual sample, an ok one of a channel with no fault to

@@ -126,11 +126,14 @@ struct HealthTrack {
   bool faulted{false};         ///< a fault since the channel was last ok
 };
 
-/// A motor current's previous samples.
+/// A motor current's previous samples: the raw register values, signed,
+/// and whether each was read driving in reverse (the value along the
+/// direction is then its negation).
 struct CurrentHistory {
-  std::int64_t last_raw{0};      ///< the previous sample, raw, along the direction
-  std::int64_t good_raw{0};      ///< the last one not a spike
-  std::int32_t last_reading{0};  ///< the previous raw register value, signed
+  std::int32_t last_reading{0};  ///< the previous sample
+  std::int32_t good_reading{0};  ///< the last one not a spike
+  bool last_reverse{false};
+  bool good_reverse{false};
 };
 
 }  // namespace detail
