@@ -753,7 +753,13 @@ class TractionFuzz {
   }
 
   TractionInput input(std::uint32_t& time_ms, double& rho, double radius_m) {
-    time_ms += one_in(40U) ? (2001U + below(3000U)) : (50U + below(300U));
+    // Gaps beyond the integrated 2 s, up to it (with an extreme speed the
+    // distance then leaves its format), and the usual cycles.
+    if (one_in(40U)) {
+      time_ms += 2001U + below(3000U);
+    } else {
+      time_ms += one_in(30U) ? (1000U + below(1001U)) : (50U + below(300U));
+    }
     if (one_in(60U)) {
       time_ms -= below(1000U);  // a clock going backwards
     }
