@@ -290,19 +290,12 @@ void RoverStep::assess(const RoverTelemetry& t, const PreparedParameters& prepar
   if ((out.status == RoverStepStatus::telemetry_repeated) || (out.status == RoverStepStatus::telemetry_stale)) {
     last_health_.channel[kClock] = health_.clock_refused(out.status == RoverStepStatus::telemetry_repeated, hp);
   } else if (out.status == RoverStepStatus::ok) {
-    HealthSample s{};
-    s.time = t.time;
-    for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-      s.current_a[i] = t.current_a[i];
-      s.direction[i] = t.direction[i];
-    }
-    s.attitude = t.attitude;
-    s.joints = t.joints;
-    s.presence = t.presence;
-    s.driving = t.rim_speed_valid && !within(t.rim_speed_mps, kMinRimSpeedForSlip);
-    s.clock_jump = clock_jump;
-    last_health_ = health_.update(s, hp, prepared.table().motor.no_load_current_a,
-                                  prepared.table().motor.current_abs_max_a);
+    // A view of the telemetry, and the report written in place: no record
+    // is built and copied.
+    const HealthSample s{t.time, t.current_a, t.direction, t.attitude, t.joints, t.presence,
+                         t.rim_speed_valid && !within(t.rim_speed_mps, kMinRimSpeedForSlip), clock_jump};
+    health_.update(s, hp, prepared.table().motor.no_load_current_a, prepared.table().motor.current_abs_max_a,
+                   last_health_);
   } else {
     // Flagged invalid or refused parameters: nothing new about the sensors.
   }
@@ -340,8 +333,8 @@ RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParame
 void RoverStep::traction_stage(const RoverTelemetry& t, const PreparedParameters& prepared,
                                RoverStepOutput& out) noexcept {
   traction_input(t, out, traction_in_);
-  out.traction = traction_.step(traction_in_, prepared.table().traction, prepared.table().monitor,
-                                prepared.traction_inverse_radius());
+  traction_.step(traction_in_, prepared.table().traction, prepared.table().monitor, prepared.traction_inverse_radius(),
+                 out.traction);
 }
 
 void RoverStep::monitor_stage(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared,

@@ -2,11 +2,25 @@
 // docs/fault-tolerance.md).
 #include "sinkwatch/flight/sensor_health.hpp"
 
+#include "sinkwatch/fixedpoint/q.hpp"
+
 namespace sinkwatch {
 namespace flight {
 namespace {
 
+using detail::CurrentHistory;
+using detail::HealthTrack;
+
 constexpr std::uint8_t kRunMax = 0xFFU;
+/// A run length no 8-bit run reaches: the threshold of a check that is off.
+constexpr std::uint32_t kNeverReached = 0x100U;
+/// 2^32 - 1, the largest difference of two raw 32-bit values: the step
+/// tolerance of an angle check that is off (no difference is beyond it).
+constexpr std::uint32_t kNoAngleSpike = 0xFFFFFFFFU;
+
+constexpr std::uint8_t kImu = static_cast<std::uint8_t>(SensorChannel::imu);
+constexpr std::uint8_t kJoints = static_cast<std::uint8_t>(SensorChannel::joints);
+constexpr std::uint8_t kClock = static_cast<std::uint8_t>(SensorChannel::clock);
 
 std::uint8_t bump(std::uint8_t run) noexcept { return (run < kRunMax) ? static_cast<std::uint8_t>(run + 1U) : run; }
 
@@ -20,40 +34,64 @@ std::uint8_t repeat_run(std::uint8_t run, bool same, bool driving) noexcept {
   return driving ? bump(run) : run;
 }
 
-/// |a - b| > limit, in 64 bits so that no difference of two raw values
-/// overflows. A zero limit switches the check off.
-bool beyond(std::int64_t a, std::int64_t b, std::int32_t limit) noexcept {
-  if (limit <= 0) {
-    return false;
-  }
-  // Both operands are raw 32-bit values or their negations: |a - b| < 2^33.
-  const std::int64_t d = a - b;
-  const std::int64_t magnitude = (d < 0) ? -d : d;
-  return magnitude > static_cast<std::int64_t>(limit);
+/// The run length at which a check of `cycles` samples trips (0: never).
+std::uint32_t trip_at(std::uint8_t cycles) noexcept { return (cycles > 0U) ? cycles : kNeverReached; }
+
+/// A channel that is absent this sample: no comparison with the next one.
+void forget(HealthTrack& t) noexcept {
+  t.have_last = false;
+  t.same_run = 0U;
+  t.spike_run = 0U;
 }
 
-/// A jump from the previous raw value that is also a jump from the last
-/// value that was not a spike: one wild sample, or the first of a burst. A
-/// sample back near the last good value (the spike has passed) or near the
-/// previous one (a level change, e.g. a bias step) is not a spike.
-bool is_spike(std::int64_t value, std::int64_t previous, std::int64_t last_good, std::int32_t limit) noexcept {
-  return beyond(value, previous, limit) && beyond(value, last_good, limit);
+/// A fault (any verdict but ok) restarts the recovery; good samples count
+/// it down from recover_cycles. The channel's health this sample.
+SensorHealth settle(HealthTrack& t, SensorHealth raw_verdict, std::uint8_t recover_cycles) noexcept {
+  if (raw_verdict != SensorHealth::ok) {
+    t.faulted = true;
+    t.good_run = 0U;
+    t.health = raw_verdict;
+    return raw_verdict;
+  }
+  if (t.faulted) {
+    t.good_run = bump(t.good_run);
+    t.faulted = t.good_run < recover_cycles;
+  }
+  t.health = t.faulted ? SensorHealth::recovering : SensorHealth::ok;
+  return t.health;
 }
+
+/// A spike, and spikes in a row a noise burst.
+SensorHealth spike_verdict(std::uint8_t spike_run) noexcept {
+  return (spike_run >= 2U) ? SensorHealth::noisy : SensorHealth::spike;
+}
+
+/// An angle's step limit as the tolerance the distance() of two raw angles
+/// may reach without a spike; a zero or negative limit switches it off.
+std::uint32_t angle_tolerance(AngleRad limit) noexcept {
+  return (limit.raw() > 0) ? static_cast<std::uint32_t>(limit.raw()) : kNoAngleSpike;
+}
+
+/// |a - b| of two raw 32-bit values, exactly, in 32 bits: the larger less
+/// the smaller lies in [0, 2^32), so the unsigned difference (mod 2^32) is it.
+std::uint32_t distance(std::int32_t a, std::int32_t b) noexcept {
+  const auto ua = static_cast<std::uint32_t>(a);
+  const auto ub = static_cast<std::uint32_t>(b);
+  return (a >= b) ? (ua - ub) : (ub - ua);
+}
+
+/// More than `tolerance` from `reference`.
+bool angle_beyond(AngleRad a, AngleRad reference, std::uint32_t tolerance) noexcept {
+  return distance(a.raw(), reference.raw()) > tolerance;
+}
+
+// A spike is a jump from the previous raw value that is also a jump from
+// the last value that was not a spike: one wild sample, or the first of a
+// burst. A sample back near the last good value (the spike has passed) or
+// near the previous one (a level change, e.g. a bias step) is not a spike.
 
 bool attitude_equal(const RoverAttitude& a, const RoverAttitude& b) noexcept {
   return (a.pitch_rad == b.pitch_rad) && (a.roll_rad == b.roll_rad);
-}
-
-/// Pitch or roll more than `limit` from `reference`.
-bool attitude_beyond(const RoverAttitude& a, const RoverAttitude& reference, AngleRad limit) noexcept {
-  return beyond(a.pitch_rad.raw(), reference.pitch_rad.raw(), limit.raw()) ||
-         beyond(a.roll_rad.raw(), reference.roll_rad.raw(), limit.raw());
-}
-
-bool attitude_spike(const RoverAttitude& a, const RoverAttitude& previous, const RoverAttitude& good,
-                    AngleRad limit) noexcept {
-  return is_spike(a.pitch_rad.raw(), previous.pitch_rad.raw(), good.pitch_rad.raw(), limit.raw()) ||
-         is_spike(a.roll_rad.raw(), previous.roll_rad.raw(), good.roll_rad.raw(), limit.raw());
 }
 
 /// Any one joint identical to its previous sample (a frozen encoder).
@@ -65,15 +103,18 @@ bool any_joint_equal(const JointAnglesRad& a, const JointAnglesRad& b) noexcept 
   return equal;
 }
 
+/// One joint's spike: beyond the previous sample and the last good one (the
+/// second distance only for a joint beyond the first).
+bool joint_spike(AngleRad a, AngleRad previous, AngleRad good, std::uint32_t tolerance) noexcept {
+  return angle_beyond(a, previous, tolerance) && angle_beyond(a, good, tolerance);
+}
+
 bool joints_spike(const JointAnglesRad& a, const JointAnglesRad& previous, const JointAnglesRad& good,
-                  AngleRad limit) noexcept {
+                  std::uint32_t tolerance) noexcept {
   bool spike = false;
   for (std::uint32_t side = 0U; side < kSideCount; ++side) {
-    spike = spike ||
-            is_spike(a.rocker_rad[side].raw(), previous.rocker_rad[side].raw(), good.rocker_rad[side].raw(),
-                     limit.raw()) ||
-            is_spike(a.bogie_rad[side].raw(), previous.bogie_rad[side].raw(), good.bogie_rad[side].raw(),
-                     limit.raw());
+    spike = spike || joint_spike(a.rocker_rad[side], previous.rocker_rad[side], good.rocker_rad[side], tolerance) ||
+            joint_spike(a.bogie_rad[side], previous.bogie_rad[side], good.bogie_rad[side], tolerance);
   }
   return spike;
 }
@@ -85,74 +126,84 @@ std::int64_t directed_raw(CurrentA current_a, DriveDirection direction) noexcept
   return (direction == DriveDirection::reverse) ? -raw : raw;
 }
 
-/// A spike, and spikes in a row a noise burst.
-SensorHealth spike_verdict(std::uint8_t spike_run) noexcept {
-  return (spike_run >= 2U) ? SensorHealth::noisy : SensorHealth::spike;
+/// A current's step limit as the tolerances |D_a - D_b| may reach without a
+/// spike (D = reading or -reading in reverse, in [-2^31, 2^31]): with one
+/// direction (at most 2^32 - 1, so 2^32 - 1 switches the check off) and
+/// across a reversal (at most 2^32, so 2^32 switches it off).
+struct CurrentTolerance {
+  std::uint32_t one_way;
+  std::uint64_t reversed;
+};
+
+CurrentTolerance current_tolerance(CurrentA limit) noexcept {
+  if (limit.raw() > 0) {
+    const auto t = static_cast<std::uint32_t>(limit.raw());
+    return CurrentTolerance{t, t};
+  }
+  return CurrentTolerance{0xFFFFFFFFU, std::uint64_t{1U} << 32U};
 }
 
-/// The wheels that draw more than twice the no-load current (bit i: wheel
-/// i), counted once per sample for all six wheels' "others pulling" test.
-std::uint32_t drawing_mask(const HealthSample& s, CurrentA no_load_a) noexcept {
-  const std::int64_t twice = 2 * static_cast<std::int64_t>(no_load_a.raw());
-  std::uint32_t mask = 0U;
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    if (!s.presence.current_missing[i] && (directed_raw(s.current_a[i], s.direction[i]) > twice)) {
-      mask |= (1U << i);
-    }
+/// |D_a - D_b| > tolerance for two currents along their directions: with
+/// one direction the difference is +-(r_a - r_b), whose magnitude distance()
+/// gives exactly in 32 bits (the usual case); across a reversal it is
+/// +-(r_a + r_b), up to 2^32, in 64 bits.
+bool current_beyond(std::int32_t reading_a, bool reverse_a, std::int32_t reading_b, bool reverse_b,
+                    const CurrentTolerance& tolerance) noexcept {
+  if (reverse_a == reverse_b) {
+    return distance(reading_a, reading_b) > tolerance.one_way;
   }
-  return mask;
+  const std::int64_t sum = static_cast<std::int64_t>(reading_a) + static_cast<std::int64_t>(reading_b);
+  return fx::detail::magnitude(sum) > tolerance.reversed;
+}
+
+/// D >= level for a current along its direction (D as in current_beyond):
+/// a 32-bit comparison forward, the negation widened in reverse.
+bool directed_at_least(std::int32_t reading, bool reverse, std::int32_t level) noexcept {
+  if (!reverse) {
+    return reading >= level;
+  }
+  return -static_cast<std::int64_t>(reading) >= static_cast<std::int64_t>(level);
 }
 
 /// At least three of the other five wheels draw more than twice the
-/// no-load current (`drawing`: drawing_mask(), `drawing_count` its bits):
-/// the rover is pulling, so a wheel that draws less than the no-load
-/// current transmits no torque.
-bool others_draw(std::uint32_t drawing, std::uint32_t drawing_count, std::uint32_t wheel) noexcept {
-  const std::uint32_t self = (drawing >> wheel) & 1U;
-  return (drawing_count - self) >= 3U;
-}
-
-/// The number of set bits of a wheel mask.
-std::uint32_t wheel_count_of(std::uint32_t mask) noexcept {
-  std::uint32_t n = 0U;
+/// no-load current: the rover is pulling, so a wheel that draws less than
+/// the no-load current transmits no torque. Asked only about a wheel below
+/// the no-load current while driving, which a healthy drive never has: the
+/// six wheels' count is not made every sample.
+bool others_pull(const HealthSample& s, std::int32_t no_load_raw, std::uint32_t wheel) noexcept {
+  const std::int64_t twice = 2 * static_cast<std::int64_t>(no_load_raw);
+  std::uint32_t drawing = 0U;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    n += (mask >> i) & 1U;
+    if ((i != wheel) && !s.presence.current_missing[i] && (directed_raw(s.current_a[i], s.direction[i]) > twice)) {
+      ++drawing;
+    }
   }
-  return n;
+  return drawing >= 3U;
 }
 
-}  // namespace
+/// The current checks' parameters, prepared once per sample for the six
+/// wheels (a zero run or step limit as a threshold never reached).
+struct CurrentChecks {
+  CurrentTolerance step_tolerance;
+  std::int32_t no_load_raw;
+  std::int32_t range_raw;
+  std::uint32_t stuck_at;
+  std::uint32_t implausible_at;
+  bool driving;
+};
 
-void SensorHealthMonitor::count(SensorChannel c, SensorHealth h) noexcept {
-  std::uint32_t& n = counters_.by_health[static_cast<std::uint8_t>(c)][static_cast<std::uint8_t>(h)];
-  if (n < 0xFFFFFFFFU) {
-    ++n;
-  }
+/// A jump from the previous sample and from the last one that was not a spike.
+bool current_spike(const CurrentHistory& h, std::int32_t reading, bool reverse, const CurrentChecks& k) noexcept {
+  return current_beyond(reading, reverse, h.last_reading, h.last_reverse, k.step_tolerance) &&
+         current_beyond(reading, reverse, h.good_reading, h.good_reverse, k.step_tolerance);
 }
 
-SensorHealth SensorHealthMonitor::settle(Track& t, SensorHealth raw_verdict, const HealthParams& p) noexcept {
-  if (raw_verdict != SensorHealth::ok) {
-    t.faulted = true;
-    t.good_run = 0U;
-    t.health = raw_verdict;
-    return raw_verdict;
-  }
-  if (t.faulted) {
-    t.good_run = bump(t.good_run);
-    t.faulted = t.good_run < p.recover_cycles;
-  }
-  t.health = t.faulted ? SensorHealth::recovering : SensorHealth::ok;
-  return t.health;
-}
-
-SensorHealth SensorHealthMonitor::current_channel(std::uint32_t wheel, const HealthSample& s, const HealthParams& p,
-                                                  CurrentA no_load_a, CurrentA current_range_a,
-                                                  bool pulling) noexcept {
-  Track& t = track_[wheel];
+/// One wheel's current this sample, before settle(): its runs in `t`, its
+/// previous values in `h`.
+SensorHealth current_verdict(HealthTrack& t, CurrentHistory& h, const HealthSample& s, std::uint32_t wheel,
+                             const CurrentChecks& k) noexcept {
   if (s.presence.current_missing[wheel]) {
-    t.have_last = false;
-    t.same_run = 0U;
-    t.spike_run = 0U;
+    forget(t);
     t.bad_run = 0U;
     return SensorHealth::missing;
   }
@@ -160,48 +211,85 @@ SensorHealth SensorHealthMonitor::current_channel(std::uint32_t wheel, const Hea
   // is no jump.
   // Stuck compares the register as read (a held value stays held when the
   // direction reverses).
-  const std::int64_t raw = directed_raw(s.current_a[wheel], s.direction[wheel]);
   const std::int32_t reading = s.current_a[wheel].raw();
+  const bool reverse = s.direction[wheel] == DriveDirection::reverse;
   bool spike = false;
   if (t.have_last) {
-    t.same_run = repeat_run(t.same_run, reading == last_reading_[wheel], s.driving);
-    spike = is_spike(raw, last_current_raw_[wheel], good_current_raw_[wheel], p.current_step_a.raw());
+    t.same_run = repeat_run(t.same_run, reading == h.last_reading, k.driving);
+    spike = current_spike(h, reading, reverse, k);
   }
   t.spike_run = spike ? bump(t.spike_run) : 0U;
   t.have_last = true;
-  last_current_raw_[wheel] = raw;
-  last_reading_[wheel] = reading;
+  h.last_reading = reading;
+  h.last_reverse = reverse;
   if (spike) {
     return spike_verdict(t.spike_run);
   }
-  good_current_raw_[wheel] = raw;
+  h.good_reading = reading;
+  h.good_reverse = reverse;
   // Stuck: the value repeated stuck_cycles times, identical to the bit.
-  if ((p.stuck_cycles > 0U) && (t.same_run >= p.stuck_cycles)) {
+  if (t.same_run >= k.stuck_at) {
     return SensorHealth::stuck;
   }
-  const bool free_wheel = s.driving && pulling && (raw < static_cast<std::int64_t>(no_load_a.raw()));
-  const bool stalled = (raw >= static_cast<std::int64_t>(current_range_a.raw()));
+  const bool stalled = directed_at_least(reading, reverse, k.range_raw);
+  const bool free_wheel =
+      k.driving && !directed_at_least(reading, reverse, k.no_load_raw) && others_pull(s, k.no_load_raw, wheel);
   t.bad_run = (free_wheel || stalled) ? bump(t.bad_run) : 0U;
-  if ((p.implausible_cycles > 0U) && (t.bad_run >= p.implausible_cycles)) {
-    return SensorHealth::implausible;
+  return (t.bad_run >= k.implausible_at) ? SensorHealth::implausible : SensorHealth::ok;
+}
+
+/// One more sample in a saturating counter.
+void tally(std::uint32_t& n) noexcept {
+  if (n < 0xFFFFFFFFU) {
+    ++n;
   }
-  return SensorHealth::ok;
+}
+
+}  // namespace
+
+void SensorHealthMonitor::count(SensorChannel c, SensorHealth h) noexcept {
+  tally(counters_.by_health[static_cast<std::uint8_t>(c)][static_cast<std::uint8_t>(h)]);
+}
+
+void SensorHealthMonitor::currents(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
+                                   CurrentA current_range_a, SensorHealthReport& r) noexcept {
+  const CurrentChecks k{current_tolerance(p.current_step_a),
+                        no_load_a.raw(),
+                        current_range_a.raw(),
+                        trip_at(p.stuck_cycles),
+                        trip_at(p.implausible_cycles),
+                        s.driving};
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    const SensorHealth verdict = current_verdict(track_[i], current_history_[i], s, i, k);
+    // settle() of the usual sample, an ok one of a channel with no fault to
+    // recover from, without the call.
+    const bool steady = (verdict == SensorHealth::ok) && !track_[i].faulted;
+    const SensorHealth h = steady ? SensorHealth::ok : settle(track_[i], verdict, p.recover_cycles);
+    track_[i].health = h;
+    r.channel[i] = h;
+    r.current_usable[i] = usable(h);
+    tally(counters_.by_health[i][static_cast<std::uint8_t>(h)]);
+  }
 }
 
 SensorHealth SensorHealthMonitor::imu_channel(const HealthSample& s, const HealthParams& p) noexcept {
-  Track& t = track_[static_cast<std::uint8_t>(SensorChannel::imu)];
+  HealthTrack& t = track_[kImu];
   if (s.presence.attitude_missing) {
-    t.have_last = false;
-    t.same_run = 0U;
-    t.spike_run = 0U;
+    forget(t);
     return SensorHealth::missing;
   }
+  const std::uint32_t tolerance = angle_tolerance(p.attitude_step_rad);
   bool spike = false;
   bool off_good = false;
   if (t.have_last) {
     t.same_run = repeat_run(t.same_run, attitude_equal(s.attitude, last_attitude_), s.driving);
-    spike = attitude_spike(s.attitude, last_attitude_, step_attitude_, p.attitude_step_rad);
-    off_good = attitude_beyond(s.attitude, step_attitude_, p.attitude_step_rad);
+    const bool pitch_off_good = angle_beyond(s.attitude.pitch_rad, step_attitude_.pitch_rad, tolerance);
+    const bool roll_off_good = angle_beyond(s.attitude.roll_rad, step_attitude_.roll_rad, tolerance);
+    // A spike is beyond the previous sample too (that distance only for an
+    // angle beyond the last good one).
+    spike = (pitch_off_good && angle_beyond(s.attitude.pitch_rad, last_attitude_.pitch_rad, tolerance)) ||
+            (roll_off_good && angle_beyond(s.attitude.roll_rad, last_attitude_.roll_rad, tolerance));
+    off_good = pitch_off_good || roll_off_good;
   }
   t.spike_run = spike ? bump(t.spike_run) : 0U;
   t.have_last = true;
@@ -222,21 +310,19 @@ SensorHealth SensorHealthMonitor::imu_channel(const HealthSample& s, const Healt
   }
   imu_after_noise_ = false;
   step_attitude_ = s.attitude;
-  return ((p.stuck_cycles > 0U) && (t.same_run >= p.stuck_cycles)) ? SensorHealth::stuck : SensorHealth::ok;
+  return (t.same_run >= trip_at(p.stuck_cycles)) ? SensorHealth::stuck : SensorHealth::ok;
 }
 
 SensorHealth SensorHealthMonitor::joints_channel(const HealthSample& s, const HealthParams& p) noexcept {
-  Track& t = track_[static_cast<std::uint8_t>(SensorChannel::joints)];
+  HealthTrack& t = track_[kJoints];
   if (s.presence.joints_missing) {
-    t.have_last = false;
-    t.same_run = 0U;
-    t.spike_run = 0U;
+    forget(t);
     return SensorHealth::missing;
   }
   bool spike = false;
   if (t.have_last) {
     t.same_run = repeat_run(t.same_run, any_joint_equal(s.joints, last_joints_), s.driving);
-    spike = joints_spike(s.joints, last_joints_, step_joints_, p.joint_step_rad);
+    spike = joints_spike(s.joints, last_joints_, step_joints_, angle_tolerance(p.joint_step_rad));
   }
   t.spike_run = spike ? bump(t.spike_run) : 0U;
   t.have_last = true;
@@ -245,47 +331,35 @@ SensorHealth SensorHealthMonitor::joints_channel(const HealthSample& s, const He
     return spike_verdict(t.spike_run);
   }
   step_joints_ = s.joints;
-  return ((p.stuck_cycles > 0U) && (t.same_run >= p.stuck_cycles)) ? SensorHealth::stuck : SensorHealth::ok;
+  return (t.same_run >= trip_at(p.stuck_cycles)) ? SensorHealth::stuck : SensorHealth::ok;
 }
 
 void SensorHealthMonitor::bridge(const HealthSample& s, const HealthParams& p, SensorHealthReport& r) noexcept {
-  r.attitude_usable = good_attitude_.take(usable(r.channel[static_cast<std::uint8_t>(SensorChannel::imu)]),
-                                          s.attitude, s.time, p.bridge_ms, r.attitude_bridged);
+  r.attitude_usable =
+      good_attitude_.take(usable(r.channel[kImu]), s.attitude, s.time, p.bridge_ms, r.attitude_bridged);
   r.attitude = good_attitude_.value;
-  r.joints_usable = good_joints_.take(usable(r.channel[static_cast<std::uint8_t>(SensorChannel::joints)]), s.joints,
-                                      s.time, p.bridge_ms, r.joints_bridged);
+  r.joints_usable = good_joints_.take(usable(r.channel[kJoints]), s.joints, s.time, p.bridge_ms, r.joints_bridged);
   r.joints = good_joints_.value;
 }
 
-SensorHealthReport SensorHealthMonitor::update(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
-                                               CurrentA current_range_a) noexcept {
-  SensorHealthReport r{};
-  const std::uint32_t drawing = drawing_mask(s, no_load_a);
-  const std::uint32_t drawing_count = wheel_count_of(drawing);
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    const SensorHealth raw =
-        current_channel(i, s, p, no_load_a, current_range_a, others_draw(drawing, drawing_count, i));
-    r.channel[i] = settle(track_[i], raw, p);
-    r.current_usable[i] = usable(r.channel[i]);
-  }
-  constexpr std::uint8_t kImu = static_cast<std::uint8_t>(SensorChannel::imu);
-  constexpr std::uint8_t kJoints = static_cast<std::uint8_t>(SensorChannel::joints);
-  constexpr std::uint8_t kClock = static_cast<std::uint8_t>(SensorChannel::clock);
-  r.channel[kImu] = settle(track_[kImu], imu_channel(s, p), p);
-  r.channel[kJoints] = settle(track_[kJoints], joints_channel(s, p), p);
+void SensorHealthMonitor::update(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
+                                 CurrentA current_range_a, SensorHealthReport& report) noexcept {
+  currents(s, p, no_load_a, current_range_a, report);
+  report.channel[kImu] = settle(track_[kImu], imu_channel(s, p), p.recover_cycles);
+  report.channel[kJoints] = settle(track_[kJoints], joints_channel(s, p), p.recover_cycles);
   repeated_run_ = 0U;
-  r.channel[kClock] = settle(track_[kClock], s.clock_jump ? SensorHealth::spike : SensorHealth::ok, p);
-  bridge(s, p, r);
-  for (std::uint8_t c = 0U; c < kSensorChannelCount; ++c) {
-    count(static_cast<SensorChannel>(c), r.channel[c]);
+  report.channel[kClock] =
+      settle(track_[kClock], s.clock_jump ? SensorHealth::spike : SensorHealth::ok, p.recover_cycles);
+  bridge(s, p, report);
+  for (std::uint8_t c = kImu; c < kSensorChannelCount; ++c) {
+    count(static_cast<SensorChannel>(c), report.channel[c]);
   }
-  return r;
 }
 
 void SensorHealthMonitor::accept_levels() noexcept {
   // The next sample of every channel is its own reference: no comparison
   // with the values from before the ground's acknowledgement.
-  for (Track& t : track_) {
+  for (HealthTrack& t : track_) {
     t.have_last = false;
   }
   imu_after_noise_ = false;
@@ -296,10 +370,9 @@ SensorHealth SensorHealthMonitor::clock_refused(bool repeated, const HealthParam
   // repeat is a telemetry hiccup the step already refuses); any other
   // refused stamp (stale, from the future) is a jump.
   repeated_run_ = repeated ? bump(repeated_run_) : 0U;
-  const bool stuck = repeated && (p.stuck_cycles > 0U) && (repeated_run_ >= p.stuck_cycles);
+  const bool stuck = repeated && (repeated_run_ >= trip_at(p.stuck_cycles));
   const SensorHealth verdict = stuck ? SensorHealth::stuck : (repeated ? SensorHealth::ok : SensorHealth::spike);
-  constexpr std::uint8_t kClock = static_cast<std::uint8_t>(SensorChannel::clock);
-  const SensorHealth h = settle(track_[kClock], verdict, p);
+  const SensorHealth h = settle(track_[kClock], verdict, p.recover_cycles);
   count(SensorChannel::clock, h);
   return h;
 }

@@ -3,6 +3,7 @@
 
 #include "median.hpp"
 #include "n_of_m.hpp"
+#include "sinkwatch/fixedpoint/normalised_quotient.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
@@ -16,7 +17,6 @@ using fx::wide::mul_32x32_64;
 using n_of_m::count_bits;
 using n_of_m::shift_in;
 
-constexpr std::uint64_t kMsPerSecond = 1000U;
 /// |sum T| below 2^31 raw (2^-16 N m, so 32768 N m): the bound that keeps the
 /// thrust product in 64 bits (docs/traction.md, "Arithmetic and error").
 constexpr std::uint64_t kMaxTorqueSumQ16 = (std::uint64_t{1U} << 31U) - 1U;
@@ -33,49 +33,110 @@ constexpr std::int32_t kMarksPerSpan = 8;
 /// direction) and W, as raw Q15.16 integers (2^-16 N m, 2^-16 N): at most six
 /// values below 2^31 in magnitude, so every sum is exact in 64 bits.
 struct WheelSums {
-  std::int64_t torque_q16{0};
-  std::int64_t pull_q16{0};
-  std::int64_t load_q16{0};
-  std::uint8_t wheels{0U};
-  bool mixed{false};
+  std::int64_t torque_q16;
+  std::int64_t pull_q16;
+  std::int64_t load_q16;
+  std::uint32_t wheels;
+  bool mixed;
 };
 
+/// The sums in locals (registers), the record built once at the end: not a
+/// zeroed record added to in memory, wheel by wheel.
 WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels) noexcept {
-  WheelSums s{};
-  bool have_direction = false;
-  DriveDirection direction = DriveDirection::forward;
-  for (std::uint8_t i = 0U; (i < wheels) && (i < kWheelCount); ++i) {
+  const std::uint32_t monitored = (wheels < kWheelCount) ? wheels : kWheelCount;
+  std::int64_t torque = 0;
+  std::int64_t pull = 0;
+  std::int64_t load = 0;
+  std::uint32_t used = 0U;
+  // All one way when every bit of the directions is the same in all of
+  // them: their OR equals their AND (two different values differ in a bit,
+  // which is then in the OR and not in the AND).
+  std::uint32_t any_bits = 0U;
+  std::uint32_t all_bits = 0xFFU;
+  for (std::uint32_t i = 0U; i < monitored; ++i) {
     if (in.torque_valid[i]) {
-      if (have_direction && (in.direction[i] != direction)) {
-        s.mixed = true;
-      }
-      have_direction = true;
-      direction = in.direction[i];
-      const std::int64_t pull = in.drawbar_pull_n[i].raw();
+      const DriveDirection direction = in.direction[i];
+      any_bits |= static_cast<std::uint32_t>(direction);
+      all_bits &= static_cast<std::uint32_t>(direction);
+      const std::int64_t p = in.drawbar_pull_n[i].raw();
       // Reverse: the pull that drives the rover backwards is -DP.
-      s.pull_q16 += (direction == DriveDirection::reverse) ? -pull : pull;
-      s.torque_q16 += in.torque_nm[i].raw();
-      s.load_q16 += in.load_n[i].raw();
-      ++s.wheels;
+      pull += (direction == DriveDirection::reverse) ? -p : p;
+      torque += in.torque_nm[i].raw();
+      load += in.load_n[i].raw();
+      ++used;
     }
   }
-  return s;
+  return WheelSums{torque, pull, load, used, (used > 0U) && (any_bits != all_bits)};
 }
 
-/// n / d rounded half away from zero, as a raw Q7.24 ratio (d > 0); one
-/// 64-bit division. Beyond Q7.24 it saturates and raises overflow.
+/// n / d rounded half away from zero, as a raw Q7.24 ratio (d > 0), by
+/// detail::rounded_quotient. Beyond Q7.24 it saturates and raises overflow.
 Ratio rounded_ratio(std::int64_t n, std::uint64_t d, fx::Status& st) noexcept {
   const bool negative = n < 0;
-  const std::uint64_t magnitude = fx::detail::magnitude(n);
-  std::uint64_t quotient = magnitude / d;
-  const std::uint64_t remainder = magnitude - (quotient * d);
-  if (remainder >= (d - remainder)) {
-    ++quotient;
-  }
-  return Ratio::from_raw(fx::detail::from_sign_magnitude<RatioQ::storage_type>(negative && (quotient != 0U), quotient, st));
+  const std::uint64_t quotient = detail::rounded_quotient(fx::detail::magnitude(n), d);
+  return Ratio::from_raw(
+      fx::detail::from_sign_magnitude<RatioQ::storage_type>(negative && (quotient != 0U), quotient, st));
+}
+
+/// ceil(2^41 / 1000): x * kPerThousand / 2^41 is floor(x / 1000) for every
+/// 32-bit x. It exceeds 2^41 / 1000 by e / 1000 with e = 1000 kPerThousand -
+/// 2^41 = 448, so x kPerThousand / 2^41 = x / 1000 + x e / (1000 2^41), and
+/// with x = 1000 q + r (r <= 999) the fraction r / 1000 + x e / (1000 2^41)
+/// stays below 1 because x e < 2^32 * 2^9 = 2^41 (Granlund and Montgomery,
+/// "Division by invariant integers using multiplication", 1994, Theorem 4.2).
+constexpr std::uint32_t kPerThousand = 2199023256U;
+constexpr std::uint32_t kPerThousandShift = 41U;
+
+/// floor(x / 1000) without a division: a library call of about 100
+/// instructions on the Cortex-M0, which has no divide instruction.
+std::uint32_t thousandths(std::uint32_t x) noexcept {
+  return static_cast<std::uint32_t>(mul_32x32_64(x, kPerThousand) >> kPerThousandShift);
 }
 
 }  // namespace
+
+namespace detail {
+
+std::uint64_t rounded_quotient(std::uint64_t n, std::uint64_t d) noexcept {
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  const auto n_high = static_cast<std::uint32_t>(n / kWord);  // n >> 32 without a library shift
+  if ((d >= kWord) || (n_high >= d)) {
+    // A load sum of 65,536 N or more, or a quotient of 2^32 or more (a ratio
+    // far beyond Q7.24): the library division.
+    std::uint64_t quotient = n / d;
+    const std::uint64_t remainder = n - (quotient * d);
+    if (remainder >= (d - remainder)) {
+      ++quotient;
+    }
+    return quotient;
+  }
+  // Normalised: the divisor's leading one at bit 31, the dividend shifted
+  // with it (n_high < d < 2^(32 - shift), so nothing leaves the top), in
+  // 32-bit words (a 64-bit shift by a run-time count is a library call on
+  // 32-bit cores). n < d 2^32 makes the quotient fit 32 bits, as
+  // divide_64_by_32 needs.
+  const auto divisor = static_cast<std::uint32_t>(d);
+  const std::uint32_t shift = 32U - fx::wide::bit_length32(divisor);
+  const auto n_low = static_cast<std::uint32_t>(n);
+  const std::uint32_t u_high = (shift == 0U) ? n_high : ((n_high << shift) | (n_low >> (32U - shift)));
+  const std::uint64_t u = (static_cast<std::uint64_t>(u_high) * kWord) + static_cast<std::uint64_t>(n_low << shift);
+  const fx::wide::DivMod<std::uint32_t> qr = fx::detail::divide_64_by_32(u, divisor << shift);
+  // The remainder comes scaled by 2^shift, as the divisor: the same test
+  // as r >= d - r.
+  const std::uint32_t rest = (divisor << shift) - qr.remainder;
+  return static_cast<std::uint64_t>(qr.quotient) + ((qr.remainder >= rest) ? 1U : 0U);
+}
+
+std::uint64_t travelled_q24(std::uint32_t speed_q24, std::uint32_t dt_ms) noexcept {
+  // |v| = 1000 a + b: |v| dt + 500 = 1000 a dt + (b dt + 500), so the
+  // quotient by 1000 is a dt plus that of b dt + 500 (< 2^21), exactly.
+  // a <= 2^31 / 1000, so a dt <= 2,147,483 * 2000 < 2^32.
+  const std::uint32_t a = thousandths(speed_q24);
+  const std::uint32_t b = speed_q24 - (a * 1000U);
+  return static_cast<std::uint64_t>(a * dt_ms) + thousandths((b * dt_ms) + 500U);
+}
+
+}  // namespace detail
 
 InverseRadius inverse_radius(LengthM wheel_radius_m) noexcept {
   if ((wheel_radius_m < kMinRadiusM) || (wheel_radius_m > kMaxRadiusM)) {
@@ -169,12 +230,33 @@ TractionSample TractionMonitor::resistance_of(const TractionInput& in, std::uint
 }
 
 Ratio TractionMonitor::push_median(Ratio rho) noexcept {
+  // The window's values stay sorted: the oldest value leaves (any copy of
+  // it: equal ratios are the same bits), the new one is inserted in order.
+  // The median of the multiset is the same as that of a sorted copy
+  // (median_of), without the copy, its zeroing and the sort.
+  std::uint8_t kept = recent_count_;
+  if (kept == kTractionMedianSamples) {
+    const Ratio oldest = recent_[recent_next_];
+    bool found = false;
+    for (std::uint8_t i = 0U; i < kTractionMedianSamples; ++i) {
+      found = found || (sorted_[i] == oldest);
+      if (found && ((i + 1U) < kTractionMedianSamples)) {
+        sorted_[i] = sorted_[i + 1U];
+      }
+    }
+    --kept;
+  }
+  std::uint8_t slot = kept;
+  while ((slot > 0U) && (rho < sorted_[slot - 1U])) {
+    sorted_[slot] = sorted_[slot - 1U];
+    --slot;
+  }
+  sorted_[slot] = rho;
   recent_[recent_next_] = rho;
   recent_next_ = detail::next_slot<kTractionMedianSamples>(recent_next_);
-  if (recent_count_ < kTractionMedianSamples) {
-    ++recent_count_;
-  }
-  return detail::median_of(recent_, recent_count_);
+  recent_count_ = static_cast<std::uint8_t>(kept + 1U);
+  // The lower middle of an even count, as median_of.
+  return sorted_[static_cast<std::uint8_t>(kept / 2U)];
 }
 
 void TractionMonitor::advance(const TractionInput& in, Ratio rho_med, const TractionParams& params) noexcept {
@@ -186,9 +268,8 @@ void TractionMonitor::advance(const TractionInput& in, Ratio rho_med, const Trac
   }
   // |v| dt / 1000: |v| (<= 2^31, 2^-24 m/s) times dt (<= 2000 ms) is below
   // 2^42; the division by 1000 rounds once (half up) into 2^-24 m.
-  const std::uint64_t speed = fx::detail::magnitude(in.speed_mps.raw());
-  const std::uint64_t step_q24 =
-      (mul_32x32_64(static_cast<std::uint32_t>(speed), dt_ms) + (kMsPerSecond / 2U)) / kMsPerSecond;
+  const std::uint32_t speed = fx::detail::magnitude32(in.speed_mps.raw());
+  const std::uint64_t step_q24 = detail::travelled_q24(speed, dt_ms);
   fx::Status st;
   const LengthM step_m = LengthM::from_raw(fx::detail::from_sign_magnitude<LengthQ::storage_type>(false, step_q24, st));
   const LengthM travelled{fx::add(since_mark_m_.q(), step_m.q(), st)};
@@ -247,16 +328,27 @@ void TractionMonitor::push_history(bool caution, bool stop, bool clear) noexcept
   clear_history_ = shift_in(clear_history_, clear);
 }
 
+namespace {
+
+/// Set bits among the newest `window` of `history`: none when the history
+/// is empty (the usual case of the stop and caution histories), without the
+/// count.
+std::uint8_t evidence(std::uint16_t history, std::uint8_t window) noexcept {
+  return (history == 0U) ? std::uint8_t{0U} : count_bits(history, window);
+}
+
+}  // namespace
+
 void TractionMonitor::transition(const MonitorParams& monitor, TractionOutput& out) noexcept {
   if (state_ == TractionState::stop) {
     return;  // latched until clear_stop()
   }
-  if (count_bits(stop_history_, monitor.window_m) >= monitor.trip_n) {
+  if (evidence(stop_history_, monitor.window_m) >= monitor.trip_n) {
     state_ = TractionState::stop;
     out.stop_tripped = true;
-  } else if ((state_ == TractionState::nominal) && (count_bits(caution_history_, monitor.window_m) >= monitor.trip_n)) {
+  } else if ((state_ == TractionState::nominal) && (evidence(caution_history_, monitor.window_m) >= monitor.trip_n)) {
     state_ = TractionState::caution;
-  } else if ((state_ == TractionState::caution) && (count_bits(clear_history_, monitor.window_m) >= monitor.clear_n)) {
+  } else if ((state_ == TractionState::caution) && (evidence(clear_history_, monitor.window_m) >= monitor.clear_n)) {
     state_ = TractionState::nominal;
   } else {
     // No change.
@@ -293,10 +385,24 @@ TractionSample TractionMonitor::evaluate(const TractionInput& input, const Tract
 TractionOutput TractionMonitor::step(const TractionInput& input, const TractionParams& params,
                                      const MonitorParams& monitor, InverseRadius per_radius) noexcept {
   TractionOutput out{};
+  step(input, params, monitor, per_radius, out);
+  return out;
+}
+
+void TractionMonitor::step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
+                           InverseRadius per_radius, TractionOutput& out) noexcept {
+  // Every field, as TractionOutput{} has them (the record is the previous
+  // cycle's).
+  out.stop_tripped = false;
+  out.rho_valid = false;
+  out.resistance = Ratio::zero();
+  out.resistance_median = Ratio::zero();
+  out.trend_known = false;
+  out.resistance_ahead = Ratio::zero();
   if (!traction_check_on(params)) {
     out.state = TractionState::off;
     out.sample = TractionSample::check_off;
-    return out;
+    return;
   }
   Ratio rho{};
   out.sample = resistance_of(input, monitor.wheel_count, per_radius, rho);
@@ -316,7 +422,6 @@ TractionOutput TractionMonitor::step(const TractionInput& input, const TractionP
   push_history(caution, stop, clear);
   transition(monitor, out);
   out.state = state_;
-  return out;
 }
 
 }  // namespace flight

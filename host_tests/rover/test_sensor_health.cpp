@@ -11,7 +11,9 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
+#include <random>
 
 #include "rover_test_support.hpp"
 #include "sinkwatch/flight/param_table.hpp"
@@ -573,6 +575,544 @@ TEST_F(SensorFaults, ImuAndJointDropoutsAreBridgedThenFailSafeAndRecover) {
     EXPECT_EQ(lost_at, 10U + table.health.bridge_ms / kPeriodMs) << imu;
     EXPECT_EQ(stopped_at, lost_at + table.monitor.invalid_to_stop - 1U) << imu;
     EXPECT_EQ(ok_again_at, 40U + table.health.recover_cycles - 1U) << imu;
+  }
+}
+
+/// The monitor as it was before the per-cycle work was cut (round 12 of
+/// issue 15: a view of the telemetry, the report written in place, the
+/// current checks in one loop with their limits prepared once, the drawing
+/// count only for a wheel below the no-load current, the angle differences
+/// in 32 bits), kept verbatim as the oracle of the differential test below:
+/// the new monitor must give the same report, bit for bit, on any input.
+namespace before {
+
+using flight::AngleRad;
+using flight::CurrentA;
+using flight::DriveDirection;
+using flight::HealthParams;
+using flight::JointAnglesRad;
+using flight::kSensorChannelCount;
+using flight::kSideCount;
+using flight::kWheelCount;
+using flight::RoverAttitude;
+using flight::SensorHealthCounters;
+using flight::SensorHealthReport;
+using flight::SensorPresence;
+using flight::TimeMs;
+
+struct HealthSample {
+  TimeMs time{0U};
+  CurrentA current_a[kWheelCount]{};
+  DriveDirection direction[kWheelCount]{};
+  RoverAttitude attitude{};
+  JointAnglesRad joints{};
+  SensorPresence presence{};
+  bool driving{false};
+  bool clock_jump{false};
+};
+
+constexpr std::uint8_t kRunMax = 0xFFU;
+
+std::uint8_t bump(std::uint8_t run) { return (run < kRunMax) ? static_cast<std::uint8_t>(run + 1U) : run; }
+
+std::uint8_t repeat_run(std::uint8_t run, bool same, bool driving) {
+  if (!same) {
+    return 0U;
+  }
+  return driving ? bump(run) : run;
+}
+
+bool beyond(std::int64_t a, std::int64_t b, std::int32_t limit) {
+  if (limit <= 0) {
+    return false;
+  }
+  const std::int64_t d = a - b;
+  const std::int64_t magnitude = (d < 0) ? -d : d;
+  return magnitude > static_cast<std::int64_t>(limit);
+}
+
+bool is_spike(std::int64_t value, std::int64_t previous, std::int64_t last_good, std::int32_t limit) {
+  return beyond(value, previous, limit) && beyond(value, last_good, limit);
+}
+
+bool attitude_equal(const RoverAttitude& a, const RoverAttitude& b) {
+  return (a.pitch_rad == b.pitch_rad) && (a.roll_rad == b.roll_rad);
+}
+
+bool attitude_beyond(const RoverAttitude& a, const RoverAttitude& reference, AngleRad limit) {
+  return beyond(a.pitch_rad.raw(), reference.pitch_rad.raw(), limit.raw()) ||
+         beyond(a.roll_rad.raw(), reference.roll_rad.raw(), limit.raw());
+}
+
+bool attitude_spike(const RoverAttitude& a, const RoverAttitude& previous, const RoverAttitude& good,
+                    AngleRad limit) {
+  return is_spike(a.pitch_rad.raw(), previous.pitch_rad.raw(), good.pitch_rad.raw(), limit.raw()) ||
+         is_spike(a.roll_rad.raw(), previous.roll_rad.raw(), good.roll_rad.raw(), limit.raw());
+}
+
+bool any_joint_equal(const JointAnglesRad& a, const JointAnglesRad& b) {
+  bool equal = false;
+  for (std::uint32_t side = 0U; side < kSideCount; ++side) {
+    equal = equal || (a.rocker_rad[side] == b.rocker_rad[side]) || (a.bogie_rad[side] == b.bogie_rad[side]);
+  }
+  return equal;
+}
+
+bool joints_spike(const JointAnglesRad& a, const JointAnglesRad& previous, const JointAnglesRad& good,
+                  AngleRad limit) {
+  bool spike = false;
+  for (std::uint32_t side = 0U; side < kSideCount; ++side) {
+    spike = spike ||
+            is_spike(a.rocker_rad[side].raw(), previous.rocker_rad[side].raw(), good.rocker_rad[side].raw(),
+                     limit.raw()) ||
+            is_spike(a.bogie_rad[side].raw(), previous.bogie_rad[side].raw(), good.bogie_rad[side].raw(),
+                     limit.raw());
+  }
+  return spike;
+}
+
+std::int64_t directed_raw(CurrentA current_a, DriveDirection direction) {
+  const std::int64_t raw = static_cast<std::int64_t>(current_a.raw());
+  return (direction == DriveDirection::reverse) ? -raw : raw;
+}
+
+SensorHealth spike_verdict(std::uint8_t spike_run) {
+  return (spike_run >= 2U) ? SensorHealth::noisy : SensorHealth::spike;
+}
+
+std::uint32_t drawing_mask(const HealthSample& s, CurrentA no_load_a) {
+  const std::int64_t twice = 2 * static_cast<std::int64_t>(no_load_a.raw());
+  std::uint32_t mask = 0U;
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    if (!s.presence.current_missing[i] && (directed_raw(s.current_a[i], s.direction[i]) > twice)) {
+      mask |= (1U << i);
+    }
+  }
+  return mask;
+}
+
+bool others_draw(std::uint32_t drawing, std::uint32_t drawing_count, std::uint32_t wheel) {
+  const std::uint32_t self = (drawing >> wheel) & 1U;
+  return (drawing_count - self) >= 3U;
+}
+
+std::uint32_t wheel_count_of(std::uint32_t mask) {
+  std::uint32_t n = 0U;
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    n += (mask >> i) & 1U;
+  }
+  return n;
+}
+
+class SensorHealthMonitor {
+ public:
+  SensorHealthReport update(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
+                            CurrentA current_range_a) {
+    SensorHealthReport r{};
+    const std::uint32_t drawing = drawing_mask(s, no_load_a);
+    const std::uint32_t drawing_count = wheel_count_of(drawing);
+    for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+      const SensorHealth raw =
+          current_channel(i, s, p, no_load_a, current_range_a, others_draw(drawing, drawing_count, i));
+      r.channel[i] = settle(track_[i], raw, p);
+      r.current_usable[i] = flight::usable(r.channel[i]);
+    }
+    r.channel[kImu] = settle(track_[kImu], imu_channel(s, p), p);
+    r.channel[kJoints] = settle(track_[kJoints], joints_channel(s, p), p);
+    repeated_run_ = 0U;
+    r.channel[kClock] = settle(track_[kClock], s.clock_jump ? SensorHealth::spike : SensorHealth::ok, p);
+    bridge(s, p, r);
+    for (std::uint8_t c = 0U; c < kSensorChannelCount; ++c) {
+      count(c, r.channel[c]);
+    }
+    return r;
+  }
+
+  void accept_levels() {
+    for (Track& t : track_) {
+      t.have_last = false;
+    }
+    imu_after_noise_ = false;
+  }
+
+  SensorHealth clock_refused(bool repeated, const HealthParams& p) {
+    repeated_run_ = repeated ? bump(repeated_run_) : 0U;
+    const bool stuck = repeated && (p.stuck_cycles > 0U) && (repeated_run_ >= p.stuck_cycles);
+    const SensorHealth verdict = stuck ? SensorHealth::stuck : (repeated ? SensorHealth::ok : SensorHealth::spike);
+    const SensorHealth h = settle(track_[kClock], verdict, p);
+    count(kClock, h);
+    return h;
+  }
+
+  const SensorHealthCounters& counters() const { return counters_; }
+
+ private:
+  static constexpr std::uint8_t kImu = static_cast<std::uint8_t>(SensorChannel::imu);
+  static constexpr std::uint8_t kJoints = static_cast<std::uint8_t>(SensorChannel::joints);
+  static constexpr std::uint8_t kClock = static_cast<std::uint8_t>(SensorChannel::clock);
+
+  struct Track {
+    SensorHealth health{SensorHealth::ok};
+    bool have_last{false};
+    std::uint8_t same_run{0U};
+    std::uint8_t spike_run{0U};
+    std::uint8_t bad_run{0U};
+    std::uint8_t good_run{0U};
+    bool faulted{false};
+  };
+
+  template <typename Value>
+  struct LastGood {
+    bool have{false};
+    TimeMs time{0U};
+    Value value{};
+
+    bool take(bool usable_now, const Value& sample, TimeMs now, std::uint32_t bridge_ms, bool& bridged) {
+      if (usable_now) {
+        have = true;
+        time = now;
+        value = sample;
+        return true;
+      }
+      bridged = have && (flight::elapsed_ms(time, now) <= bridge_ms);
+      return bridged;
+    }
+  };
+
+  void count(std::uint8_t c, SensorHealth h) {
+    std::uint32_t& n = counters_.by_health[c][static_cast<std::uint8_t>(h)];
+    if (n < 0xFFFFFFFFU) {
+      ++n;
+    }
+  }
+
+  static SensorHealth settle(Track& t, SensorHealth raw_verdict, const HealthParams& p) {
+    if (raw_verdict != SensorHealth::ok) {
+      t.faulted = true;
+      t.good_run = 0U;
+      t.health = raw_verdict;
+      return raw_verdict;
+    }
+    if (t.faulted) {
+      t.good_run = bump(t.good_run);
+      t.faulted = t.good_run < p.recover_cycles;
+    }
+    t.health = t.faulted ? SensorHealth::recovering : SensorHealth::ok;
+    return t.health;
+  }
+
+  SensorHealth current_channel(std::uint32_t wheel, const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
+                               CurrentA current_range_a, bool pulling) {
+    Track& t = track_[wheel];
+    if (s.presence.current_missing[wheel]) {
+      t.have_last = false;
+      t.same_run = 0U;
+      t.spike_run = 0U;
+      t.bad_run = 0U;
+      return SensorHealth::missing;
+    }
+    const std::int64_t raw = directed_raw(s.current_a[wheel], s.direction[wheel]);
+    const std::int32_t reading = s.current_a[wheel].raw();
+    bool spike = false;
+    if (t.have_last) {
+      t.same_run = repeat_run(t.same_run, reading == last_reading_[wheel], s.driving);
+      spike = is_spike(raw, last_current_raw_[wheel], good_current_raw_[wheel], p.current_step_a.raw());
+    }
+    t.spike_run = spike ? bump(t.spike_run) : 0U;
+    t.have_last = true;
+    last_current_raw_[wheel] = raw;
+    last_reading_[wheel] = reading;
+    if (spike) {
+      return spike_verdict(t.spike_run);
+    }
+    good_current_raw_[wheel] = raw;
+    if ((p.stuck_cycles > 0U) && (t.same_run >= p.stuck_cycles)) {
+      return SensorHealth::stuck;
+    }
+    const bool free_wheel = s.driving && pulling && (raw < static_cast<std::int64_t>(no_load_a.raw()));
+    const bool stalled = (raw >= static_cast<std::int64_t>(current_range_a.raw()));
+    t.bad_run = (free_wheel || stalled) ? bump(t.bad_run) : 0U;
+    if ((p.implausible_cycles > 0U) && (t.bad_run >= p.implausible_cycles)) {
+      return SensorHealth::implausible;
+    }
+    return SensorHealth::ok;
+  }
+
+  SensorHealth imu_channel(const HealthSample& s, const HealthParams& p) {
+    Track& t = track_[kImu];
+    if (s.presence.attitude_missing) {
+      t.have_last = false;
+      t.same_run = 0U;
+      t.spike_run = 0U;
+      return SensorHealth::missing;
+    }
+    bool spike = false;
+    bool off_good = false;
+    if (t.have_last) {
+      t.same_run = repeat_run(t.same_run, attitude_equal(s.attitude, last_attitude_), s.driving);
+      spike = attitude_spike(s.attitude, last_attitude_, step_attitude_, p.attitude_step_rad);
+      off_good = attitude_beyond(s.attitude, step_attitude_, p.attitude_step_rad);
+    }
+    t.spike_run = spike ? bump(t.spike_run) : 0U;
+    t.have_last = true;
+    last_attitude_ = s.attitude;
+    if (spike) {
+      const SensorHealth verdict = spike_verdict(t.spike_run);
+      imu_after_noise_ = imu_after_noise_ || (verdict == SensorHealth::noisy);
+      return verdict;
+    }
+    if (off_good && !imu_after_noise_) {
+      return SensorHealth::implausible;
+    }
+    imu_after_noise_ = false;
+    step_attitude_ = s.attitude;
+    return ((p.stuck_cycles > 0U) && (t.same_run >= p.stuck_cycles)) ? SensorHealth::stuck : SensorHealth::ok;
+  }
+
+  SensorHealth joints_channel(const HealthSample& s, const HealthParams& p) {
+    Track& t = track_[kJoints];
+    if (s.presence.joints_missing) {
+      t.have_last = false;
+      t.same_run = 0U;
+      t.spike_run = 0U;
+      return SensorHealth::missing;
+    }
+    bool spike = false;
+    if (t.have_last) {
+      t.same_run = repeat_run(t.same_run, any_joint_equal(s.joints, last_joints_), s.driving);
+      spike = joints_spike(s.joints, last_joints_, step_joints_, p.joint_step_rad);
+    }
+    t.spike_run = spike ? bump(t.spike_run) : 0U;
+    t.have_last = true;
+    last_joints_ = s.joints;
+    if (spike) {
+      return spike_verdict(t.spike_run);
+    }
+    step_joints_ = s.joints;
+    return ((p.stuck_cycles > 0U) && (t.same_run >= p.stuck_cycles)) ? SensorHealth::stuck : SensorHealth::ok;
+  }
+
+  void bridge(const HealthSample& s, const HealthParams& p, SensorHealthReport& r) {
+    r.attitude_usable =
+        good_attitude_.take(flight::usable(r.channel[kImu]), s.attitude, s.time, p.bridge_ms, r.attitude_bridged);
+    r.attitude = good_attitude_.value;
+    r.joints_usable =
+        good_joints_.take(flight::usable(r.channel[kJoints]), s.joints, s.time, p.bridge_ms, r.joints_bridged);
+    r.joints = good_joints_.value;
+  }
+
+  Track track_[kSensorChannelCount]{};
+  std::int64_t last_current_raw_[kWheelCount]{};
+  std::int64_t good_current_raw_[kWheelCount]{};
+  std::int32_t last_reading_[kWheelCount]{};
+  RoverAttitude last_attitude_{};
+  RoverAttitude step_attitude_{};
+  bool imu_after_noise_{false};
+  JointAnglesRad last_joints_{};
+  JointAnglesRad step_joints_{};
+  LastGood<RoverAttitude> good_attitude_{};
+  LastGood<JointAnglesRad> good_joints_{};
+  std::uint8_t repeated_run_{0U};
+  SensorHealthCounters counters_{};
+};
+
+}  // namespace before
+
+/// Random telemetry for the differential test, biased to the edges: the
+/// raw values at the ends of their ranges, equal and near-equal samples (the
+/// stuck checks), jumps just at and beyond the step limits, dropouts,
+/// reversals, a rover that pulls while a wheel idles.
+class HealthFuzz {
+ public:
+  explicit HealthFuzz(std::uint32_t seed) : rng_(seed) {}
+
+  std::uint32_t below(std::uint32_t n) { return std::uniform_int_distribution<std::uint32_t>(0U, n - 1U)(rng_); }
+  bool one_in(std::uint32_t n) { return below(n) == 0U; }
+
+  std::int32_t any_raw() {
+    constexpr std::int32_t kEdges[] = {std::numeric_limits<std::int32_t>::min(),
+                                       std::numeric_limits<std::int32_t>::min() + 1,
+                                       -1,
+                                       0,
+                                       1,
+                                       std::numeric_limits<std::int32_t>::max() - 1,
+                                       std::numeric_limits<std::int32_t>::max()};
+    if (one_in(3U)) {
+      return kEdges[below(7U)];
+    }
+    return static_cast<std::int32_t>(rng_());
+  }
+
+  /// A step limit: off (zero or negative), tiny, typical, or huge.
+  std::int32_t limit() {
+    switch (below(6U)) {
+      case 0U:
+        return 0;
+      case 1U:
+        return -static_cast<std::int32_t>(below(1000U)) - 1;
+      case 2U:
+        return static_cast<std::int32_t>(below(8U)) + 1;
+      case 3U:
+        return std::numeric_limits<std::int32_t>::max();
+      default:
+        return static_cast<std::int32_t>(below(1U << 22U)) + 1;
+    }
+  }
+
+  /// The next raw value of a channel from `previous` with step limit `lim`.
+  std::int32_t next(std::int32_t previous, std::int32_t lim) {
+    const std::int64_t step = (lim > 0) ? lim : 1000;
+    switch (below(8U)) {
+      case 0U:
+      case 1U:
+        return previous;  // repeated (stuck)
+      case 2U:
+        return clamp(static_cast<std::int64_t>(previous) + step);  // at the limit
+      case 3U:
+        return clamp(static_cast<std::int64_t>(previous) - step - 1);  // just beyond
+      case 4U:
+        return any_raw();
+      default:
+        return clamp(static_cast<std::int64_t>(previous) + static_cast<std::int64_t>(below(64U)) - 32);
+    }
+  }
+
+  static std::int32_t clamp(std::int64_t v) {
+    constexpr std::int64_t kMin = std::numeric_limits<std::int32_t>::min();
+    constexpr std::int64_t kMax = std::numeric_limits<std::int32_t>::max();
+    return static_cast<std::int32_t>((v < kMin) ? kMin : ((v > kMax) ? kMax : v));
+  }
+
+ private:
+  std::mt19937 rng_;
+};
+
+void expect_same_report(const flight::SensorHealthReport& got, const flight::SensorHealthReport& want,
+                        std::uint32_t k) {
+  for (std::uint32_t c = 0U; c < flight::kSensorChannelCount; ++c) {
+    ASSERT_EQ(got.channel[c], want.channel[c]) << "cycle " << k << " channel " << c;
+  }
+  for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+    ASSERT_EQ(got.current_usable[i], want.current_usable[i]) << "cycle " << k << " wheel " << i;
+  }
+  ASSERT_EQ(got.attitude_usable, want.attitude_usable) << k;
+  ASSERT_EQ(got.attitude_bridged, want.attitude_bridged) << k;
+  ASSERT_EQ(got.attitude.pitch_rad.raw(), want.attitude.pitch_rad.raw()) << k;
+  ASSERT_EQ(got.attitude.roll_rad.raw(), want.attitude.roll_rad.raw()) << k;
+  ASSERT_EQ(got.joints_usable, want.joints_usable) << k;
+  ASSERT_EQ(got.joints_bridged, want.joints_bridged) << k;
+  for (std::uint32_t side = 0U; side < flight::kSideCount; ++side) {
+    ASSERT_EQ(got.joints.rocker_rad[side].raw(), want.joints.rocker_rad[side].raw()) << k;
+    ASSERT_EQ(got.joints.bogie_rad[side].raw(), want.joints.bogie_rad[side].raw()) << k;
+  }
+}
+
+void expect_same_counters(const flight::SensorHealthCounters& got, const flight::SensorHealthCounters& want,
+                          std::uint32_t k) {
+  for (std::uint32_t c = 0U; c < flight::kSensorChannelCount; ++c) {
+    for (std::uint32_t h = 0U; h < flight::kSensorHealthCount; ++h) {
+      ASSERT_EQ(got.by_health[c][h], want.by_health[c][h]) << "cycle " << k << " channel " << c << " health " << h;
+    }
+  }
+}
+
+/// One random traverse of `cycles` samples through both monitors.
+void run_differential(std::uint32_t seed, std::uint32_t cycles) {
+  HealthFuzz f(seed);
+  flight::HealthParams p{};
+  p.stuck_cycles = static_cast<std::uint8_t>(f.below(5U));
+  p.implausible_cycles = static_cast<std::uint8_t>(f.below(5U));
+  p.recover_cycles = static_cast<std::uint8_t>(f.below(5U));
+  p.bridge_ms = f.below(3U) * 500U;
+  p.current_step_a = flight::CurrentA::from_raw(f.limit());
+  p.attitude_step_rad = flight::AngleRad::from_raw(f.limit());
+  p.joint_step_rad = flight::AngleRad::from_raw(f.limit());
+  // The motor's no-load current and range: typical, or at the raw ends.
+  const auto no_load = flight::CurrentA::from_raw(f.one_in(4U) ? f.any_raw() : static_cast<std::int32_t>(f.below(1U << 20U)));
+  const auto range = flight::CurrentA::from_raw(f.one_in(4U) ? f.any_raw() : (1 << 30));
+  const std::int32_t current_scale = f.one_in(2U) ? (no_load.raw() / 2) : 0;
+
+  flight::SensorHealthMonitor now;
+  before::SensorHealthMonitor then;
+  flight::RoverTelemetry t{};
+  std::uint32_t time_ms = 1000U;
+  for (std::uint32_t k = 0U; k < cycles; ++k) {
+    time_ms += 100U + f.below(300U);
+    const std::uint32_t action = f.below(40U);
+    if (action == 0U) {
+      now.accept_levels();
+      then.accept_levels();
+      continue;
+    }
+    if (action <= 2U) {
+      const bool repeated = (action == 1U);
+      ASSERT_EQ(now.clock_refused(repeated, p), then.clock_refused(repeated, p)) << k;
+      expect_same_counters(now.counters(), then.counters(), k);
+      continue;
+    }
+    t.time = flight::TimeMs{time_ms};
+    const bool reversing = f.one_in(8U);
+    for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+      std::int32_t raw = f.next(t.current_a[i].raw(), p.current_step_a.raw());
+      if (f.one_in(6U)) {
+        raw = current_scale + static_cast<std::int32_t>(f.below(3U)) - 1;  // near the no-load level
+      }
+      t.current_a[i] = flight::CurrentA::from_raw(raw);
+      if (reversing || f.one_in(30U)) {
+        t.direction[i] = f.one_in(2U) ? flight::DriveDirection::reverse : flight::DriveDirection::forward;
+      }
+      t.presence.current_missing[i] = f.one_in(12U);
+    }
+    t.attitude.pitch_rad = flight::AngleRad::from_raw(f.next(t.attitude.pitch_rad.raw(), p.attitude_step_rad.raw()));
+    t.attitude.roll_rad = flight::AngleRad::from_raw(f.next(t.attitude.roll_rad.raw(), p.attitude_step_rad.raw()));
+    for (std::uint32_t side = 0U; side < flight::kSideCount; ++side) {
+      t.joints.rocker_rad[side] =
+          flight::AngleRad::from_raw(f.next(t.joints.rocker_rad[side].raw(), p.joint_step_rad.raw()));
+      t.joints.bogie_rad[side] =
+          flight::AngleRad::from_raw(f.next(t.joints.bogie_rad[side].raw(), p.joint_step_rad.raw()));
+    }
+    t.presence.attitude_missing = f.one_in(10U);
+    t.presence.joints_missing = f.one_in(10U);
+    const bool driving = !f.one_in(5U);
+    const bool clock_jump = f.one_in(15U);
+
+    before::HealthSample old{};
+    old.time = t.time;
+    for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+      old.current_a[i] = t.current_a[i];
+      old.direction[i] = t.direction[i];
+    }
+    old.attitude = t.attitude;
+    old.joints = t.joints;
+    old.presence = t.presence;
+    old.driving = driving;
+    old.clock_jump = clock_jump;
+    const flight::SensorHealthReport want = then.update(old, p, no_load, range);
+
+    const flight::HealthSample view{t.time, t.current_a, t.direction, t.attitude, t.joints, t.presence, driving,
+                                    clock_jump};
+    // The report is written whole: start from one that differs everywhere.
+    flight::SensorHealthReport got{};
+    for (flight::SensorHealth& h : got.channel) {
+      h = static_cast<SensorHealth>(flight::kSensorHealthCount);
+    }
+    for (bool& u : got.current_usable) {
+      u = !u;
+    }
+    got.attitude_usable = got.attitude_bridged = got.joints_usable = got.joints_bridged = true;
+    got.attitude = rover_test::attitude(0.3, -0.3);
+    now.update(view, p, no_load, range, got);
+    expect_same_report(got, want, k);
+    expect_same_counters(now.counters(), then.counters(), k);
+  }
+}
+
+TEST(SensorHealthMonitor, GivesTheSameReportsAsBeforeRoundTwelveOnRandomEdgeTelemetry) {
+  for (std::uint32_t seed = 1U; seed <= 400U; ++seed) {
+    run_differential(seed, 400U);
+    if (::testing::Test::HasFatalFailure()) {
+      FAIL() << "seed " << seed;
+    }
   }
 }
 

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <random>
 
 #include "rover_test_support.hpp"
 #include "sinkwatch/flight/param_table.hpp"
@@ -321,4 +322,549 @@ TEST(Traction, ATrendBeyondTheRatioFormatIsReportedNotANumber) {
   out = drive.run(10U, [](std::uint32_t) { return 120.0; });
   EXPECT_EQ(out.sample, TractionSample::overflow);
   EXPECT_FALSE(out.rho_valid);
+}
+
+// ---------------------------------------------------------------------------
+// Round 12 of issue 15 cut the check's per-cycle work and kept its bits: the
+// quotient and the cycle's distance without a 64-bit library division, the
+// median kept sorted instead of sorted for, the wheel sums in registers, the
+// output written in place, no count of an empty N-of-M history. The tests
+// below hold the new forms to the old ones, bit for bit.
+
+namespace {
+
+/// round(n / d), half up, as the check divided before round 12.
+std::uint64_t plain_rounded_quotient(std::uint64_t n, std::uint64_t d) {
+  std::uint64_t quotient = n / d;
+  const std::uint64_t remainder = n - (quotient * d);
+  if (remainder >= (d - remainder)) {
+    ++quotient;
+  }
+  return quotient;
+}
+
+/// Divisors and dividends at the edges of the normalised division: powers of
+/// two and their neighbours, the ends of 32 and 64 bits, and the dividends
+/// whose quotient sits at 2^32 or whose remainder is exactly half the divisor.
+std::uint64_t edge_divisor(std::mt19937_64& rng) {
+  const std::uint32_t k = static_cast<std::uint32_t>(rng() % 34U);  // 2^0 .. 2^33
+  const std::uint64_t p = std::uint64_t{1} << k;
+  switch (rng() % 4U) {
+    case 0U:
+      return p;
+    case 1U:
+      return p + 1U;
+    case 2U:
+      return (p > 1U) ? (p - 1U) : 1U;
+    default:
+      return (rng() % p) + 1U;
+  }
+}
+
+std::uint64_t edge_dividend(std::mt19937_64& rng, std::uint64_t d) {
+  const std::uint64_t q = rng() >> (rng() % 64U);
+  switch (rng() % 6U) {
+    case 0U:
+      return (q * d) + (d / 2U);  // a tie when d is even (q d may wrap: any n is fine)
+    case 1U:
+      return (q * d) + ((d - 1U) / 2U);
+    case 2U:
+      return (std::uint64_t{1} << 32U) * d - (rng() % 3U);  // the quotient at 2^32 (wraps for large d)
+    case 3U:
+      return std::uint64_t{1} << 63U;
+    case 4U:
+      return rng() >> (rng() % 64U);
+    default:
+      return (q * d) + (rng() % d);
+  }
+}
+
+}  // namespace
+
+TEST(TractionRound12, TheNormalisedQuotientIsThePlainRoundedQuotient) {
+  std::mt19937_64 rng(20261215U);
+  for (std::uint32_t k = 0U; k < 600000U; ++k) {
+    const std::uint64_t d = edge_divisor(rng);
+    const std::uint64_t n = edge_dividend(rng, d);
+    ASSERT_EQ(detail::rounded_quotient(n, d), plain_rounded_quotient(n, d)) << n << " / " << d;
+  }
+  // Every divisor width with the largest dividend of a 32-bit quotient, and
+  // the first of a 33-bit one (the library's path).
+  for (std::uint32_t bits = 1U; bits <= 32U; ++bits) {
+    for (const std::uint64_t d : {std::uint64_t{1} << (bits - 1U), (std::uint64_t{1} << bits) - 1U}) {
+      const std::uint64_t top = ((std::uint64_t{1} << 32U) * d) - 1U;
+      ASSERT_EQ(detail::rounded_quotient(top, d), plain_rounded_quotient(top, d)) << d;
+      ASSERT_EQ(detail::rounded_quotient(top + 1U, d), plain_rounded_quotient(top + 1U, d)) << d;
+      ASSERT_EQ(detail::rounded_quotient(0U, d), 0U) << d;
+    }
+  }
+  ASSERT_EQ(detail::rounded_quotient(~std::uint64_t{0}, 1U), ~std::uint64_t{0});
+  ASSERT_EQ(detail::rounded_quotient(~std::uint64_t{0}, ~std::uint64_t{0}), 1U);
+}
+
+TEST(TractionRound12, TheCyclesDistanceIsThePlainRoundedThousandth) {
+  // Every gap the check integrates (0..2000 ms) at the ends of the speed's
+  // range, around multiples of 1000, and at random speeds.
+  std::mt19937 rng(7U);
+  std::array<std::uint32_t, 500> speeds{};
+  const std::uint32_t ends[] = {0U, 1U, 499U, 500U, 999U, 1000U, 1001U, 0x7FFFFFFFU, 0x80000000U, 2147483000U,
+                                2147482999U, 2147483647U - 647U};
+  std::size_t n = 0U;
+  for (const std::uint32_t e : ends) {
+    speeds[n++] = e;
+  }
+  while (n < speeds.size()) {
+    const std::uint32_t v = static_cast<std::uint32_t>(rng()) & 0x7FFFFFFFU;
+    speeds[n] = ((n % 3U) == 0U) ? ((v / 1000U) * 1000U + 999U) : v;
+    ++n;
+  }
+  for (const std::uint32_t speed : speeds) {
+    for (std::uint32_t dt = 0U; dt <= 2000U; ++dt) {
+      const std::uint64_t plain = ((static_cast<std::uint64_t>(speed) * dt) + 500U) / 1000U;
+      ASSERT_EQ(detail::travelled_q24(speed, dt), plain) << speed << " m/s raw, " << dt << " ms";
+    }
+  }
+}
+
+/// The check as it was before round 12 (traction.cpp at c2cb290), kept as
+/// the oracle of the differential test below; its internal helpers
+/// (median.hpp, n_of_m.hpp) copied with it.
+namespace before {
+
+std::uint8_t count_bits(std::uint16_t bits, std::uint8_t window) {
+  const std::uint32_t width = (window < kMaxWindow) ? window : kMaxWindow;
+  const std::uint32_t mask = (1U << width) - 1U;
+  std::uint32_t v = static_cast<std::uint32_t>(bits) & mask;
+  v = v - ((v >> 1U) & 0x5555U);
+  v = (v & 0x3333U) + ((v >> 2U) & 0x3333U);
+  v = (v + (v >> 4U)) & 0x0F0FU;
+  v = (v + (v >> 8U)) & 0x1FU;
+  return static_cast<std::uint8_t>(v);
+}
+
+std::uint16_t shift_in(std::uint16_t history, bool bit) {
+  return static_cast<std::uint16_t>((static_cast<std::uint32_t>(history) << 1U) | (bit ? 1U : 0U));
+}
+
+template <typename T, std::uint8_t N>
+T median_of(const T (&values)[N], std::uint8_t count) {
+  T sorted[N]{};
+  for (std::uint8_t i = 0U; (i < count) && (i < N); ++i) {
+    const T v = values[i];
+    std::uint8_t j = i;
+    while ((j > 0U) && (v < sorted[j - 1U])) {
+      sorted[j] = sorted[j - 1U];
+      --j;
+    }
+    sorted[j] = v;
+  }
+  const std::uint8_t used = (count < N) ? count : N;
+  const std::uint8_t middle = (used > 0U) ? static_cast<std::uint8_t>((used - 1U) / 2U) : 0U;
+  return sorted[middle];
+}
+
+constexpr std::uint64_t kMsPerSecond = 1000U;
+constexpr std::uint64_t kMaxTorqueSumQ16 = (std::uint64_t{1U} << 31U) - 1U;
+constexpr std::int64_t kQ16ToQ40 = static_cast<std::int64_t>(std::uint64_t{1U} << 24U);
+constexpr std::uint32_t kMaxGapMs = 2000U;
+constexpr std::int32_t kMarksPerSpan = 8;
+
+struct WheelSums {
+  std::int64_t torque_q16{0};
+  std::int64_t pull_q16{0};
+  std::int64_t load_q16{0};
+  std::uint8_t wheels{0U};
+  bool mixed{false};
+};
+
+WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels) {
+  WheelSums s{};
+  bool have_direction = false;
+  DriveDirection direction = DriveDirection::forward;
+  for (std::uint8_t i = 0U; (i < wheels) && (i < kWheelCount); ++i) {
+    if (in.torque_valid[i]) {
+      if (have_direction && (in.direction[i] != direction)) {
+        s.mixed = true;
+      }
+      have_direction = true;
+      direction = in.direction[i];
+      const std::int64_t pull = in.drawbar_pull_n[i].raw();
+      s.pull_q16 += (direction == DriveDirection::reverse) ? -pull : pull;
+      s.torque_q16 += in.torque_nm[i].raw();
+      s.load_q16 += in.load_n[i].raw();
+      ++s.wheels;
+    }
+  }
+  return s;
+}
+
+Ratio rounded_ratio(std::int64_t n, std::uint64_t d, sinkwatch::fx::Status& st) {
+  const bool negative = n < 0;
+  const std::uint64_t magnitude = sinkwatch::fx::detail::magnitude(n);
+  std::uint64_t quotient = magnitude / d;
+  const std::uint64_t remainder = magnitude - (quotient * d);
+  if (remainder >= (d - remainder)) {
+    ++quotient;
+  }
+  return Ratio::from_raw(sinkwatch::fx::detail::from_sign_magnitude<RatioQ::storage_type>(
+      negative && (quotient != 0U), quotient, st));
+}
+
+class TractionMonitor {
+ public:
+  TractionOutput step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
+                      InverseRadius per_radius) {
+    TractionOutput out{};
+    if (!traction_check_on(params)) {
+      out.state = TractionState::off;
+      out.sample = TractionSample::check_off;
+      return out;
+    }
+    Ratio rho{};
+    out.sample = resistance_of(input, monitor.wheel_count, per_radius, rho);
+    if (out.sample == TractionSample::ok) {
+      out.sample = evaluate(input, params, rho, out);
+    }
+    bool caution = false;
+    bool stop = false;
+    bool clear = false;
+    if (out.sample == TractionSample::ok) {
+      sinkwatch::fx::Status st;
+      stop = out.resistance_ahead >= params.stop_coefficient;
+      caution = out.resistance_ahead >= params.caution_coefficient;
+      clear = out.resistance_ahead.q() < sinkwatch::fx::sub(params.caution_coefficient.q(), params.hysteresis.q(), st);
+    }
+    caution_history_ = shift_in(caution_history_, caution);
+    stop_history_ = shift_in(stop_history_, stop);
+    clear_history_ = shift_in(clear_history_, clear);
+    transition(monitor, out);
+    out.state = state_;
+    return out;
+  }
+
+  void clear_stop() { *this = TractionMonitor(); }
+  [[nodiscard]] TractionState state() const { return state_; }
+
+ private:
+  static TractionSample resistance_of(const TractionInput& in, std::uint8_t wheels, InverseRadius per_radius,
+                                      Ratio& rho) {
+    if (!in.loads_valid) {
+      return TractionSample::no_loads;
+    }
+    if (in.pull_assumed) {
+      return TractionSample::pull_assumed;
+    }
+    const WheelSums s = sum_wheels(in, wheels);
+    if ((static_cast<std::uint32_t>(s.wheels) * 2U) < static_cast<std::uint32_t>(wheels)) {
+      return TractionSample::too_few_wheels;
+    }
+    if (s.mixed) {
+      return TractionSample::mixed_direction;
+    }
+    const std::uint64_t torque = sinkwatch::fx::detail::magnitude(s.torque_q16);
+    if ((per_radius.per_m_q24 == 0U) || (torque > kMaxTorqueSumQ16) || (s.load_q16 <= 0)) {
+      return TractionSample::overflow;
+    }
+    const std::uint64_t thrust = static_cast<std::uint64_t>(torque) * per_radius.per_m_q24;
+    const std::int64_t signed_thrust =
+        (s.torque_q16 < 0) ? -static_cast<std::int64_t>(thrust) : static_cast<std::int64_t>(thrust);
+    const std::int64_t resistance = signed_thrust - (s.pull_q16 * kQ16ToQ40);
+    sinkwatch::fx::Status st;
+    rho = rounded_ratio(resistance, static_cast<std::uint64_t>(s.load_q16), st);
+    return st.ok() ? TractionSample::ok : TractionSample::overflow;
+  }
+
+  Ratio push_median(Ratio rho) {
+    recent_[recent_next_] = rho;
+    recent_next_ = static_cast<std::uint8_t>(((recent_next_ + 1U) < kTractionMedianSamples) ? (recent_next_ + 1U) : 0U);
+    if (recent_count_ < kTractionMedianSamples) {
+      ++recent_count_;
+    }
+    return median_of(recent_, recent_count_);
+  }
+
+  TractionSample evaluate(const TractionInput& input, const TractionParams& params, Ratio rho, TractionOutput& out) {
+    sinkwatch::fx::Status st;
+    const bool standing =
+        input.speed_valid && (sinkwatch::fx::abs(input.speed_mps.q(), st) < kTractionStandingSpeed.q());
+    if (standing || !st.ok()) {
+      recent_count_ = 0U;
+      recent_next_ = 0U;
+      mark_count_ = 0U;
+      since_mark_m_ = LengthM::zero();
+      settled_ = false;
+      have_time_ = true;
+      last_time_ = input.time;
+      return TractionSample::standing;
+    }
+    const Ratio rho_med = push_median(rho);
+    advance(input, rho_med, params);
+    Ratio ahead{};
+    bool overflow = false;
+    out.trend_known = ahead_of(rho_med, params, ahead, overflow);
+    if (overflow) {
+      out.trend_known = false;
+      return TractionSample::overflow;
+    }
+    out.rho_valid = true;
+    out.resistance = rho;
+    out.resistance_median = rho_med;
+    out.resistance_ahead = ahead;
+    return (recent_count_ < kTractionMedianSamples) ? TractionSample::filling : TractionSample::ok;
+  }
+
+  void advance(const TractionInput& in, Ratio rho_med, const TractionParams& params) {
+    const std::uint32_t dt_ms = have_time_ ? elapsed_ms(last_time_, in.time) : 0U;
+    have_time_ = true;
+    last_time_ = in.time;
+    if (!in.speed_valid || (dt_ms > kMaxGapMs)) {
+      return;
+    }
+    const std::uint64_t speed = sinkwatch::fx::detail::magnitude(in.speed_mps.raw());
+    const std::uint64_t step_q24 = ((speed * dt_ms) + (kMsPerSecond / 2U)) / kMsPerSecond;
+    sinkwatch::fx::Status st;
+    const LengthM step_m =
+        LengthM::from_raw(sinkwatch::fx::detail::from_sign_magnitude<LengthQ::storage_type>(false, step_q24, st));
+    const LengthM travelled{sinkwatch::fx::add(since_mark_m_.q(), step_m.q(), st)};
+    if (!st.ok()) {
+      return;
+    }
+    since_mark_m_ = travelled;
+    if (!settled_) {
+      settled_ = since_mark_m_ >= params.trend_span_m;
+      if (settled_) {
+        since_mark_m_ = LengthM::zero();
+      }
+      return;
+    }
+    const LengthM spacing = LengthM::from_raw(params.trend_span_m.raw() / kMarksPerSpan);
+    if (since_mark_m_ < spacing) {
+      return;
+    }
+    mark_newest_ = static_cast<std::uint8_t>((mark_newest_ + 1U) % kTractionTrendMarks);
+    mark_rho_[mark_newest_] = rho_med;
+    mark_gap_m_[mark_newest_] = since_mark_m_;
+    since_mark_m_ = LengthM::zero();
+    if (mark_count_ < kTractionTrendMarks) {
+      ++mark_count_;
+    }
+  }
+
+  bool ahead_of(Ratio rho_med, const TractionParams& params, Ratio& ahead, bool& overflow) const {
+    ahead = rho_med;
+    overflow = false;
+    std::int64_t distance = since_mark_m_.raw();
+    const std::int64_t span = params.trend_span_m.raw();
+    std::uint8_t index = mark_newest_;
+    for (std::uint8_t k = 0U; k < mark_count_; ++k) {
+      if ((k > 0U) && (distance >= span)) {
+        overflow = !carried_ahead(rho_med, mark_rho_[index], distance, params.lookahead_m, ahead);
+        return true;
+      }
+      distance += mark_gap_m_[index].raw();
+      index = static_cast<std::uint8_t>((index + kTractionTrendMarks - 1U) % kTractionTrendMarks);
+    }
+    return false;
+  }
+
+  void transition(const MonitorParams& monitor, TractionOutput& out) {
+    if (state_ == TractionState::stop) {
+      return;
+    }
+    if (count_bits(stop_history_, monitor.window_m) >= monitor.trip_n) {
+      state_ = TractionState::stop;
+      out.stop_tripped = true;
+    } else if ((state_ == TractionState::nominal) &&
+               (count_bits(caution_history_, monitor.window_m) >= monitor.trip_n)) {
+      state_ = TractionState::caution;
+    } else if ((state_ == TractionState::caution) &&
+               (count_bits(clear_history_, monitor.window_m) >= monitor.clear_n)) {
+      state_ = TractionState::nominal;
+    } else {
+    }
+  }
+
+  TractionState state_{TractionState::nominal};
+  Ratio recent_[kTractionMedianSamples];
+  std::uint8_t recent_count_{0U};
+  std::uint8_t recent_next_{0U};
+  Ratio mark_rho_[kTractionTrendMarks];
+  LengthM mark_gap_m_[kTractionTrendMarks];
+  std::uint8_t mark_count_{0U};
+  std::uint8_t mark_newest_{0U};
+  LengthM since_mark_m_;
+  bool settled_{false};
+  bool have_time_{false};
+  TimeMs last_time_{0U};
+  std::uint16_t caution_history_{0U};
+  std::uint16_t stop_history_{0U};
+  std::uint16_t clear_history_{0U};
+};
+
+}  // namespace before
+
+namespace {
+
+/// Random cycles for the differential test: a drive whose coefficient
+/// wanders around the levels (so that every state is entered), with repeated
+/// coefficients (equal ratios in the median), standing and missing odometry,
+/// long gaps and clocks going backwards, refused samples of every kind, and
+/// raw values at the ends of their ranges.
+class TractionFuzz {
+ public:
+  explicit TractionFuzz(std::uint32_t seed) : rng_(seed) {}
+
+  std::uint32_t below(std::uint32_t n) { return std::uniform_int_distribution<std::uint32_t>(0U, n - 1U)(rng_); }
+  bool one_in(std::uint32_t n) { return below(n) == 0U; }
+  double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng_); }
+  std::int32_t any_raw() {
+    constexpr std::int32_t kEdges[] = {std::numeric_limits<std::int32_t>::min(), -1, 0, 1,
+                                       std::numeric_limits<std::int32_t>::max()};
+    return one_in(2U) ? kEdges[below(5U)] : static_cast<std::int32_t>(rng_());
+  }
+
+  TractionParams params() {
+    if (one_in(20U)) {
+      return TractionParams{};  // the check off
+    }
+    TractionParams p = table().traction;
+    p.caution_coefficient = q<Ratio>(uniform(0.1, 0.4));
+    p.stop_coefficient = q<Ratio>(d(p.caution_coefficient) + uniform(0.0, 0.2));
+    p.hysteresis = q<Ratio>(uniform(0.0, 0.09));
+    p.lookahead_m = one_in(6U) ? q<LengthM>(-uniform(0.0, 3.0)) : q<LengthM>(uniform(0.0, 3.0));
+    p.trend_span_m = q<LengthM>(uniform(0.005, 0.2));
+    return p;
+  }
+
+  MonitorParams monitor() {
+    MonitorParams m = table().monitor;
+    m.window_m = static_cast<std::uint8_t>(below(18U));
+    m.trip_n = static_cast<std::uint8_t>(below(static_cast<std::uint32_t>(m.window_m) + 2U));
+    m.clear_n = static_cast<std::uint8_t>(below(static_cast<std::uint32_t>(m.window_m) + 2U));
+    m.wheel_count = static_cast<std::uint8_t>(one_in(4U) ? below(9U) : kWheelCount);
+    return m;
+  }
+
+  InverseRadius radius() {
+    if (one_in(30U)) {
+      return one_in(2U) ? InverseRadius{} : InverseRadius{static_cast<std::uint32_t>(rng_())};
+    }
+    return inverse_radius(q<LengthM>(uniform(0.05, 0.5)));
+  }
+
+  TractionInput input(std::uint32_t& time_ms, double& rho, double radius_m) {
+    // Gaps beyond the integrated 2 s, up to it (with an extreme speed the
+    // distance then leaves its format), and the usual cycles.
+    if (one_in(40U)) {
+      time_ms += 2001U + below(3000U);
+    } else {
+      time_ms += one_in(30U) ? (1000U + below(1001U)) : (50U + below(300U));
+    }
+    if (one_in(60U)) {
+      time_ms -= below(1000U);  // a clock going backwards
+    }
+    if (!one_in(3U)) {
+      rho += uniform(-0.02, 0.025);  // repeated otherwise: equal ratios in the median
+    }
+    TractionInput in = sample(time_ms, rho, uniform(-0.3, 0.6));
+    const double wheel_torque = d(in.torque_nm[0]) * kRadiusM / radius_m;
+    in.loads_valid = !one_in(25U);
+    in.pull_assumed = one_in(40U);
+    in.speed_valid = !one_in(15U);
+    if (one_in(15U)) {
+      in.speed_mps = q<SpeedMps>(uniform(-0.004, 0.004));  // standing
+    }
+    if (one_in(80U)) {
+      in.speed_mps = SpeedMps::from_raw(any_raw());
+    }
+    const bool reverse = one_in(4U);
+    for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+      in.torque_nm[i] = q<TorqueNm>(wheel_torque * uniform(0.9, 1.1) * (reverse ? -1.0 : 1.0));
+      in.load_n[i] = q<WheelLoadN>(kLoadN * uniform(0.5, 1.5));
+      in.drawbar_pull_n[i] = q<DrawbarPullN>(uniform(-2.0, 2.0));
+      in.torque_valid[i] = !one_in(8U);
+      in.direction[i] = reverse ? DriveDirection::reverse : DriveDirection::forward;
+      if (one_in(50U)) {
+        in.direction[i] = one_in(3U) ? static_cast<DriveDirection>(2U) : DriveDirection::reverse;
+      }
+      if (one_in(100U)) {
+        in.torque_nm[i] = TorqueNm::from_raw(any_raw());
+      }
+      if (one_in(100U)) {
+        in.load_n[i] = WheelLoadN::from_raw(any_raw());
+      }
+      if (one_in(100U)) {
+        in.drawbar_pull_n[i] = DrawbarPullN::from_raw(any_raw());
+      }
+    }
+    return in;
+  }
+
+ private:
+  std::mt19937 rng_;
+};
+
+void expect_same_output(const TractionOutput& got, const TractionOutput& want, std::uint32_t k) {
+  ASSERT_EQ(got.state, want.state) << "cycle " << k;
+  ASSERT_EQ(got.sample, want.sample) << "cycle " << k;
+  ASSERT_EQ(got.stop_tripped, want.stop_tripped) << "cycle " << k;
+  ASSERT_EQ(got.rho_valid, want.rho_valid) << "cycle " << k;
+  ASSERT_EQ(got.resistance.raw(), want.resistance.raw()) << "cycle " << k;
+  ASSERT_EQ(got.resistance_median.raw(), want.resistance_median.raw()) << "cycle " << k;
+  ASSERT_EQ(got.trend_known, want.trend_known) << "cycle " << k;
+  ASSERT_EQ(got.resistance_ahead.raw(), want.resistance_ahead.raw()) << "cycle " << k;
+}
+
+}  // namespace
+
+TEST(TractionRound12, TheMonitorGivesTheSameOutputsAsBeforeOnRandomDrives) {
+  std::array<std::uint32_t, 9> samples{};  // per TractionSample: every kind is reached
+  std::array<std::uint32_t, 4> states{};
+  std::uint32_t trends = 0U;
+  for (std::uint32_t seed = 1U; seed <= 150U; ++seed) {
+    TractionFuzz f(seed);
+    const TractionParams params = f.params();
+    const MonitorParams monitor = f.monitor();
+    const double radius_m = f.uniform(0.05, 0.5);
+    const InverseRadius per_r = f.one_in(10U) ? f.radius() : inverse_radius(q<LengthM>(radius_m));
+    before::TractionMonitor then;
+    TractionMonitor returned;
+    TractionMonitor in_place;
+    TractionOutput out{};
+    std::uint32_t time_ms = 1000U;
+    double rho = f.uniform(0.0, 0.3);
+    for (std::uint32_t k = 0U; k < 500U; ++k) {
+      if (f.one_in(150U)) {
+        then.clear_stop();
+        returned.clear_stop();
+        in_place.clear_stop();
+      }
+      const TractionInput in = f.input(time_ms, rho, radius_m);
+      const TractionOutput want = then.step(in, params, monitor, per_r);
+      expect_same_output(returned.step(in, params, monitor, per_r), want, k);
+      // The in-place form writes every field of the previous cycle's record.
+      out.stop_tripped = !out.stop_tripped;
+      out.rho_valid = !out.rho_valid;
+      out.trend_known = !out.trend_known;
+      out.resistance = Ratio::from_raw(out.resistance.raw() ^ 0x5A5A5A5A);
+      out.resistance_median = Ratio::from_raw(~out.resistance_median.raw());
+      out.resistance_ahead = Ratio::from_raw(out.resistance_ahead.raw() + 12345);
+      in_place.step(in, params, monitor, per_r, out);
+      expect_same_output(out, want, k);
+      ASSERT_EQ(in_place.state(), then.state()) << "seed " << seed << " cycle " << k;
+      if (::testing::Test::HasFatalFailure()) {
+        FAIL() << "seed " << seed;
+      }
+      ++samples[static_cast<std::size_t>(want.sample)];
+      ++states[static_cast<std::size_t>(want.state)];
+      trends += want.trend_known ? 1U : 0U;
+    }
+  }
+  for (std::size_t s = 0U; s < samples.size(); ++s) {
+    EXPECT_GT(samples[s], 0U) << "sample kind " << s << " never reached";
+  }
+  for (std::size_t s = 0U; s < states.size(); ++s) {
+    EXPECT_GT(states[s], 0U) << "state " << s << " never reached";
+  }
+  EXPECT_GT(trends, 1000U);
 }

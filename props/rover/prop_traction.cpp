@@ -94,5 +94,30 @@ RC_GTEST_PROP(TractionProp, CarriedAheadWithinHalfAnLsbOfTheTwin, ()) {
   RC_ASSERT(std::fabs(d(ahead) - twin) <= std::ldexp(1.0, -25) + 1e-12 * std::fabs(twin));
 }
 
+// The twelfth round of issue 15 (docs/traction.md): the quotient and the
+// cycle's distance without a 64-bit library division, the same bits as the
+// plain rounded divisions for any operands.
+RC_GTEST_PROP(TractionProp, RoundedQuotientIsThePlainRoundedDivision, ()) {
+  // Divisors of every width up to 34 bits (the load sums), dividends up to
+  // 2^63 (the resistance) and ties.
+  const int bits = *rc::gen::inRange(1, 35);
+  const std::uint64_t d = *rc::gen::inRange<std::uint64_t>(std::uint64_t{1} << (bits - 1), std::uint64_t{1} << bits);
+  const std::uint64_t n = *rc::gen::oneOf(rc::gen::inRange<std::uint64_t>(0U, std::uint64_t{1} << 63U),
+                                          rc::gen::map(rc::gen::inRange<std::uint64_t>(0U, std::uint64_t{1} << 31U),
+                                                       [d](std::uint64_t q) { return (q * d) + (d / 2U); }));
+  std::uint64_t plain = n / d;
+  const std::uint64_t remainder = n - (plain * d);
+  if (remainder >= (d - remainder)) {
+    ++plain;
+  }
+  RC_ASSERT(flight::detail::rounded_quotient(n, d) == plain);
+}
+
+RC_GTEST_PROP(TractionProp, TravelledIsThePlainRoundedThousandth, ()) {
+  const std::uint32_t speed = *rc::gen::inRange<std::uint32_t>(0U, 0x80000001U);
+  const std::uint32_t dt_ms = *rc::gen::inRange<std::uint32_t>(0U, 2001U);
+  RC_ASSERT(flight::detail::travelled_q24(speed, dt_ms) == ((static_cast<std::uint64_t>(speed) * dt_ms) + 500U) / 1000U);
+}
+
 }  // namespace
 }  // namespace sinkwatch

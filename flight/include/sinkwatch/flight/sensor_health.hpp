@@ -31,8 +31,9 @@
 // LossPolicy (param_table.hpp, section 7): stop, or continue on the wheels
 // that still have evidence while at most max_blind_wheels are blind.
 //
-// Bounded per call: three loops over the six wheels and four joints; no
-// allocation, no division.
+// Bounded per call: one loop over the six wheels (and, for a wheel below
+// the no-load current while driving, one over the other five), two over the
+// two sides' joints; no allocation, no division.
 #ifndef SINKWATCH_FLIGHT_SENSOR_HEALTH_HPP
 #define SINKWATCH_FLIGHT_SENSOR_HEALTH_HPP
 
@@ -98,26 +99,54 @@ struct SensorHealthReport {
   JointAnglesRad joints{};
 };
 
-/// One fresh sample's inputs to the health checks.
+/// One fresh sample's inputs to the health checks: a view of the telemetry
+/// (references, so that the step does not copy the currents, directions,
+/// attitude and joints into a record every cycle).
 struct HealthSample {
-  TimeMs time{0U};
-  CurrentA current_a[kWheelCount]{};
-  DriveDirection direction[kWheelCount]{};
-  RoverAttitude attitude{};
-  JointAnglesRad joints{};
-  SensorPresence presence{};
+  TimeMs time;
+  const CurrentA (&current_a)[kWheelCount];
+  const DriveDirection (&direction)[kWheelCount];
+  const RoverAttitude& attitude;
+  const JointAnglesRad& joints;
+  const SensorPresence& presence;
   bool driving{false};     ///< the rim speed is known and at least kMinRimSpeedForSlip
   bool clock_jump{false};  ///< more than the stale timeout since the last fresh sample, or backwards
 };
+
+namespace detail {
+
+/// One channel's runs (sensor_health.cpp keeps one per channel).
+struct HealthTrack {
+  SensorHealth health{SensorHealth::ok};
+  bool have_last{false};
+  std::uint8_t same_run{0U};   ///< samples identical to the previous raw value
+  std::uint8_t spike_run{0U};  ///< consecutive spikes
+  std::uint8_t bad_run{0U};    ///< consecutive implausible samples
+  std::uint8_t good_run{0U};   ///< good samples since the last fault
+  bool faulted{false};         ///< a fault since the channel was last ok
+};
+
+/// A motor current's previous samples: the raw register values, signed,
+/// and whether each was read driving in reverse (the value along the
+/// direction is then its negation).
+struct CurrentHistory {
+  std::int32_t last_reading{0};  ///< the previous sample
+  std::int32_t good_reading{0};  ///< the last one not a spike
+  bool last_reverse{false};
+  bool good_reverse{false};
+};
+
+}  // namespace detail
 
 class SensorHealthMonitor {
  public:
   SensorHealthMonitor() noexcept = default;
 
-  /// One fresh sample (admitted by the step's clock checks). `no_load_a` and
-  /// `current_range_a` are the motor's (MotorParams).
-  SensorHealthReport update(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
-                            CurrentA current_range_a) noexcept;
+  /// One fresh sample (admitted by the step's clock checks) into `report`,
+  /// every field written. `no_load_a` and `current_range_a` are the motor's
+  /// (MotorParams).
+  void update(const HealthSample& s, const HealthParams& p, CurrentA no_load_a, CurrentA current_range_a,
+              SensorHealthReport& report) noexcept;
 
   /// The ground's acknowledgement (RoverStep::clear_stop): every channel's
   /// next sample is taken as its new reference, so an IMU bias the ground
@@ -132,28 +161,15 @@ class SensorHealthMonitor {
   const SensorHealthCounters& counters() const&& = delete;  // MISRA C++:2023 6.8.4
 
  private:
-  struct Track {
-    SensorHealth health{SensorHealth::ok};
-    bool have_last{false};
-    std::uint8_t same_run{0U};     ///< samples identical to the previous raw value
-    std::uint8_t spike_run{0U};    ///< consecutive spikes
-    std::uint8_t bad_run{0U};      ///< consecutive implausible samples
-    std::uint8_t good_run{0U};     ///< good samples since the last fault
-    bool faulted{false};           ///< a fault since the channel was last ok
-  };
-
   void count(SensorChannel c, SensorHealth h) noexcept;
-  SensorHealth current_channel(std::uint32_t wheel, const HealthSample& s, const HealthParams& p,
-                               CurrentA no_load_a, CurrentA current_range_a, bool pulling) noexcept;
+  void currents(const HealthSample& s, const HealthParams& p, CurrentA no_load_a, CurrentA current_range_a,
+                SensorHealthReport& r) noexcept;
   SensorHealth imu_channel(const HealthSample& s, const HealthParams& p) noexcept;
   SensorHealth joints_channel(const HealthSample& s, const HealthParams& p) noexcept;
-  SensorHealth settle(Track& t, SensorHealth raw_verdict, const HealthParams& p) noexcept;
   void bridge(const HealthSample& s, const HealthParams& p, SensorHealthReport& r) noexcept;
 
-  Track track_[kSensorChannelCount]{};
-  std::int64_t last_current_raw_[kWheelCount]{};  ///< the previous sample, raw, along the direction
-  std::int64_t good_current_raw_[kWheelCount]{};  ///< the last one not a spike
-  std::int32_t last_reading_[kWheelCount]{};      ///< the previous raw register value, signed
+  detail::HealthTrack track_[kSensorChannelCount]{};
+  detail::CurrentHistory current_history_[kWheelCount]{};
   RoverAttitude last_attitude_{};
   RoverAttitude step_attitude_{};  ///< the last good attitude: the bias check's reference
   bool imu_after_noise_{false};     ///< a noise burst since: the reference is old
@@ -168,13 +184,14 @@ class SensorHealthMonitor {
     Value value{};
 
     /// Keeps `sample` when it is usable; otherwise the last good value may
-    /// stand in while at most `bridge_ms` old (`bridged` is then set).
-    /// Returns whether `value` may be used now.
+    /// stand in while at most `bridge_ms` old (`bridged` is then set; it is
+    /// cleared otherwise). Returns whether `value` may be used now.
     bool take(bool usable_now, const Value& sample, TimeMs now, std::uint32_t bridge_ms, bool& bridged) noexcept {
       if (usable_now) {
         have = true;
         time = now;
         value = sample;
+        bridged = false;
         return true;
       }
       bridged = have && (elapsed_ms(time, now) <= bridge_ms);

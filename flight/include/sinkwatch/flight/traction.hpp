@@ -75,6 +75,25 @@ struct InverseRadius {
 [[nodiscard]] bool carried_ahead(Ratio rho_med, Ratio rho_back, std::int64_t distance_m_q24, LengthM lookahead_m,
                                  Ratio& ahead) noexcept;
 
+namespace detail {
+
+/// n / d rounded half up, exactly (d > 0): the quotient rho = resistance /
+/// sum W before its sign. Where d and the quotient fit 32 bits (every load
+/// sum below 65,536 N and every ratio Q7.24 holds) one normalised 64 / 32-bit
+/// long division (fx::detail::divide_64_by_32, two 32 / 16-bit digits), not
+/// the 64 / 64-bit library division (__aeabi_uldivmod, about 400
+/// instructions on the Cortex-M0); otherwise that library division. The same
+/// bits either way (test_traction.cpp compares both with the plain form).
+[[nodiscard]] std::uint64_t rounded_quotient(std::uint64_t n, std::uint64_t d) noexcept;
+
+/// |v| dt / 1000 rounded half up, in raw LengthM units (2^-24 m), for a
+/// speed magnitude `speed_q24` (raw 2^-24 m/s, at most 2^31) and dt_ms <=
+/// 2000: the distance of one cycle, exactly, with no 64-bit division (the
+/// speed split at 1000, each part's thousandths by a multiplication).
+[[nodiscard]] std::uint64_t travelled_q24(std::uint32_t speed_q24, std::uint32_t dt_ms) noexcept;
+
+}  // namespace detail
+
 enum class TractionState : std::uint8_t { off = 0U, nominal = 1U, caution = 2U, stop = 3U };
 
 /// What became of this cycle's sample.
@@ -123,6 +142,10 @@ class TractionMonitor {
   /// (the N-of-M window). `per_radius` is the table's 1/r (inverse_radius()).
   TractionOutput step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
                       InverseRadius per_radius) noexcept;
+  /// The same cycle into `out`, every field written (the rover step's
+  /// record: no output built and copied).
+  void step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
+            InverseRadius per_radius, TractionOutput& out) noexcept;
 
   /// Back to NOMINAL with empty histories (the ground's re-plan).
   void clear_stop() noexcept;
@@ -151,6 +174,9 @@ class TractionMonitor {
 
   TractionState state_{TractionState::nominal};
   Ratio recent_[kTractionMedianSamples];  ///< the last rho, oldest overwritten
+  /// The first recent_count_ of them, ascending: kept sorted as each sample
+  /// replaces the oldest, so that the median is read, not sorted for.
+  Ratio sorted_[kTractionMedianSamples];
   std::uint8_t recent_count_{0U};
   std::uint8_t recent_next_{0U};
   /// The trend's history: rho_med at each mark and the distance from the
