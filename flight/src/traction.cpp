@@ -3,7 +3,6 @@
 
 #include "median.hpp"
 #include "n_of_m.hpp"
-#include "sinkwatch/fixedpoint/normalised_quotient.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
@@ -98,33 +97,11 @@ std::uint32_t thousandths(std::uint32_t x) noexcept {
 namespace detail {
 
 std::uint64_t rounded_quotient(std::uint64_t n, std::uint64_t d) noexcept {
-  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
-  const auto n_high = static_cast<std::uint32_t>(n / kWord);  // n >> 32 without a library shift
-  if ((d >= kWord) || (n_high >= d)) {
-    // A load sum of 65,536 N or more, or a quotient of 2^32 or more (a ratio
-    // far beyond Q7.24): the library division.
-    std::uint64_t quotient = n / d;
-    const std::uint64_t remainder = n - (quotient * d);
-    if (remainder >= (d - remainder)) {
-      ++quotient;
-    }
-    return quotient;
-  }
-  // Normalised: the divisor's leading one at bit 31, the dividend shifted
-  // with it (n_high < d < 2^(32 - shift), so nothing leaves the top), in
-  // 32-bit words (a 64-bit shift by a run-time count is a library call on
-  // 32-bit cores). n < d 2^32 makes the quotient fit 32 bits, as
-  // divide_64_by_32 needs.
-  const auto divisor = static_cast<std::uint32_t>(d);
-  const std::uint32_t shift = 32U - fx::wide::bit_length32(divisor);
-  const auto n_low = static_cast<std::uint32_t>(n);
-  const std::uint32_t u_high = (shift == 0U) ? n_high : ((n_high << shift) | (n_low >> (32U - shift)));
-  const std::uint64_t u = (static_cast<std::uint64_t>(u_high) * kWord) + static_cast<std::uint64_t>(n_low << shift);
-  const fx::wide::DivMod<std::uint32_t> qr = fx::detail::divide_64_by_32(u, divisor << shift);
-  // The remainder comes scaled by 2^shift, as the divisor: the same test
-  // as r >= d - r.
-  const std::uint32_t rest = (divisor << shift) - qr.remainder;
-  return static_cast<std::uint64_t>(qr.quotient) + ((qr.remainder >= rest) ? 1U : 0U);
+  // The library's 64-bit division (fixedpoint/wide.hpp): on a core without
+  // a divide instruction a one-word divisor (every load sum below 65,536 N)
+  // takes the normalising 64 / 32-bit long division, not __aeabi_uldivmod.
+  const fx::wide::DivMod<std::uint64_t> qr = fx::wide::divmod(n, d);
+  return qr.quotient + ((qr.remainder >= (d - qr.remainder)) ? 1U : 0U);
 }
 
 std::uint64_t travelled_q24(std::uint32_t speed_q24, std::uint32_t dt_ms) noexcept {

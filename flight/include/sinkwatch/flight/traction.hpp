@@ -78,12 +78,11 @@ struct InverseRadius {
 namespace detail {
 
 /// n / d rounded half up, exactly (d > 0): the quotient rho = resistance /
-/// sum W before its sign. Where d and the quotient fit 32 bits (every load
-/// sum below 65,536 N and every ratio Q7.24 holds) one normalised 64 / 32-bit
-/// long division (fx::detail::divide_64_by_32, two 32 / 16-bit digits), not
-/// the 64 / 64-bit library division (__aeabi_uldivmod, about 400
-/// instructions on the Cortex-M0); otherwise that library division. The same
-/// bits either way (test_traction.cpp compares both with the plain form).
+/// sum W before its sign, from the library's fx::wide::divmod (without a
+/// divide instruction a one-word divisor, every load sum below 65,536 N,
+/// takes its normalising 64 / 32-bit long division, not __aeabi_uldivmod)
+/// rounded on the exact remainder (test_traction.cpp compares it with the
+/// plain form).
 [[nodiscard]] std::uint64_t rounded_quotient(std::uint64_t n, std::uint64_t d) noexcept;
 
 /// |v| dt / 1000 rounded half up, in raw LengthM units (2^-24 m), for a
