@@ -7,6 +7,7 @@
 #include "sinkwatch/flight/rover_limits.hpp"
 
 #include "sinkwatch/fixedpoint/bounded.hpp"
+#include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/reciprocal.hpp"
@@ -182,6 +183,34 @@ RoverParamStatus validate_suspension(const RoverParams& p) noexcept {
   return RoverParamStatus::ok;
 }
 
+/// Whether P is the format of every cycle's pass (Q6.25): the wider passes
+/// run only far beyond the stability limit.
+template <typename P>
+constexpr bool kEveryCycle{std::is_same<P, Fine>::value};
+
+/// a + b, checked: forced inline in every cycle's pass, where about 30 sums
+/// and differences follow the first quotient (each a call before, docs/
+/// performance.md session 18), and fx::add's call in the wider passes, so
+/// that they add no flash. The same bits either way (detail::checked_add).
+template <typename P>
+SW_FX_INLINE P plus(P a, P b, fx::Status& st) noexcept {
+  if constexpr (kEveryCycle<P>) {
+    return detail::checked_add(a, b, st);
+  } else {
+    return fx::add(a, b, st);
+  }
+}
+
+/// a - b, checked, as plus().
+template <typename P>
+SW_FX_INLINE P minus(P a, P b, fx::Status& st) noexcept {
+  if constexpr (kEveryCycle<P>) {
+    return detail::checked_sub(a, b, st);
+  } else {
+    return fx::sub(a, b, st);
+  }
+}
+
 /// The lever quantities of one side (sections 3.3 to 3.5 and 12), in the
 /// units of section 7.4: metres, and forces as fractions of the normal weight.
 /// Built whole by side_levers (a zeroed record filled in is a memset).
@@ -302,7 +331,7 @@ SideLateral<P> side_lateral(const ContactHeights<P>& z, StaticsLength<P> y_side,
   const auto yt_m = project(y_side, z.middle, ky);
   const auto yt_r = project(y_side, z.rear, ky);
   // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
-  return SideLateral<P>{project(y_side, z.front, ky).q(), fx::add(yt_r.q(), fx::mul(beta, fx::sub(yt_m, yt_r).q(), st), st),
+  return SideLateral<P>{project(y_side, z.front, ky).q(), plus(yt_r.q(), fx::mul(beta, fx::sub(yt_m, yt_r).q(), st), st),
                         fx::sub(yt_r, yt_m).q()};
 }
 
@@ -336,18 +365,18 @@ template <typename P>
     return SideLevers<P>{};
   }
   // One division per lever, its quotients as products (section 12.5).
-  const fx::NormalisedReciprocal inv_span = fx::normalised_reciprocal(span);
-  const P beta = fx::times_reciprocal<P>(fx::sub(xt_b, xt_r).q(), inv_span, st);
+  const fx::NormalisedReciprocal inv_span = detail::reciprocal_of(span);
+  const P beta = detail::quotient<P>(fx::sub(xt_b, xt_r).q(), inv_span, st);
   const ContactHeights<P> z{contact_z(axles.front, k.wheel_radius), contact_z(axles.middle, k.wheel_radius),
                             contact_z(axles.rear, k.wheel_radius)};
   const SideLateral<P> lateral = side_lateral(z, pose.y_side, g.ky, beta, st);
   return SideLevers<P>{fx::neg(xt_b).q(),
-                       fx::normalised_reciprocal(lever),
+                       detail::reciprocal_of(lever),
                        beta,
                        lateral.yt_front,
                        lateral.yt_bogie,
                        tq.couple[0],
-                       fx::times_reciprocal<P>(fx::add(tq.couple[1], tq.couple[2], st), inv_span, st),
+                       detail::quotient<P>(plus(tq.couple[1], tq.couple[2], st), inv_span, st),
                        lateral.yt_rear_minus_middle};
 }
 
@@ -371,10 +400,10 @@ GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexce
   // cos(pitch) cos(roll) >= cos^2(1.05 rad) > 0.24: the reciprocals exist.
   // Built whole (no zeroed frame filled in: a memset on the Cortex-M0).
   const fx::Q1_30 normal_fraction = fx::mul(pitch_sc.cos, roll_sc.cos, st);
-  const fx::NormalisedReciprocal inv_normal_fraction = fx::normalised_reciprocal(normal_fraction);
-  const Kx kx = fx::bound_to<kKxBound>(fx::times_reciprocal<K>(pitch_sc.sin, inv_normal_fraction, st), st);
+  const fx::NormalisedReciprocal inv_normal_fraction = detail::reciprocal_of(normal_fraction);
+  const Kx kx = fx::bound_to<kKxBound>(detail::quotient<K>(pitch_sc.sin, inv_normal_fraction, st), st);
   const Ky ky =
-      fx::bound_to<kKyBound>(fx::times_reciprocal<K>(roll_sc.sin, fx::normalised_reciprocal(roll_sc.cos), st), st);
+      fx::bound_to<kKyBound>(detail::quotient<K>(roll_sc.sin, detail::reciprocal_of(roll_sc.cos), st), st);
   return GravityFrame{pitch_sc.sin, normal_fraction, inv_normal_fraction, kx, ky};
 }
 
@@ -407,7 +436,7 @@ SidePose<P> side_pose(const StaticsConstants<P>& k, const JointAnglesRad& joints
 /// Each side's pivot moment less its front couple, M - t_front (section 12).
 template <typename P>
 P side_moment(const Body<P>& body, const SideLevers<P>& side, fx::Status& st) noexcept {
-  return fx::sub(body.pivot_moment, side.front_couple, st);
+  return minus(body.pivot_moment, side.front_couple, st);
 }
 
 /// One side's Z_s and Y_s (section 3.5).
@@ -421,16 +450,16 @@ template <typename P>
 Lateral<P> lateral_of(const SideLevers<P>& side, fx::Status& st) noexcept {
   // Y_s = (b y~_F + a y~_bog) / (a + b) = y~_bog + b Z_s: no product of two
   // lengths is formed (section 7.4), so Y_s stays within Q6.25.
-  const P z = fx::times_reciprocal<P>(fx::sub(side.yt_front, side.yt_bogie, st), side.lever, st);
-  return Lateral<P>{z, fx::add(side.yt_bogie, fx::mul(side.b, z, st), st)};
+  const P z = detail::quotient<P>(minus(side.yt_front, side.yt_bogie, st), side.lever, st);
+  return Lateral<P>{z, plus(side.yt_bogie, fx::mul(side.b, z, st), st)};
 }
 
 /// The torque terms so far plus side s's q_s - t_front,s Z_s, added in that
 /// order (each step saturates).
 template <typename P>
 P plus_torque_terms(P terms, const SideLevers<P>& side, P z, fx::Status& st) noexcept {
-  const P with_shift = fx::add(terms, fx::mul(side.bogie_shift, side.yt_rear_minus_middle, st), st);
-  return fx::sub(with_shift, fx::mul(side.front_couple, z, st), st);
+  const P with_shift = plus(terms, fx::mul(side.bogie_shift, side.yt_rear_minus_middle, st), st);
+  return minus(with_shift, fx::mul(side.front_couple, z, st), st);
 }
 
 /// The left side's share of the weight from the roll balance; `collapsed`
@@ -453,16 +482,15 @@ LeftTotal<P> left_side_total(const SideLevers<P> (&side)[kSideCount], const Body
   const P left_terms = plus_torque_terms(P::zero(), side[0], left.z, st);
   const Lateral<P> right = lateral_of(side[1], st);
   const P torque_terms = plus_torque_terms(left_terms, side[1], right.z, st);
-  const P lateral_span = fx::sub(left.y, right.y, st);
+  const P lateral_span = minus(left.y, right.y, st);
   if (lateral_span < kMinLever<P>) {
     return LeftTotal<P>{P::zero(), true, false};
   }
   const P roll_moment =
-      fx::sub(fx::sub(fx::sub(body.com_yt, fx::mul(body.pivot_moment, fx::add(left.z, right.z, st), st), st),
-                      torque_terms, st),
-              right.y, st);
+      minus(minus(minus(body.com_yt, fx::mul(body.pivot_moment, plus(left.z, right.z, st), st), st), torque_terms, st),
+            right.y, st);
   const bool clean_to_shares = st.ok();
-  return LeftTotal<P>{fx::times_reciprocal<P>(roll_moment, fx::normalised_reciprocal(lateral_span), st), false,
+  return LeftTotal<P>{detail::quotient<P>(roll_moment, detail::reciprocal_of(lateral_span), st), false,
                       clean_to_shares};
 }
 
@@ -477,11 +505,11 @@ struct SideShares {
 /// The rocker and the bogie of one side carrying `side_total`.
 template <typename P>
 SideShares<P> side_shares(const SideLevers<P>& side, const Body<P>& body, P side_total, fx::Status& st) noexcept {
-  const P front = fx::times_reciprocal<P>(
-      fx::add(side_moment(body, side, st), fx::mul(side.b, side_total, st), st), side.lever, st);
-  const P bogie = fx::sub(side_total, front, st);
-  const P middle = fx::sub(fx::mul(side.beta, bogie, st), side.bogie_shift, st);
-  return SideShares<P>{front, middle, fx::sub(bogie, middle, st)};
+  const P front = detail::quotient<P>(
+      plus(side_moment(body, side, st), fx::mul(side.b, side_total, st), st), side.lever, st);
+  const P bogie = minus(side_total, front, st);
+  const P middle = minus(fx::mul(side.beta, bogie, st), side.bogie_shift, st);
+  return SideShares<P>{front, middle, minus(bogie, middle, st)};
 }
 
 /// Each wheel's share of the normal weight (wheel i = 3 s + k).
@@ -494,7 +522,7 @@ struct Shares {
 template <typename P>
 Shares<P> support_forces(const SideLevers<P> (&side)[kSideCount], const Body<P>& body, P left_total,
                          fx::Status& st) noexcept {
-  const P right_total = fx::sub(kOne<P>, left_total, st);
+  const P right_total = minus(kOne<P>, left_total, st);
   const SideShares<P> left = side_shares(side[0], body, left_total, st);
   const SideShares<P> right = side_shares(side[1], body, right_total, st);
   return Shares<P>{{left.front, left.middle, left.rear, right.front, right.middle, right.rear}};
@@ -520,8 +548,8 @@ P couple_of(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, c
   if (!torques.usable[i]) {
     return P::zero();
   }
-  const P per_weight = fx::times_reciprocal<P>(torques.torque_nm[i].q(), body.inv_weight, st);
-  return fx::times_reciprocal<P>(per_weight, g.inv_normal_fraction, st);
+  const P per_weight = detail::quotient<P>(torques.torque_nm[i].q(), body.inv_weight, st);
+  return detail::quotient<P>(per_weight, g.inv_normal_fraction, st);
 }
 
 /// The couples of the side whose first wheel is `first`, each projected from
