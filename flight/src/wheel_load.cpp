@@ -263,14 +263,17 @@ fx::BoundedPoint<P, A + B> sum(fx::BoundedPoint<P, A> a, fx::BoundedPoint<P, B> 
   return fx::BoundedPoint<P, A + B>{fx::add(a.x, b.x), fx::add(a.z, b.z)};
 }
 
+/// One side's joints as the sines and cosines of the rocker's angle and of
+/// the bogie's angle to the body (rocker + bogie).
+struct SideJoints {
+  fx::BoundedSinCos rocker;
+  fx::BoundedSinCos bogie;
+};
+
 template <typename P>
-SideAxles<P> side_axles(const StaticsConstants<P>& k, AngleRad rocker_rad, AngleRad bogie_rad, fx::Status& st) noexcept {
-  const fx::Q3_28 rocker = rocker_rad.q();
-  // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
-  const fx::Q3_28 bogie_abs = fx::add(rocker, bogie_rad.q(), st);
-  // One range reduction per angle (fx::sincos), the bits of sin and cos apart.
-  const fx::BoundedSinCos rocker_sc = fx::bound_sincos(fx::sincos(rocker, st), st);
-  const fx::BoundedSinCos bogie_sc = fx::bound_sincos(fx::sincos(bogie_abs, st), st);
+SideAxles<P> side_axles(const StaticsConstants<P>& k, const SideJoints& joints) noexcept {
+  const fx::BoundedSinCos& rocker_sc = joints.rocker;
+  const fx::BoundedSinCos& bogie_sc = joints.bogie;
   // Built whole from its points (a zeroed record filled in is a memset).
   fx::BoundedPoint<P, kRotatedLink<P>> pivot{};
   fx::BoundedPoint<P, kRotatedLink<P>> front{};
@@ -335,14 +338,6 @@ SideLateral<P> side_lateral(const ContactHeights<P>& z, StaticsLength<P> y_side,
                         fx::sub(yt_r, yt_m).q()};
 }
 
-/// One side: its joint angles and the lateral position of its contacts.
-template <typename P>
-struct SidePose {
-  AngleRad rocker_rad;
-  AngleRad bogie_rad;
-  StaticsLength<P> y_side;
-};
-
 /// One side's projected levers, built whole; a lever's reciprocal of
 /// mantissa 0 when the rocker's lever or the bogie's span collapsed
 /// (collapsed()). The positions are bounded (fx::Bounded): every projected
@@ -352,9 +347,10 @@ struct SidePose {
 /// sw_step's stack to 1,064 B, beyond the 1 KiB budget; out of line it is
 /// 1,024 B (docs/performance.md, session 17).
 template <typename P>
-[[gnu::noinline]] SideLevers<P> side_levers(const StaticsConstants<P>& k, const SidePose<P>& pose,
-                                            const GravityFrame& g, const SideTorques<P>& tq, fx::Status& st) noexcept {
-  const SideAxles<P> axles = side_axles(k, pose.rocker_rad, pose.bogie_rad, st);
+[[gnu::noinline]] SideLevers<P> side_levers(const StaticsConstants<P>& k, const SideJoints& joints,
+                                            StaticsLength<P> y_side, const GravityFrame& g, const SideTorques<P>& tq,
+                                            fx::Status& st) noexcept {
+  const SideAxles<P> axles = side_axles(k, joints);
   const auto xt_f = wheel_xt(axles.front, tq.from_axle[0], k.wheel_radius, g.kx);
   const auto xt_m = wheel_xt(axles.middle, tq.from_axle[1], k.wheel_radius, g.kx);
   const auto xt_r = wheel_xt(axles.rear, tq.from_axle[2], k.wheel_radius, g.kx);
@@ -369,7 +365,7 @@ template <typename P>
   const P beta = detail::quotient<P>(fx::sub(xt_b, xt_r).q(), inv_span, st);
   const ContactHeights<P> z{contact_z(axles.front, k.wheel_radius), contact_z(axles.middle, k.wheel_radius),
                             contact_z(axles.rear, k.wheel_radius)};
-  const SideLateral<P> lateral = side_lateral(z, pose.y_side, g.ky, beta, st);
+  const SideLateral<P> lateral = side_lateral(z, y_side, g.ky, beta, st);
   return SideLevers<P>{fx::neg(xt_b).q(),
                        detail::reciprocal_of(lever),
                        beta,
@@ -407,6 +403,37 @@ GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexce
   return GravityFrame{pitch_sc.sin, normal_fraction, inv_normal_fraction, kx, ky};
 }
 
+/// The trigonometry of one cycle: gravity's direction and both sides'
+/// joints, and the flags their operations raised. The same in every pass and
+/// both balances (with and without the torques), so computed once per call
+/// of wheel_loads(): before session 18 each pass took its own, up to 36
+/// sines and cosines in a call that falls back to the loads without torques
+/// after three passes with them.
+struct CycleTrig {
+  GravityFrame gravity;
+  SideJoints side[kSideCount];
+  fx::Status status;
+};
+
+SideJoints side_joints(AngleRad rocker_rad, AngleRad bogie_rad, fx::Status& st) noexcept {
+  const fx::Q3_28 rocker = rocker_rad.q();
+  // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
+  const fx::Q3_28 bogie_abs = fx::add(rocker, bogie_rad.q(), st);
+  // One range reduction per angle (fx::sincos), the bits of sin and cos apart.
+  return SideJoints{fx::bound_sincos(fx::sincos(rocker, st), st), fx::bound_sincos(fx::sincos(bogie_abs, st), st)};
+}
+
+/// Out of line: its sines and cosines stay off the stack of the passes.
+[[gnu::noinline]] CycleTrig cycle_trig(const RoverAttitude& attitude, const JointAnglesRad& joints) noexcept {
+  fx::Status st;
+  // Built whole (the elements of a braced list are evaluated in order, so
+  // the status comes after the flags it collects).
+  return CycleTrig{gravity_frame(attitude, st),
+                   {side_joints(joints.rocker_rad[0], joints.bogie_rad[0], st),
+                    side_joints(joints.rocker_rad[1], joints.bogie_rad[1], st)},
+                   st};
+}
+
 /// The weight and where it acts. Every balance is solved in fractions of the
 /// normal weight m g cos(pitch) cos(roll) (section 7.4): the weight is 1, a
 /// moment is a length and a couple is T / (m g cos(pitch) cos(roll)).
@@ -425,12 +452,6 @@ Body<P> body_of(const StaticsConstants<P>& k, const GravityFrame& g, fx::Status&
   const auto com_yt = project(k.com_y, k.com_z, g.ky);
   constexpr auto kHalfRaw = static_cast<std::int32_t>(1U << static_cast<std::uint32_t>(P::frac_bits - 1));
   return Body<P>{weight_normal_n, k.inv_weight, com_yt.q(), fx::mul<P>(fx::bounded_raw<P, kHalfRaw>(), com_xt).q()};
-}
-
-/// Side s's joint angles and the lateral position of its contacts.
-template <typename P>
-SidePose<P> side_pose(const StaticsConstants<P>& k, const JointAnglesRad& joints, std::uint32_t s) noexcept {
-  return SidePose<P>{joints.rocker_rad[s], joints.bogie_rad[s], (s == 0U) ? k.half_track : fx::neg(k.half_track)};
 }
 
 /// Each side's pivot moment less its front couple, M - t_front (section 12).
@@ -614,23 +635,23 @@ WheelLoadResult normal_loads(const Shares<P>& support, const Body<P>& body, cons
                          WheelLoadStatus::ok};
 }
 
-/// The loads in the format P for parameters that passed validate_rover_params()
-/// and their constants `k` in P.
+/// The loads in the format P from the constants `k` in P (of parameters
+/// that passed validate_rover_params()) and the cycle's trigonometry, at
+/// attitude and joint angles within their limits.
 template <typename P>
-WheelLoadResult loads_in(const RoverParams& params, const StaticsConstants<P>& k, const RoverAttitude& attitude,
-                         const JointAnglesRad& joints, const DriveTorques& torques) noexcept {
-  const WheelLoadStatus input_status = check_inputs(params, attitude, joints);
-  if (input_status != WheelLoadStatus::ok) {
-    return failed(input_status);
-  }
-  fx::Status st;
-  const GravityFrame g = gravity_frame(attitude, st);
+WheelLoadResult loads_in(const StaticsConstants<P>& k, const CycleTrig& trig, AngleRad pitch_rad,
+                         const DriveTorques& torques) noexcept {
+  // The flags of the trigonometry first, as when each pass computed its own.
+  fx::Status st = trig.status;
+  const GravityFrame& g = trig.gravity;
   const Body<P> body = body_of<P>(k, g, st);
   fx::Status couple_st;
   const SideTorques<P> tq[kSideCount] = {side_torques(torques, 0U, body, g, couple_st),
                                          side_torques(torques, 3U, body, g, couple_st)};
-  const SideLevers<P> side[kSideCount] = {side_levers(k, side_pose(k, joints, 0U), g, tq[0], st),
-                                          side_levers(k, side_pose(k, joints, 1U), g, tq[1], st)};
+  // The left side's contacts lie half a track to the left (+y), the right
+  // side's to the right.
+  const SideLevers<P> side[kSideCount] = {side_levers(k, trig.side[0], k.half_track, g, tq[0], st),
+                                          side_levers(k, trig.side[1], fx::neg(k.half_track), g, tq[1], st)};
   // The levers come from positions, which never leave P: a collapsed one is
   // degenerate whatever else overflowed, the couples included (they only
   // move the levers' loads, not the levers). The lateral span comes after
@@ -664,7 +685,23 @@ WheelLoadResult loads_in(const RoverParams& params, const StaticsConstants<P>& k
     r.lifting_wheel = (left.clean_to_shares && (support.share[lowest].raw() < 0)) ? lowest : kWheelCount;
     return r;
   }
-  return normal_loads(support, body, g, attitude.pitch_rad, st);
+  return normal_loads(support, body, g, pitch_rad, st);
+}
+
+/// What loads_of_valid keeps of a pass whose loads it does not take.
+struct PassOutcome {
+  WheelLoadStatus status;
+  std::uint32_t lifting_wheel;
+};
+
+PassOutcome outcome_of(const WheelLoadResult& r) noexcept { return PassOutcome{r.status, r.lifting_wheel}; }
+
+/// The result of a pass that did not give loads: every such result of
+/// loads_in is failed(status) with its lifting wheel.
+WheelLoadResult failed_at(PassOutcome outcome) noexcept {
+  WheelLoadResult r = failed(outcome.status);
+  r.lifting_wheel = outcome.lifting_wheel;
+  return r;
 }
 
 /// The loads in Q6.25 from the prepared constants. Where an intermediate leaves that format (a quotient
@@ -681,31 +718,31 @@ WheelLoadResult loads_in(const RoverParams& params, const StaticsConstants<P>& k
 /// `beyond_every_format` tells an overflow of the Q15.16 pass too (the
 /// balance itself is beyond +-32,768 normal weights) from one it took for a
 /// collapsed span.
-WheelLoadResult loads_of_valid(const RoverParams& params, const RoverStatics& constants, const RoverAttitude& attitude,
-                               const JointAnglesRad& joints, const DriveTorques& torques,
-                               bool& beyond_every_format) noexcept {
+WheelLoadResult loads_of_valid(const RoverStatics& constants, const CycleTrig& trig, AngleRad pitch_rad,
+                               const DriveTorques& torques, bool& beyond_every_format) noexcept {
   beyond_every_format = false;
-  const WheelLoadResult fine = loads_in<Fine>(params, constants.fine, attitude, joints, torques);
+  const WheelLoadResult fine = loads_in<Fine>(constants.fine, trig, pitch_rad, torques);
   if (fine.status != WheelLoadStatus::overflow) {
     return fine;
   }
-  const WheelLoadResult mid = loads_in<Mid>(params, constants.mid, attitude, joints, torques);
+  // The wider passes' loads are never taken: only their status and lifting
+  // wheel are kept (a whole result each stayed on the stack).
+  const PassOutcome mid = outcome_of(loads_in<Mid>(constants.mid, trig, pitch_rad, torques));
   if ((mid.status == WheelLoadStatus::tip_over) || (mid.status == WheelLoadStatus::degenerate)) {
-    return mid;
+    return failed_at(mid);
   }
-  const WheelLoadResult coarse =
-      (mid.status == WheelLoadStatus::overflow) ? loads_in<Coarse>(params, constants.coarse, attitude, joints, torques) : fine;
+  const PassOutcome coarse = (mid.status == WheelLoadStatus::overflow)
+                                 ? outcome_of(loads_in<Coarse>(constants.coarse, trig, pitch_rad, torques))
+                                 : outcome_of(fine);
   if (coarse.status == WheelLoadStatus::tip_over) {
-    return coarse;
+    return failed_at(coarse);
   }
   if ((mid.status == WheelLoadStatus::overflow) && (mid.lifting_wheel < kWheelCount)) {
     // Q10.21 checked its lateral span with a clean status and only its side
     // totals or shares overflowed: a tip-over, whatever Q15.16's coarser
     // span said (with bogie spans of 1.8 mm it read -0.044 m where Q10.21
     // read 0.066 m; the sixth fuzz finding of session 14).
-    WheelLoadResult r = failed(WheelLoadStatus::tip_over);
-    r.lifting_wheel = mid.lifting_wheel;
-    return r;
+    return failed_at(PassOutcome{WheelLoadStatus::tip_over, mid.lifting_wheel});
   }
   beyond_every_format = (mid.status == WheelLoadStatus::overflow) && (coarse.status == WheelLoadStatus::overflow);
   return fine;
@@ -716,16 +753,24 @@ WheelLoadResult loads_of_valid(const RoverParams& params, const RoverStatics& co
 /// beyond +-32,768 normal weights lifts another wheel), the loads without
 /// them, flagged (section 12.4). An overflow the Q15.16 pass took for a
 /// collapsed span stays an overflow, as the twin's degenerate. At most two
-/// evaluations of loads_of_valid.
+/// evaluations of loads_of_valid, on one evaluation of the trigonometry;
+/// attitude and joint angles beyond their limits are refused first.
 WheelLoadResult loads_with_torques(const RoverParams& params, const RoverStatics& constants,
                                    const RoverAttitude& attitude, const JointAnglesRad& joints,
                                    const DriveTorques& torques) noexcept {
+  const WheelLoadStatus input_status = check_inputs(params, attitude, joints);
+  if (input_status != WheelLoadStatus::ok) {
+    WheelLoadResult refused = failed(input_status);
+    refused.torque_fallback_mask = fallback_mask(torques);
+    return refused;
+  }
+  const CycleTrig trig = cycle_trig(attitude, joints);
   bool beyond_every_format = false;
-  WheelLoadResult r = loads_of_valid(params, constants, attitude, joints, torques, beyond_every_format);
+  WheelLoadResult r = loads_of_valid(constants, trig, attitude.pitch_rad, torques, beyond_every_format);
   r.torque_fallback_mask = fallback_mask(torques);
   const bool torques_unbalanced = (r.status == WheelLoadStatus::tip_over) || beyond_every_format;
   if (torques_unbalanced && (r.torque_fallback_mask != kEveryTorqueFallsBack)) {
-    r = loads_of_valid(params, constants, attitude, joints, kNoDriveTorques, beyond_every_format);
+    r = loads_of_valid(constants, trig, attitude.pitch_rad, kNoDriveTorques, beyond_every_format);
     r.torque_fallback_mask = kEveryTorqueFallsBack;
     r.torque_overload = (r.status == WheelLoadStatus::ok);
   }
