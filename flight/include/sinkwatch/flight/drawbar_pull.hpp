@@ -149,7 +149,9 @@ struct LoadSum {
 /// MULS on ARMv6-M) where mul_32x32_64 takes four. The host tests call it
 /// directly, as it is not on the host's path.
 [[nodiscard]] constexpr std::uint64_t mul_16x32_64_by_halves(std::uint32_t a, std::uint32_t b) noexcept {
-  return (static_cast<std::uint64_t>(a * (b >> 16U)) << 16U) + (a * (b & 0xFFFFU));
+  const std::uint32_t high = a * (b >> 16U);    // < 2^32: a < 2^16
+  const std::uint32_t low = a * (b & 0xFFFFU);  // < 2^32
+  return (static_cast<std::uint64_t>(high) << 16U) + low;
 }
 
 /// a b for a < 2^16: by halves where the core has no widening multiply

@@ -19,6 +19,12 @@
 // the bounds validation guarantees, so the statics' geometry (rotations,
 // sums and projections of positions) needs no saturation check per cycle:
 // each bound below is a limit of rover_limits.hpp in the format P.
+//
+// After the geometry the balances' values depend on quotients and keep their
+// checks; the checked operations they use in the 32-bit formats are in
+// `detail` below: cheaper forms of fx's sums, differences, quotients by a
+// normalised reciprocal and reciprocals, the same bits and flags
+// (docs/rover-loads.md, section 7.6).
 #ifndef SINKWATCH_FLIGHT_ROVER_STATICS_HPP
 #define SINKWATCH_FLIGHT_ROVER_STATICS_HPP
 
