@@ -424,7 +424,13 @@ TEST(DrawbarArithmetic, LoadFractionIsTheDivisionsRoundedQuotient) {
   for (int trial = 0; trial < 1000000; ++trial) {
     // Sums of six loads below 2^31: up to 2^34, beyond 2^32 where the
     // reciprocal's divisor drops low bits.
-    const std::uint64_t sum = 1U + magnitude_up_to(rng, 1U + static_cast<std::uint32_t>(trial % 34));
+    std::uint64_t sum = 1U + magnitude_up_to(rng, 1U + static_cast<std::uint32_t>(trial % 34));
+    if ((trial % 7) == 3) {
+      // Around the largest sum whose remainders fit one word (3 S <= 2^32)
+      // and up to 2^32, where the words' form would be wrong.
+      const std::uint64_t edge = flight::detail::kWordRemainderSum;
+      sum = ((trial % 14) == 3) ? (edge - 3U + (rng() % 7U)) : (edge + (rng() % (0x100000000U - edge)));
+    }
     const std::uint64_t load_bound = (sum < 0x80000000U) ? sum : 0x7FFFFFFFU;
     const std::uint64_t pick = magnitude_up_to(rng, 31U);
     const std::uint64_t load = ((trial % 5) == 0) ? load_bound : (pick % (load_bound + 1U));

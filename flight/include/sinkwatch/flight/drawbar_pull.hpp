@@ -108,6 +108,11 @@ struct LoadSum {
   return LoadSum{raw, r.mantissa, static_cast<std::uint32_t>(r.scale - 32)};
 }
 
+/// The largest sum whose remainders fit 32 bits in load_fraction: 3 S <=
+/// 2^32. Every validated rover's loads sum below it (m g <= 10 kN, 6.6e8 raw
+/// against 1.4e9).
+inline constexpr std::uint64_t kWordRemainderSum{0x55555555U};
+
 /// W_i / sum W in Q31.32 (raw), bit for bit fx::div(W_i, sum W) of the loads
 /// widened to Q31.32: both are whole multiples of 2^-16, so the quotient is
 /// round(N / S), N = L 2^32, of the raw Q15.16 integers L <= S (L < 2^31,
@@ -121,13 +126,28 @@ struct LoadSum {
 ///  * q' S (< 2^63 + 2 S, no wrap) against N: at most two steps down, then
 ///    two up, give q and the remainder r = N - q S exactly;
 ///  * rounding up when r >= S - r.
+/// Where 3 S <= 2^32 (kWordRemainderSum; session 18) the remainder is one
+/// 32-bit word: S < 2^32 puts q' at or below q, so N - q' S is in [0, 3 S),
+/// and it is the low word of N - q' S, that is 0 - q'_lo S mod 2^32 (N's low
+/// word is zero): one 32-bit product, no step down, 32-bit steps up.
 /// At most 2^32 (one): L <= S.
 [[nodiscard]] constexpr std::uint64_t load_fraction(std::uint32_t load_raw, const LoadSum& sum) noexcept {
-  const std::uint64_t n = static_cast<std::uint64_t>(load_raw) << 32U;
   const std::uint64_t estimate = fx::wide::mul_32x32_64(load_raw, sum.mantissa);
   // By words where a 64-bit shift by a run-time count is a library call
   // (ARMv6-M, the cores without a widening multiply).
   std::uint64_t q = fx::wide::kMul32x32BySoftware ? shr_by_words(estimate, sum.shift) : (estimate >> sum.shift);
+  if (sum.raw <= kWordRemainderSum) {
+    const auto s = static_cast<std::uint32_t>(sum.raw);
+    std::uint32_t r = 0U - (static_cast<std::uint32_t>(q) * s);
+    for (std::uint32_t step = 0U; step < 2U; ++step) {
+      if (r >= s) {
+        ++q;
+        r -= s;
+      }
+    }
+    return (r >= (s - r)) ? (q + 1U) : q;
+  }
+  const std::uint64_t n = static_cast<std::uint64_t>(load_raw) << 32U;
   std::uint64_t product = fx::wide::mul_64x64_low(q, sum.raw);
   for (std::uint32_t step = 0U; step < 2U; ++step) {
     if (product > n) {
