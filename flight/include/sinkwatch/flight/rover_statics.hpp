@@ -128,6 +128,46 @@ SW_FX_INLINE constexpr fx::Q<std::int32_t, F> checked_sub(fx::Q<std::int32_t, F>
   return Q::from_raw(static_cast<std::int32_t>(a.raw() - b.raw()));
 }
 
+/// fx::mul in the operands' format from the signed product, where the core
+/// multiplies 32 x 32 -> 64 bits signed in one instruction (SMULL): with p =
+/// a b (|p| <= 2^62), floor((p + 2^(F-1) - [p < 0]) / 2^F) is |p| rounded
+/// half up by F bits with the sign put back (fx::detail::
+/// product_rounded_signed's formula, the floor taken on p + 2^63 as an
+/// unsigned shift), and it fits the format iff it is in [-2^31, 2^31): the
+/// same bits and flags as fx::mul. One function per format.
+template <std::int32_t F>
+constexpr fx::Q<std::int32_t, F> checked_mul_signed(fx::Q<std::int32_t, F> a, fx::Q<std::int32_t, F> b,
+                                                    fx::Status& st) noexcept {
+  using Q = fx::Q<std::int32_t, F>;
+  const auto p = static_cast<std::uint64_t>(static_cast<std::int64_t>(a.raw()) * static_cast<std::int64_t>(b.raw()));
+  constexpr std::uint64_t kOffset =
+      (std::uint64_t{1U} << 63U) + (std::uint64_t{1U} << static_cast<std::uint32_t>(F - 1));
+  // floor(...) + 2^(63-F); less 2^(63-F) - 2^31 it is the result + 2^31,
+  // within 32 bits iff the result fits.
+  const std::uint64_t floored = ((p + kOffset) - (p >> 63U)) >> static_cast<std::uint32_t>(F);
+  constexpr std::uint64_t kBias =
+      (std::uint64_t{1U} << static_cast<std::uint32_t>(63 - F)) - (std::uint64_t{1U} << 31U);
+  const std::uint64_t biased = floored - kBias;
+  if ((biased >> 32U) != 0U) {
+    st.raise(fx::Flag::overflow);
+    return ((p >> 63U) != 0U) ? Q::min() : Q::max();
+  }
+  return Q::from_raw(static_cast<std::int32_t>(static_cast<std::int64_t>(biased) - 0x80000000LL));
+}
+
+/// fx::mul in the operands' format: checked_mul_signed where the core has a
+/// signed widening multiply, fx::mul itself (through the magnitudes) on
+/// ARMv6-M. The same bits and flags either way.
+template <std::int32_t F>
+SW_FX_INLINE constexpr fx::Q<std::int32_t, F> checked_mul(fx::Q<std::int32_t, F> a, fx::Q<std::int32_t, F> b,
+                                                          fx::Status& st) noexcept {
+  if constexpr (fx::wide::kMul32x32BySoftware) {
+    return fx::mul(a, b, st);
+  } else {
+    return checked_mul_signed(a, b, st);
+  }
+}
+
 /// A magnitude in 32 bits, or none (`fits` false: at least 2^32).
 struct WordMagnitude {
   std::uint32_t mag;
