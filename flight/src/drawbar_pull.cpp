@@ -3,7 +3,6 @@
 #include "sinkwatch/flight/drawbar_pull.hpp"
 
 #include "sinkwatch/fixedpoint/q.hpp"
-#include "sinkwatch/fixedpoint/reciprocal.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
 #include "sinkwatch/fixedpoint/trig.hpp"
 
@@ -41,53 +40,6 @@ bool inputs_in_range(const RoverParams& params, const WheelLoadResult& loads, co
   return true;
 }
 
-/// The sum of the loads S in raw Q15.16 units (six values in [0, 2^31), so
-/// S < 2^34) and its normalised reciprocal M 2^-(31 + n), n = bit_length(S)
-/// (fixedpoint/reciprocal.hpp): one reciprocal per call instead of a 64-bit
-/// library division.
-struct LoadSum {
-  std::uint64_t raw{0U};
-  fx::NormalisedReciprocal reciprocal{};
-};
-
-/// W_i / sum W in Q31.32, bit for bit fx::div(W_i, sum W) of the loads
-/// widened to Q31.32: both are whole multiples of 2^-16, so the quotient is
-/// round(N / S), N = L 2^32, of the raw Q15.16 integers L <= S (L < 2^31,
-/// S < 2^34), rounded half up as fx::div rounds a magnitude. Exact, with
-/// 32 x 32 and 64 x 64 -> 64-bit products only (no 128-bit product, no
-/// division; docs/performance.md, session 13):
-///  * estimate q' = floor(L M / 2^(n - 1)) ~ N / S. M is within 2^-31
-///    relative of 2^(31 + n) / S (below it when S < 2^32, where the
-///    normalised divisor is exact; either side when the normalisation drops
-///    S's low bits), and N / S <= 2^32, so q' is within 2 of q = floor(N / S);
-///  * q' S (< 2^63 + 2 S, no wrap) against N: at most two steps down, then
-///    two up, give q and the remainder r = N - q S exactly;
-///  * rounding up when r >= S - r.
-W load_fraction(WheelLoadN load, const LoadSum& sum) noexcept {
-  const auto l = static_cast<std::uint32_t>(load.raw());  // 0 <= load (inputs_in_range)
-  const std::uint64_t n = static_cast<std::uint64_t>(l) << 32U;
-  // The reciprocal's scale is 31 + n (no fraction bits), n >= 1: the sum is positive.
-  const auto shift = static_cast<std::uint32_t>(sum.reciprocal.scale - 32);
-  std::uint64_t q = fx::wide::shr(fx::wide::mul_32x32_64(l, sum.reciprocal.mantissa), shift);
-  std::uint64_t product = fx::wide::mul_64x64_low(q, sum.raw);
-  for (std::uint32_t step = 0U; step < 2U; ++step) {
-    if (product > n) {
-      --q;
-      product -= sum.raw;
-    }
-  }
-  for (std::uint32_t step = 0U; step < 2U; ++step) {
-    if ((n - product) >= sum.raw) {
-      ++q;
-      product += sum.raw;
-    }
-  }
-  const std::uint64_t remainder = n - product;
-  // W_i <= sum W: the fraction is at most 1 (2^32 raw), well inside Q31.32.
-  const std::uint64_t rounded = (remainder >= (sum.raw - remainder)) ? (q + 1U) : q;
-  return W::from_raw(static_cast<std::int64_t>(rounded));
-}
-
 /// The pulls for usable loads and parameters that passed
 /// validate_rover_params().
 DrawbarResult pulls_of_valid(const RoverParams& params, const WheelLoadResult& loads,
@@ -95,7 +47,6 @@ DrawbarResult pulls_of_valid(const RoverParams& params, const WheelLoadResult& l
   if (!inputs_in_range(params, loads, input)) {
     return failed(DrawbarStatus::invalid_input);
   }
-  fx::Status st;
   // sum W in raw Q15.16 units: six values in [0, 2^31) sum below 2^34.
   std::uint64_t load_sum = 0U;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
@@ -104,45 +55,46 @@ DrawbarResult pulls_of_valid(const RoverParams& params, const WheelLoadResult& l
   if (load_sum == 0U) {
     return failed(DrawbarStatus::invalid_loads);
   }
-  const LoadSum sum{load_sum, fx::normalised_reciprocal(load_sum, 0)};
-
+  fx::Status st;
   // m (a + g sin(pitch)): the along-path force the tractions must supply.
   // The loads' sine when they were computed at this pitch (the step's case):
   // the same bits as computing it here.
-  const fx::Q1_30 sin_pitch_q =
+  const fx::Q1_30 sin_pitch =
       (loads.pitch_rad == input.pitch_rad) ? loads.sin_pitch : fx::sin(input.pitch_rad.q(), st);
-  const W sin_pitch = fx::rescale<W>(sin_pitch_q, st);
-  const W g_along = fx::mul<W>(params.gravity_mps2.q(), sin_pitch, st);
-  const W accel = fx::add(fx::rescale<W>(input.accel_mps2.q(), st), g_along, st);
-  const W total = fx::mul<W>(params.mass_kg.q(), accel, st);
-
-  DrawbarResult r{};
-  r.total_n = DrawbarPullN{fx::rescale<LoadQ>(total, st)};
+  // Mass and gravity are positive (validated), |a| <= 10 (inputs_in_range).
+  const std::int64_t total = detail::along_force_raw(static_cast<std::uint32_t>(params.mass_kg.raw()),
+                                                     static_cast<std::uint32_t>(params.gravity_mps2.raw()),
+                                                     sin_pitch.raw(), input.accel_mps2.raw());
+  const DrawbarPullN total_n{fx::rescale<LoadQ>(W::from_raw(total), st)};
   const bool saturated = input.slip_known && (input.slip >= params.high_slip);
+  const detail::LoadSum sum = detail::load_sum_of(load_sum);
+  // Every pull is written before it is read: no zeroed array filled in.
+  std::int32_t dp_raw[kWheelCount];
+  std::uint32_t capped_mask = 0U;
+  bool overflow = false;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    const W load = fx::rescale<W>(loads.load_n[i].q(), st);
-    const W cap = fx::mul<W>(input.dp_max_ratio[i].q(), load, st);
-    W dp = cap;
-    if (!saturated) {
-      // total * (W_i / sum W): the fraction is in [0, 1], so the product
-      // never exceeds |total|.
-      const W share = fx::mul(total, load_fraction(loads.load_n[i], sum), st);
-      dp = fx::clamp(share, fx::neg(cap, st), cap, st);
-      if (dp != share) {
-        r.capped_mask = static_cast<std::uint8_t>(r.capped_mask | (1U << i));
-      }
-    }
-    r.dp_n[i] = DrawbarPullN{fx::rescale<LoadQ>(dp, st)};
+    // 0 <= load, 0 < ratio <= 2 (inputs_in_range).
+    const auto load = static_cast<std::uint32_t>(loads.load_n[i].raw());
+    const std::uint64_t fraction = saturated ? 0U : detail::load_fraction(load, sum);
+    const detail::WheelPull pull = detail::wheel_pull(
+        total, fraction, load, static_cast<std::uint32_t>(input.dp_max_ratio[i].raw()), saturated);
+    dp_raw[i] = pull.dp_raw;
+    capped_mask |= (pull.capped ? 1U : 0U) << i;
+    overflow = overflow || pull.overflow;
   }
-  if (!st.ok()) {
+  if (overflow || !st.ok()) {
     return failed(DrawbarStatus::overflow);
   }
-  if (saturated) {
-    r.status = DrawbarStatus::saturated;
-  } else {
-    r.status = (r.capped_mask != 0U) ? DrawbarStatus::capped : DrawbarStatus::ok;
+  DrawbarStatus status = DrawbarStatus::saturated;
+  if (!saturated) {
+    status = (capped_mask != 0U) ? DrawbarStatus::capped : DrawbarStatus::ok;
   }
-  return r;
+  return DrawbarResult{{DrawbarPullN::from_raw(dp_raw[0]), DrawbarPullN::from_raw(dp_raw[1]),
+                        DrawbarPullN::from_raw(dp_raw[2]), DrawbarPullN::from_raw(dp_raw[3]),
+                        DrawbarPullN::from_raw(dp_raw[4]), DrawbarPullN::from_raw(dp_raw[5])},
+                       total_n,
+                       static_cast<std::uint8_t>(capped_mask),
+                       status};
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include "sinkwatch/flight/rover_limits.hpp"
 
 #include "sinkwatch/fixedpoint/bounded.hpp"
+#include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/reciprocal.hpp"
@@ -182,28 +183,62 @@ RoverParamStatus validate_suspension(const RoverParams& p) noexcept {
   return RoverParamStatus::ok;
 }
 
+/// Whether P is the format of every cycle's pass (Q6.25): the wider passes
+/// run only far beyond the stability limit.
+template <typename P>
+constexpr bool kEveryCycle{std::is_same<P, Fine>::value};
+
+/// a + b, checked: forced inline in every cycle's pass, where about 30 sums
+/// and differences follow the first quotient (each a call before, docs/
+/// performance.md session 18), and fx::add's call in the wider passes, so
+/// that they add no flash. The same bits either way (detail::checked_add).
+template <typename P>
+SW_FX_INLINE P plus(P a, P b, fx::Status& st) noexcept {
+  if constexpr (kEveryCycle<P>) {
+    return detail::checked_add(a, b, st);
+  } else {
+    return fx::add(a, b, st);
+  }
+}
+
+/// a - b, checked, as plus().
+template <typename P>
+SW_FX_INLINE P minus(P a, P b, fx::Status& st) noexcept {
+  if constexpr (kEveryCycle<P>) {
+    return detail::checked_sub(a, b, st);
+  } else {
+    return fx::sub(a, b, st);
+  }
+}
+
 /// The lever quantities of one side (sections 3.3 to 3.5 and 12), in the
 /// units of section 7.4: metres, and forces as fractions of the normal weight.
+/// Built whole by side_levers (a zeroed record filled in is a memset).
 template <typename P>
 struct SideLevers {
-  P a;                     ///< x~_front - x~_pivot
-  P b;                     ///< x~_pivot - x~_bogie
-  fx::NormalisedReciprocal lever;    ///< 1 / (a + b): the rocker's quotients as products (section 12.5)
-  P beta;                  ///< the middle wheel's share of the bogie
-  P yt_front;              ///< y~ of the front contact
-  P yt_bogie;              ///< y~ of the bogie's resultant
-  P front_couple;          ///< t_front: the front wheel's couple (section 7.4)
-  P bogie_shift;           ///< (t_middle + t_rear) / span: moved from middle to rear
-  P yt_rear_minus_middle;  ///< y~_rear - y~_middle
+  P b;                             ///< x~_pivot - x~_bogie
+  fx::NormalisedReciprocal lever;  ///< 1 / (a + b), a = x~_front - x~_pivot; mantissa 0: a lever collapsed
+  P beta;                          ///< the middle wheel's share of the bogie
+  P yt_front;                      ///< y~ of the front contact
+  P yt_bogie;                      ///< y~ of the bogie's resultant
+  P front_couple;                  ///< t_front: the front wheel's couple (section 7.4)
+  P bogie_shift;                   ///< (t_middle + t_rear) / span: moved from middle to rear
+  P yt_rear_minus_middle;          ///< y~_rear - y~_middle
 };
+
+/// Whether side_levers found the rocker's lever or the bogie's span collapsed.
+template <typename P>
+bool collapsed(const SideLevers<P>& side) noexcept {
+  return side.lever.mantissa == 0U;
+}
 
 /// One side's couples T_i / (m g cos(pitch) cos(roll)) in metres (zero where
 /// not usable) and whether each wheel is projected from its axle (its torque
-/// is usable).
+/// is usable). Built whole by side_torques.
 template <typename P>
 struct SideTorques {
   P couple[3];
-  bool from_axle[3]{};
+  bool from_axle[3];
 };
 
 /// The rotated links' bound (fx::rotated): about 1.414 times a link's.
@@ -228,14 +263,17 @@ fx::BoundedPoint<P, A + B> sum(fx::BoundedPoint<P, A> a, fx::BoundedPoint<P, B> 
   return fx::BoundedPoint<P, A + B>{fx::add(a.x, b.x), fx::add(a.z, b.z)};
 }
 
+/// One side's joints as the sines and cosines of the rocker's angle and of
+/// the bogie's angle to the body (rocker + bogie).
+struct SideJoints {
+  fx::BoundedSinCos rocker;
+  fx::BoundedSinCos bogie;
+};
+
 template <typename P>
-SideAxles<P> side_axles(const StaticsConstants<P>& k, AngleRad rocker_rad, AngleRad bogie_rad, fx::Status& st) noexcept {
-  const fx::Q3_28 rocker = rocker_rad.q();
-  // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
-  const fx::Q3_28 bogie_abs = fx::add(rocker, bogie_rad.q(), st);
-  // One range reduction per angle (fx::sincos), the bits of sin and cos apart.
-  const fx::BoundedSinCos rocker_sc = fx::bound_sincos(fx::sincos(rocker, st), st);
-  const fx::BoundedSinCos bogie_sc = fx::bound_sincos(fx::sincos(bogie_abs, st), st);
+SideAxles<P> side_axles(const StaticsConstants<P>& k, const SideJoints& joints) noexcept {
+  const fx::BoundedSinCos& rocker_sc = joints.rocker;
+  const fx::BoundedSinCos& bogie_sc = joints.bogie;
   // Built whole from its points (a zeroed record filled in is a memset).
   fx::BoundedPoint<P, kRotatedLink<P>> pivot{};
   fx::BoundedPoint<P, kRotatedLink<P>> front{};
@@ -281,58 +319,61 @@ auto wheel_xt(fx::BoundedPoint<P, M> axle, bool from_axle, Radius<P> radius, Kx 
   return project(axle.x, z, kx);
 }
 
-/// The lateral positions and the torque terms of one side (sections 3.5 and
-/// 12.2), from its contacts' heights and its bogie's projected span.
+/// The lateral positions of one side (section 3.5), from its contacts'
+/// heights and the middle wheel's share of the bogie.
 template <typename P>
-void side_lateral(const ContactHeights<P>& z, StaticsLength<P> y_side, Ky ky, fx::NormalisedReciprocal inv_span,
-                  const SideTorques<P>& tq, SideLevers<P>& out, fx::Status& st) noexcept {
-  out.yt_front = project(y_side, z.front, ky).q();
+struct SideLateral {
+  P yt_front;              ///< y~ of the front contact
+  P yt_bogie;              ///< y~ of the bogie's resultant
+  P yt_rear_minus_middle;  ///< y~_rear - y~_middle
+};
+
+template <typename P>
+SideLateral<P> side_lateral(const ContactHeights<P>& z, StaticsLength<P> y_side, Ky ky, P beta,
+                            fx::Status& st) noexcept {
   const auto yt_m = project(y_side, z.middle, ky);
   const auto yt_r = project(y_side, z.rear, ky);
   // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
-  out.yt_bogie = fx::add(yt_r.q(), fx::mul(out.beta, fx::sub(yt_m, yt_r).q(), st), st);
-  out.front_couple = tq.couple[0];
-  out.bogie_shift = fx::times_reciprocal<P>(fx::add(tq.couple[1], tq.couple[2], st), inv_span, st);
-  out.yt_rear_minus_middle = fx::sub(yt_r, yt_m).q();
+  return SideLateral<P>{project(y_side, z.front, ky).q(), plus(yt_r.q(), detail::checked_mul(beta, fx::sub(yt_m, yt_r).q(), st), st),
+                        fx::sub(yt_r, yt_m).q()};
 }
 
-/// One side: its joint angles and the lateral position of its contacts.
+/// One side's projected levers, built whole; a lever's reciprocal of
+/// mantissa 0 when the rocker's lever or the bogie's span collapsed
+/// (collapsed()). The positions are bounded (fx::Bounded): every projected
+/// coordinate within +-30 m, a span or lever within +-59 m, inside Q6.25's
+/// +-64 m. Out of line: inlined into the three passes, its values took
+/// loads_of_valid's frame from 512 to 600 bytes on the Cortex-M0 and
+/// sw_step's stack to 1,064 B, beyond the 1 KiB budget; out of line it is
+/// 1,024 B (docs/performance.md, session 17).
 template <typename P>
-struct SidePose {
-  AngleRad rocker_rad;
-  AngleRad bogie_rad;
-  StaticsLength<P> y_side;
-};
-
-/// One side's projected levers; false when a lever collapsed. The positions
-/// are bounded (fx::Bounded): every projected coordinate within +-30 m, a
-/// span or lever within +-59 m, inside Q6.25's +-64 m. Out of line: inlined
-/// into the three passes, its values took loads_of_valid's frame from 512 to
-/// 600 bytes on the Cortex-M0 and sw_step's stack to 1,064 B, beyond the
-/// 1 KiB budget; out of line it is 1,024 B (docs/performance.md, session 17).
-template <typename P>
-[[gnu::noinline]] bool side_levers(const StaticsConstants<P>& k, const SidePose<P>& pose, const GravityFrame& g,
-                                   const SideTorques<P>& tq, SideLevers<P>& out, fx::Status& st) noexcept {
-  const SideAxles<P> axles = side_axles(k, pose.rocker_rad, pose.bogie_rad, st);
+[[gnu::noinline]] SideLevers<P> side_levers(const StaticsConstants<P>& k, const SideJoints& joints,
+                                            StaticsLength<P> y_side, const GravityFrame& g, const SideTorques<P>& tq,
+                                            fx::Status& st) noexcept {
+  const SideAxles<P> axles = side_axles(k, joints);
   const auto xt_f = wheel_xt(axles.front, tq.from_axle[0], k.wheel_radius, g.kx);
   const auto xt_m = wheel_xt(axles.middle, tq.from_axle[1], k.wheel_radius, g.kx);
   const auto xt_r = wheel_xt(axles.rear, tq.from_axle[2], k.wheel_radius, g.kx);
   const auto xt_b = project(axles.pivot.x, axles.pivot.z, g.kx);
-  out.a = xt_f.q();
-  out.b = fx::neg(xt_b).q();
   const P span = fx::sub(xt_m, xt_r).q();
   const P lever = fx::sub(xt_f, xt_b).q();
   if ((lever < kLeverGuard<P>) || (span < kLeverGuard<P>)) {
-    return false;
+    return SideLevers<P>{};
   }
   // One division per lever, its quotients as products (section 12.5).
-  out.lever = fx::normalised_reciprocal(lever);
-  const fx::NormalisedReciprocal inv_span = fx::normalised_reciprocal(span);
-  out.beta = fx::times_reciprocal<P>(fx::sub(xt_b, xt_r).q(), inv_span, st);
+  const fx::NormalisedReciprocal inv_span = detail::reciprocal_of(span);
+  const P beta = detail::quotient<P>(fx::sub(xt_b, xt_r).q(), inv_span, st);
   const ContactHeights<P> z{contact_z(axles.front, k.wheel_radius), contact_z(axles.middle, k.wheel_radius),
                             contact_z(axles.rear, k.wheel_radius)};
-  side_lateral(z, pose.y_side, g.ky, inv_span, tq, out, st);
-  return true;
+  const SideLateral<P> lateral = side_lateral(z, y_side, g.ky, beta, st);
+  return SideLevers<P>{fx::neg(xt_b).q(),
+                       detail::reciprocal_of(lever),
+                       beta,
+                       lateral.yt_front,
+                       lateral.yt_bogie,
+                       tq.couple[0],
+                       detail::quotient<P>(plus(tq.couple[1], tq.couple[2], st), inv_span, st),
+                       lateral.yt_rear_minus_middle};
 }
 
 /// The attitude and joint angles against the (already validated) limits.
@@ -355,11 +396,42 @@ GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexce
   // cos(pitch) cos(roll) >= cos^2(1.05 rad) > 0.24: the reciprocals exist.
   // Built whole (no zeroed frame filled in: a memset on the Cortex-M0).
   const fx::Q1_30 normal_fraction = fx::mul(pitch_sc.cos, roll_sc.cos, st);
-  const fx::NormalisedReciprocal inv_normal_fraction = fx::normalised_reciprocal(normal_fraction);
-  const Kx kx = fx::bound_to<kKxBound>(fx::times_reciprocal<K>(pitch_sc.sin, inv_normal_fraction, st), st);
+  const fx::NormalisedReciprocal inv_normal_fraction = detail::reciprocal_of(normal_fraction);
+  const Kx kx = fx::bound_to<kKxBound>(detail::quotient<K>(pitch_sc.sin, inv_normal_fraction, st), st);
   const Ky ky =
-      fx::bound_to<kKyBound>(fx::times_reciprocal<K>(roll_sc.sin, fx::normalised_reciprocal(roll_sc.cos), st), st);
+      fx::bound_to<kKyBound>(detail::quotient<K>(roll_sc.sin, detail::reciprocal_of(roll_sc.cos), st), st);
   return GravityFrame{pitch_sc.sin, normal_fraction, inv_normal_fraction, kx, ky};
+}
+
+/// The trigonometry of one cycle: gravity's direction and both sides'
+/// joints, and the flags their operations raised. The same in every pass and
+/// both balances (with and without the torques), so computed once per call
+/// of wheel_loads(): before session 18 each pass took its own, up to 36
+/// sines and cosines in a call that falls back to the loads without torques
+/// after three passes with them.
+struct CycleTrig {
+  GravityFrame gravity;
+  SideJoints side[kSideCount];
+  fx::Status status;
+};
+
+SideJoints side_joints(AngleRad rocker_rad, AngleRad bogie_rad, fx::Status& st) noexcept {
+  const fx::Q3_28 rocker = rocker_rad.q();
+  // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
+  const fx::Q3_28 bogie_abs = fx::add(rocker, bogie_rad.q(), st);
+  // One range reduction per angle (fx::sincos), the bits of sin and cos apart.
+  return SideJoints{fx::bound_sincos(fx::sincos(rocker, st), st), fx::bound_sincos(fx::sincos(bogie_abs, st), st)};
+}
+
+/// Out of line: its sines and cosines stay off the stack of the passes.
+[[gnu::noinline]] CycleTrig cycle_trig(const RoverAttitude& attitude, const JointAnglesRad& joints) noexcept {
+  fx::Status st;
+  // Built whole (the elements of a braced list are evaluated in order, so
+  // the status comes after the flags it collects).
+  return CycleTrig{gravity_frame(attitude, st),
+                   {side_joints(joints.rocker_rad[0], joints.bogie_rad[0], st),
+                    side_joints(joints.rocker_rad[1], joints.bogie_rad[1], st)},
+                   st};
 }
 
 /// The weight and where it acts. Every balance is solved in fractions of the
@@ -382,79 +454,99 @@ Body<P> body_of(const StaticsConstants<P>& k, const GravityFrame& g, fx::Status&
   return Body<P>{weight_normal_n, k.inv_weight, com_yt.q(), fx::mul<P>(fx::bounded_raw<P, kHalfRaw>(), com_xt).q()};
 }
 
-/// Both sides' levers; false when one collapsed.
-template <typename P>
-bool both_sides(const StaticsConstants<P>& k, const JointAnglesRad& joints, const GravityFrame& g,
-                const SideTorques<P> (&tq)[kSideCount], SideLevers<P> (&side)[kSideCount], fx::Status& st) noexcept {
-  for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    const StaticsLength<P> y_side = (s == 0U) ? k.half_track : fx::neg(k.half_track);
-    const SidePose<P> pose{joints.rocker_rad[s], joints.bogie_rad[s], y_side};
-    if (!side_levers(k, pose, g, tq[s], side[s], st)) {
-      return false;
-    }
-  }
-  return true;
-}
-
 /// Each side's pivot moment less its front couple, M - t_front (section 12).
 template <typename P>
 P side_moment(const Body<P>& body, const SideLevers<P>& side, fx::Status& st) noexcept {
-  return fx::sub(body.pivot_moment, side.front_couple, st);
+  return minus(body.pivot_moment, side.front_couple, st);
 }
 
-/// Roll balance (sections 3.5, 7.4 and 12): the left side's share of the
-/// weight; false when the lateral span collapsed. `clean_to_shares`: the
-/// status was still clean after the roll moment, so whatever overflows
-/// later is a side's total or a share.
+/// One side's Z_s and Y_s (section 3.5).
 template <typename P>
-bool left_side_total(const SideLevers<P> (&side)[kSideCount], const Body<P>& body, P& left, fx::Status& st,
-                     bool& clean_to_shares) noexcept {
-  P big_y[kSideCount]{};
-  P big_z[kSideCount]{};
+struct Lateral {
+  P z;
+  P y;
+};
+
+template <typename P>
+Lateral<P> lateral_of(const SideLevers<P>& side, fx::Status& st) noexcept {
+  // Y_s = (b y~_F + a y~_bog) / (a + b) = y~_bog + b Z_s: no product of two
+  // lengths is formed (section 7.4), so Y_s stays within Q6.25.
+  const P z = detail::quotient<P>(minus(side.yt_front, side.yt_bogie, st), side.lever, st);
+  return Lateral<P>{z, plus(side.yt_bogie, detail::checked_mul(side.b, z, st), st)};
+}
+
+/// The torque terms so far plus side s's q_s - t_front,s Z_s, added in that
+/// order (each step saturates).
+template <typename P>
+P plus_torque_terms(P terms, const SideLevers<P>& side, P z, fx::Status& st) noexcept {
+  const P with_shift = plus(terms, detail::checked_mul(side.bogie_shift, side.yt_rear_minus_middle, st), st);
+  return minus(with_shift, detail::checked_mul(side.front_couple, z, st), st);
+}
+
+/// The left side's share of the weight from the roll balance; `collapsed`
+/// when the lateral span did. `clean_to_shares`: the status was still clean
+/// after the roll moment, so whatever overflows later is a side's total or
+/// a share.
+template <typename P>
+struct LeftTotal {
+  P total;
+  bool collapsed;
+  bool clean_to_shares;
+};
+
+/// Roll balance (sections 3.5, 7.4 and 12).
+template <typename P>
+LeftTotal<P> left_side_total(const SideLevers<P> (&side)[kSideCount], const Body<P>& body, fx::Status& st) noexcept {
   // sum_s (q_s - t_front,s Z_s): exactly zero without torques, so that the
   // loads then keep the bits of the statics without torques.
-  P torque_terms = P::zero();
-  for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    // Y_s = (b y~_F + a y~_bog) / (a + b) = y~_bog + b Z_s: no product of two
-    // lengths is formed (section 7.4), so Y_s stays within Q6.25.
-    big_z[s] = fx::times_reciprocal<P>(fx::sub(side[s].yt_front, side[s].yt_bogie, st), side[s].lever, st);
-    big_y[s] = fx::add(side[s].yt_bogie, fx::mul(side[s].b, big_z[s], st), st);
-    torque_terms = fx::add(torque_terms, fx::mul(side[s].bogie_shift, side[s].yt_rear_minus_middle, st), st);
-    torque_terms = fx::sub(torque_terms, fx::mul(side[s].front_couple, big_z[s], st), st);
-  }
-  const P lateral_span = fx::sub(big_y[0], big_y[1], st);
+  const Lateral<P> left = lateral_of(side[0], st);
+  const P left_terms = plus_torque_terms(P::zero(), side[0], left.z, st);
+  const Lateral<P> right = lateral_of(side[1], st);
+  const P torque_terms = plus_torque_terms(left_terms, side[1], right.z, st);
+  const P lateral_span = minus(left.y, right.y, st);
   if (lateral_span < kMinLever<P>) {
-    return false;
+    return LeftTotal<P>{P::zero(), true, false};
   }
   const P roll_moment =
-      fx::sub(fx::sub(fx::sub(body.com_yt, fx::mul(body.pivot_moment, fx::add(big_z[0], big_z[1], st), st), st),
-                      torque_terms, st),
-              big_y[1], st);
-  clean_to_shares = st.ok();
-  left = fx::times_reciprocal<P>(roll_moment, fx::normalised_reciprocal(lateral_span), st);
-  return true;
+      minus(minus(minus(body.com_yt, detail::checked_mul(body.pivot_moment, plus(left.z, right.z, st), st), st), torque_terms, st),
+            right.y, st);
+  const bool clean_to_shares = st.ok();
+  return LeftTotal<P>{detail::quotient<P>(roll_moment, detail::reciprocal_of(lateral_span), st), false,
+                      clean_to_shares};
 }
 
-/// The roll balance, the rockers and the bogies: each wheel's share of the
-/// normal weight. False when the lateral span collapsed.
+/// One side's wheels' shares of the normal weight.
 template <typename P>
-bool support_forces(const SideLevers<P> (&side)[kSideCount], const Body<P>& body, P (&support)[kWheelCount],
-                    fx::Status& st, bool& clean_to_shares) noexcept {
-  P side_total[kSideCount]{};
-  if (!left_side_total(side, body, side_total[0], st, clean_to_shares)) {
-    return false;
-  }
-  side_total[1] = fx::sub(kOne<P>, side_total[0], st);
-  for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    const P front = fx::times_reciprocal<P>(fx::add(side_moment(body, side[s], st), fx::mul(side[s].b, side_total[s], st), st),
-                                 side[s].lever, st);
-    const P bogie = fx::sub(side_total[s], front, st);
-    const P middle = fx::sub(fx::mul(side[s].beta, bogie, st), side[s].bogie_shift, st);
-    support[(3U * s) + 0U] = front;
-    support[(3U * s) + 1U] = middle;
-    support[(3U * s) + 2U] = fx::sub(bogie, middle, st);
-  }
-  return true;
+struct SideShares {
+  P front;
+  P middle;
+  P rear;
+};
+
+/// The rocker and the bogie of one side carrying `side_total`.
+template <typename P>
+SideShares<P> side_shares(const SideLevers<P>& side, const Body<P>& body, P side_total, fx::Status& st) noexcept {
+  const P front = detail::quotient<P>(
+      plus(side_moment(body, side, st), detail::checked_mul(side.b, side_total, st), st), side.lever, st);
+  const P bogie = minus(side_total, front, st);
+  const P middle = minus(detail::checked_mul(side.beta, bogie, st), side.bogie_shift, st);
+  return SideShares<P>{front, middle, minus(bogie, middle, st)};
+}
+
+/// Each wheel's share of the normal weight (wheel i = 3 s + k).
+template <typename P>
+struct Shares {
+  P share[kWheelCount];
+};
+
+/// The rockers and the bogies, from the left side's total.
+template <typename P>
+Shares<P> support_forces(const SideLevers<P> (&side)[kSideCount], const Body<P>& body, P left_total,
+                         fx::Status& st) noexcept {
+  const P right_total = minus(kOne<P>, left_total, st);
+  const SideShares<P> left = side_shares(side[0], body, left_total, st);
+  const SideShares<P> right = side_shares(side[1], body, right_total, st);
+  return Shares<P>{{left.front, left.middle, left.rear, right.front, right.middle, right.rear}};
 }
 
 /// The wheels whose torque is not usable (bit i: wheel i).
@@ -468,103 +560,116 @@ std::uint8_t fallback_mask(const DriveTorques& torques) noexcept {
   return static_cast<std::uint8_t>(mask);
 }
 
-/// The usable torques as couples T / (m g cos(pitch) cos(roll)) in metres,
-/// zero and projected from the contact where not usable. False when a couple
-/// leaves P (in Q6.25: more than 64 m times the normal weight).
+/// Wheel i's couple T / (m g cos(pitch) cos(roll)) in metres; zero where its
+/// torque is not usable. Raises overflow in `st` when it leaves P (in Q6.25:
+/// more than 64 m times the normal weight).
 template <typename P>
-bool side_torques(const DriveTorques& torques, const Body<P>& body, const GravityFrame& g,
-                  SideTorques<P> (&tq)[kSideCount]) noexcept {
-  fx::Status couple_st;
-  // Wheel i = 3 s + k (side s, position k): nested loops, no division by
-  // three (a library call on the Cortex-M0).
-  for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    for (std::uint32_t k = 0U; k < 3U; ++k) {
-      const std::uint32_t i = (3U * s) + k;
-      tq[s].from_axle[k] = torques.usable[i];
-      tq[s].couple[k] = P::zero();
-      if (torques.usable[i]) {
-        const P per_weight = fx::times_reciprocal<P>(torques.torque_nm[i].q(), body.inv_weight, couple_st);
-        tq[s].couple[k] = fx::times_reciprocal<P>(per_weight, g.inv_normal_fraction, couple_st);
-      }
-    }
+P couple_of(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, const GravityFrame& g,
+            fx::Status& st) noexcept {
+  if (!torques.usable[i]) {
+    return P::zero();
   }
-  return couple_st.ok();
+  const P per_weight = detail::quotient<P>(torques.torque_nm[i].q(), body.inv_weight, st);
+  return detail::quotient<P>(per_weight, g.inv_normal_fraction, st);
+}
+
+/// The couples of the side whose first wheel is `first`, each projected from
+/// its axle where its torque is usable, from its contact where not.
+template <typename P>
+SideTorques<P> side_torques(const DriveTorques& torques, std::uint32_t first, const Body<P>& body,
+                            const GravityFrame& g, fx::Status& st) noexcept {
+  return SideTorques<P>{{couple_of(torques, first, body, g, st), couple_of(torques, first + 1U, body, g, st),
+                         couple_of(torques, first + 2U, body, g, st)},
+                        {torques.usable[first], torques.usable[first + 1U], torques.usable[first + 2U]}};
 }
 
 /// The wheel of the smallest share (the first of equal ones).
 template <typename P>
-std::uint32_t lowest_share(const P (&support)[kWheelCount]) noexcept {
+std::uint32_t lowest_share(const Shares<P>& support) noexcept {
   std::uint32_t lowest = 0U;
   for (std::uint32_t i = 1U; i < kWheelCount; ++i) {
-    if (support[i] < support[lowest]) {
+    if (support.share[i] < support.share[lowest]) {
       lowest = i;
     }
   }
   return lowest;
 }
 
+/// A wheel's share times the normal weight.
+template <typename P>
+WheelLoadN load_of(P share, LoadQ weight_normal, fx::Status& st) noexcept {
+  return WheelLoadN{fx::mul<LoadQ>(share, weight_normal, st)};
+}
+
 /// The normal loads (each wheel's share times the normal weight): tip_over
 /// when a share is negative.
 template <typename P>
-WheelLoadResult normal_loads(const P (&support)[kWheelCount], const Body<P>& body, const GravityFrame& g,
+WheelLoadResult normal_loads(const Shares<P>& support, const Body<P>& body, const GravityFrame& g,
                              AngleRad pitch_rad, fx::Status& st) noexcept {
   const std::uint32_t lowest = lowest_share(support);
-  if (support[lowest].raw() < 0) {
+  if (support.share[lowest].raw() < 0) {
     WheelLoadResult r = failed(WheelLoadStatus::tip_over);
     r.lifting_wheel = lowest;
     return r;
   }
-  WheelLoadResult r{};
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    r.load_n[i] = WheelLoadN{fx::mul<LoadQ>(support[i], body.weight_normal_n.q(), st)};
-  }
-  r.weight_normal_n = body.weight_normal_n;
-  r.pitch_rad = pitch_rad;
-  r.sin_pitch = g.sin_pitch;
   if (!st.ok()) {
     // Only the Q15.16 pass gets here with an earlier overflow and no
-    // negative share (loads_in); after a clean pass the products of shares
-    // and the normal weight cannot overflow (docs/coverage.md).
+    // negative share (loads_in; docs/coverage.md).
     return failed(WheelLoadStatus::overflow);  // GCOVR_EXCL_LINE
   }
-  r.lifting_wheel = kWheelCount;
-  r.status = WheelLoadStatus::ok;
-  return r;
+  // After a clean pass the shares are at least zero and sum to one exactly
+  // (a side's three to its total, the two totals to one), so each is at most
+  // one and its load at most the normal weight: the products cannot
+  // overflow, and the result is built whole (a zeroed one filled in is a
+  // memset).
+  const LoadQ weight = body.weight_normal_n.q();
+  return WheelLoadResult{{load_of(support.share[0], weight, st), load_of(support.share[1], weight, st),
+                          load_of(support.share[2], weight, st), load_of(support.share[3], weight, st),
+                          load_of(support.share[4], weight, st), load_of(support.share[5], weight, st)},
+                         body.weight_normal_n,
+                         kWheelCount,
+                         pitch_rad,
+                         g.sin_pitch,
+                         0U,
+                         false,
+                         WheelLoadStatus::ok};
 }
 
-/// The loads in the format P for parameters that passed validate_rover_params()
-/// and their constants `k` in P.
+/// The loads in the format P from the constants `k` in P (of parameters
+/// that passed validate_rover_params()) and the cycle's trigonometry, at
+/// attitude and joint angles within their limits.
 template <typename P>
-WheelLoadResult loads_in(const RoverParams& params, const StaticsConstants<P>& k, const RoverAttitude& attitude,
-                         const JointAnglesRad& joints, const DriveTorques& torques) noexcept {
-  const WheelLoadStatus input_status = check_inputs(params, attitude, joints);
-  if (input_status != WheelLoadStatus::ok) {
-    return failed(input_status);
-  }
-  fx::Status st;
-  const GravityFrame g = gravity_frame(attitude, st);
+WheelLoadResult loads_in(const StaticsConstants<P>& k, const CycleTrig& trig, AngleRad pitch_rad,
+                         const DriveTorques& torques) noexcept {
+  // The flags of the trigonometry first, as when each pass computed its own.
+  fx::Status st = trig.status;
+  const GravityFrame& g = trig.gravity;
   const Body<P> body = body_of<P>(k, g, st);
-  SideTorques<P> tq[kSideCount]{};
-  const bool couples_fit = side_torques(torques, body, g, tq);
-  SideLevers<P> side[kSideCount]{};
-  P support[kWheelCount]{};
+  fx::Status couple_st;
+  const SideTorques<P> tq[kSideCount] = {side_torques(torques, 0U, body, g, couple_st),
+                                         side_torques(torques, 3U, body, g, couple_st)};
+  // The left side's contacts lie half a track to the left (+y), the right
+  // side's to the right.
+  const SideLevers<P> side[kSideCount] = {side_levers(k, trig.side[0], k.half_track, g, tq[0], st),
+                                          side_levers(k, trig.side[1], fx::neg(k.half_track), g, tq[1], st)};
   // The levers come from positions, which never leave P: a collapsed one is
   // degenerate whatever else overflowed, the couples included (they only
   // move the levers' loads, not the levers). The lateral span comes after
   // the quotients by them, and is only trusted when none overflowed.
-  if (!both_sides(k, joints, g, tq, side, st)) {
+  if (collapsed(side[0]) || collapsed(side[1])) {
     return failed(WheelLoadStatus::degenerate);
   }
-  if (!couples_fit) {
+  if (!couple_st.ok()) {
     return failed(WheelLoadStatus::overflow);
   }
-  bool clean_to_shares = false;
-  if (!support_forces(side, body, support, st, clean_to_shares)) {
+  const LeftTotal<P> left = left_side_total(side, body, st);
+  if (left.collapsed) {
     // A collapsed lateral span. Where another quantity overflowed, Q6.25 and
     // Q10.21 may have saturated the span's own quotients; Q15.16 cannot
     // (kSpanFits), so its answer names the span whatever else overflowed.
     return failed((st.ok() || kSpanFits<P>) ? WheelLoadStatus::degenerate : WheelLoadStatus::overflow);
   }
+  const Shares<P> support = support_forces(side, body, left.total, st);
   // After an overflow, Q15.16 still reads the shares for a tip-over: with
   // the couples within range and the span not collapsed, what overflows
   // there is a share or a side's total beyond +-32,768, and as the shares
@@ -577,10 +682,26 @@ WheelLoadResult loads_in(const RoverParams& params, const StaticsConstants<P>& k
   if (!st.ok() && !kSpanFits<P>) {
     WheelLoadResult r = failed(WheelLoadStatus::overflow);
     const std::uint32_t lowest = lowest_share(support);
-    r.lifting_wheel = (clean_to_shares && (support[lowest].raw() < 0)) ? lowest : kWheelCount;
+    r.lifting_wheel = (left.clean_to_shares && (support.share[lowest].raw() < 0)) ? lowest : kWheelCount;
     return r;
   }
-  return normal_loads(support, body, g, attitude.pitch_rad, st);
+  return normal_loads(support, body, g, pitch_rad, st);
+}
+
+/// What loads_of_valid keeps of a pass whose loads it does not take.
+struct PassOutcome {
+  WheelLoadStatus status;
+  std::uint32_t lifting_wheel;
+};
+
+PassOutcome outcome_of(const WheelLoadResult& r) noexcept { return PassOutcome{r.status, r.lifting_wheel}; }
+
+/// The result of a pass that did not give loads: every such result of
+/// loads_in is failed(status) with its lifting wheel.
+WheelLoadResult failed_at(PassOutcome outcome) noexcept {
+  WheelLoadResult r = failed(outcome.status);
+  r.lifting_wheel = outcome.lifting_wheel;
+  return r;
 }
 
 /// The loads in Q6.25 from the prepared constants. Where an intermediate leaves that format (a quotient
@@ -597,31 +718,31 @@ WheelLoadResult loads_in(const RoverParams& params, const StaticsConstants<P>& k
 /// `beyond_every_format` tells an overflow of the Q15.16 pass too (the
 /// balance itself is beyond +-32,768 normal weights) from one it took for a
 /// collapsed span.
-WheelLoadResult loads_of_valid(const RoverParams& params, const RoverStatics& constants, const RoverAttitude& attitude,
-                               const JointAnglesRad& joints, const DriveTorques& torques,
-                               bool& beyond_every_format) noexcept {
+WheelLoadResult loads_of_valid(const RoverStatics& constants, const CycleTrig& trig, AngleRad pitch_rad,
+                               const DriveTorques& torques, bool& beyond_every_format) noexcept {
   beyond_every_format = false;
-  const WheelLoadResult fine = loads_in<Fine>(params, constants.fine, attitude, joints, torques);
+  const WheelLoadResult fine = loads_in<Fine>(constants.fine, trig, pitch_rad, torques);
   if (fine.status != WheelLoadStatus::overflow) {
     return fine;
   }
-  const WheelLoadResult mid = loads_in<Mid>(params, constants.mid, attitude, joints, torques);
+  // The wider passes' loads are never taken: only their status and lifting
+  // wheel are kept (a whole result each stayed on the stack).
+  const PassOutcome mid = outcome_of(loads_in<Mid>(constants.mid, trig, pitch_rad, torques));
   if ((mid.status == WheelLoadStatus::tip_over) || (mid.status == WheelLoadStatus::degenerate)) {
-    return mid;
+    return failed_at(mid);
   }
-  const WheelLoadResult coarse =
-      (mid.status == WheelLoadStatus::overflow) ? loads_in<Coarse>(params, constants.coarse, attitude, joints, torques) : fine;
+  const PassOutcome coarse = (mid.status == WheelLoadStatus::overflow)
+                                 ? outcome_of(loads_in<Coarse>(constants.coarse, trig, pitch_rad, torques))
+                                 : outcome_of(fine);
   if (coarse.status == WheelLoadStatus::tip_over) {
-    return coarse;
+    return failed_at(coarse);
   }
   if ((mid.status == WheelLoadStatus::overflow) && (mid.lifting_wheel < kWheelCount)) {
     // Q10.21 checked its lateral span with a clean status and only its side
     // totals or shares overflowed: a tip-over, whatever Q15.16's coarser
     // span said (with bogie spans of 1.8 mm it read -0.044 m where Q10.21
     // read 0.066 m; the sixth fuzz finding of session 14).
-    WheelLoadResult r = failed(WheelLoadStatus::tip_over);
-    r.lifting_wheel = mid.lifting_wheel;
-    return r;
+    return failed_at(PassOutcome{WheelLoadStatus::tip_over, mid.lifting_wheel});
   }
   beyond_every_format = (mid.status == WheelLoadStatus::overflow) && (coarse.status == WheelLoadStatus::overflow);
   return fine;
@@ -632,16 +753,24 @@ WheelLoadResult loads_of_valid(const RoverParams& params, const RoverStatics& co
 /// beyond +-32,768 normal weights lifts another wheel), the loads without
 /// them, flagged (section 12.4). An overflow the Q15.16 pass took for a
 /// collapsed span stays an overflow, as the twin's degenerate. At most two
-/// evaluations of loads_of_valid.
+/// evaluations of loads_of_valid, on one evaluation of the trigonometry;
+/// attitude and joint angles beyond their limits are refused first.
 WheelLoadResult loads_with_torques(const RoverParams& params, const RoverStatics& constants,
                                    const RoverAttitude& attitude, const JointAnglesRad& joints,
                                    const DriveTorques& torques) noexcept {
+  const WheelLoadStatus input_status = check_inputs(params, attitude, joints);
+  if (input_status != WheelLoadStatus::ok) {
+    WheelLoadResult refused = failed(input_status);
+    refused.torque_fallback_mask = fallback_mask(torques);
+    return refused;
+  }
+  const CycleTrig trig = cycle_trig(attitude, joints);
   bool beyond_every_format = false;
-  WheelLoadResult r = loads_of_valid(params, constants, attitude, joints, torques, beyond_every_format);
+  WheelLoadResult r = loads_of_valid(constants, trig, attitude.pitch_rad, torques, beyond_every_format);
   r.torque_fallback_mask = fallback_mask(torques);
   const bool torques_unbalanced = (r.status == WheelLoadStatus::tip_over) || beyond_every_format;
   if (torques_unbalanced && (r.torque_fallback_mask != kEveryTorqueFallsBack)) {
-    r = loads_of_valid(params, constants, attitude, joints, kNoDriveTorques, beyond_every_format);
+    r = loads_of_valid(constants, trig, attitude.pitch_rad, kNoDriveTorques, beyond_every_format);
     r.torque_fallback_mask = kEveryTorqueFallsBack;
     r.torque_overload = (r.status == WheelLoadStatus::ok);
   }

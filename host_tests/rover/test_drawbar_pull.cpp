@@ -320,5 +320,150 @@ TEST(DrawbarPullsGivenLoads, SaturatedPullBeyondTheLoadFormatIsOverflowNotANumbe
   EXPECT_NEAR(d(fits.dp_n[0]), 20000.0, 0.01);
 }
 
+// The arithmetic of drawbar_pulls() on raw integers (drawbar_pull.hpp,
+// detail) against the chain of fx operations it replaced in session 18, bit
+// for bit, at random and at the edges of its ranges.
+namespace arithmetic {
+
+using W = flight::WideQ;
+
+/// m (a + g sin(pitch)) as fx::rescale, fx::mul and fx::add gave it.
+std::int64_t along_force_by_fx(std::int32_t mass, std::int32_t gravity, std::int32_t sine, std::int32_t accel) {
+  fx::Status st;
+  const W sin_w = fx::rescale<W>(fx::Q1_30::from_raw(sine), st);
+  const W g_along = fx::mul<W>(flight::AccelQ::from_raw(gravity), sin_w, st);
+  const W sum = fx::add(fx::rescale<W>(flight::AccelQ::from_raw(accel), st), g_along, st);
+  const W total = fx::mul<W>(flight::MassQ::from_raw(mass), sum, st);
+  EXPECT_TRUE(st.ok());
+  return total.raw();
+}
+
+/// One wheel's pull as fx::mul, fx::clamp and fx::rescale gave it.
+flight::detail::WheelPull wheel_pull_by_fx(std::int64_t total, std::uint64_t fraction, std::uint32_t load,
+                                           std::uint32_t ratio, bool saturated) {
+  fx::Status st;
+  const W load_w = fx::rescale<W>(flight::LoadQ::from_raw(static_cast<std::int32_t>(load)), st);
+  const W cap = fx::mul<W>(flight::RatioQ::from_raw(static_cast<std::int32_t>(ratio)), load_w, st);
+  W dp = cap;
+  bool capped = false;
+  if (!saturated) {
+    const W share = fx::mul(W::from_raw(total), W::from_raw(static_cast<std::int64_t>(fraction)), st);
+    dp = fx::clamp(share, fx::neg(cap, st), cap, st);
+    capped = dp != share;
+  }
+  const flight::LoadQ dp_n = fx::rescale<flight::LoadQ>(dp, st);
+  return flight::detail::WheelPull{dp_n.raw(), capped, !st.ok()};
+}
+
+/// A value of magnitude up to 2^bits, log-uniform, or an edge of [0, 2^bits].
+std::uint64_t magnitude_up_to(std::mt19937_64& rng, std::uint32_t bits) {
+  const std::uint64_t top = std::uint64_t{1U} << bits;
+  switch (rng() % 8U) {
+    case 0U: return 0U;
+    case 1U: return 1U + (rng() % 3U);
+    case 2U: return top - (rng() % 3U);
+    case 3U: return (top >> 1U) + (rng() % 3U) - 1U;
+    default: {
+      const std::uint32_t b = 1U + static_cast<std::uint32_t>(rng() % bits);
+      return (rng() & ((std::uint64_t{1U} << b) - 1U)) | (std::uint64_t{1U} << (b - 1U));
+    }
+  }
+}
+
+TEST(DrawbarArithmetic, AlongForceIsTheFixedPointChainBitForBit) {
+  std::mt19937_64 rng(18U);
+  const std::uint64_t max_mass = 1000U << 16U;
+  const std::uint64_t max_gravity = 10U << 24U;
+  const std::uint64_t max_accel = 10U << 24U;
+  for (int trial = 0; trial < 1000000; ++trial) {
+    const auto mass = static_cast<std::int32_t>(1U + (magnitude_up_to(rng, 26U) % max_mass));
+    const auto gravity = static_cast<std::int32_t>(1U + (magnitude_up_to(rng, 28U) % max_gravity));
+    const auto sine_mag = static_cast<std::int32_t>(magnitude_up_to(rng, 30U));
+    const std::int32_t sine = ((rng() % 2U) == 0U) ? sine_mag : -sine_mag;
+    const auto accel_mag = static_cast<std::int32_t>(magnitude_up_to(rng, 28U) % (max_accel + 1U));
+    const std::int32_t accel = ((rng() % 2U) == 0U) ? accel_mag : -accel_mag;
+    ASSERT_EQ(flight::detail::along_force_raw(static_cast<std::uint32_t>(mass), static_cast<std::uint32_t>(gravity),
+                                              sine, accel),
+              along_force_by_fx(mass, gravity, sine, accel))
+        << mass << " " << gravity << " " << sine << " " << accel;
+  }
+}
+
+TEST(DrawbarArithmetic, WheelPullIsTheFixedPointChainBitForBit) {
+  std::mt19937_64 rng(18U);
+  int capped = 0;
+  int overflowed = 0;
+  int negative = 0;
+  for (int trial = 0; trial < 2000000; ++trial) {
+    // Totals of the validated rover are below 2^47 (20 kN); a few up to 2^62
+    // take share_magnitude's wide branch.
+    const std::uint64_t total_mag = magnitude_up_to(rng, ((trial % 16) == 0) ? 62U : 47U);
+    const std::int64_t total =
+        ((rng() % 2U) == 0U) ? static_cast<std::int64_t>(total_mag) : -static_cast<std::int64_t>(total_mag);
+    const std::uint64_t fraction = magnitude_up_to(rng, 32U);
+    const auto load = static_cast<std::uint32_t>(magnitude_up_to(rng, 31U) & 0x7FFFFFFFU);
+    const auto ratio = static_cast<std::uint32_t>(1U + (magnitude_up_to(rng, 25U) % (1U << 25U)));
+    const bool saturated = (rng() % 4U) == 0U;
+    const flight::detail::WheelPull fast = flight::detail::wheel_pull(total, fraction, load, ratio, saturated);
+    const flight::detail::WheelPull chain = wheel_pull_by_fx(total, fraction, load, ratio, saturated);
+    ASSERT_EQ(fast.overflow, chain.overflow) << total << " " << fraction << " " << load << " " << ratio;
+    ASSERT_EQ(fast.capped, chain.capped) << total << " " << fraction << " " << load << " " << ratio;
+    ASSERT_EQ(fast.dp_raw, chain.dp_raw) << total << " " << fraction << " " << load << " " << ratio;
+    capped += fast.capped ? 1 : 0;
+    overflowed += fast.overflow ? 1 : 0;
+    negative += (fast.dp_raw < 0) ? 1 : 0;
+  }
+  // Each branch taken often.
+  EXPECT_GT(capped, 100000);
+  EXPECT_GT(overflowed, 10000);
+  EXPECT_GT(negative, 100000);
+}
+
+TEST(DrawbarArithmetic, LoadFractionIsTheDivisionsRoundedQuotient) {
+  std::mt19937_64 rng(18U);
+  for (int trial = 0; trial < 1000000; ++trial) {
+    // Sums of six loads below 2^31: up to 2^34, beyond 2^32 where the
+    // reciprocal's divisor drops low bits.
+    std::uint64_t sum = 1U + magnitude_up_to(rng, 1U + static_cast<std::uint32_t>(trial % 34));
+    if ((trial % 7) == 3) {
+      // Around the largest sum whose remainders fit one word (3 S <= 2^32)
+      // and up to 2^32, where the words' form would be wrong.
+      const std::uint64_t edge = flight::detail::kWordRemainderSum;
+      sum = ((trial % 14) == 3) ? (edge - 3U + (rng() % 7U)) : (edge + (rng() % (0x100000000U - edge)));
+    }
+    const std::uint64_t load_bound = (sum < 0x80000000U) ? sum : 0x7FFFFFFFU;
+    const std::uint64_t pick = magnitude_up_to(rng, 31U);
+    const std::uint64_t load = ((trial % 5) == 0) ? load_bound : (pick % (load_bound + 1U));
+    fx::Status st;
+    const W by_division = fx::div<W>(W::from_raw(static_cast<std::int64_t>(load << 16U)),
+                                     W::from_raw(static_cast<std::int64_t>(sum << 16U)), st);
+    ASSERT_TRUE(st.ok());
+    ASSERT_EQ(flight::detail::load_fraction(static_cast<std::uint32_t>(load), flight::detail::load_sum_of(sum)),
+              static_cast<std::uint64_t>(by_division.raw()))
+        << load << " / " << sum;
+  }
+}
+
+TEST(DrawbarArithmetic, ProductByHalvesIsTheProduct) {
+  std::mt19937_64 rng(18U);
+  for (int trial = 0; trial < 1000000; ++trial) {
+    const auto a = static_cast<std::uint32_t>(magnitude_up_to(rng, 16U) & 0xFFFFU);
+    const auto b = static_cast<std::uint32_t>(magnitude_up_to(rng, 32U) & 0xFFFFFFFFU);
+    ASSERT_EQ(flight::detail::mul_16x32_64_by_halves(a, b), std::uint64_t{a} * std::uint64_t{b}) << a << " " << b;
+  }
+}
+
+TEST(DrawbarArithmetic, WordShiftIsTheShift) {
+  std::mt19937_64 rng(18U);
+  for (int trial = 0; trial < 100000; ++trial) {
+    const std::uint64_t p = rng();
+    for (std::uint32_t s = 0U; s < 64U; ++s) {
+      ASSERT_EQ(flight::detail::shr_by_words(p, s), p >> s) << p << " >> " << s;
+    }
+  }
+}
+
+}  // namespace arithmetic
+
 }  // namespace
 }  // namespace sinkwatch

@@ -14,6 +14,9 @@
 #include "rover_test_support.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
+#include "sinkwatch/flight/rover_statics.hpp"
+#include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/reciprocal.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
 #include "sinkwatch/ground/rover_loads.hpp"
 #include "../flight/table_bytes.hpp"
@@ -687,6 +690,179 @@ TEST(RoverWheelLoad, CouplesBeyondEachFormatAreATorqueOverload) {
     }
   }
 }
+
+// ------------------------------------------- the statics' checked operations
+
+// The checked operations of the statics (rover_statics.hpp, detail) against
+// the fx operations they stand for: the same bits and the same flags, at
+// random and at the edges of the 32-bit range (docs/rover-loads.md 7.6).
+namespace statics_arithmetic {
+
+using P = flight::StaticsQ;
+
+/// A raw 32-bit value: an edge of the range or of a sign, or a random one
+/// of random length.
+std::int32_t raw32(std::mt19937_64& rng) {
+  switch (rng() % 10U) {
+    case 0U: return INT32_MIN + static_cast<std::int32_t>(rng() % 3U);
+    case 1U: return INT32_MAX - static_cast<std::int32_t>(rng() % 3U);
+    case 2U: return static_cast<std::int32_t>(rng() % 5U) - 2;
+    case 3U: return static_cast<std::int32_t>(0x40000000U) - static_cast<std::int32_t>(rng() % 3U);
+    default: {
+      const std::uint32_t bits = 1U + static_cast<std::uint32_t>(rng() % 31U);
+      const auto mag = static_cast<std::int32_t>(rng() & ((std::uint64_t{1U} << bits) - 1U));
+      return ((rng() % 2U) == 0U) ? mag : -mag;
+    }
+  }
+}
+
+TEST(StaticsArithmetic, CheckedSumAndDifferenceAreFxBitForBit) {
+  std::mt19937_64 rng(18U);
+  int saturated = 0;
+  for (int trial = 0; trial < 2000000; ++trial) {
+    const P a = P::from_raw(raw32(rng));
+    const P b = P::from_raw(raw32(rng));
+    fx::Status fast;
+    fx::Status chain;
+    ASSERT_EQ(flight::detail::checked_add(a, b, fast).raw(), fx::add(a, b, chain).raw()) << a.raw() << " + " << b.raw();
+    ASSERT_EQ(fast.bits(), chain.bits()) << a.raw() << " + " << b.raw();
+    ASSERT_EQ(flight::detail::checked_sub(a, b, fast).raw(), fx::sub(a, b, chain).raw()) << a.raw() << " - " << b.raw();
+    ASSERT_EQ(fast.bits(), chain.bits()) << a.raw() << " - " << b.raw();
+    saturated += chain.ok() ? 0 : 1;
+  }
+  EXPECT_GT(saturated, 100000);
+}
+
+/// detail::checked_mul_signed against fx::mul in one format.
+template <std::int32_t F>
+int compare_products(std::mt19937_64& rng, int trials) {
+  using Q = fx::Q<std::int32_t, F>;
+  int saturated = 0;
+  for (int trial = 0; trial < trials; ++trial) {
+    const Q a = Q::from_raw(raw32(rng));
+    const Q b = Q::from_raw(raw32(rng));
+    fx::Status fast;
+    fx::Status chain;
+    const Q p = flight::detail::checked_mul_signed(a, b, fast);
+    const Q expected = fx::mul(a, b, chain);
+    EXPECT_EQ(p.raw(), expected.raw()) << a.raw() << " * " << b.raw();
+    EXPECT_EQ(fast.bits(), chain.bits()) << a.raw() << " * " << b.raw();
+    if ((p.raw() != expected.raw()) || (fast.bits() != chain.bits())) {
+      return -1;
+    }
+    saturated += chain.ok() ? 0 : 1;
+  }
+  return saturated;
+}
+
+// The signed product's form (the Cortex-M4's and the host's) against
+// fx::mul in every format the statics multiply in, ties and saturation
+// included; on ARMv6-M checked_mul is fx::mul itself.
+TEST(StaticsArithmetic, CheckedProductIsFxMulBitForBit) {
+  std::mt19937_64 rng(18U);
+  EXPECT_GT((compare_products<25>(rng, 1000000)), 100000);
+  EXPECT_GT((compare_products<21>(rng, 300000)), 30000);
+  EXPECT_GT((compare_products<16>(rng, 300000)), 30000);
+  EXPECT_GT((compare_products<30>(rng, 300000)), 5000);
+  // Ties: products of an odd multiple of 2^(F-1), both signs.
+  for (std::int32_t k = -1000; k <= 1000; ++k) {
+    const P a = P::from_raw((2 * k) + 1);
+    const P b = P::from_raw(1 << 24);
+    fx::Status fast;
+    fx::Status chain;
+    ASSERT_EQ(flight::detail::checked_mul_signed(a, b, fast).raw(), fx::mul(a, b, chain).raw()) << k;
+  }
+}
+
+/// A reciprocal: of a random divisor, or a random mantissa and scale (shifts
+/// from below 0 to beyond 63), or none (mantissa 0).
+fx::NormalisedReciprocal reciprocal(std::mt19937_64& rng) {
+  switch (rng() % 4U) {
+    case 0U: {
+      const std::int32_t d = raw32(rng);
+      return fx::normalised_reciprocal(P::from_raw((d == INT32_MIN) ? 1 : ((d < 0) ? -d : d)));
+    }
+    case 1U: return fx::NormalisedReciprocal{};
+    default:
+      return fx::NormalisedReciprocal{0x80000000U | static_cast<std::uint32_t>(rng() & 0x7FFFFFFFU),
+                                      static_cast<std::int32_t>(rng() % 80U) - 10};
+  }
+}
+
+/// detail::quotient against fx::times_reciprocal for one pair of formats.
+template <typename Out, std::int32_t Fx>
+int compare_quotients(std::mt19937_64& rng, int trials) {
+  int saturated = 0;
+  for (int trial = 0; trial < trials; ++trial) {
+    const fx::Q<std::int32_t, Fx> x = fx::Q<std::int32_t, Fx>::from_raw(raw32(rng));
+    const fx::NormalisedReciprocal r = reciprocal(rng);
+    fx::Status fast;
+    fx::Status chain;
+    const Out q = flight::detail::quotient<Out>(x, r, fast);
+    const Out expected = fx::times_reciprocal<Out>(x, r, chain);
+    EXPECT_EQ(q.raw(), expected.raw()) << x.raw() << " " << r.mantissa << " " << r.scale;
+    EXPECT_EQ(fast.bits(), chain.bits()) << x.raw() << " " << r.mantissa << " " << r.scale;
+    if (q.raw() != expected.raw()) {
+      return -1;
+    }
+    saturated += chain.has(fx::Flag::overflow) ? 1 : 0;
+  }
+  return saturated;
+}
+
+TEST(StaticsArithmetic, QuotientIsTimesReciprocalBitForBit) {
+  std::mt19937_64 rng(18U);
+  // Every pair of formats the statics use (couples, levers, slopes).
+  EXPECT_GT((compare_quotients<P, 25>(rng, 1000000)), 10000);
+  EXPECT_GT((compare_quotients<P, 16>(rng, 500000)), 5000);
+  EXPECT_GT((compare_quotients<flight::StaticsMidQ, 21>(rng, 300000)), 3000);
+  EXPECT_GT((compare_quotients<flight::StaticsMidQ, 16>(rng, 300000)), 3000);
+  EXPECT_GT((compare_quotients<flight::StaticsCoarseQ, 16>(rng, 300000)), 3000);
+  EXPECT_GT((compare_quotients<fx::Q3_28, 30>(rng, 300000)), 3000);
+}
+
+// Both forms of the rounded shift (by words for ARMv6-M, by 64-bit shifts
+// elsewhere) against fx::times_reciprocal's formula, for every shift: the
+// host runs the words' form only here.
+TEST(StaticsArithmetic, RoundedShiftByWordsIsTheWideShift) {
+  std::mt19937_64 rng(18U);
+  for (int trial = 0; trial < 200000; ++trial) {
+    // Products below 2^63, of random length, with runs of ones and zeros
+    // below the rounding bit weighted in.
+    const std::uint32_t bits = 1U + static_cast<std::uint32_t>(rng() % 63U);
+    std::uint64_t p = rng() & ((std::uint64_t{1U} << bits) - 1U);
+    if ((trial % 4) == 1) {
+      p |= (std::uint64_t{1U} << (bits - 1U)) - 1U;
+    }
+    for (std::uint32_t s = 1U; s < 64U; ++s) {
+      const std::uint64_t exact = ((p >> (s - 1U)) + 1U) >> 1U;
+      const flight::detail::WordMagnitude words = flight::detail::shifted_rounded_by_words(p, s);
+      const flight::detail::WordMagnitude wide = flight::detail::shifted_rounded_wide(p, s);
+      ASSERT_EQ(words.fits, exact < (std::uint64_t{1U} << 32U)) << p << " >> " << s;
+      ASSERT_EQ(wide.fits, words.fits) << p << " >> " << s;
+      if (words.fits) {
+        ASSERT_EQ(words.mag, exact) << p << " >> " << s;
+        ASSERT_EQ(wide.mag, exact) << p << " >> " << s;
+      }
+    }
+  }
+}
+
+TEST(StaticsArithmetic, ReciprocalOfAQIsTheNormalisedReciprocal) {
+  std::mt19937_64 rng(18U);
+  for (int trial = 0; trial < 1000000; ++trial) {
+    const P d = P::from_raw(raw32(rng));
+    const fx::NormalisedReciprocal fast = flight::detail::reciprocal_of(d);
+    const fx::NormalisedReciprocal general = fx::normalised_reciprocal(d);
+    ASSERT_EQ(fast.mantissa, general.mantissa) << d.raw();
+    ASSERT_EQ(fast.scale, general.scale) << d.raw();
+    const fx::Q1_30 c = fx::Q1_30::from_raw(raw32(rng));
+    ASSERT_EQ(flight::detail::reciprocal_of(c).mantissa, fx::normalised_reciprocal(c).mantissa) << c.raw();
+    ASSERT_EQ(flight::detail::reciprocal_of(c).scale, fx::normalised_reciprocal(c).scale) << c.raw();
+  }
+}
+
+}  // namespace statics_arithmetic
 
 }  // namespace
 }  // namespace sinkwatch

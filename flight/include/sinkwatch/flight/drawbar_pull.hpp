@@ -21,11 +21,15 @@
 #define SINKWATCH_FLIGHT_DRAWBAR_PULL_HPP
 
 #include <cstdint>
+#include <limits>
 
 #include "sinkwatch/flight/prepared_params.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/units.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
+#include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/reciprocal.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
 
 namespace sinkwatch {
 namespace flight {
@@ -64,6 +68,207 @@ struct DrawbarResult {
 [[nodiscard]] constexpr bool usable(DrawbarStatus s) noexcept {
   return (s == DrawbarStatus::ok) || (s == DrawbarStatus::capped) || (s == DrawbarStatus::saturated);
 }
+
+namespace detail {
+// The arithmetic of drawbar_pulls() on raw integers, in 32 x 32 -> 64-bit
+// products: bit for bit the fx operations on Q31.32 it replaced in session
+// 18 (their 128-bit products and per-operation saturation tests cost the
+// Cortex-M0 about 460 instructions per wheel). Here, not in the source, so
+// that host_tests/rover/test_drawbar_pull.cpp can compare each with that
+// chain of fx operations.
+
+/// p / 2^s for s in [0, 63], from shifts of 32-bit words (a 64-bit shift by
+/// a run-time count is a library call on 32-bit cores).
+[[nodiscard]] constexpr std::uint64_t shr_by_words(std::uint64_t p, std::uint32_t s) noexcept {
+  const auto hi = static_cast<std::uint32_t>(p >> 32U);
+  const auto lo = static_cast<std::uint32_t>(p);
+  if (s >= 32U) {
+    return hi >> (s - 32U);
+  }
+  if (s == 0U) {
+    return p;
+  }
+  return (static_cast<std::uint64_t>(hi >> s) << 32U) | (hi << (32U - s)) | (lo >> s);
+}
+
+/// The sum S of the loads in raw Q15.16 units (six values in [0, 2^31), so
+/// 0 < S < 2^34) and its normalised reciprocal M 2^-(31 + n), n =
+/// bit_length(S) (fixedpoint/reciprocal.hpp): one reciprocal per call
+/// instead of a 64-bit library division.
+struct LoadSum {
+  std::uint64_t raw;
+  std::uint32_t mantissa;  ///< M
+  std::uint32_t shift;     ///< n - 1: L M / 2^(n - 1) is within 2 of L 2^32 / S
+};
+
+/// The sum `raw` (> 0) and its reciprocal.
+[[nodiscard]] constexpr LoadSum load_sum_of(std::uint64_t raw) noexcept {
+  const fx::NormalisedReciprocal r = fx::normalised_reciprocal(raw, 0);
+  // The reciprocal's scale is 31 + n (no fraction bits), n >= 1: the sum is positive.
+  return LoadSum{raw, r.mantissa, static_cast<std::uint32_t>(r.scale - 32)};
+}
+
+/// The largest sum whose remainders fit 32 bits in load_fraction: 3 S <=
+/// 2^32. Every validated rover's loads sum below it (m g <= 10 kN, 6.6e8 raw
+/// against 1.4e9).
+inline constexpr std::uint64_t kWordRemainderSum{0x55555555U};
+
+/// W_i / sum W in Q31.32 (raw), bit for bit fx::div(W_i, sum W) of the loads
+/// widened to Q31.32: both are whole multiples of 2^-16, so the quotient is
+/// round(N / S), N = L 2^32, of the raw Q15.16 integers L <= S (L < 2^31,
+/// S < 2^34), rounded half up as fx::div rounds a magnitude. Exact, with
+/// 32 x 32 and 64 x 64 -> 64-bit products only (no 128-bit product, no
+/// division; docs/performance.md, session 13):
+///  * estimate q' = floor(L M / 2^(n - 1)) ~ N / S. M is within 2^-31
+///    relative of 2^(31 + n) / S (below it when S < 2^32, where the
+///    normalised divisor is exact; either side when the normalisation drops
+///    S's low bits), and N / S <= 2^32, so q' is within 2 of q = floor(N / S);
+///  * q' S (< 2^63 + 2 S, no wrap) against N: at most two steps down, then
+///    two up, give q and the remainder r = N - q S exactly;
+///  * rounding up when r >= S - r.
+/// Where 3 S <= 2^32 (kWordRemainderSum; session 18) the remainder is one
+/// 32-bit word: S < 2^32 puts q' at or below q, so N - q' S is in [0, 3 S),
+/// and it is the low word of N - q' S, that is 0 - q'_lo S mod 2^32 (N's low
+/// word is zero): one 32-bit product, no step down, 32-bit steps up.
+/// At most 2^32 (one): L <= S.
+[[nodiscard]] constexpr std::uint64_t load_fraction(std::uint32_t load_raw, const LoadSum& sum) noexcept {
+  const std::uint64_t estimate = fx::wide::mul_32x32_64(load_raw, sum.mantissa);
+  // By words where a 64-bit shift by a run-time count is a library call
+  // (ARMv6-M, the cores without a widening multiply).
+  std::uint64_t q = fx::wide::kMul32x32BySoftware ? shr_by_words(estimate, sum.shift) : (estimate >> sum.shift);
+  if (sum.raw <= kWordRemainderSum) {
+    const auto s = static_cast<std::uint32_t>(sum.raw);
+    std::uint32_t r = 0U - (static_cast<std::uint32_t>(q) * s);
+    for (std::uint32_t step = 0U; step < 2U; ++step) {
+      if (r >= s) {
+        ++q;
+        r -= s;
+      }
+    }
+    return (r >= (s - r)) ? (q + 1U) : q;
+  }
+  const std::uint64_t n = static_cast<std::uint64_t>(load_raw) << 32U;
+  std::uint64_t product = fx::wide::mul_64x64_low(q, sum.raw);
+  for (std::uint32_t step = 0U; step < 2U; ++step) {
+    if (product > n) {
+      --q;
+      product -= sum.raw;
+    }
+  }
+  for (std::uint32_t step = 0U; step < 2U; ++step) {
+    if ((n - product) >= sum.raw) {
+      ++q;
+      product += sum.raw;
+    }
+  }
+  const std::uint64_t remainder = n - product;
+  return (remainder >= (sum.raw - remainder)) ? (q + 1U) : q;
+}
+
+/// a b for a < 2^16 from two 16 x 32-bit products, each below 2^32 (a
+/// MULS on ARMv6-M) where mul_32x32_64 takes four. The host tests call it
+/// directly, as it is not on the host's path.
+[[nodiscard]] constexpr std::uint64_t mul_16x32_64_by_halves(std::uint32_t a, std::uint32_t b) noexcept {
+  const std::uint32_t high = a * (b >> 16U);    // < 2^32: a < 2^16
+  const std::uint32_t low = a * (b & 0xFFFFU);  // < 2^32
+  return (static_cast<std::uint64_t>(high) << 16U) + low;
+}
+
+/// a b for a < 2^16: by halves where the core has no widening multiply
+/// (ARMv6-M), else the one widening multiply.
+[[nodiscard]] constexpr std::uint64_t mul_16x32_64(std::uint32_t a, std::uint32_t b) noexcept {
+  if constexpr (fx::wide::kMul32x32BySoftware) {
+    return mul_16x32_64_by_halves(a, b);
+  } else {
+    return fx::wide::mul_32x32_64(a, b);
+  }
+}
+
+/// |t| f / 2^32 rounded half up, for |t| < 2^63 and a fraction f <= 2^32:
+/// the magnitude of fx::mul(total, fraction) in Q31.32. With |t| = hi 2^32 +
+/// lo it is hi f + round(lo f / 2^32) exactly (2^32 divides hi f 2^32), and
+/// lo f + 2^31 < 2^64: two 32 x 32 -> 64-bit products, no 128-bit one. At
+/// most |t|. A total of the validated rover is below 2^47 (20 kN): hi below
+/// 2^16.
+[[nodiscard]] constexpr std::uint64_t share_magnitude(std::uint64_t t_mag, std::uint64_t fraction) noexcept {
+  if ((fraction >> 32U) != 0U) {
+    return t_mag;  // the whole load: f = 2^32
+  }
+  const auto f = static_cast<std::uint32_t>(fraction);
+  const auto hi = static_cast<std::uint32_t>(t_mag >> 32U);
+  const std::uint64_t low = fx::wide::mul_32x32_64(static_cast<std::uint32_t>(t_mag), f);
+  const std::uint64_t high = (hi <= 0xFFFFU) ? mul_16x32_64(hi, f) : fx::wide::mul_32x32_64(hi, f);
+  return high + ((low + (std::uint64_t{1U} << 31U)) >> 32U);
+}
+
+/// One wheel's pull in Q15.16 (raw), whether its share was capped, and
+/// whether it left Q15.16 (the raw value is then saturated).
+struct WheelPull {
+  std::int32_t dp_raw;
+  bool capped;
+  bool overflow;
+};
+
+/// The pull of a wheel of raw load L (>= 0) and DP_max/W ratio r (in
+/// (0, 2^25], Q7.24): the share `total` (W_i / sum W) of the raw Q31.32 total
+/// (|total| < 2^63) at the raw Q31.32 fraction `fraction` (<= 2^32, from
+/// load_fraction), limited to +-DP_max,i; DP_max,i itself where `saturated`
+/// (`fraction` unused). Bit for bit
+///   cap   = fx::mul<Q31.32>(r, W_i widened to Q31.32),
+///   share = fx::mul(total, fraction),
+///   dp    = saturated ? cap : fx::clamp(share, fx::neg(cap), cap),
+///   dp_n  = fx::rescale<Q15.16>(dp), capped when dp != share:
+///  * cap = r L 2^16 / 2^24 rounded half up = (r L + 2^7) / 2^8 floored
+///    (r L < 2^56, exact in 64 bits; 2^16 divides both terms);
+///  * the clamp takes the share's magnitude down to cap, keeping its sign
+///    (a negative zero rescales to zero, as fx::mul's positive zero does);
+///  * the rescale rounds the magnitude half up and saturates beyond
+///    2^31 - 1 (2^31 for a negative pull), raising overflow.
+[[nodiscard]] constexpr WheelPull wheel_pull(std::int64_t total_raw, std::uint64_t fraction, std::uint32_t load_raw,
+                                             std::uint32_t ratio_raw, bool saturated) noexcept {
+  const std::uint64_t cap = (fx::wide::mul_32x32_64(ratio_raw, load_raw) + 128U) >> 8U;
+  std::uint64_t mag = cap;
+  bool capped = false;
+  bool negative = false;
+  if (!saturated) {
+    const std::uint64_t share = share_magnitude(fx::detail::magnitude(total_raw), fraction);
+    capped = share > cap;
+    mag = capped ? cap : share;
+    negative = total_raw < 0;
+  }
+  const std::uint64_t scaled = (mag + (std::uint64_t{1U} << 15U)) >> 16U;
+  const std::uint64_t limit = negative ? 0x80000000U : 0x7FFFFFFFU;
+  if (scaled > limit) {
+    return WheelPull{negative ? std::numeric_limits<std::int32_t>::min() : std::numeric_limits<std::int32_t>::max(),
+                     capped, true};
+  }
+  const auto value = static_cast<std::int64_t>(scaled);
+  return WheelPull{static_cast<std::int32_t>(negative ? -value : value), capped, false};
+}
+
+/// m (a + g sin(pitch)) in Q31.32 (raw) from the raw mass (Q15.16, in
+/// (0, 1000 kg]), gravity (Q7.24, in (0, 10]), sine (Q1.30) and acceleration
+/// (Q7.24, |a| <= 10): bit for bit
+///   fx::mul<Q31.32>(m, fx::add(a widened, fx::mul<Q31.32>(g, sin widened))),
+/// each product rounded half up on its magnitude:
+///  * g sin: g |s| 4 / 2^24 = (g |s| + 2^21) / 2^22 floored (g < 2^28,
+///    |s| <= 2^30: below 2^58);
+///  * the sum A (|A| < 2^37) is exact;
+///  * m |A| / 2^16 rounded (m < 2^26: below 2^63), from A's two words.
+[[nodiscard]] constexpr std::int64_t along_force_raw(std::uint32_t mass_raw, std::uint32_t gravity_raw,
+                                                     std::int32_t sin_raw, std::int32_t accel_raw) noexcept {
+  const std::uint64_t g_sin_mag =
+      (fx::wide::mul_32x32_64(gravity_raw, fx::detail::magnitude32(sin_raw)) + (std::uint64_t{1U} << 21U)) >> 22U;
+  const auto g_sin = static_cast<std::int64_t>(g_sin_mag);
+  const std::int64_t sum = (static_cast<std::int64_t>(accel_raw) * 256) + ((sin_raw < 0) ? -g_sin : g_sin);
+  const std::uint64_t sum_mag = fx::detail::magnitude(sum);
+  const std::uint64_t low = fx::wide::mul_32x32_64(mass_raw, static_cast<std::uint32_t>(sum_mag));
+  const std::uint64_t high = fx::wide::mul_32x32_64(mass_raw, static_cast<std::uint32_t>(sum_mag >> 32U));
+  const auto total = static_cast<std::int64_t>((high << 16U) + ((low + (std::uint64_t{1U} << 15U)) >> 16U));
+  return (sum < 0) ? -total : total;
+}
+
+}  // namespace detail
 
 /// The drawbar pulls for rover parameters checked once per load (prepare(),
 /// prepared_params.hpp): invalid_input unless prepared.ready(), and no

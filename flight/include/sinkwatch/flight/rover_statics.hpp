@@ -19,15 +19,26 @@
 // the bounds validation guarantees, so the statics' geometry (rotations,
 // sums and projections of positions) needs no saturation check per cycle:
 // each bound below is a limit of rover_limits.hpp in the format P.
+//
+// After the geometry the balances' values depend on quotients and keep their
+// checks; the checked operations they use in the 32-bit formats are in
+// `detail` below: cheaper forms of fx's sums, differences, quotients by a
+// normalised reciprocal and reciprocals, the same bits and flags
+// (docs/rover-loads.md, section 7.6).
 #ifndef SINKWATCH_FLIGHT_ROVER_STATICS_HPP
 #define SINKWATCH_FLIGHT_ROVER_STATICS_HPP
 
 #include <cstdint>
+#include <limits>
+#include <type_traits>
 
 #include "sinkwatch/fixedpoint/bounded.hpp"
+#include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/reciprocal.hpp"
+#include "sinkwatch/fixedpoint/status.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/rover_limits.hpp"
 #include "sinkwatch/flight/units.hpp"
@@ -74,6 +85,198 @@ struct StaticsConstants {
   WheelLoadN weight_n;                  ///< m g, newtons (Q15.16, rounded once)
   fx::NormalisedReciprocal inv_weight;  ///< 1 / (m g), from the exact product of mass and gravity
 };
+
+namespace detail {
+// Checked operations of the statics' balances on 32-bit formats
+// (wheel_load.cpp), cheaper than the fx operations they stand for, with the
+// same bits and flags: saturating beyond the format and raising overflow.
+// host_tests/rover/test_wheel_load.cpp compares each with its fx operation
+// at random and at the edges (docs/rover-loads.md 7.6).
+
+/// fx::add: a + b; beyond the format, the limit of the operands' sign. In
+/// unsigned words and one sign test; forced inline (SW_FX_INLINE,
+/// docs/misra.md D-07) where wheel_load.cpp asks for it.
+template <std::int32_t F>
+SW_FX_INLINE constexpr fx::Q<std::int32_t, F> checked_add(fx::Q<std::int32_t, F> a, fx::Q<std::int32_t, F> b,
+                                                          fx::Status& st) noexcept {
+  using Q = fx::Q<std::int32_t, F>;
+  const auto x = static_cast<std::uint32_t>(a.raw());
+  const auto y = static_cast<std::uint32_t>(b.raw());
+  const std::uint32_t wrapped = x + y;
+  // The sum overflowed iff it lacks the sign both operands have.
+  if ((((x ^ wrapped) & (y ^ wrapped)) >> 31U) != 0U) {
+    st.raise(fx::Flag::overflow);
+    return (a.raw() < 0) ? Q::min() : Q::max();
+  }
+  return Q::from_raw(static_cast<std::int32_t>(a.raw() + b.raw()));
+}
+
+/// fx::sub: a - b; beyond the format, the limit of a's sign. As checked_add.
+template <std::int32_t F>
+SW_FX_INLINE constexpr fx::Q<std::int32_t, F> checked_sub(fx::Q<std::int32_t, F> a, fx::Q<std::int32_t, F> b,
+                                                          fx::Status& st) noexcept {
+  using Q = fx::Q<std::int32_t, F>;
+  const auto x = static_cast<std::uint32_t>(a.raw());
+  const auto y = static_cast<std::uint32_t>(b.raw());
+  const std::uint32_t wrapped = x - y;
+  // The difference overflowed iff the operands' signs differ and the
+  // result lacks a's.
+  if ((((x ^ y) & (x ^ wrapped)) >> 31U) != 0U) {
+    st.raise(fx::Flag::overflow);
+    return (a.raw() < 0) ? Q::min() : Q::max();
+  }
+  return Q::from_raw(static_cast<std::int32_t>(a.raw() - b.raw()));
+}
+
+/// fx::mul in the operands' format from the signed product, where the core
+/// multiplies 32 x 32 -> 64 bits signed in one instruction (SMULL): with p =
+/// a b (|p| <= 2^62), floor((p + 2^(F-1) - [p < 0]) / 2^F) is |p| rounded
+/// half up by F bits with the sign put back (fx::detail::
+/// product_rounded_signed's formula, the floor taken on p + 2^63 as an
+/// unsigned shift), and it fits the format iff it is in [-2^31, 2^31): the
+/// same bits and flags as fx::mul. One function per format.
+template <std::int32_t F>
+constexpr fx::Q<std::int32_t, F> checked_mul_signed(fx::Q<std::int32_t, F> a, fx::Q<std::int32_t, F> b,
+                                                    fx::Status& st) noexcept {
+  using Q = fx::Q<std::int32_t, F>;
+  const auto p = static_cast<std::uint64_t>(static_cast<std::int64_t>(a.raw()) * static_cast<std::int64_t>(b.raw()));
+  constexpr std::uint64_t kOffset =
+      (std::uint64_t{1U} << 63U) + (std::uint64_t{1U} << static_cast<std::uint32_t>(F - 1));
+  // floor(...) + 2^(63-F); less 2^(63-F) - 2^31 it is the result + 2^31,
+  // within 32 bits iff the result fits.
+  const std::uint64_t floored = ((p + kOffset) - (p >> 63U)) >> static_cast<std::uint32_t>(F);
+  constexpr std::uint64_t kBias =
+      (std::uint64_t{1U} << static_cast<std::uint32_t>(63 - F)) - (std::uint64_t{1U} << 31U);
+  const std::uint64_t biased = floored - kBias;
+  if ((biased >> 32U) != 0U) {
+    st.raise(fx::Flag::overflow);
+    return ((p >> 63U) != 0U) ? Q::min() : Q::max();
+  }
+  return Q::from_raw(static_cast<std::int32_t>(static_cast<std::int64_t>(biased) - 0x80000000LL));
+}
+
+/// fx::mul in the operands' format: checked_mul_signed where the core has a
+/// signed widening multiply, fx::mul itself (through the magnitudes) on
+/// ARMv6-M. The same bits and flags either way.
+template <std::int32_t F>
+SW_FX_INLINE constexpr fx::Q<std::int32_t, F> checked_mul(fx::Q<std::int32_t, F> a, fx::Q<std::int32_t, F> b,
+                                                          fx::Status& st) noexcept {
+  if constexpr (fx::wide::kMul32x32BySoftware) {
+    return fx::mul(a, b, st);
+  } else {
+    return checked_mul_signed(a, b, st);
+  }
+}
+
+/// A magnitude in 32 bits, or none (`fits` false: at least 2^32).
+struct WordMagnitude {
+  std::uint32_t mag;
+  bool fits;
+};
+
+/// p / 2^s rounded half up, for p < 2^63 and s in [1, 63], from shifts of
+/// 32-bit words: for ARMv6-M, where a 64-bit shift by a run-time count is a
+/// library call (__aeabi_llsr). With p = h 2^32 + l:
+///  * s > 32, t = s - 32: (h + 2^(t-1)) / 2^t floored, as l / 2^32 < 1 adds
+///    nothing to the floor of a quotient whose numerator is an integer;
+///  * s = 32: h plus l's top bit;
+///  * s < 32: h 2^(32-s) + l / 2^s floored plus l's bit s - 1, which fits
+///    only when h / 2^s is zero and the rounding carries no further.
+/// The host tests call it directly, as it is not on the host's path.
+SW_FX_INLINE constexpr WordMagnitude shifted_rounded_by_words(std::uint64_t p, std::uint32_t s) noexcept {
+  const auto h = static_cast<std::uint32_t>(p >> 32U);
+  const auto l = static_cast<std::uint32_t>(p);
+  if (s > 32U) {
+    const std::uint32_t t = s - 32U;
+    return WordMagnitude{(h + (1U << (t - 1U))) >> t, true};  // h < 2^31: no carry out
+  }
+  if (s == 32U) {
+    return WordMagnitude{h + (l >> 31U), true};
+  }
+  const std::uint32_t floored = (h << (32U - s)) | (l >> s);
+  const std::uint32_t rounded = floored + ((l >> (s - 1U)) & 1U);
+  return WordMagnitude{rounded, ((h >> s) == 0U) && (rounded >= floored)};
+}
+
+/// The same from 64-bit shifts, fx::times_reciprocal's own formula (p +
+/// 2^(s-1) as (p / 2^(s-1) + 1) / 2), where a core shifts 64-bit values
+/// inline (ARMv7-M: the Cortex-M4 takes 229 instructions fewer per step than
+/// with the words; the host).
+SW_FX_INLINE constexpr WordMagnitude shifted_rounded_wide(std::uint64_t p, std::uint32_t s) noexcept {
+  const std::uint64_t mag = ((p >> (s - 1U)) + 1U) >> 1U;
+  return WordMagnitude{static_cast<std::uint32_t>(mag), (mag >> 32U) == 0U};
+}
+
+/// p / 2^s rounded half up in 32 bits, or `fits` false: by words on ARMv6-M
+/// (the cores without a widening multiply, fx::wide::kMul32x32BySoftware,
+/// are those whose 64-bit shifts are library calls), else by 64-bit shifts.
+/// The same value either way.
+SW_FX_INLINE constexpr WordMagnitude shifted_rounded(std::uint64_t p, std::uint32_t s) noexcept {
+  if constexpr (fx::wide::kMul32x32BySoftware) {
+    return shifted_rounded_by_words(p, s);
+  } else {
+    return shifted_rounded_wide(p, s);
+  }
+}
+
+/// The raw bits of fx::times_reciprocal<Out>(x, r) for a 32-bit Out, given
+/// shift = F_x + r.scale - F_out: the same bits, flags and saturation, with
+/// the magnitude's limits in 32-bit words (shifted_rounded). One function
+/// for every format.
+constexpr std::int32_t quotient_raw(std::int32_t x, fx::NormalisedReciprocal r, std::int32_t shift,
+                                    fx::Status& st) noexcept {
+  const bool negative = x < 0;
+  if (r.mantissa == 0U) {
+    st.raise(fx::Flag::div_by_zero);
+    if (x == 0) {
+      return 0;
+    }
+    return negative ? std::numeric_limits<std::int32_t>::min() : std::numeric_limits<std::int32_t>::max();
+  }
+  const std::uint64_t product = fx::wide::mul_32x32_64(fx::detail::magnitude32(x), r.mantissa);  // < 2^63
+  WordMagnitude m{0U, true};  // shift >= 64: below half an LSB
+  // Shifts of 1 to 63 (every quotient of a valid rover's statics) first.
+  if (static_cast<std::uint32_t>(shift - 1) < 63U) {
+    m = shifted_rounded(product, static_cast<std::uint32_t>(shift));
+  } else if (shift <= 0) {
+    // A non-zero product (>= 2^31) would only grow: beyond every format.
+    m.fits = product == 0U;
+  } else {
+    m.mag = 0U;
+  }
+  // fx::detail::from_sign_magnitude in 32-bit words: 2^31 fits a negative
+  // quotient, 2^31 - 1 a positive one.
+  const std::uint32_t limit = negative ? 0x80000000U : 0x7FFFFFFFU;
+  if (!m.fits || (m.mag > limit)) {
+    st.raise(fx::Flag::overflow);
+    return negative ? std::numeric_limits<std::int32_t>::min() : std::numeric_limits<std::int32_t>::max();
+  }
+  const auto value = static_cast<std::int64_t>(m.mag);
+  return static_cast<std::int32_t>(negative ? -value : value);
+}
+
+/// fx::times_reciprocal<Out>(x, r) for a 32-bit Out (quotient_raw).
+template <typename Out, std::int32_t Fx>
+SW_FX_INLINE constexpr Out quotient(fx::Q<std::int32_t, Fx> x, fx::NormalisedReciprocal r, fx::Status& st) noexcept {
+  static_assert(std::is_same<typename Out::storage_type, std::int32_t>::value, "a 32-bit quotient");
+  return Out::from_raw(quotient_raw(x.raw(), r, (Fx + r.scale) - Out::frac_bits, st));
+}
+
+/// fx::normalised_reciprocal of a 32-bit Q value: its normalisation in
+/// 32-bit words (the general form's 64-bit one costs the Cortex-M0 a
+/// 64-bit bit count and a library shift), the same mantissa and scale.
+template <std::int32_t F>
+[[nodiscard]] constexpr fx::NormalisedReciprocal reciprocal_of(fx::Q<std::int32_t, F> d) noexcept {
+  if (d.raw() <= 0) {
+    return fx::NormalisedReciprocal{};
+  }
+  const auto v = static_cast<std::uint32_t>(d.raw());
+  const std::uint32_t n = fx::wide::bit_length32(v);  // 1 to 31
+  return fx::NormalisedReciprocal{fx::detail::floor_two_to_63_less_1_over(v << (32U - n)),
+                                  (31 + static_cast<std::int32_t>(n)) - F};
+}
+
+}  // namespace detail
 
 /// The constants in each of the statics' formats.
 struct RoverStatics {
