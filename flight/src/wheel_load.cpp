@@ -191,21 +191,22 @@ constexpr bool kEveryCycle{std::is_same<P, Fine>::value};
 /// a + b, checked: forced inline in every cycle's pass, where about 30 sums
 /// and differences follow the first quotient (each a call before, docs/
 /// performance.md session 18), and fx::add's call in the wider passes, so
-/// that they add no flash. The same bits either way (detail::checked_add).
+/// that they add no flash. fx::add's own 32-bit form either way
+/// (fx::detail::add_word).
 template <typename P>
 SW_FX_INLINE P plus(P a, P b, fx::Status& st) noexcept {
   if constexpr (kEveryCycle<P>) {
-    return detail::checked_add(a, b, st);
+    return fx::detail::add_word(a, b, st);
   } else {
     return fx::add(a, b, st);
   }
 }
 
-/// a - b, checked, as plus().
+/// a - b, checked, as plus() (fx::detail::sub_word).
 template <typename P>
 SW_FX_INLINE P minus(P a, P b, fx::Status& st) noexcept {
   if constexpr (kEveryCycle<P>) {
-    return detail::checked_sub(a, b, st);
+    return fx::detail::sub_word(a, b, st);
   } else {
     return fx::sub(a, b, st);
   }
@@ -334,7 +335,7 @@ SideLateral<P> side_lateral(const ContactHeights<P>& z, StaticsLength<P> y_side,
   const auto yt_m = project(y_side, z.middle, ky);
   const auto yt_r = project(y_side, z.rear, ky);
   // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
-  return SideLateral<P>{project(y_side, z.front, ky).q(), plus(yt_r.q(), detail::checked_mul(beta, fx::sub(yt_m, yt_r).q(), st), st),
+  return SideLateral<P>{project(y_side, z.front, ky).q(), plus(yt_r.q(), fx::mul(beta, fx::sub(yt_m, yt_r).q(), st), st),
                         fx::sub(yt_r, yt_m).q()};
 }
 
@@ -472,15 +473,15 @@ Lateral<P> lateral_of(const SideLevers<P>& side, fx::Status& st) noexcept {
   // Y_s = (b y~_F + a y~_bog) / (a + b) = y~_bog + b Z_s: no product of two
   // lengths is formed (section 7.4), so Y_s stays within Q6.25.
   const P z = detail::quotient<P>(minus(side.yt_front, side.yt_bogie, st), side.lever, st);
-  return Lateral<P>{z, plus(side.yt_bogie, detail::checked_mul(side.b, z, st), st)};
+  return Lateral<P>{z, plus(side.yt_bogie, fx::mul(side.b, z, st), st)};
 }
 
 /// The torque terms so far plus side s's q_s - t_front,s Z_s, added in that
 /// order (each step saturates).
 template <typename P>
 P plus_torque_terms(P terms, const SideLevers<P>& side, P z, fx::Status& st) noexcept {
-  const P with_shift = plus(terms, detail::checked_mul(side.bogie_shift, side.yt_rear_minus_middle, st), st);
-  return minus(with_shift, detail::checked_mul(side.front_couple, z, st), st);
+  const P with_shift = plus(terms, fx::mul(side.bogie_shift, side.yt_rear_minus_middle, st), st);
+  return minus(with_shift, fx::mul(side.front_couple, z, st), st);
 }
 
 /// The left side's share of the weight from the roll balance; `collapsed`
@@ -508,7 +509,7 @@ LeftTotal<P> left_side_total(const SideLevers<P> (&side)[kSideCount], const Body
     return LeftTotal<P>{P::zero(), true, false};
   }
   const P roll_moment =
-      minus(minus(minus(body.com_yt, detail::checked_mul(body.pivot_moment, plus(left.z, right.z, st), st), st), torque_terms, st),
+      minus(minus(minus(body.com_yt, fx::mul(body.pivot_moment, plus(left.z, right.z, st), st), st), torque_terms, st),
             right.y, st);
   const bool clean_to_shares = st.ok();
   return LeftTotal<P>{detail::quotient<P>(roll_moment, detail::reciprocal_of(lateral_span), st), false,
@@ -527,9 +528,9 @@ struct SideShares {
 template <typename P>
 SideShares<P> side_shares(const SideLevers<P>& side, const Body<P>& body, P side_total, fx::Status& st) noexcept {
   const P front = detail::quotient<P>(
-      plus(side_moment(body, side, st), detail::checked_mul(side.b, side_total, st), st), side.lever, st);
+      plus(side_moment(body, side, st), fx::mul(side.b, side_total, st), st), side.lever, st);
   const P bogie = minus(side_total, front, st);
-  const P middle = minus(detail::checked_mul(side.beta, bogie, st), side.bogie_shift, st);
+  const P middle = minus(fx::mul(side.beta, bogie, st), side.bogie_shift, st);
   return SideShares<P>{front, middle, minus(bogie, middle, st)};
 }
 

@@ -3,6 +3,8 @@
 // the sticky Status; constexpr evaluation checked with static_assert.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <climits>
 #include <cstdint>
 #include <limits>
 #include <random>
@@ -429,6 +431,74 @@ TEST(FxMul, EveryPathGivesTheExactProductRoundedAndSaturated) {
   expect_mul_like_the_reference<Q31_32, Q23_40, Q31_32>(15U); // shift 40: no word path
   expect_mul_like_the_reference<Q31_32, Q31_32, QInt64>(17U);  // one word, shift 0 (times an integer)
   expect_mul_like_the_reference<Q31_32, QInt32, Q31_32>(19U);  // the same, the integer on 32 bits
+}
+
+/// Both 32-bit forms of a rounded product (the signed product's, the
+/// Cortex-M4's and the host's; the magnitudes', ARMv6-M's) against the exact
+/// product rounded and saturated in the test, whichever form this core's
+/// fx::mul takes: the same raw value and overflow flag.
+template <typename Out, typename A, typename B>
+void expect_word_products_like_the_reference(std::uint32_t seed) {
+  using namespace paths;
+  constexpr std::int32_t kShift = (A::frac_bits + B::frac_bits) - Out::frac_bits;
+  expect_like_the_reference<Out, A, B>(
+      seed, Op::product,
+      [](A a, B b, fx::Status& s) { return fx::detail::mul_word_signed<Out, kShift>(a.raw(), b.raw(), s); },
+      [](A a, B b) { return reference_mul<Out>(a, b); });
+  expect_like_the_reference<Out, A, B>(
+      seed + 2U, Op::product,
+      [](A a, B b, fx::Status& s) { return fx::detail::mul_word_by_magnitudes<Out, kShift>(a.raw(), b.raw(), s); },
+      [](A a, B b) { return reference_mul<Out>(a, b); });
+  // Ties of both signs: a b = (2k + 1) 2^(kShift - 1), the operands'
+  // random values above being mostly positive.
+  constexpr std::int32_t kB = (kShift - 1 < 30) ? (kShift - 1) : 30;
+  const B b = B::from_raw(std::int32_t{1} << kB);
+  for (std::int32_t k = -2000; k <= 2000; ++k) {
+    const A a = A::from_raw(((2 * k) + 1) * (std::int32_t{1} << ((kShift - 1) - kB)));
+    const A neg_a = A::from_raw(-a.raw());
+    for (const A x : {a, neg_a}) {
+      fx::Status s1;
+      fx::Status s2;
+      const std::int64_t want = reference_mul<Out>(x, b).raw;
+      const Out by_signed = fx::detail::mul_word_signed<Out, kShift>(x.raw(), b.raw(), s1);
+      const Out by_magnitudes = fx::detail::mul_word_by_magnitudes<Out, kShift>(x.raw(), b.raw(), s2);
+      ASSERT_EQ(by_signed.raw(), want) << k;
+      ASSERT_EQ(by_magnitudes.raw(), want) << k;
+    }
+  }
+}
+
+TEST(FxMul, BothWordFormsGiveTheExactProductRoundedAndSaturated) {
+  using namespace paths;
+  expect_word_products_like_the_reference<Q15_16, Q15_16, Q15_16>(21U);  // shift 16
+  expect_word_products_like_the_reference<fx::Q<std::int32_t, 25>, fx::Q<std::int32_t, 25>,
+                                          fx::Q<std::int32_t, 25>>(23U);  // the statics' Q6.25
+  expect_word_products_like_the_reference<Q7_24, Q7_24, fx::Q<std::int32_t, 20>>(25U);  // f I_max
+  expect_word_products_like_the_reference<Q29_2, Q7_24, Q7_24>(27U);  // shift 46: beyond 32
+  expect_word_products_like_the_reference<Q15_16, Q1_30, Q1_30>(29U);  // shift 44
+}
+
+/// fx::add and fx::sub on 32-bit storage (detail::add_word, sub_word)
+/// against the exact 64-bit sum, saturated in the test, over random values
+/// of every length and the edges: the same raw value and overflow flag.
+TEST(FxAddSub, WordFormsGiveTheExactSumSaturated) {
+  const std::vector<Q15_16> as = paths::operands<Q15_16>(31U);
+  const std::vector<Q15_16> bs = paths::operands<Q15_16>(32U);
+  const auto saturated = [](std::int64_t v) {
+    return std::min<std::int64_t>(std::max<std::int64_t>(v, INT32_MIN), INT32_MAX);
+  };
+  for (const Q15_16 a : as) {
+    for (const Q15_16 b : bs) {
+      fx::Status s;
+      const std::int64_t sum = static_cast<std::int64_t>(a.raw()) + b.raw();
+      ASSERT_EQ(fx::add(a, b, s).raw(), saturated(sum)) << a.raw() << " + " << b.raw();
+      ASSERT_EQ(s.has(Flag::overflow), sum != saturated(sum)) << a.raw() << " + " << b.raw();
+      fx::Status d;
+      const std::int64_t difference = static_cast<std::int64_t>(a.raw()) - b.raw();
+      ASSERT_EQ(fx::sub(a, b, d).raw(), saturated(difference)) << a.raw() << " - " << b.raw();
+      ASSERT_EQ(d.has(Flag::overflow), difference != saturated(difference)) << a.raw() << " - " << b.raw();
+    }
+  }
 }
 
 // ---------------------------------------------------------------- div

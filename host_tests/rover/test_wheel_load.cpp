@@ -716,64 +716,6 @@ std::int32_t raw32(std::mt19937_64& rng) {
   }
 }
 
-TEST(StaticsArithmetic, CheckedSumAndDifferenceAreFxBitForBit) {
-  std::mt19937_64 rng(18U);
-  int saturated = 0;
-  for (int trial = 0; trial < 2000000; ++trial) {
-    const P a = P::from_raw(raw32(rng));
-    const P b = P::from_raw(raw32(rng));
-    fx::Status fast;
-    fx::Status chain;
-    ASSERT_EQ(flight::detail::checked_add(a, b, fast).raw(), fx::add(a, b, chain).raw()) << a.raw() << " + " << b.raw();
-    ASSERT_EQ(fast.bits(), chain.bits()) << a.raw() << " + " << b.raw();
-    ASSERT_EQ(flight::detail::checked_sub(a, b, fast).raw(), fx::sub(a, b, chain).raw()) << a.raw() << " - " << b.raw();
-    ASSERT_EQ(fast.bits(), chain.bits()) << a.raw() << " - " << b.raw();
-    saturated += chain.ok() ? 0 : 1;
-  }
-  EXPECT_GT(saturated, 100000);
-}
-
-/// detail::checked_mul_signed against fx::mul in one format.
-template <std::int32_t F>
-int compare_products(std::mt19937_64& rng, int trials) {
-  using Q = fx::Q<std::int32_t, F>;
-  int saturated = 0;
-  for (int trial = 0; trial < trials; ++trial) {
-    const Q a = Q::from_raw(raw32(rng));
-    const Q b = Q::from_raw(raw32(rng));
-    fx::Status fast;
-    fx::Status chain;
-    const Q p = flight::detail::checked_mul_signed(a, b, fast);
-    const Q expected = fx::mul(a, b, chain);
-    EXPECT_EQ(p.raw(), expected.raw()) << a.raw() << " * " << b.raw();
-    EXPECT_EQ(fast.bits(), chain.bits()) << a.raw() << " * " << b.raw();
-    if ((p.raw() != expected.raw()) || (fast.bits() != chain.bits())) {
-      return -1;
-    }
-    saturated += chain.ok() ? 0 : 1;
-  }
-  return saturated;
-}
-
-// The signed product's form (the Cortex-M4's and the host's) against
-// fx::mul in every format the statics multiply in, ties and saturation
-// included; on ARMv6-M checked_mul is fx::mul itself.
-TEST(StaticsArithmetic, CheckedProductIsFxMulBitForBit) {
-  std::mt19937_64 rng(18U);
-  EXPECT_GT((compare_products<25>(rng, 1000000)), 100000);
-  EXPECT_GT((compare_products<21>(rng, 300000)), 30000);
-  EXPECT_GT((compare_products<16>(rng, 300000)), 30000);
-  EXPECT_GT((compare_products<30>(rng, 300000)), 5000);
-  // Ties: products of an odd multiple of 2^(F-1), both signs.
-  for (std::int32_t k = -1000; k <= 1000; ++k) {
-    const P a = P::from_raw((2 * k) + 1);
-    const P b = P::from_raw(1 << 24);
-    fx::Status fast;
-    fx::Status chain;
-    ASSERT_EQ(flight::detail::checked_mul_signed(a, b, fast).raw(), fx::mul(a, b, chain).raw()) << k;
-  }
-}
-
 /// A reciprocal: of a random divisor, or a random mantissa and scale (shifts
 /// from below 0 to beyond 63), or none (mantissa 0).
 fx::NormalisedReciprocal reciprocal(std::mt19937_64& rng) {

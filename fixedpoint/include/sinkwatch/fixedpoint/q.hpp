@@ -209,36 +209,80 @@ using Q1_30 = Q<std::int32_t, 30>;
 using Q3_28 = Q<std::int32_t, 28>;
 using Q31_32 = Q<std::int64_t, 32>;
 
+namespace detail {
+/// fx::add on 32-bit storage: one wrapping add of the words and one sign
+/// test (the sum overflowed iff it lacks the sign both operands have);
+/// beyond the format, the limit of the operands' sign. Forced inline where a
+/// caller asks for it by name (the statics' every-cycle pass,
+/// flight/src/wheel_load.cpp); fx::add itself stays a call.
+template <std::int32_t F>
+SW_FX_INLINE constexpr Q<std::int32_t, F> add_word(Q<std::int32_t, F> a, Q<std::int32_t, F> b,
+                                                   Status& status) noexcept {
+  const auto x = static_cast<std::uint32_t>(a.raw());
+  const auto y = static_cast<std::uint32_t>(b.raw());
+  const std::uint32_t wrapped = x + y;  // modulo 2^32 by design
+  if ((((x ^ wrapped) & (y ^ wrapped)) >> 31U) != 0U) {
+    status.raise(Flag::overflow);
+    return (a.raw() < 0) ? Q<std::int32_t, F>::min() : Q<std::int32_t, F>::max();
+  }
+  return Q<std::int32_t, F>::from_raw(static_cast<std::int32_t>(a.raw() + b.raw()));
+}
+
+/// fx::sub on 32-bit storage, as add_word: the difference overflowed iff the
+/// operands' signs differ and it lacks a's; beyond the format, the limit of
+/// a's sign.
+template <std::int32_t F>
+SW_FX_INLINE constexpr Q<std::int32_t, F> sub_word(Q<std::int32_t, F> a, Q<std::int32_t, F> b,
+                                                   Status& status) noexcept {
+  const auto x = static_cast<std::uint32_t>(a.raw());
+  const auto y = static_cast<std::uint32_t>(b.raw());
+  const std::uint32_t wrapped = x - y;  // modulo 2^32 by design
+  if ((((x ^ y) & (x ^ wrapped)) >> 31U) != 0U) {
+    status.raise(Flag::overflow);
+    return (a.raw() < 0) ? Q<std::int32_t, F>::min() : Q<std::int32_t, F>::max();
+  }
+  return Q<std::int32_t, F>::from_raw(static_cast<std::int32_t>(a.raw() - b.raw()));
+}
+}  // namespace detail
+
 /// a + b, exact; saturates on overflow.
 template <typename S, std::int32_t F>
 [[nodiscard]] constexpr Q<S, F> add(Q<S, F> a, Q<S, F> b, Status& status) noexcept {
-  const S x = a.raw();
-  const S y = b.raw();
-  if ((y > 0) && (x > (std::numeric_limits<S>::max() - y))) {
-    status.raise(Flag::overflow);
-    return Q<S, F>::max();
+  if constexpr (std::is_same<S, std::int32_t>::value) {
+    return detail::add_word(a, b, status);
+  } else {
+    const S x = a.raw();
+    const S y = b.raw();
+    if ((y > 0) && (x > (std::numeric_limits<S>::max() - y))) {
+      status.raise(Flag::overflow);
+      return Q<S, F>::max();
+    }
+    if ((y < 0) && (x < (std::numeric_limits<S>::min() - y))) {
+      status.raise(Flag::overflow);
+      return Q<S, F>::min();
+    }
+    return Q<S, F>::from_raw(static_cast<S>(x + y));
   }
-  if ((y < 0) && (x < (std::numeric_limits<S>::min() - y))) {
-    status.raise(Flag::overflow);
-    return Q<S, F>::min();
-  }
-  return Q<S, F>::from_raw(static_cast<S>(x + y));
 }
 
 /// a - b, exact; saturates on overflow.
 template <typename S, std::int32_t F>
 [[nodiscard]] constexpr Q<S, F> sub(Q<S, F> a, Q<S, F> b, Status& status) noexcept {
-  const S x = a.raw();
-  const S y = b.raw();
-  if ((y < 0) && (x > (std::numeric_limits<S>::max() + y))) {
-    status.raise(Flag::overflow);
-    return Q<S, F>::max();
+  if constexpr (std::is_same<S, std::int32_t>::value) {
+    return detail::sub_word(a, b, status);
+  } else {
+    const S x = a.raw();
+    const S y = b.raw();
+    if ((y < 0) && (x > (std::numeric_limits<S>::max() + y))) {
+      status.raise(Flag::overflow);
+      return Q<S, F>::max();
+    }
+    if ((y > 0) && (x < (std::numeric_limits<S>::min() + y))) {
+      status.raise(Flag::overflow);
+      return Q<S, F>::min();
+    }
+    return Q<S, F>::from_raw(static_cast<S>(x - y));
   }
-  if ((y > 0) && (x < (std::numeric_limits<S>::min() + y))) {
-    status.raise(Flag::overflow);
-    return Q<S, F>::min();
-  }
-  return Q<S, F>::from_raw(static_cast<S>(x - y));
 }
 
 /// -a, exact; -min saturates to max and raises overflow.
@@ -408,6 +452,44 @@ constexpr Out mul_magnitudes(bool negative, std::uint64_t mag_a, std::uint64_t m
 }
 }  // namespace detail
 
+namespace detail {
+/// a b 2^-Shift into a 32-bit Out through the magnitudes: one 32 x 32 ->
+/// 64-bit product (at most 2^62, so adding the half cannot carry out),
+/// rounded half up and given its sign, saturated beyond Out. fx::mul's form
+/// for cores without a widening multiply (ARMv6-M: mul_full's 16-bit
+/// products); the host tests call it directly.
+template <typename Out, std::int32_t Shift>
+SW_FX_INLINE constexpr Out mul_word_by_magnitudes(std::int32_t a, std::int32_t b, Status& status) noexcept {
+  const bool negative = (a < 0) != (b < 0);
+  const std::uint64_t mag = round_shift_const<Shift>(wide::mul_full(magnitude32(a), magnitude32(b)));
+  return finish_64<Out>(negative, true, mag, status);
+}
+
+/// The same from the signed product p = a b (one SMULL where the core has
+/// it): floor((p + 2^(Shift-1) - [p < 0]) / 2^Shift) is |p| rounded half up
+/// with the sign put back, taken on p + 2^63 as an unsigned shift; less
+/// 2^(63-Shift) - 2^31 (modulo 2^64) it is the result plus 2^31, which lies
+/// in [0, 2^32) exactly when the result fits Out. The same bits and flags
+/// as mul_word_by_magnitudes (test_q checks both against the exact product).
+template <typename Out, std::int32_t Shift>
+SW_FX_INLINE constexpr Out mul_word_signed(std::int32_t a, std::int32_t b, Status& status) noexcept {
+  static_assert((Shift > 0) && (Shift < 63), "a product rounded by a right shift of 1 to 62 bits");
+  static_assert(std::is_same<typename Out::storage_type, std::int32_t>::value, "a 32-bit result");
+  const auto p = static_cast<std::uint64_t>(static_cast<std::int64_t>(a) * static_cast<std::int64_t>(b));
+  constexpr std::uint64_t kOffset =
+      (std::uint64_t{1U} << 63U) + (std::uint64_t{1U} << static_cast<std::uint32_t>(Shift - 1));
+  const std::uint64_t floored = ((p + kOffset) - (p >> 63U)) >> static_cast<std::uint32_t>(Shift);
+  constexpr std::uint64_t kBias =  // 2^(63-Shift) - 2^31, modulo 2^64 where it is negative
+      (std::uint64_t{1U} << static_cast<std::uint32_t>(63 - Shift)) - (std::uint64_t{1U} << 31U);
+  const std::uint64_t biased = floored - kBias;  // modulo 2^64 by design
+  if ((biased >> 32U) != 0U) {
+    status.raise(Flag::overflow);
+    return ((p >> 63U) != 0U) ? Out::min() : Out::max();
+  }
+  return Out::from_raw(static_cast<std::int32_t>(static_cast<std::int64_t>(biased) - 0x80000000LL));
+}
+}  // namespace detail
+
 /// a * b in the format Out, rounded to nearest (ties away from zero), within
 /// 0.5 LSB of Out; saturates on overflow. One exact product, rounded once;
 /// the paths differ only in the width they need (docs/fixedpoint.md 4), so
@@ -415,7 +497,6 @@ constexpr Out mul_magnitudes(bool negative, std::uint64_t mag_a, std::uint64_t m
 template <typename Out, typename SA, std::int32_t FA, typename SB, std::int32_t FB>
 [[nodiscard]] constexpr Out mul(Q<SA, FA> a, Q<SB, FB> b, Status& status) noexcept {
   using W = typename detail::WideFor<SA, SB, typename Out::storage_type>::type;
-  const bool negative = detail::is_negative(a.raw()) != detail::is_negative(b.raw());
   constexpr std::int32_t shift = (FA + FB) - Out::frac_bits;
   constexpr bool kWordOperands = (detail::StorageTraits<SA>::bits == 32U) && (detail::StorageTraits<SB>::bits == 32U);
   if constexpr (kWordOperands && (shift >= 0) && (shift < 63)) {
@@ -423,22 +504,28 @@ template <typename Out, typename SA, std::int32_t FA, typename SB, std::int32_t 
     // 32-bit magnitudes, one 32 x 32 -> 64-bit product (at most 2^62, so
     // adding the half cannot carry out) and a constant shift (what it saves
     // per step: docs/performance.md, eighth and ninth rounds).
-    const std::uint64_t product = wide::mul_full(detail::magnitude32(a.raw()), detail::magnitude32(b.raw()));
-    const std::uint64_t mag = detail::round_shift_const<shift>(product);
     if constexpr (std::is_same<typename Out::storage_type, std::int64_t>::value) {
       // |a b| <= 2^62 < 2^63 - 1 whatever the shift: a 64-bit result cannot
       // saturate, so no test (the Q23.40 and Q15.48 products of Eq. 11 and
       // the torque limit; docs/performance.md, session 17).
       static_cast<void>(status);
-      const auto m = static_cast<std::int64_t>(mag);
+      const bool negative = (a.raw() < 0) != (b.raw() < 0);
+      const std::uint64_t product = wide::mul_full(detail::magnitude32(a.raw()), detail::magnitude32(b.raw()));
+      const auto m = static_cast<std::int64_t>(detail::round_shift_const<shift>(product));
       return Out::from_raw(negative ? -m : m);
+    } else if constexpr ((shift > 0) && !wide::kMul32x32BySoftware) {
+      // The signed product where the core multiplies 32 x 32 -> 64 signed
+      // in one instruction (docs/performance.md, session 18).
+      return detail::mul_word_signed<Out, shift>(a.raw(), b.raw(), status);
     } else {
-      return detail::finish_64<Out>(negative, true, mag, status);
+      return detail::mul_word_by_magnitudes<Out, shift>(a.raw(), b.raw(), status);
     }
   } else if constexpr (std::is_same<W, std::uint64_t>::value) {
+    const bool negative = detail::is_negative(a.raw()) != detail::is_negative(b.raw());
     return detail::finish_product<Out, W>(
         negative, detail::wide_product<W>(detail::magnitude(a.raw()), detail::magnitude(b.raw())), shift, status);
   } else {
+    const bool negative = detail::is_negative(a.raw()) != detail::is_negative(b.raw());
     return detail::mul_magnitudes<Out, W, shift>(negative, detail::magnitude(a.raw()), detail::magnitude(b.raw()),
                                                  status);
   }
