@@ -732,9 +732,11 @@ WheelLoadResult loads_of_valid(const RoverStatics& constants, const CycleTrig& t
   if ((mid.status == WheelLoadStatus::tip_over) || (mid.status == WheelLoadStatus::degenerate)) {
     return failed_at(mid);
   }
-  const PassOutcome coarse = (mid.status == WheelLoadStatus::overflow)
-                                 ? outcome_of(loads_in<Coarse>(constants.coarse, trig, pitch_rad, torques))
-                                 : outcome_of(fine);
+  // Q10.21 ok: its loads are too coarse to be taken, and fine's overflow
+  // stands (the coarse pass is not run; fine's outcome is no tip-over).
+  const bool coarse_run = mid.status == WheelLoadStatus::overflow;
+  const PassOutcome coarse =
+      coarse_run ? outcome_of(loads_in<Coarse>(constants.coarse, trig, pitch_rad, torques)) : outcome_of(fine);
   if (coarse.status == WheelLoadStatus::tip_over) {
     return failed_at(coarse);
   }
