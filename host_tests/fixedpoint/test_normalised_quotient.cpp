@@ -240,6 +240,77 @@ TEST(NormalisedQuotient, ZeroDivisorReportsDivisionByZero) {
   EXPECT_TRUE(st_ok.ok());
 }
 
+/// The leading word and bit length of a, from wide::bit_length and
+/// wide::leading_word (the helpers divide_normalised took until session 18).
+void expect_leading_bits(std::uint64_t a) {
+  const std::uint32_t bits = fx::wide::bit_length(a);
+  const std::uint32_t word = fx::wide::leading_word(a, bits);
+  const fx::detail::LeadingBits by_halves = fx::detail::leading_bits_by_halves(a);
+  const fx::detail::LeadingBits selected = fx::detail::leading_bits(a);
+  ASSERT_EQ(by_halves.bits, bits) << a;
+  ASSERT_EQ(by_halves.word, word) << a;
+  ASSERT_EQ(selected.bits, bits) << a;
+  ASSERT_EQ(selected.word, word) << a;
+}
+
+// The halving normalisation (the Cortex-M0's) and the core's own give the
+// bit length and leading word of every length: each power of two, its
+// neighbours, all ones below it, and 10^6 random values of every length.
+TEST(NormalisedQuotient, LeadingBitsAreTheBitLengthAndTheLeadingWord) {
+  for (std::uint32_t k = 0U; k < 64U; ++k) {
+    const std::uint64_t power = std::uint64_t{1U} << k;
+    for (const std::uint64_t a : {power, power + 1U, power | (power - 1U), power | (power >> 1U)}) {
+      expect_leading_bits(a);
+    }
+    if (k > 0U) {
+      expect_leading_bits(power - 1U);
+    }
+  }
+  expect_leading_bits(~std::uint64_t{0U});
+  std::mt19937_64 rng(20261129U);
+  for (int i = 0; i < 1000000; ++i) {
+    expect_leading_bits(random_magnitude(rng, 64U));
+  }
+}
+
+/// q 2^exponent rounded half up as the session 17 code formed it (the
+/// rounding on 64 bits), and all ones beyond 64 bits.
+std::uint64_t scale_reference(std::uint32_t q, std::int32_t exponent) {
+  if (exponent > 32) {
+    return ~std::uint64_t{0U};
+  }
+  if (exponent >= 0) {
+    return std::uint64_t{q} << static_cast<std::uint32_t>(exponent);
+  }
+  if (exponent < -32) {
+    return 0U;
+  }
+  const auto s = static_cast<std::uint32_t>(-exponent);
+  return (std::uint64_t{q} + (std::uint64_t{1U} << (s - 1U))) >> s;
+}
+
+// The quotient's rounding on one 32-bit word gives the 64-bit rounding's
+// integer for every exponent, at the word's edges, at half units and at
+// random quotients.
+TEST(NormalisedQuotient, ScaledQuotientIsTheSixtyFourBitRounding) {
+  std::mt19937_64 rng(20261130U);
+  for (std::int32_t e = -40; e <= 40; ++e) {
+    for (const std::uint32_t q : {0U, 1U, 2U, 3U, 0x7FFFFFFFU, 0x80000000U, 0x80000001U, 0xFFFFFFFEU, 0xFFFFFFFFU}) {
+      ASSERT_EQ(fx::detail::scale_quotient(q, e), scale_reference(q, e)) << q << " " << e;
+    }
+    if ((e < 0) && (e >= -32)) {
+      const std::uint32_t half = 1U << static_cast<std::uint32_t>(-e - 1);
+      for (const std::uint32_t q : {half - 1U, half, half + 1U, (3U * half) - 1U, 3U * half}) {
+        ASSERT_EQ(fx::detail::scale_quotient(q, e), scale_reference(q, e)) << q << " " << e;
+      }
+    }
+    for (int i = 0; i < 10000; ++i) {
+      const auto q = static_cast<std::uint32_t>(rng());
+      ASSERT_EQ(fx::detail::scale_quotient(q, e), scale_reference(q, e)) << q << " " << e;
+    }
+  }
+}
+
 TEST(NormalisedQuotient, MostNegativeOperandsAreTheirMagnitudes) {
   using Out = fx::Q<std::int32_t, 0>;
   fx::Status st;
