@@ -103,20 +103,29 @@ CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams
   if (corr.status != EstimateStatus::ok) {
     return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, corr.status};
   }
-  const TorqueLimitResult t = torque_limit(corr.coefficients, corr.dp_max_ratio, radius_m, load_n, allowed_sinkage_m);
-  // The motor is checked after T_max, as current_from_torque() would.
-  const EstimateStatus motor_status = (t.status == EstimateStatus::ok) ? check_motor(motor) : EstimateStatus::ok;
-  if (motor_status != EstimateStatus::ok) {
-    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, motor_status};
+  const EstimateStatus input_status = check_estimator_inputs(corr.coefficients, radius_m, load_n);
+  if (input_status != EstimateStatus::ok) {
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, input_status};
   }
-  return limit_from_torque(corr, motor, divisors, t);
+  // The motor is checked after T_max, as current_from_torque() would: a
+  // T_max beyond its format is overflow whatever the motor.
+  const EstimateStatus motor_status = check_motor(motor);
+  if (motor_status != EstimateStatus::ok) {
+    const TorqueLimitResult t =
+        torque_limit_of_valid(corr.coefficients, corr.dp_max_ratio, radius_m, load_n, allowed_sinkage_m);
+    const EstimateStatus status = (t.status != EstimateStatus::ok) ? t.status : motor_status;
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, status};
+  }
+  return detail::current_limit_of_valid(corr, motor, divisors, radius_m, load_n, allowed_sinkage_m);
 }
 
 CurrentLimitResult detail::current_limit_of_valid(const CorrectionResult& corr, const MotorParams& motor,
                                                   const MotorDivisors& divisors, LengthM radius_m,
                                                   WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
   // By reference, built in place: passed by value, the 8-byte result was a
-  // memcpy per wheel on the Cortex-M0.
+  // memcpy per wheel on the Cortex-M0. limit_from_torque has this one
+  // caller (current_limit() comes here once its checks pass), so GCC
+  // inlines it: a call per wheel and cycle less (session 18).
   const TorqueLimitResult t =
       torque_limit_of_valid(corr.coefficients, corr.dp_max_ratio, radius_m, load_n, allowed_sinkage_m);
   return limit_from_torque(corr, motor, divisors, t);

@@ -259,6 +259,19 @@ TEST(CurrentLimit, ReportsTheClampAndInvalidInputs) {
                          q<WheelLoadN>(30000.0), q<SinkageM>(2.0))
                 .status,
             EstimateStatus::overflow);
+  // The limit reports that overflow before a refused motor (T_max is formed
+  // first, as current_from_torque() would form the current), and a refused
+  // motor before anything else once T_max fits.
+  const CorrectionResult steep{Coefficients{q<Ratio>(0.25), q<Ratio>(4.0), q<Ratio>(1.0)}, q<Ratio>(2.0),
+                               LoadClamp::above_last, EstimateStatus::ok};
+  const MotorDivisors divisors = make_motor_divisors(t.motor);
+  const CurrentLimitResult beyond = current_limit(steep, m, divisors, q<LengthM>(2.0), q<WheelLoadN>(30000.0), q<SinkageM>(2.0));
+  EXPECT_EQ(beyond.status, EstimateStatus::overflow);
+  EXPECT_EQ(beyond.clamp, LoadClamp::above_last);
+  EXPECT_EQ(current_limit(steep, t.motor, divisors, q<LengthM>(2.0), q<WheelLoadN>(30000.0), q<SinkageM>(2.0)).status,
+            EstimateStatus::overflow);
+  EXPECT_EQ(current_limit(steep, m, divisors, q<LengthM>(0.15), q<WheelLoadN>(50.0), q<SinkageM>(0.02)).status,
+            EstimateStatus::invalid_motor);
 }
 
 TEST(CurrentLimit, AgreesWithTheReferenceTwin) {
