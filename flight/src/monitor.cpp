@@ -35,9 +35,13 @@ CurrentA fraction_of(std::int32_t fraction_raw, CurrentA limit) noexcept {
 /// Is the sample usable? The checks go from the cheapest and most
 /// fundamental (the source's own flag) to the physical ranges.
 SampleStatus classify_sample(const WheelInput& input, TimeMs now, bool have_last_time, TimeMs last_time,
-                             const ParameterTable& table) noexcept {
+                             const PreparedParameters& prepared) noexcept {
+  const ParameterTable& table = prepared.table();
   const MonitorParams& mp = table.monitor;
-  if (!input.valid) {
+  // Without a valid table there are no thresholds: the sample is unusable,
+  // which the zeroed limits turn into STOP (fail-safe). RoverStep never
+  // gets here with one.
+  if ((!input.valid) || (!prepared.table_valid())) {
     return SampleStatus::flagged_invalid;
   }
   // A time stamp after `now` wraps to a huge age: stale as well.
@@ -242,8 +246,8 @@ void WheelMonitor::transition(StopReason sample_reason, TimeMs now, const Prepar
   }
 }
 
-void WheelMonitor::evaluate(const WheelInput& input, TimeMs now, const PreparedParameters& prepared,
-                            WheelOutput& out) noexcept {
+void WheelMonitor::step(const WheelInput& input, TimeMs now, const PreparedParameters& prepared,
+                        WheelOutput& out) noexcept {
   const ParameterTable& table = prepared.table();
   // Every field of `out` is written below: state, sample_status and
   // stop_reason at the end, the rest here or by estimate() (field by field:
@@ -253,7 +257,7 @@ void WheelMonitor::evaluate(const WheelInput& input, TimeMs now, const PreparedP
   out.clamp = LoadClamp::none;
 
   // 1. Is the sample usable?
-  SampleStatus status = classify_sample(input, now, have_last_time_, last_time_, table);
+  SampleStatus status = classify_sample(input, now, have_last_time_, last_time_, prepared);
   if ((status != SampleStatus::flagged_invalid) && (status != SampleStatus::stale) &&
       (status != SampleStatus::repeated_time)) {
     have_last_time_ = true;
@@ -306,19 +310,6 @@ void WheelMonitor::evaluate(const WheelInput& input, TimeMs now, const PreparedP
   transition(sample_reason, now, prepared, out);
   out.state = state_;
   out.stop_reason = stop_reason_;
-}
-
-void WheelMonitor::step(const WheelInput& input, TimeMs now, const PreparedParameters& prepared,
-                        WheelOutput& out) noexcept {
-  if (!prepared.table_valid()) {
-    // No thresholds: the sample is unusable, which the zeroed limits turn
-    // into STOP (fail-safe). RoverStep never gets here.
-    WheelInput blind = input;
-    blind.valid = false;
-    evaluate(blind, now, prepared, out);
-  } else {
-    evaluate(input, now, prepared, out);
-  }
 }
 
 RoverMonitor::RoverMonitor() noexcept
