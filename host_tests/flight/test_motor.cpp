@@ -254,6 +254,11 @@ TEST(CurrentLimit, ReportsTheClampAndInvalidInputs) {
   m.kt_nm_per_a = TorqueConstantNmPerA::zero();
   EXPECT_EQ(test::current_limit_of(t.correction, m, t.wheel_radius_m, q<WheelLoadN>(50.0), t.monitor.allowed_sinkage_m).status,
             EstimateStatus::invalid_motor);
+  // torque_limit() checks its own inputs (current_limit() checks them before it).
+  EXPECT_EQ(torque_limit(Coefficients{q<Ratio>(1.0), q<Ratio>(1.0), q<Ratio>(0.13)}, q<Ratio>(0.5), LengthM::zero(),
+                         q<WheelLoadN>(50.0), q<SinkageM>(0.02))
+                .status,
+            EstimateStatus::invalid_radius);
   // T_max beyond Q15.16.
   EXPECT_EQ(torque_limit(Coefficients{q<Ratio>(0.25), q<Ratio>(4.0), q<Ratio>(1.0)}, q<Ratio>(2.0), q<LengthM>(2.0),
                          q<WheelLoadN>(30000.0), q<SinkageM>(2.0))
