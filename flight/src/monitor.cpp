@@ -250,11 +250,10 @@ void WheelMonitor::step(const WheelInput& input, TimeMs now, const PreparedParam
                         WheelOutput& out) noexcept {
   const ParameterTable& table = prepared.table();
   // Every field of `out` is written below: state, sample_status and
-  // stop_reason at the end, the rest here or by estimate() (field by field:
-  // a whole-struct reset costs the Cortex-M0 a memcpy per wheel).
-  clear_estimate(out);
+  // stop_reason at the end, stop_tripped here, the estimate's fields and the
+  // clamp once, by estimate() or by clear_estimate() (field by field: a
+  // whole-struct reset costs the Cortex-M0 a memcpy per wheel).
   out.stop_tripped = false;
-  out.clamp = LoadClamp::none;
 
   // 1. Is the sample usable?
   SampleStatus status = classify_sample(input, now, have_last_time_, last_time_, prepared);
@@ -269,10 +268,14 @@ void WheelMonitor::step(const WheelInput& input, TimeMs now, const PreparedParam
   if (status == SampleStatus::ok) {
     fx::Status dir_status;
     directed = directional(input.current_a, input.direction, dir_status);
+    // estimate() writes the clamp and, when it succeeds, every estimate field.
     if (!estimate(input, prepared, out) || !dir_status.ok()) {
       clear_estimate(out);
       status = SampleStatus::estimate_failed;
     }
+  } else {
+    clear_estimate(out);
+    out.clamp = LoadClamp::none;
   }
   out.sample_status = status;
   count_sample(counters_, status);
