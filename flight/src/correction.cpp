@@ -66,10 +66,8 @@ Ratio lerp(Ratio a, Ratio b, std::uint32_t fraction) noexcept {
 /// lies below a 2^32 / v by a (2^63 - m v) / (v 2^31) <= a / 2^31 < 2: q' is
 /// the quotient q = floor(a 2^32 / v) or one or two below it, and the
 /// remainder a 2^32 - q' v (below 3 v < 2^34) corrects it in at most two
-/// steps. The remainder is kept as two 32-bit words, as
-/// wide::detail::digit_by_reciprocal keeps its own: the low one by the
-/// wrapping subtraction, the high one (0 to 2) from a less q' v's high word
-/// and the borrow (session 18: three steps on 64-bit remainders before).
+/// steps, on its two 32-bit words, 0 to 2 and the low word (session 18:
+/// three steps on the 64-bit remainder before).
 /// Then q is rounded half up, as fx::div rounds a magnitude: below 2^32,
 /// since offset < width < 2^31 raw keeps offset / width below 1 - 2^-31.
 std::uint32_t fraction_of(std::uint32_t offset, const SegmentWidth& width) noexcept {
@@ -78,8 +76,12 @@ std::uint32_t fraction_of(std::uint32_t offset, const SegmentWidth& width) noexc
   constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
   auto quotient = static_cast<std::uint32_t>(fx::wide::mul_32x32_64(a, width.mantissa) >> 31U);  // < 2^32
   const std::uint64_t product = fx::wide::mul_32x32_64(quotient, v);
-  std::uint32_t low = 0U - static_cast<std::uint32_t>(product);  // wraps by design: a 2^32 - q' v mod 2^32
-  std::uint32_t high = a - static_cast<std::uint32_t>(product / kWord) - ((low != 0U) ? 1U : 0U);
+  const auto product_low = static_cast<std::uint32_t>(product);
+  // a 2^32 - q' v (< 3 v) as two words: the low one wraps by design, and
+  // the high one takes a borrow when the product's low word is not zero
+  // (its top bit or its negation's is then set).
+  std::uint32_t low = 0U - product_low;
+  std::uint32_t high = a - static_cast<std::uint32_t>(product / kWord) - ((product_low | low) >> 31U);
   // MISRA C++:2023 9.5.1: a simple counted loop, no break.
   for (std::uint32_t step = 0U; step < 2U; ++step) {
     if ((high != 0U) || (low >= v)) {
