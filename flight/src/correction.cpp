@@ -9,6 +9,18 @@ namespace flight {
 
 namespace {
 
+/// The rounded step of lerp() below, floor((P + bias) / 2^32) for the
+/// product P = f |d|: bias 2^31 - 2^23 when the value crossed zero (a has
+/// the sign opposite to d's, `against`, and P's high word is below |a|),
+/// else 2^31 + 2^23.
+std::uint32_t rounded_step(std::uint64_t product, bool against, std::uint32_t a_magnitude) noexcept {
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  constexpr std::uint64_t kHalf = std::uint64_t{1U} << 31U;
+  constexpr std::uint64_t kStepHalf = std::uint64_t{1U} << 23U;
+  const bool crossed = against && (static_cast<std::uint32_t>(product / kWord) < a_magnitude);
+  return static_cast<std::uint32_t>((product + (crossed ? (kHalf - kStepHalf) : (kHalf + kStepHalf))) >> 32U);
+}
+
 /// a + f (b - a) for the fraction f = fraction / 2^32 in [0, 1), bit for bit
 /// the Q31.32 interpolation (the dividing oracle's, host_tests/flight): with
 /// d = b - a (|d| < 2^32) and P = f |d| < 2^64, that interpolation rounds
@@ -22,48 +34,64 @@ namespace {
 /// each the high word of one 64-bit sum (floor(floor(x) / k) = floor(x / k)
 /// for integer k). The value lies between a and b, so the result fits Q7.24
 /// and no status is needed (docs/performance.md, session 16).
+///
+/// v has d's sign when a has it too, or when m > |a| 2^8, that is (m an
+/// integer) P >= |a| 2^32 + 2^23. The two roundings differ only where P's
+/// low word is in [2^31 - 2^23, 2^31 + 2^23), and there that comparison is
+/// P's high word >= |a|: one 32-bit comparison instead of m's 64-bit shift
+/// and compare, on a branch per direction of d (session 18; the same bits).
 Ratio lerp(Ratio a, Ratio b, std::uint32_t fraction) noexcept {
   const std::int32_t a_raw = a.raw();
-  const bool d_negative = b.raw() < a_raw;
-  // |b - a| in modular 32-bit arithmetic: exact, as it is below 2^32.
-  const std::uint32_t d_magnitude = d_negative ? (static_cast<std::uint32_t>(a_raw) - static_cast<std::uint32_t>(b.raw()))
-                                               : (static_cast<std::uint32_t>(b.raw()) - static_cast<std::uint32_t>(a_raw));
-  const std::uint64_t product = fx::wide::mul_32x32_64(fraction, d_magnitude);
-  const std::uint64_t step = (product + (std::uint64_t{1U} << 23U)) >> 24U;  // m, below 2^40
-  const std::uint64_t whole = static_cast<std::uint64_t>(fx::detail::magnitude(a_raw)) << 8U;  // |a| 2^8
-  // v = a 2^8 +- m has d's sign when a has it too, or when m outweighs a.
-  // (m = |a| 2^8 makes v zero, which both roundings give.)
-  const bool away_from_a = (d_negative == (a_raw < 0)) || (step > whole);
-  constexpr std::uint64_t kHalf = std::uint64_t{1U} << 31U;
-  constexpr std::uint64_t kStepHalf = std::uint64_t{1U} << 23U;
-  const std::uint64_t bias = away_from_a ? (kHalf + kStepHalf) : (kHalf - kStepHalf);
-  const auto rounded = static_cast<std::int64_t>((product + bias) >> 32U);  // below 2^32
-  const std::int64_t value = static_cast<std::int64_t>(a_raw) + (d_negative ? -rounded : rounded);
-  return Ratio(RatioQ::from_raw(static_cast<std::int32_t>(value)));  // between a and b
+  const std::int32_t b_raw = b.raw();
+  if (a_raw == b_raw) {
+    return a;  // a coefficient the table holds constant (C1, C2 in both shipped tables): no product
+  }
+  const auto a_magnitude = static_cast<std::uint32_t>(fx::detail::magnitude(a_raw));  // <= 2^31
+  // |b - a| in modular 32-bit arithmetic: exact, as it is below 2^32. The
+  // value lies between a and b, so it fits Q7.24.
+  if (b_raw < a_raw) {
+    const std::uint32_t span = static_cast<std::uint32_t>(a_raw) - static_cast<std::uint32_t>(b_raw);
+    const std::uint32_t step = rounded_step(fx::wide::mul_32x32_64(fraction, span), a_raw > 0, a_magnitude);
+    return Ratio(RatioQ::from_raw(static_cast<std::int32_t>(static_cast<std::int64_t>(a_raw) - std::int64_t{step})));
+  }
+  const std::uint32_t span = static_cast<std::uint32_t>(b_raw) - static_cast<std::uint32_t>(a_raw);
+  const std::uint32_t step = rounded_step(fx::wide::mul_32x32_64(fraction, span), a_raw < 0, a_magnitude);
+  return Ratio(RatioQ::from_raw(static_cast<std::int32_t>(static_cast<std::int64_t>(a_raw) + std::int64_t{step})));
 }
 
 /// f = offset / width as raw Q0.32, bit for bit fx::div<WideQ>(offset, width),
 /// for 0 <= offset < width (raw Q15.16; the caller checks it). Then
 /// a = offset 2^shift < v = width 2^shift < 2^32 is exact in 32 bits. With
-/// m = floor((2^63 - 1)/v), q' = floor(a m / 2^31) is the quotient
-/// q = floor(a 2^32 / v) or up to three below it (m > (2^63 - 1)/v - 1 and
-/// a < 2^32), so the remainder a 2^32 - q' v (below 4 v < 2^34) corrects it
-/// in at most three steps. Then q is rounded half up, as fx::div rounds a
-/// magnitude: below 2^32, since offset < width < 2^31 raw keeps
-/// offset / width below 1 - 2^-31.
+/// m = floor((2^63 - 1)/v), 2^63 - m v is in [1, v], so q' = floor(a m / 2^31)
+/// lies below a 2^32 / v by a (2^63 - m v) / (v 2^31) <= a / 2^31 < 2: q' is
+/// the quotient q = floor(a 2^32 / v) or one or two below it, and the
+/// remainder a 2^32 - q' v (below 3 v < 2^34) corrects it in at most two
+/// steps, on its two 32-bit words, 0 to 2 and the low word (session 18:
+/// three steps on the 64-bit remainder before).
+/// Then q is rounded half up, as fx::div rounds a magnitude: below 2^32,
+/// since offset < width < 2^31 raw keeps offset / width below 1 - 2^-31.
 std::uint32_t fraction_of(std::uint32_t offset, const SegmentWidth& width) noexcept {
-  const std::uint32_t a = offset << width.shift;  // < width.normalised
-  std::uint64_t quotient = fx::wide::mul_32x32_64(a, width.mantissa) >> 31U;  // < 2^32
+  const std::uint32_t v = width.normalised;
+  const std::uint32_t a = offset << width.shift;  // < v
   constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
-  std::uint64_t remainder =
-      (std::uint64_t{a} * kWord) - fx::wide::mul_32x32_64(static_cast<std::uint32_t>(quotient), width.normalised);
-  for (std::uint32_t step = 0U; step < 3U; ++step) {
-    const bool short_by_one = remainder >= width.normalised;
-    quotient += short_by_one ? 1U : 0U;
-    remainder -= short_by_one ? width.normalised : 0U;
+  auto quotient = static_cast<std::uint32_t>(fx::wide::mul_32x32_64(a, width.mantissa) >> 31U);  // < 2^32
+  const std::uint64_t product = fx::wide::mul_32x32_64(quotient, v);
+  const auto product_low = static_cast<std::uint32_t>(product);
+  // a 2^32 - q' v (< 3 v) as two words: the low one wraps by design, and
+  // the high one takes a borrow when the product's low word is not zero
+  // (its top bit or its negation's is then set).
+  std::uint32_t low = 0U - product_low;
+  std::uint32_t high = a - static_cast<std::uint32_t>(product / kWord) - ((product_low | low) >> 31U);
+  // MISRA C++:2023 9.5.1: a simple counted loop, no break.
+  for (std::uint32_t step = 0U; step < 2U; ++step) {
+    if ((high != 0U) || (low >= v)) {
+      high -= (low < v) ? 1U : 0U;
+      low -= v;
+      ++quotient;
+    }
   }
-  const bool round_up = remainder >= (width.normalised - remainder);
-  return static_cast<std::uint32_t>(quotient + (round_up ? 1U : 0U));
+  const bool round_up = low >= (v - low);  // the remainder is below v here
+  return quotient + (round_up ? 1U : 0U);
 }
 
 /// W - W_k as an exact unsigned offset when 0 <= W - W_k < width (raw

@@ -26,21 +26,34 @@ fx::ScaledMagnitude load_times(fx::Q<std::int64_t, 48> lever, WheelLoadN load_n)
                              ((16 + 48) + 32) - static_cast<std::int32_t>(bits)};
 }
 
+/// r (DP_max/W + C3) exactly (Q15.48 raw) for inputs check_estimator_inputs()
+/// accepts: r > 0 and |C3| <= 1 (2^24 raw), so the sum of the two ratios is
+/// below 2^31 + 2^24 < 2^32 in magnitude and r times it is one 32 x 32 ->
+/// 64-bit product (below 2^57). r DP_max/W + r C3, the same integer, took two.
+std::int64_t radius_times_ratios(std::int32_t r, Ratio dp_max_ratio, Ratio c3) noexcept {
+  const std::int64_t sum = static_cast<std::int64_t>(dp_max_ratio.raw()) + static_cast<std::int64_t>(c3.raw());
+  const auto sum_magnitude = static_cast<std::uint32_t>(fx::detail::magnitude(sum));  // < 2^32
+  return detail::with_sign(sum < 0, fx::wide::mul_32x32_64(sum_magnitude, static_cast<std::uint32_t>(r)));
+}
+
 /// torque_limit() for inputs check_estimator_inputs() accepts.
 TorqueLimitResult torque_limit_of_valid(const Coefficients& c, Ratio dp_max_ratio, LengthM radius_m,
                                         WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
   // T_max = W L / C1 with the lever L = r (DP_max/W + C3) + C2 z_max, one
   // division (docs/flight.md, "Current limit"). L is exact in Q15.48: for
-  // accepted inputs (0 < r <= 2 m, |C2| <= 4, |C3| <= 1) and any 32-bit
-  // DP_max/W and z_max its products are at most 2^56, 2^49 and 2^57 raw and
-  // their sum below 2^58, so the sum is plain 64-bit arithmetic: the bits of
-  // the saturating sum it replaced, which could not saturate either.
-  const std::int64_t lever = (fx::wide::mul_32x32_64(radius_m.raw(), dp_max_ratio.raw()) +
-                              fx::wide::mul_32x32_64(radius_m.raw(), c.c3.raw())) +
-                             fx::wide::mul_32x32_64(c.c2.raw(), allowed_sinkage_m.raw());
+  // accepted inputs (0 < r <= 2 m, 0 < C1, C2 <= 4, |C3| <= 1, W > 0) and
+  // any 32-bit DP_max/W and z_max its products are below 2^57 (r times a
+  // sum below 2^32) and at most 2^57 raw and their sum below 2^58, so the sum
+  // is plain 64-bit arithmetic: the bits of the saturating sum it replaced,
+  // which could not saturate either. r, C1 and C2 are positive: only the
+  // other factors have a sign to take off and put back.
+  const std::int32_t z = allowed_sinkage_m.raw();
+  const std::int64_t lever =
+      radius_times_ratios(radius_m.raw(), dp_max_ratio, c.c3) +
+      detail::with_sign(z < 0, fx::wide::mul_32x32_64(fx::detail::magnitude32(z), static_cast<std::uint32_t>(c.c2.raw())));
   fx::Status st;
-  const LoadQ t_max = fx::divide_normalised<LoadQ>(load_times(fx::Q<std::int64_t, 48>::from_raw(lever), load_n),
-                                                   fx::to_scaled(c.c1.q()), st);
+  const fx::ScaledMagnitude c1{false, static_cast<std::uint32_t>(c.c1.raw()), RatioQ::frac_bits};
+  const LoadQ t_max = fx::divide_normalised<LoadQ>(load_times(fx::Q<std::int64_t, 48>::from_raw(lever), load_n), c1, st);
   if (!st.ok()) {
     return TorqueLimitResult{TorqueNm::zero(), EstimateStatus::overflow};
   }
@@ -90,20 +103,29 @@ CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams
   if (corr.status != EstimateStatus::ok) {
     return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, corr.status};
   }
-  const TorqueLimitResult t = torque_limit(corr.coefficients, corr.dp_max_ratio, radius_m, load_n, allowed_sinkage_m);
-  // The motor is checked after T_max, as current_from_torque() would.
-  const EstimateStatus motor_status = (t.status == EstimateStatus::ok) ? check_motor(motor) : EstimateStatus::ok;
-  if (motor_status != EstimateStatus::ok) {
-    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, motor_status};
+  const EstimateStatus input_status = check_estimator_inputs(corr.coefficients, radius_m, load_n);
+  if (input_status != EstimateStatus::ok) {
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, input_status};
   }
-  return limit_from_torque(corr, motor, divisors, t);
+  // The motor is checked after T_max, as current_from_torque() would: a
+  // T_max beyond its format is overflow whatever the motor.
+  const EstimateStatus motor_status = check_motor(motor);
+  if (motor_status != EstimateStatus::ok) {
+    const TorqueLimitResult t =
+        torque_limit_of_valid(corr.coefficients, corr.dp_max_ratio, radius_m, load_n, allowed_sinkage_m);
+    const EstimateStatus status = (t.status != EstimateStatus::ok) ? t.status : motor_status;
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, status};
+  }
+  return detail::current_limit_of_valid(corr, motor, divisors, radius_m, load_n, allowed_sinkage_m);
 }
 
 CurrentLimitResult detail::current_limit_of_valid(const CorrectionResult& corr, const MotorParams& motor,
                                                   const MotorDivisors& divisors, LengthM radius_m,
                                                   WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
   // By reference, built in place: passed by value, the 8-byte result was a
-  // memcpy per wheel on the Cortex-M0.
+  // memcpy per wheel on the Cortex-M0. limit_from_torque has this one
+  // caller (current_limit() comes here once its checks pass), so GCC
+  // inlines it: a call per wheel and cycle less (session 18).
   const TorqueLimitResult t =
       torque_limit_of_valid(corr.coefficients, corr.dp_max_ratio, radius_m, load_n, allowed_sinkage_m);
   return limit_from_torque(corr, motor, divisors, t);

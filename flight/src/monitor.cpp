@@ -35,9 +35,13 @@ CurrentA fraction_of(std::int32_t fraction_raw, CurrentA limit) noexcept {
 /// Is the sample usable? The checks go from the cheapest and most
 /// fundamental (the source's own flag) to the physical ranges.
 SampleStatus classify_sample(const WheelInput& input, TimeMs now, bool have_last_time, TimeMs last_time,
-                             const ParameterTable& table) noexcept {
+                             const PreparedParameters& prepared) noexcept {
+  const ParameterTable& table = prepared.table();
   const MonitorParams& mp = table.monitor;
-  if (!input.valid) {
+  // Without a valid table there are no thresholds: the sample is unusable,
+  // which the zeroed limits turn into STOP (fail-safe). RoverStep never
+  // gets here with one.
+  if ((!input.valid) || (!prepared.table_valid())) {
     return SampleStatus::flagged_invalid;
   }
   // A time stamp after `now` wraps to a huge age: stale as well.
@@ -135,25 +139,22 @@ Evidence evidence_of(CurrentA directed, const WheelOutput& out, const MonitorPar
   return e;
 }
 
+/// One more sample, and one more of its status; each counter saturates.
+/// A free function with one caller (not a member), so that GCC inlines it
+/// at -Os (session 18: a call per wheel and cycle less on the Cortex-M0).
+void count_sample(WheelCounters& counters, SampleStatus status) noexcept {
+  const std::uint8_t index = static_cast<std::uint8_t>(status);
+  if ((index < kSampleStatusCount) && (counters.by_status[index] < 0xFFFFFFFFU)) {
+    ++counters.by_status[index];
+  }
+  if (counters.samples < 0xFFFFFFFFU) {
+    ++counters.samples;
+  }
+}
+
 }  // namespace
 
 WheelMonitor::WheelMonitor(std::uint8_t wheel_index) noexcept : wheel_(wheel_index) {}
-
-void WheelMonitor::count(SampleStatus status) noexcept {
-  const std::uint8_t index = static_cast<std::uint8_t>(status);
-  if ((index < kSampleStatusCount) && (counters_.by_status[index] < 0xFFFFFFFFU)) {
-    ++counters_.by_status[index];
-  }
-  if (counters_.samples < 0xFFFFFFFFU) {
-    ++counters_.samples;
-  }
-}
-
-void WheelMonitor::push_history(bool caution, bool stop, bool clear) noexcept {
-  caution_history_ = shift_in(caution_history_, caution);
-  stop_history_ = shift_in(stop_history_, stop);
-  clear_history_ = shift_in(clear_history_, clear);
-}
 
 void WheelMonitor::clear_stop() noexcept {
   state_ = WheelState::nominal;
@@ -245,18 +246,17 @@ void WheelMonitor::transition(StopReason sample_reason, TimeMs now, const Prepar
   }
 }
 
-void WheelMonitor::evaluate(const WheelInput& input, TimeMs now, const PreparedParameters& prepared,
-                            WheelOutput& out) noexcept {
+void WheelMonitor::step(const WheelInput& input, TimeMs now, const PreparedParameters& prepared,
+                        WheelOutput& out) noexcept {
   const ParameterTable& table = prepared.table();
   // Every field of `out` is written below: state, sample_status and
-  // stop_reason at the end, the rest here or by estimate() (field by field:
-  // a whole-struct reset costs the Cortex-M0 a memcpy per wheel).
-  clear_estimate(out);
+  // stop_reason at the end, stop_tripped here, the estimate's fields and the
+  // clamp once, by estimate() or by clear_estimate() (field by field: a
+  // whole-struct reset costs the Cortex-M0 a memcpy per wheel).
   out.stop_tripped = false;
-  out.clamp = LoadClamp::none;
 
   // 1. Is the sample usable?
-  SampleStatus status = classify_sample(input, now, have_last_time_, last_time_, table);
+  SampleStatus status = classify_sample(input, now, have_last_time_, last_time_, prepared);
   if ((status != SampleStatus::flagged_invalid) && (status != SampleStatus::stale) &&
       (status != SampleStatus::repeated_time)) {
     have_last_time_ = true;
@@ -268,13 +268,17 @@ void WheelMonitor::evaluate(const WheelInput& input, TimeMs now, const PreparedP
   if (status == SampleStatus::ok) {
     fx::Status dir_status;
     directed = directional(input.current_a, input.direction, dir_status);
+    // estimate() writes the clamp and, when it succeeds, every estimate field.
     if (!estimate(input, prepared, out) || !dir_status.ok()) {
       clear_estimate(out);
       status = SampleStatus::estimate_failed;
     }
+  } else {
+    clear_estimate(out);
+    out.clamp = LoadClamp::none;
   }
   out.sample_status = status;
-  count(status);
+  count_sample(counters_, status);
 
   // 3. Evidence for the state machine.
   Evidence e{};
@@ -299,7 +303,9 @@ void WheelMonitor::evaluate(const WheelInput& input, TimeMs now, const PreparedP
     }
     track_episode(directed, input.load_n, out.sinkage_m);
   }
-  push_history(e.caution, e.stop, e.clear);
+  caution_history_ = shift_in(caution_history_, e.caution);
+  stop_history_ = shift_in(stop_history_, e.stop);
+  clear_history_ = shift_in(clear_history_, e.clear);
 
   // 4. Transitions (STOP is latched).
   const StopReason sample_reason =
@@ -307,19 +313,6 @@ void WheelMonitor::evaluate(const WheelInput& input, TimeMs now, const PreparedP
   transition(sample_reason, now, prepared, out);
   out.state = state_;
   out.stop_reason = stop_reason_;
-}
-
-void WheelMonitor::step(const WheelInput& input, TimeMs now, const PreparedParameters& prepared,
-                        WheelOutput& out) noexcept {
-  if (!prepared.table_valid()) {
-    // No thresholds: the sample is unusable, which the zeroed limits turn
-    // into STOP (fail-safe). RoverStep never gets here.
-    WheelInput blind = input;
-    blind.valid = false;
-    evaluate(blind, now, prepared, out);
-  } else {
-    evaluate(input, now, prepared, out);
-  }
 }
 
 RoverMonitor::RoverMonitor() noexcept

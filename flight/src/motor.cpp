@@ -4,6 +4,8 @@
 // normalised reciprocal, whose error is relative (docs/flight.md bounds both).
 #include "sinkwatch/flight/motor.hpp"
 
+#include "sinkwatch/fixedpoint/wide.hpp"
+
 #include "of_valid.hpp"
 
 namespace sinkwatch {
@@ -13,6 +15,47 @@ namespace {
 
 bool direction_is_valid(DriveDirection d) noexcept {
   return (d == DriveDirection::forward) || (d == DriveDirection::reverse);
+}
+
+// The three steps of torque_from_current on magnitudes: each is fx::mul's
+// product of two magnitudes rounded half up, with the same bits as the
+// checked chain (fx::mul into Q31.32, Q31.32, Q15.16) it replaced, which
+// could not saturate before the last step (|Kt I| <= 2^62 raw, eta <= 1).
+// A Q31.32 magnitude w = hi 2^32 + lo times a 32-bit v, shifted right by
+// s <= 32: round(w v / 2^s) = hi v 2^(32 - s) + round(lo v / 2^s) exactly
+// (2^s divides hi v 2^32), so each step is one 32 x 32 -> 64-bit product,
+// and a second one only for a magnitude of 2^32 raw or more (above 1 A of
+// driving current with the default motor's Kt of 0.025 N m/A: rare).
+
+/// |Kt (I - I0)| in Q31.32 (raw): Q3.28 x Q11.20, 16 bits dropped, below
+/// 2^46 + 1.
+std::uint64_t kt_times(std::int32_t kt_raw, std::int32_t effective_raw) noexcept {
+  const std::uint64_t product =
+      fx::wide::mul_32x32_64(static_cast<std::uint32_t>(kt_raw), static_cast<std::uint32_t>(fx::detail::magnitude(effective_raw)));
+  return (product + (std::uint64_t{1U} << 15U)) >> 16U;
+}
+
+/// The magnitude w (below 2^47) times the 32-bit v, shifted right by
+/// 32 - kLeft and rounded half up, as the high word's part is shifted left
+/// by kLeft (above).
+template <std::uint32_t kLeft>
+std::uint64_t times_wide_rounded(std::uint64_t w, std::uint32_t v) noexcept {
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  constexpr std::uint32_t kShift = 32U - kLeft;
+  const auto high = static_cast<std::uint32_t>(w / kWord);
+  const std::uint64_t low_part = (fx::wide::mul_32x32_64(static_cast<std::uint32_t>(w), v) +
+                                  (std::uint64_t{1U} << (kShift - 1U))) >> kShift;
+  return (high == 0U) ? low_part : (low_part + (fx::wide::mul_32x32_64(high, v) << kLeft));
+}
+
+/// |eta x| in Q31.32: Q1.30 x Q31.32, 30 bits dropped; eta <= 1, so at most |x|.
+std::uint64_t efficiency_times(std::int32_t efficiency_raw, std::uint64_t x) noexcept {
+  return times_wide_rounded<2U>(x, static_cast<std::uint32_t>(efficiency_raw));
+}
+
+/// |N x| in Q15.16: Q15.16 x Q31.32, 32 bits dropped; below 2^46.
+std::uint64_t gear_times(std::int32_t gear_raw, std::uint64_t x) noexcept {
+  return times_wide_rounded<0U>(x, static_cast<std::uint32_t>(gear_raw));
 }
 
 }  // namespace
@@ -50,13 +93,21 @@ TorqueResult detail::torque_of_valid_motor(const MotorParams& motor, CurrentA cu
   const CurrentQ effective = (direction == DriveDirection::forward)
                                  ? fx::sub(current_a.q(), motor.no_load_current_a.q(), st)
                                  : fx::add(current_a.q(), motor.no_load_current_a.q(), st);
-  const WideQ motor_torque = fx::mul<WideQ>(motor.kt_nm_per_a.q(), effective, st);
-  const WideQ after_gear_loss = fx::mul<WideQ>(motor.efficiency.q(), motor_torque, st);
-  const LoadQ wheel_torque = fx::mul<LoadQ>(motor.gear_ratio.q(), after_gear_loss, st);
   if (!st.ok()) {
     return TorqueResult{TorqueNm::zero(), EstimateStatus::overflow};
   }
-  return TorqueResult{TorqueNm(wheel_torque), EstimateStatus::ok};
+  // Kt, eta and N are positive (check_motor), so the chain works on |I - I0|
+  // and puts the sign back at the end, as fx::mul does (ties away from zero).
+  const std::uint64_t wheel_torque = gear_times(
+      motor.gear_ratio.raw(), efficiency_times(motor.efficiency.raw(),
+                                               kt_times(motor.kt_nm_per_a.raw(), effective.raw())));
+  const bool negative = effective.raw() < 0;
+  constexpr std::uint64_t kMaxPositive = 0x7FFFFFFFU;
+  if (wheel_torque > (kMaxPositive + (negative ? 1U : 0U))) {
+    return TorqueResult{TorqueNm::zero(), EstimateStatus::overflow};
+  }
+  const auto t = static_cast<std::int64_t>(wheel_torque);  // <= 2^31
+  return TorqueResult{TorqueNm(LoadQ::from_raw(static_cast<std::int32_t>(negative ? -t : t))), EstimateStatus::ok};
 }
 
 CurrentResult current_from_torque(const MotorParams& motor, const MotorDivisors& divisors, TorqueNm torque_nm,

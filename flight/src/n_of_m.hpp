@@ -15,8 +15,13 @@ namespace n_of_m {
 /// Set bits among the newest `window` samples (at most kMaxWindow): the
 /// window as a mask, then a population count of 16 bits by pairs, nibbles
 /// and bytes (no loop: a per-bit loop cost about 110 Cortex-M0 instructions
-/// per call, three calls per wheel and cycle; docs/performance.md).
+/// per call, three calls per wheel and cycle; docs/performance.md). An empty
+/// history, a quiet wheel's usual one, is answered first (session 18: about
+/// 20 Cortex-M0 instructions fewer per such call).
 inline std::uint8_t count_bits(std::uint16_t bits, std::uint8_t window) noexcept {
+  if (bits == 0U) {
+    return 0U;
+  }
   const std::uint32_t width = (window < kMaxWindow) ? window : kMaxWindow;
   const std::uint32_t mask = (1U << width) - 1U;  // width <= 16: no overflow
   std::uint32_t v = static_cast<std::uint32_t>(bits) & mask;

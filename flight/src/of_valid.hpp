@@ -14,6 +14,10 @@
 #ifndef SINKWATCH_FLIGHT_OF_VALID_HPP
 #define SINKWATCH_FLIGHT_OF_VALID_HPP
 
+#include <cstdint>
+
+#include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
 #include "sinkwatch/flight/current_limit.hpp"
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/motor.hpp"
@@ -21,6 +25,16 @@
 namespace sinkwatch {
 namespace flight {
 namespace detail {
+
+/// The magnitude (below 2^63) with the sign `negative`: a product of a
+/// signed value and a factor the caller has checked positive (the radius, the
+/// load, C1 or C2 of inputs check_estimator_inputs() accepts) is formed as
+/// the product of the magnitudes with the signed value's sign put back, one
+/// magnitude fewer than fx::wide::mul_32x32_64 takes for two signed values.
+inline std::int64_t with_sign(bool negative, std::uint64_t magnitude) noexcept {
+  const auto m = static_cast<std::int64_t>(magnitude);
+  return negative ? -m : m;
+}
 
 /// torque_from_current() for a motor check_motor() accepts.
 [[nodiscard]] TorqueResult torque_of_valid_motor(const MotorParams& motor, CurrentA current_a,

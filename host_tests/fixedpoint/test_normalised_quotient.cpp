@@ -240,6 +240,134 @@ TEST(NormalisedQuotient, ZeroDivisorReportsDivisionByZero) {
   EXPECT_TRUE(st_ok.ok());
 }
 
+/// The leading word and bit length of a, from wide::bit_length and
+/// wide::leading_word (the helpers divide_normalised took until session 18).
+void expect_leading_bits(std::uint64_t a) {
+  const std::uint32_t bits = fx::wide::bit_length(a);
+  const std::uint32_t word = fx::wide::leading_word(a, bits);
+  const fx::detail::LeadingBits by_halves = fx::detail::leading_bits_by_halves(a);
+  const fx::detail::LeadingBits selected = fx::detail::leading_bits(a);
+  ASSERT_EQ(by_halves.bits, bits) << a;
+  ASSERT_EQ(by_halves.word, word) << a;
+  ASSERT_EQ(selected.bits, bits) << a;
+  ASSERT_EQ(selected.word, word) << a;
+}
+
+// The halving normalisation (the Cortex-M0's) and the core's own give the
+// bit length and leading word of every length: each power of two, its
+// neighbours, all ones below it, and 10^6 random values of every length.
+TEST(NormalisedQuotient, LeadingBitsAreTheBitLengthAndTheLeadingWord) {
+  for (std::uint32_t k = 0U; k < 64U; ++k) {
+    const std::uint64_t power = std::uint64_t{1U} << k;
+    for (const std::uint64_t a : {power, power + 1U, power | (power - 1U), power | (power >> 1U)}) {
+      expect_leading_bits(a);
+    }
+    if (k > 0U) {
+      expect_leading_bits(power - 1U);
+    }
+  }
+  expect_leading_bits(~std::uint64_t{0U});
+  std::mt19937_64 rng(20261129U);
+  for (int i = 0; i < 1000000; ++i) {
+    expect_leading_bits(random_magnitude(rng, 64U));
+  }
+}
+
+/// q 2^exponent rounded half up as the session 17 code formed it (the
+/// rounding on 64 bits), and all ones beyond 64 bits.
+std::uint64_t scale_reference(std::uint32_t q, std::int32_t exponent) {
+  if (exponent > 32) {
+    return ~std::uint64_t{0U};
+  }
+  if (exponent >= 0) {
+    return std::uint64_t{q} << static_cast<std::uint32_t>(exponent);
+  }
+  if (exponent < -32) {
+    return 0U;
+  }
+  const auto s = static_cast<std::uint32_t>(-exponent);
+  return (std::uint64_t{q} + (std::uint64_t{1U} << (s - 1U))) >> s;
+}
+
+// The quotient's rounding on one 32-bit word gives the 64-bit rounding's
+// integer for every exponent, at the word's edges, at half units and at
+// random quotients.
+TEST(NormalisedQuotient, ScaledQuotientIsTheSixtyFourBitRounding) {
+  std::mt19937_64 rng(20261130U);
+  for (std::int32_t e = -40; e <= 40; ++e) {
+    for (const std::uint32_t q : {0U, 1U, 2U, 3U, 0x7FFFFFFFU, 0x80000000U, 0x80000001U, 0xFFFFFFFEU, 0xFFFFFFFFU}) {
+      ASSERT_EQ(fx::detail::scale_quotient(q, e), scale_reference(q, e)) << q << " " << e;
+    }
+    if ((e < 0) && (e >= -32)) {
+      const std::uint32_t half = 1U << static_cast<std::uint32_t>(-e - 1);
+      for (const std::uint32_t q : {half - 1U, half, half + 1U, (3U * half) - 1U, 3U * half}) {
+        ASSERT_EQ(fx::detail::scale_quotient(q, e), scale_reference(q, e)) << q << " " << e;
+      }
+    }
+    for (int i = 0; i < 10000; ++i) {
+      const auto q = static_cast<std::uint32_t>(rng());
+      ASSERT_EQ(fx::detail::scale_quotient(q, e), scale_reference(q, e)) << q << " " << e;
+    }
+  }
+}
+
+/// divide_normalised as the session 17 code formed it: the long division
+/// whatever the divisor, the helpers apart, the rounding on 64 bits.
+template <typename Out>
+Out divide_by_long_division(fx::ScaledMagnitude n, fx::ScaledMagnitude d, fx::Status& status) {
+  using OutS = typename Out::storage_type;
+  if (d.magnitude == 0U) {
+    status.raise(fx::Flag::div_by_zero);
+    return (n.magnitude == 0U) ? Out::zero() : (n.negative ? Out::min() : Out::max());
+  }
+  if (n.magnitude == 0U) {
+    return Out::zero();
+  }
+  const std::uint32_t n_bits = fx::wide::bit_length(n.magnitude);
+  const std::uint32_t d_bits = fx::wide::bit_length(d.magnitude);
+  const std::uint64_t n_leading = fx::wide::leading_word(n.magnitude, n_bits);
+  const std::uint32_t q = fx::wide::divide_64_by_32(n_leading << 31U, fx::wide::leading_word(d.magnitude, d_bits)).quotient;
+  const std::int32_t exponent = ((static_cast<std::int32_t>(n_bits) - static_cast<std::int32_t>(d_bits)) - 31) -
+                                ((n.frac_bits - d.frac_bits) - Out::frac_bits);
+  const std::uint64_t mag = scale_reference(q, exponent);
+  const bool negative = n.negative != d.negative;
+  return Out::from_raw(fx::detail::from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
+}
+
+template <typename Out>
+void expect_same_as_long_division(fx::ScaledMagnitude n, fx::ScaledMagnitude d) {
+  fx::Status st;
+  fx::Status st_reference;
+  const Out got = fx::divide_normalised<Out>(n, d, st);
+  const Out expected = divide_by_long_division<Out>(n, d, st_reference);
+  ASSERT_EQ(got.raw(), expected.raw()) << n.magnitude << " / " << d.magnitude;
+  ASSERT_EQ(st.has(fx::Flag::overflow), st_reference.has(fx::Flag::overflow)) << n.magnitude << " / " << d.magnitude;
+  ASSERT_EQ(st.has(fx::Flag::div_by_zero), st_reference.has(fx::Flag::div_by_zero));
+}
+
+// A divisor whose leading word is 2^31 (a power of two) takes no division
+// (session 18): the same quotient and status as the long division, for
+// every power of two and its neighbours (which divide), against numerators
+// of every length, sign and scale, in three formats.
+TEST(NormalisedQuotient, PowerOfTwoDivisorsGiveTheLongDivisionsBits) {
+  std::mt19937_64 rng(20261131U);
+  for (std::uint32_t k = 0U; k < 64U; ++k) {
+    const std::uint64_t power = std::uint64_t{1U} << k;
+    for (const std::uint64_t d : {power, power + 1U, power - 1U, power | (power >> 1U)}) {
+      if (d == 0U) {
+        continue;
+      }
+      for (int i = 0; i < 2000; ++i) {
+        const fx::ScaledMagnitude n{(rng() & 1U) != 0U, random_magnitude(rng, 64U), static_cast<std::int32_t>(rng() % 64U)};
+        const fx::ScaledMagnitude dd{(rng() & 1U) != 0U, d, static_cast<std::int32_t>(rng() % 64U)};
+        expect_same_as_long_division<fx::Q<std::int32_t, 24>>(n, dd);
+        expect_same_as_long_division<fx::Q<std::int32_t, 16>>(n, dd);
+        expect_same_as_long_division<fx::Q<std::int64_t, 40>>(n, dd);
+      }
+    }
+  }
+}
+
 TEST(NormalisedQuotient, MostNegativeOperandsAreTheirMagnitudes) {
   using Out = fx::Q<std::int32_t, 0>;
   fx::Status st;

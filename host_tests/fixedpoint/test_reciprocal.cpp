@@ -104,6 +104,50 @@ TEST(NormalisedReciprocal, QuotientIsWithinOneLsbAndTwoToMinus30OfTheDivision) {
   }
 }
 
+/// (value + 2^(s-1)) >> s exactly, from a 128-bit sum (no carry lost).
+std::uint64_t rounded_shift_reference(std::uint64_t value, std::uint32_t s) {
+  const wide::U128 sum = wide::add(wide::make_u128(value), wide::make_u128(std::uint64_t{1U} << (s - 1U)));
+  return wide::shr(sum, s).lo;
+}
+
+/// The rounding shift of times_reciprocal: the word form (the Cortex-M0's)
+/// and the core's own, against the exact sum shifted, for every count at
+/// the words' edges and at random values of every length.
+TEST(NormalisedReciprocal, RoundingShiftByWordsIsTheSixtyFourBitShift) {
+  const std::uint64_t edges[] = {0U,
+                                 1U,
+                                 2U,
+                                 3U,
+                                 0x7FFFFFFFU,
+                                 0x80000000U,
+                                 0xFFFFFFFFU,
+                                 0x100000000U,
+                                 0x17FFFFFFFULL,
+                                 0x180000000ULL,
+                                 0x7FFFFFFF80000000ULL,
+                                 0x7FFFFFFFFFFFFFFFULL,
+                                 0x5555555555555555ULL,
+                                 0x2AAAAAAAAAAAAAAAULL};
+  for (std::uint32_t s = 1U; s < 64U; ++s) {
+    for (const std::uint64_t v : edges) {
+      ASSERT_EQ(fx::detail::shift_right_rounded_by_words(v, s), rounded_shift_reference(v, s)) << v << " >> " << s;
+      ASSERT_EQ(fx::detail::shift_right_rounded(v, s), rounded_shift_reference(v, s)) << v << " >> " << s;
+    }
+    // Just below and at half a unit of the result, and the words' boundary.
+    const std::uint64_t half = std::uint64_t{1U} << (s - 1U);
+    for (const std::uint64_t v : {half - 1U, half, half + 1U, (3U * half) - 1U, 3U * half}) {
+      ASSERT_EQ(fx::detail::shift_right_rounded_by_words(v, s), rounded_shift_reference(v, s)) << v << " >> " << s;
+    }
+  }
+  std::mt19937_64 rng(20261126U);  // NOLINT(cert-msc32-c,cert-msc51-cpp): reproducible samples
+  for (int i = 0; i < 1000000; ++i) {
+    const std::uint64_t v = rng() >> (1U + (rng() % 63U));  // below 2^63, every length
+    const auto s = static_cast<std::uint32_t>(1U + (rng() % 63U));
+    ASSERT_EQ(fx::detail::shift_right_rounded_by_words(v, s), rounded_shift_reference(v, s)) << v << " >> " << s;
+    ASSERT_EQ(fx::detail::shift_right_rounded(v, s), rounded_shift_reference(v, s)) << v << " >> " << s;
+  }
+}
+
 TEST(NormalisedReciprocal, ExtremeDividendsSaturateOrRoundToZero) {
   fx::Status st;
   // INT32_MIN / the smallest divisor: far beyond Q6.25.

@@ -94,6 +94,47 @@ TEST(CorrectionPaths, ValuesCrossingZeroRoundLikeTheQ3132Chain) {
   }
 }
 
+// The fraction's remainder correction (correction.cpp, fraction_of) is
+// needed most where the offset is close to the width (the estimate is then
+// up to two below the quotient): two-row tables of every width length, each
+// loaded at its segment's start, middle and last raw loads, with one
+// coefficient spanning the whole Q7.24 range, so that one unit of the Q0.32
+// fraction moves the interpolated value by about one LSB.
+TEST(CorrectionPaths, LoadsAtTheSegmentEndsMatchTheQ3132Chain) {
+  std::mt19937_64 rng(19U);
+  std::uint32_t checked = 0U;
+  for (int k = 0; k < 20000; ++k) {
+    CorrectionTable t{};
+    t.count = 2U;
+    const std::uint32_t length = 1U + static_cast<std::uint32_t>(k % 31);  // widths of 1 to 31 bits
+    const std::uint32_t width = (static_cast<std::uint32_t>(rng()) >> (32U - length)) | (1U << (length - 1U));
+    const std::uint32_t start = 1U + static_cast<std::uint32_t>(rng() % (0x7FFFFFFFU - width));
+    t.rows[0].load_n = WheelLoadN::from_raw(static_cast<std::int32_t>(start));
+    t.rows[1].load_n = WheelLoadN::from_raw(static_cast<std::int32_t>(start + width));
+    const bool rising = (k % 2) == 0;
+    t.rows[0].c1 = Ratio::from_raw(rising ? INT32_MIN : INT32_MAX);
+    t.rows[1].c1 = Ratio::from_raw(rising ? INT32_MAX : INT32_MIN);
+    for (flight::CorrectionRow& row : t.rows) {
+      row.c2 = Ratio::from_raw(static_cast<std::int32_t>(rng()));
+      row.c3 = Ratio::from_raw(static_cast<std::int32_t>(rng()) >> (rng() % 32U));
+      row.dp_max_ratio = Ratio::from_raw(static_cast<std::int32_t>(rng() >> 40U));
+    }
+    const flight::CorrectionDivisors divisors = flight::make_correction_divisors(t);
+    const std::uint32_t offsets[] = {0U, 1U, 2U, width / 2U, (width / 2U) + 1U, width - 3U, width - 2U, width - 1U};
+    for (const std::uint32_t offset : offsets) {
+      if (offset >= width) {
+        continue;  // a narrow segment has fewer distinct loads
+      }
+      const WheelLoadN w = WheelLoadN::from_raw(static_cast<std::int32_t>(start + offset));
+      const CorrectionResult expected = oracle::corrections_at(t, w);
+      ASSERT_EQ(expected.clamp, flight::LoadClamp::none);
+      expect_same(flight::corrections_at(t, divisors, w), expected);
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 140000U);
+}
+
 TEST(CorrectionPaths, ShippedTablesAtEveryLoadStepMatchTheQ3132Chain) {
   for (const flight::ParameterTable& table : {flight::default_parameter_table(), flight::eq15_parameter_table()}) {
     const CorrectionTable& t = table.correction;

@@ -3,13 +3,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "sinkwatch/fixedpoint/bounded.hpp"
 #include "sinkwatch/fixedpoint/host_convert.hpp"
+#include "sinkwatch/fixedpoint/normalised_quotient.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
+#include "sinkwatch/flight/current_limit.hpp"
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/param_table.hpp"
@@ -245,6 +251,109 @@ TEST(Estimator, OverflowIsAStatusNotANumber) {
                                                  q<TorqueNm>(30000.0), q<SinkageM>(0.0));
   EXPECT_EQ(dp.status, EstimateStatus::overflow);
   EXPECT_EQ(dp.drawbar_pull_n, DrawbarPullN::zero());
+}
+
+/// Inputs check_estimator_inputs() accepts, drawn over their whole ranges
+/// (C1, C2 in [1/4, 4], C3 in [-1, 1], r in [0.01, 2] m, W of every length),
+/// and signed 32-bit values of every length for T, DP, DP_max/W and z_max.
+struct Operands {
+  Coefficients c;
+  LengthM r;
+  WheelLoadN w;
+  std::int32_t t, dp, ratio, z;
+};
+
+std::int32_t any_raw(std::mt19937_64& rng) {
+  switch (rng() % 8U) {
+    case 0U:
+      return INT32_MIN;
+    case 1U:
+      return INT32_MAX;
+    case 2U:
+      return 0;
+    default: {
+      const auto v = static_cast<std::int32_t>(rng() >> (32U + (rng() % 32U)));
+      return ((rng() & 1U) != 0U) ? -v : v;
+    }
+  }
+}
+
+std::int32_t raw_in(std::mt19937_64& rng, Ratio lo, Ratio hi) {
+  const auto span = static_cast<std::uint64_t>(static_cast<std::int64_t>(hi.raw()) - lo.raw()) + 1U;
+  return static_cast<std::int32_t>(lo.raw() + static_cast<std::int64_t>(rng() % span));
+}
+
+Operands random_operands(std::mt19937_64& rng) {
+  Operands o{};
+  o.c = Coefficients{Ratio::from_raw(raw_in(rng, kMinC12, kMaxC12)), Ratio::from_raw(raw_in(rng, kMinC12, kMaxC12)),
+                     Ratio::from_raw(raw_in(rng, kMinC3, kMaxC3))};
+  o.r = LengthM::from_raw(raw_in(rng, Ratio::from_raw(kMinRadiusM.raw()), Ratio::from_raw(kMaxRadiusM.raw())));
+  o.w = WheelLoadN::from_raw(std::max(1, static_cast<std::int32_t>(rng() >> (33U + (rng() % 31U)))));
+  o.t = any_raw(rng);
+  o.dp = any_raw(rng);
+  o.ratio = any_raw(rng);
+  o.z = any_raw(rng);
+  return o;
+}
+
+/// Eq. 11's sinkage as the session 17 code formed it: the four signed
+/// products of fx::wide::mul_32x32_64 (both magnitudes taken), r C3 rounded
+/// by fx::detail::product_rounded, its product with W by wide_product_rounded.
+SinkageResult sinkage_by_signed_products(const Operands& o) {
+  const std::int64_t drive = fx::wide::mul_32x32_64(o.c.c1.raw(), o.t);
+  const std::int64_t pull = fx::wide::mul_32x32_64(o.r.raw(), o.dp);
+  const std::int32_t r_c3 = fx::detail::product_rounded<(2 * LengthQ::frac_bits) - 29>(o.r.raw(), o.c.c3.raw());
+  const std::int64_t offset = fx::detail::wide_product_rounded<(29 + LoadQ::frac_bits) - 40>(r_c3, o.w.raw());
+  using Moment = fx::Q<std::int64_t, 40>;
+  fx::Status st;
+  const LengthQ z = fx::divide_normalised<LengthQ>(Moment::from_raw((drive - pull) - offset),
+                                                   Moment::from_raw(fx::wide::mul_32x32_64(o.c.c2.raw(), o.w.raw())), st);
+  return st.ok() ? SinkageResult{SinkageM(z), EstimateStatus::ok} : SinkageResult{SinkageM::zero(), EstimateStatus::overflow};
+}
+
+/// The section 7 torque limit as the session 17 code formed it: the lever
+/// from three signed products, its leading word times W, divided by C1.
+TorqueLimitResult torque_limit_by_signed_products(const Operands& o) {
+  const std::int64_t lever = (fx::wide::mul_32x32_64(o.r.raw(), o.ratio) + fx::wide::mul_32x32_64(o.r.raw(), o.c.c3.raw())) +
+                             fx::wide::mul_32x32_64(o.c.c2.raw(), o.z);
+  const std::uint64_t magnitude = fx::detail::magnitude(lever);
+  const std::uint32_t bits = fx::wide::bit_length(magnitude);
+  const std::uint64_t product =
+      fx::wide::mul_32x32_64(fx::wide::leading_word(magnitude, bits), static_cast<std::uint32_t>(o.w.raw()));
+  const fx::ScaledMagnitude n{lever < 0, product, ((16 + 48) + 32) - static_cast<std::int32_t>(bits)};
+  fx::Status st;
+  const LoadQ t = fx::divide_normalised<LoadQ>(n, fx::to_scaled(o.c.c1.q()), st);
+  return st.ok() ? TorqueLimitResult{TorqueNm(t), EstimateStatus::ok}
+                 : TorqueLimitResult{TorqueNm::zero(), EstimateStatus::overflow};
+}
+
+// Eq. 11 and the torque limit take the positive factors (r, W, C1, C2) as
+// they are and only the others' magnitudes, and the limit's lever r times
+// the sum of the two ratios (session 18): bit for bit, status for status,
+// the signed products they replaced, over the whole accepted range with the
+// signed operands at every length and at their extremes.
+TEST(Estimator, SinkageAndTorqueLimitGiveTheSignedProductsBits) {
+  std::mt19937_64 rng(20261128U);  // NOLINT(cert-msc32-c,cert-msc51-cpp): reproducible samples
+  std::uint32_t sinkages = 0U;
+  std::uint32_t limits = 0U;
+  for (int k = 0; k < 500000; ++k) {
+    const Operands o = random_operands(rng);
+    ASSERT_EQ(check_estimator_inputs(o.c, o.r, o.w), EstimateStatus::ok);
+    const SinkageResult z = sinkage_from_pull(o.c, o.r, o.w, TorqueNm::from_raw(o.t), DrawbarPullN::from_raw(o.dp));
+    const SinkageResult z_expected = sinkage_by_signed_products(o);
+    ASSERT_EQ(z.status, z_expected.status) << k;
+    ASSERT_EQ(z.sinkage_m.raw(), z_expected.sinkage_m.raw()) << k;
+    const TorqueLimitResult t = torque_limit(o.c, Ratio::from_raw(o.ratio), o.r, o.w, SinkageM::from_raw(o.z));
+    const TorqueLimitResult t_expected = torque_limit_by_signed_products(o);
+    ASSERT_EQ(t.status, t_expected.status) << k;
+    ASSERT_EQ(t.torque_nm.raw(), t_expected.torque_nm.raw()) << k;
+    sinkages += (z.status == EstimateStatus::ok) ? 1U : 0U;
+    limits += (t.status == EstimateStatus::ok) ? 1U : 0U;
+  }
+  EXPECT_GT(sinkages, 100000U);  // both outcomes of each well represented
+  EXPECT_LT(sinkages, 490000U);
+  EXPECT_GT(limits, 100000U);
+  EXPECT_LT(limits, 490000U);
 }
 
 TEST(Reference, TwinRefusesWhatTheFlightCodeRefuses) {

@@ -1,6 +1,10 @@
 // The motor model and the section 7 current limit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
+#include <random>
+
 #include "prepared_support.hpp"
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/flight/current_limit.hpp"
@@ -99,6 +103,105 @@ TEST(Motor, OverflowIsAStatus) {
             EstimateStatus::overflow);
 }
 
+/// torque_from_current as the checked fx::mul chain it was until session 18:
+/// Kt I into Q31.32, eta x into Q31.32, N x into Q15.16, each rounded ties
+/// away from zero, overflow from any step.
+TorqueResult torque_by_checked_chain(const MotorParams& m, CurrentA current_a, DriveDirection direction) {
+  const EstimateStatus motor_status = check_motor(m);
+  if (motor_status != EstimateStatus::ok) {
+    return TorqueResult{TorqueNm::zero(), motor_status};
+  }
+  if ((direction != DriveDirection::forward) && (direction != DriveDirection::reverse)) {
+    return TorqueResult{TorqueNm::zero(), EstimateStatus::invalid_direction};
+  }
+  fx::Status st;
+  const CurrentQ magnitude = fx::abs(current_a.q(), st);
+  if ((!st.ok()) || (magnitude > m.current_abs_max_a.q())) {
+    return TorqueResult{TorqueNm::zero(), EstimateStatus::invalid_current};
+  }
+  const CurrentQ effective = (direction == DriveDirection::forward)
+                                 ? fx::sub(current_a.q(), m.no_load_current_a.q(), st)
+                                 : fx::add(current_a.q(), m.no_load_current_a.q(), st);
+  const WideQ motor_torque = fx::mul<WideQ>(m.kt_nm_per_a.q(), effective, st);
+  const WideQ after_gear_loss = fx::mul<WideQ>(m.efficiency.q(), motor_torque, st);
+  const LoadQ wheel_torque = fx::mul<LoadQ>(m.gear_ratio.q(), after_gear_loss, st);
+  if (!st.ok()) {
+    return TorqueResult{TorqueNm::zero(), EstimateStatus::overflow};
+  }
+  return TorqueResult{TorqueNm(wheel_torque), EstimateStatus::ok};
+}
+
+/// A raw value of `bits` significant bits (1 to 31), at least 1.
+std::int32_t random_raw(std::mt19937_64& rng, std::uint32_t bits) {
+  return static_cast<std::int32_t>((rng() >> (64U - bits)) | (std::uint64_t{1U} << (bits - 1U)));
+}
+
+// The magnitude chain of torque_from_current (motor.cpp, session 18) against
+// the checked chain it replaced, bit for bit and status for status: random
+// motors of every magnitude (gear, Kt and the sensor range of 1 to 31 bits,
+// eta in (0, 1], I0 below the range, including 0), currents across the
+// whole range and at its ends, both directions; the driving current's
+// product above 2^32 raw and the torque beyond Q15.16 included.
+TEST(Motor, MagnitudeChainGivesTheCheckedChainsBits) {
+  std::mt19937_64 rng(20261127U);  // NOLINT(cert-msc32-c,cert-msc51-cpp): reproducible samples
+  std::uint32_t overflows = 0U;
+  std::uint32_t torques = 0U;
+  for (int k = 0; k < 20000; ++k) {
+    MotorParams m{};
+    m.gear_ratio = GearRatio::from_raw(random_raw(rng, 1U + static_cast<std::uint32_t>(rng() % 31U)));
+    m.efficiency = Efficiency::from_raw(
+        ((k % 7) == 0) ? 0x40000000 : std::max(1, static_cast<std::int32_t>(rng() % 0x40000000U)));
+    m.kt_nm_per_a = TorqueConstantNmPerA::from_raw(random_raw(rng, 1U + static_cast<std::uint32_t>(rng() % 31U)));
+    m.current_abs_max_a = CurrentA::from_raw(std::max(1, random_raw(rng, 1U + static_cast<std::uint32_t>(rng() % 31U))));
+    const std::int32_t range = m.current_abs_max_a.raw();
+    m.no_load_current_a = CurrentA::from_raw(((k % 5) == 0) ? 0 : static_cast<std::int32_t>(rng() % static_cast<std::uint64_t>(range)));
+    ASSERT_EQ(check_motor(m), EstimateStatus::ok);
+    const std::int32_t ends[] = {range, -range, 0, 1, -1, range - 1, -(range - 1)};
+    for (int j = 0; j < 27; ++j) {
+      const std::int32_t raw = (j < 7) ? ends[j] : static_cast<std::int32_t>((rng() % (2U * static_cast<std::uint64_t>(range) + 1U))) - range;
+      for (const DriveDirection dir : {DriveDirection::forward, DriveDirection::reverse}) {
+        const CurrentA i = CurrentA::from_raw(raw);
+        const TorqueResult expected = torque_by_checked_chain(m, i, dir);
+        const TorqueResult got = torque_from_current(m, i, dir);
+        ASSERT_EQ(got.status, expected.status) << raw;
+        ASSERT_EQ(got.torque_nm.raw(), expected.torque_nm.raw()) << raw;
+        overflows += (expected.status == EstimateStatus::overflow) ? 1U : 0U;
+        torques += (expected.status == EstimateStatus::ok) ? 1U : 0U;
+      }
+    }
+  }
+  EXPECT_GT(overflows, 10000U);  // both outcomes well represented
+  EXPECT_GT(torques, 100000U);
+}
+
+// The torque's own limits: with N = 32, eta = 1 and Kt = 1 N m/A the torque
+// is twice the current's raw value, so 2^30 raw amperes give +2^31 raw
+// newton-metres (beyond Q15.16: overflow) and -2^30 give the format's
+// minimum, -2^31 (no overflow); one raw ampere less is the largest torque.
+TEST(Motor, TorqueAtTheFormatsEndsSaturatesOnlyBeyondIt) {
+  MotorParams m{};
+  m.gear_ratio = GearRatio::from_raw(1 << 21);
+  m.efficiency = Efficiency::from_raw(1 << 30);
+  m.kt_nm_per_a = TorqueConstantNmPerA::from_raw(1 << 28);
+  m.no_load_current_a = CurrentA::zero();
+  m.current_abs_max_a = CurrentA::from_raw(INT32_MAX);
+  const TorqueResult beyond = torque_from_current(m, CurrentA::from_raw(1 << 30), DriveDirection::forward);
+  EXPECT_EQ(beyond.status, EstimateStatus::overflow);
+  EXPECT_EQ(beyond.torque_nm, TorqueNm::zero());
+  const TorqueResult lowest = torque_from_current(m, CurrentA::from_raw(-(1 << 30)), DriveDirection::forward);
+  ASSERT_EQ(lowest.status, EstimateStatus::ok);
+  EXPECT_EQ(lowest.torque_nm.raw(), INT32_MIN);
+  const TorqueResult highest = torque_from_current(m, CurrentA::from_raw((1 << 30) - 1), DriveDirection::forward);
+  ASSERT_EQ(highest.status, EstimateStatus::ok);
+  EXPECT_EQ(highest.torque_nm.raw(), INT32_MAX - 1);
+  for (const std::int32_t raw : {1 << 30, -(1 << 30), (1 << 30) - 1}) {
+    const TorqueResult expected = torque_by_checked_chain(m, CurrentA::from_raw(raw), DriveDirection::forward);
+    const TorqueResult got = torque_from_current(m, CurrentA::from_raw(raw), DriveDirection::forward);
+    EXPECT_EQ(got.status, expected.status);
+    EXPECT_EQ(got.torque_nm, expected.torque_nm);
+  }
+}
+
 TEST(Motor, CurrentFromTorqueInvertsTorqueFromCurrent) {
   for (double i : {-9.0, -2.5, -0.3, 0.3, 2.5, 9.0}) {
     for (DriveDirection dir : {DriveDirection::forward, DriveDirection::reverse}) {
@@ -151,11 +254,29 @@ TEST(CurrentLimit, ReportsTheClampAndInvalidInputs) {
   m.kt_nm_per_a = TorqueConstantNmPerA::zero();
   EXPECT_EQ(test::current_limit_of(t.correction, m, t.wheel_radius_m, q<WheelLoadN>(50.0), t.monitor.allowed_sinkage_m).status,
             EstimateStatus::invalid_motor);
+  // torque_limit() checks its own inputs (current_limit() checks them before it).
+  EXPECT_EQ(torque_limit(Coefficients{q<Ratio>(1.0), q<Ratio>(1.0), q<Ratio>(0.13)}, q<Ratio>(0.5), LengthM::zero(),
+                         q<WheelLoadN>(50.0), q<SinkageM>(0.02))
+                .status,
+            EstimateStatus::invalid_radius);
   // T_max beyond Q15.16.
   EXPECT_EQ(torque_limit(Coefficients{q<Ratio>(0.25), q<Ratio>(4.0), q<Ratio>(1.0)}, q<Ratio>(2.0), q<LengthM>(2.0),
                          q<WheelLoadN>(30000.0), q<SinkageM>(2.0))
                 .status,
             EstimateStatus::overflow);
+  // The limit reports that overflow before a refused motor (T_max is formed
+  // first, as current_from_torque() would form the current), and a refused
+  // motor before anything else once T_max fits.
+  const CorrectionResult steep{Coefficients{q<Ratio>(0.25), q<Ratio>(4.0), q<Ratio>(1.0)}, q<Ratio>(2.0),
+                               LoadClamp::above_last, EstimateStatus::ok};
+  const MotorDivisors divisors = make_motor_divisors(t.motor);
+  const CurrentLimitResult beyond = current_limit(steep, m, divisors, q<LengthM>(2.0), q<WheelLoadN>(30000.0), q<SinkageM>(2.0));
+  EXPECT_EQ(beyond.status, EstimateStatus::overflow);
+  EXPECT_EQ(beyond.clamp, LoadClamp::above_last);
+  EXPECT_EQ(current_limit(steep, t.motor, divisors, q<LengthM>(2.0), q<WheelLoadN>(30000.0), q<SinkageM>(2.0)).status,
+            EstimateStatus::overflow);
+  EXPECT_EQ(current_limit(steep, m, divisors, q<LengthM>(0.15), q<WheelLoadN>(50.0), q<SinkageM>(0.02)).status,
+            EstimateStatus::invalid_motor);
 }
 
 TEST(CurrentLimit, AgreesWithTheReferenceTwin) {

@@ -32,6 +32,7 @@
 
 #include <cstdint>
 
+#include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
@@ -68,10 +69,72 @@ constexpr std::uint64_t scale_quotient(std::uint32_t q, std::int32_t exponent) n
   if (exponent < -32) {
     return 0U;  // q * 2^exponent < 2^32 * 2^-33 = 1/2
   }
-  // (q / 2^(s-1) + 1) / 2, floored twice: q / 2^s rounded half up, in 32-bit
-  // words (a 64-bit shift by a variable count is a library call on 32-bit cores).
-  const auto s = static_cast<std::uint32_t>(-exponent);
-  return (static_cast<std::uint64_t>(q >> (s - 1U)) + 1U) >> 1U;
+  // x = floor(q / 2^(s-1)), then floor(x / 2) + (x mod 2): q / 2^s rounded
+  // half up, all in one 32-bit word (x + 1 would need 33 bits for x =
+  // 2^32 - 1; a 64-bit shift by a variable count is a library call on
+  // 32-bit cores).
+  const std::uint32_t x = q >> (static_cast<std::uint32_t>(-exponent) - 1U);
+  return std::uint64_t{(x >> 1U) + (x & 1U)};
+}
+
+/// A magnitude's leading 32 bits and its bit length.
+struct LeadingBits {
+  std::uint32_t word;  ///< a 2^(32 - bits), truncated when bits > 32: in [2^31, 2^32)
+  std::uint32_t bits;  ///< wide::bit_length(a)
+};
+
+/// For a > 0: wide::leading_word and wide::bit_length in one pass, by halving
+/// steps that shift the word left (16, 8, 4, 2 and 1 bits) until its top bit
+/// is set and count the bits it lacked; a high word then takes the low
+/// word's top bits. The form for cores without a count of leading zeros
+/// (ARMv6-M: about 22 instructions where the two helpers took about 30);
+/// the host tests call it directly (test_normalised_quotient).
+SW_FX_INLINE constexpr LeadingBits leading_bits_by_halves(std::uint64_t a) noexcept {
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  const auto high = static_cast<std::uint32_t>(a / kWord);
+  const auto low = static_cast<std::uint32_t>(a);
+  std::uint32_t word = (high != 0U) ? high : low;
+  std::uint32_t bits = (high != 0U) ? 64U : 32U;
+  if ((word >> 16U) == 0U) {
+    word <<= 16U;
+    bits -= 16U;
+  }
+  if ((word >> 24U) == 0U) {
+    word <<= 8U;
+    bits -= 8U;
+  }
+  if ((word >> 28U) == 0U) {
+    word <<= 4U;
+    bits -= 4U;
+  }
+  if ((word >> 30U) == 0U) {
+    word <<= 2U;
+    bits -= 2U;
+  }
+  if ((word >> 31U) == 0U) {
+    word <<= 1U;
+    bits -= 1U;
+  }
+  // A high word shifted left by 64 - bits (1 to 31) takes as many of the
+  // low word's top bits.
+  if ((high != 0U) && (bits < 64U)) {
+    word |= low >> (bits - 32U);
+  }
+  return LeadingBits{word, bits};
+}
+
+/// For a > 0, a's leading 32 bits and bit length in the core's cheaper form:
+/// a count of leading zeros where the core has one (wide::kClzInstruction),
+/// else the halving steps above. The same two integers either way. For
+/// a == 0 the word is 0 and the bit length has no meaning (0 or 1): a zero
+/// operand is answered before its scale is looked at.
+SW_FX_INLINE constexpr LeadingBits leading_bits(std::uint64_t a) noexcept {
+  if constexpr (wide::kClzInstruction) {
+    const std::uint32_t bits = wide::bit_length(a);
+    return LeadingBits{wide::leading_word(a, bits), bits};
+  } else {
+    return leading_bits_by_halves(a);
+  }
 }
 
 }  // namespace detail
@@ -91,17 +154,21 @@ template <typename Out>
   if (n.magnitude == 0U) {
     return Out::zero();
   }
-  const std::uint32_t n_bits = wide::bit_length(n.magnitude);
-  const std::uint32_t d_bits = wide::bit_length(d.magnitude);
   // Both leading words in [2^31, 2^32); n's times 2^31 has a high word below
   // d's, so the quotient fits 32 bits.
-  const std::uint64_t n_leading = wide::leading_word(n.magnitude, n_bits);
-  const std::uint32_t d_leading = wide::leading_word(d.magnitude, d_bits);
-  const std::uint32_t q = wide::divide_64_by_32(n_leading << 31U, d_leading).quotient;
+  const detail::LeadingBits n_leading = detail::leading_bits(n.magnitude);
+  const detail::LeadingBits d_leading = detail::leading_bits(d.magnitude);
+  // A divisor whose leading word is 2^31 (a power of two, as C1 = 1 in both
+  // shipped correction tables) divides exactly: floor(N 2^31 / 2^31) = N.
+  constexpr std::uint32_t kPowerOfTwo = 0x80000000U;
+  const std::uint32_t q = (d_leading.word == kPowerOfTwo)
+                              ? n_leading.word
+                              : wide::divide_64_by_32(std::uint64_t{n_leading.word} << 31U, d_leading.word).quotient;
   // n/d ~ q * 2^(n_bits - d_bits - 31 - n.frac + d.frac); in Out's raw units
   // q * 2^exponent with:
-  const std::int32_t exponent = ((static_cast<std::int32_t>(n_bits) - static_cast<std::int32_t>(d_bits)) - 31) -
-                                ((n.frac_bits - d.frac_bits) - Out::frac_bits);
+  const std::int32_t exponent =
+      ((static_cast<std::int32_t>(n_leading.bits) - static_cast<std::int32_t>(d_leading.bits)) - 31) -
+      ((n.frac_bits - d.frac_bits) - Out::frac_bits);
   const std::uint64_t mag = detail::scale_quotient(q, exponent);
   return Out::from_raw(detail::from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
 }

@@ -62,6 +62,44 @@ constexpr std::uint32_t floor_two_to_63_less_1_over(std::uint32_t v) noexcept {
   return wide::divide_64_by_32(kNumerator, v).quotient;
 }
 
+/// True where a 64-bit shift by a run-time count is a library call
+/// (__aeabi_llsr, about 12 instructions and the call): ARMv6-M, the cores
+/// wide::kMul32x32BySoftware names. ARMv7-M (the Cortex-M4), ARMv7-A and
+/// x86-64 shift inline, and there the word form below measured slower.
+constexpr bool kShift64BySoftware = wide::kMul32x32BySoftware;
+
+/// value / 2^s rounded to nearest, ties up, for s in [1, 63]: with
+/// x = floor(value / 2^(s-1)), floor(x / 2) + (x mod 2) (the same integer as
+/// (value + 2^(s-1)) >> s, without its carry). x is formed on 32-bit words
+/// (high >> t; low >> t joined by high << (32 - t), written as two shifts so
+/// that t = 0 needs no case). The form for kShift64BySoftware; the host tests
+/// call it directly (test_reciprocal: against the 64-bit shift for every s).
+SW_FX_INLINE constexpr std::uint64_t shift_right_rounded_by_words(std::uint64_t value, std::uint32_t s) noexcept {
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  const auto high = static_cast<std::uint32_t>(value / kWord);
+  const auto low = static_cast<std::uint32_t>(value);
+  const std::uint32_t t = s - 1U;  // 0..62
+  if (t >= 32U) {
+    const std::uint32_t x = high >> (t - 32U);
+    return std::uint64_t{(x >> 1U) + (x & 1U)};
+  }
+  const std::uint64_t x =
+      (std::uint64_t{high >> t} * kWord) | std::uint64_t{(low >> t) | ((high << 1U) << (31U - t))};
+  return (x >> 1U) + (x & 1U);
+}
+
+/// value / 2^s rounded to nearest, ties up, for value < 2^63 and s in
+/// [1, 63], in the core's cheaper form: one 64-bit shift by s - 1
+/// ((value + 2^(s-1)) >> s as ((value >> (s-1)) + 1) >> 1, the same integer),
+/// or the word form above. The same integer either way.
+SW_FX_INLINE constexpr std::uint64_t shift_right_rounded(std::uint64_t value, std::uint32_t s) noexcept {
+  if constexpr (kShift64BySoftware) {
+    return shift_right_rounded_by_words(value, s);
+  } else {
+    return ((value >> (s - 1U)) + 1U) >> 1U;
+  }
+}
+
 }  // namespace detail
 
 /// The reciprocal of the positive magnitude `d_raw` with `d_frac_bits`
@@ -110,11 +148,8 @@ template <typename Out, std::int32_t Fx>
   const bool rounds = (shift > 0) && (shift < 64);
   std::uint64_t mag = (grows && (product != 0U)) ? ~std::uint64_t{0U} : 0U;
   if (rounds) {
-    const auto s = static_cast<std::uint32_t>(shift);
-    // (product + 2^(s-1)) >> s, as ((product >> (s-1)) + 1) >> 1: the same
-    // integer, with one variable 64-bit shift (a library call on 32-bit
-    // cores) instead of two.
-    mag = ((product >> (s - 1U)) + 1U) >> 1U;
+    // (product + 2^(s-1)) >> s without a 64-bit shift by a run-time count.
+    mag = detail::shift_right_rounded(product, static_cast<std::uint32_t>(shift));
   }
   return Out::from_raw(detail::from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
 }

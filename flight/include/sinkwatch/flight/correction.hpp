@@ -55,9 +55,9 @@ struct CorrectionResult {
 /// A segment width W_k+1 - W_k (raw Q15.16, positive) shifted left until its
 /// top bit is bit 31, and its reciprocal's mantissa (fixedpoint/reciprocal.hpp).
 /// The interpolation fraction (W - W_k) / width is then one product with the
-/// mantissa, at most three below the quotient, and a remainder that corrects
+/// mantissa, at most two below the quotient, and a remainder that corrects
 /// it: the exact quotient, so the fraction has fx::div's bits without a
-/// division per cycle (correction.cpp, fraction_in).
+/// division per cycle (correction.cpp, fraction_of).
 struct SegmentWidth {
   std::uint32_t normalised{0U};  ///< width * 2^shift, in [2^31, 2^32); 0: no segment
   std::uint32_t shift{0U};

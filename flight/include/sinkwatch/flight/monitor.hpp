@@ -159,10 +159,6 @@ class WheelMonitor {
   const WheelCounters& counters() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
 
  private:
-  /// step() on parameters whose table is valid.
-  void evaluate(const WheelInput& input, TimeMs now, const PreparedParameters& prepared, WheelOutput& out) noexcept;
-  void count(SampleStatus status) noexcept;
-  void push_history(bool caution, bool stop, bool clear) noexcept;
   /// The episode's peak current (and its load) and largest estimate.
   void track_episode(CurrentA directed, WheelLoadN load_n, SinkageM sinkage_m) noexcept;
   /// Stage 4: NOMINAL -> CAUTION -> STOP and back (STOP latched).
