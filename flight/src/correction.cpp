@@ -43,9 +43,6 @@ std::uint32_t rounded_step(std::uint64_t product, bool against, std::uint32_t a_
 Ratio lerp(Ratio a, Ratio b, std::uint32_t fraction) noexcept {
   const std::int32_t a_raw = a.raw();
   const std::int32_t b_raw = b.raw();
-  if (a_raw == b_raw) {
-    return a;  // a coefficient the table holds constant (C1, C2 in both shipped tables): no product
-  }
   const auto a_magnitude = static_cast<std::uint32_t>(fx::detail::magnitude(a_raw));  // <= 2^31
   // |b - a| in modular 32-bit arithmetic: exact, as it is below 2^32. The
   // value lies between a and b, so it fits Q7.24.

@@ -311,63 +311,6 @@ TEST(NormalisedQuotient, ScaledQuotientIsTheSixtyFourBitRounding) {
   }
 }
 
-/// divide_normalised as the session 17 code formed it: the long division
-/// whatever the divisor, the helpers apart, the rounding on 64 bits.
-template <typename Out>
-Out divide_by_long_division(fx::ScaledMagnitude n, fx::ScaledMagnitude d, fx::Status& status) {
-  using OutS = typename Out::storage_type;
-  if (d.magnitude == 0U) {
-    status.raise(fx::Flag::div_by_zero);
-    return (n.magnitude == 0U) ? Out::zero() : (n.negative ? Out::min() : Out::max());
-  }
-  if (n.magnitude == 0U) {
-    return Out::zero();
-  }
-  const std::uint32_t n_bits = fx::wide::bit_length(n.magnitude);
-  const std::uint32_t d_bits = fx::wide::bit_length(d.magnitude);
-  const std::uint64_t n_leading = fx::wide::leading_word(n.magnitude, n_bits);
-  const std::uint32_t q = fx::wide::divide_64_by_32(n_leading << 31U, fx::wide::leading_word(d.magnitude, d_bits)).quotient;
-  const std::int32_t exponent = ((static_cast<std::int32_t>(n_bits) - static_cast<std::int32_t>(d_bits)) - 31) -
-                                ((n.frac_bits - d.frac_bits) - Out::frac_bits);
-  const std::uint64_t mag = scale_reference(q, exponent);
-  const bool negative = n.negative != d.negative;
-  return Out::from_raw(fx::detail::from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
-}
-
-template <typename Out>
-void expect_same_as_long_division(fx::ScaledMagnitude n, fx::ScaledMagnitude d) {
-  fx::Status st;
-  fx::Status st_reference;
-  const Out got = fx::divide_normalised<Out>(n, d, st);
-  const Out expected = divide_by_long_division<Out>(n, d, st_reference);
-  ASSERT_EQ(got.raw(), expected.raw()) << n.magnitude << " / " << d.magnitude;
-  ASSERT_EQ(st.has(fx::Flag::overflow), st_reference.has(fx::Flag::overflow)) << n.magnitude << " / " << d.magnitude;
-  ASSERT_EQ(st.has(fx::Flag::div_by_zero), st_reference.has(fx::Flag::div_by_zero));
-}
-
-// A divisor whose leading word is 2^31 (a power of two) takes no division
-// (session 18): the same quotient and status as the long division, for
-// every power of two and its neighbours (which divide), against numerators
-// of every length, sign and scale, in three formats.
-TEST(NormalisedQuotient, PowerOfTwoDivisorsGiveTheLongDivisionsBits) {
-  std::mt19937_64 rng(20261131U);
-  for (std::uint32_t k = 0U; k < 64U; ++k) {
-    const std::uint64_t power = std::uint64_t{1U} << k;
-    for (const std::uint64_t d : {power, power + 1U, power - 1U, power | (power >> 1U)}) {
-      if (d == 0U) {
-        continue;
-      }
-      for (int i = 0; i < 2000; ++i) {
-        const fx::ScaledMagnitude n{(rng() & 1U) != 0U, random_magnitude(rng, 64U), static_cast<std::int32_t>(rng() % 64U)};
-        const fx::ScaledMagnitude dd{(rng() & 1U) != 0U, d, static_cast<std::int32_t>(rng() % 64U)};
-        expect_same_as_long_division<fx::Q<std::int32_t, 24>>(n, dd);
-        expect_same_as_long_division<fx::Q<std::int32_t, 16>>(n, dd);
-        expect_same_as_long_division<fx::Q<std::int64_t, 40>>(n, dd);
-      }
-    }
-  }
-}
-
 TEST(NormalisedQuotient, MostNegativeOperandsAreTheirMagnitudes) {
   using Out = fx::Q<std::int32_t, 0>;
   fx::Status st;

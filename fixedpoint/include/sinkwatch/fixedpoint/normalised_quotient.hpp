@@ -158,12 +158,7 @@ template <typename Out>
   // d's, so the quotient fits 32 bits.
   const detail::LeadingBits n_leading = detail::leading_bits(n.magnitude);
   const detail::LeadingBits d_leading = detail::leading_bits(d.magnitude);
-  // A divisor whose leading word is 2^31 (a power of two, as C1 = 1 in both
-  // shipped correction tables) divides exactly: floor(N 2^31 / 2^31) = N.
-  constexpr std::uint32_t kPowerOfTwo = 0x80000000U;
-  const std::uint32_t q = (d_leading.word == kPowerOfTwo)
-                              ? n_leading.word
-                              : wide::divide_64_by_32(std::uint64_t{n_leading.word} << 31U, d_leading.word).quotient;
+  const std::uint32_t q = wide::divide_64_by_32(std::uint64_t{n_leading.word} << 31U, d_leading.word).quotient;
   // n/d ~ q * 2^(n_bits - d_bits - 31 - n.frac + d.frac); in Out's raw units
   // q * 2^exponent with:
   const std::int32_t exponent =
