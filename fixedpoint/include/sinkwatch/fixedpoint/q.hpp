@@ -225,7 +225,8 @@ SW_FX_INLINE constexpr Q<std::int32_t, F> add_word(Q<std::int32_t, F> a, Q<std::
     status.raise(Flag::overflow);
     return (a.raw() < 0) ? Q<std::int32_t, F>::min() : Q<std::int32_t, F>::max();
   }
-  return Q<std::int32_t, F>::from_raw(static_cast<std::int32_t>(a.raw() + b.raw()));
+  // Formed on 64 bits, where it cannot overflow (it fits 32 bits here).
+  return Q<std::int32_t, F>::from_raw(static_cast<std::int32_t>(static_cast<std::int64_t>(a.raw()) + b.raw()));
 }
 
 /// fx::sub on 32-bit storage, as add_word: the difference overflowed iff the
@@ -241,7 +242,8 @@ SW_FX_INLINE constexpr Q<std::int32_t, F> sub_word(Q<std::int32_t, F> a, Q<std::
     status.raise(Flag::overflow);
     return (a.raw() < 0) ? Q<std::int32_t, F>::min() : Q<std::int32_t, F>::max();
   }
-  return Q<std::int32_t, F>::from_raw(static_cast<std::int32_t>(a.raw() - b.raw()));
+  // Formed on 64 bits, where it cannot overflow (it fits 32 bits here).
+  return Q<std::int32_t, F>::from_raw(static_cast<std::int32_t>(static_cast<std::int64_t>(a.raw()) - b.raw()));
 }
 }  // namespace detail
 
@@ -488,6 +490,19 @@ SW_FX_INLINE constexpr Out mul_word_signed(std::int32_t a, std::int32_t b, Statu
   }
   return Out::from_raw(static_cast<std::int32_t>(static_cast<std::int64_t>(biased) - 0x80000000LL));
 }
+
+/// a b 2^-Shift into a 32-bit Out by the core's cheaper form: the signed
+/// product where the core multiplies 32 x 32 -> 64 signed in one
+/// instruction and the result is rounded (docs/performance.md, session 18),
+/// else the magnitudes. The same bits and flags either way.
+template <typename Out, std::int32_t Shift>
+SW_FX_INLINE constexpr Out mul_word(std::int32_t a, std::int32_t b, Status& status) noexcept {
+  if constexpr ((Shift > 0) && !wide::kMul32x32BySoftware) {
+    return mul_word_signed<Out, Shift>(a, b, status);
+  } else {
+    return mul_word_by_magnitudes<Out, Shift>(a, b, status);
+  }
+}
 }  // namespace detail
 
 /// a * b in the format Out, rounded to nearest (ties away from zero), within
@@ -513,12 +528,8 @@ template <typename Out, typename SA, std::int32_t FA, typename SB, std::int32_t 
       const std::uint64_t product = wide::mul_full(detail::magnitude32(a.raw()), detail::magnitude32(b.raw()));
       const auto m = static_cast<std::int64_t>(detail::round_shift_const<shift>(product));
       return Out::from_raw(negative ? -m : m);
-    } else if constexpr ((shift > 0) && !wide::kMul32x32BySoftware) {
-      // The signed product where the core multiplies 32 x 32 -> 64 signed
-      // in one instruction (docs/performance.md, session 18).
-      return detail::mul_word_signed<Out, shift>(a.raw(), b.raw(), status);
     } else {
-      return detail::mul_word_by_magnitudes<Out, shift>(a.raw(), b.raw(), status);
+      return detail::mul_word<Out, shift>(a.raw(), b.raw(), status);
     }
   } else if constexpr (std::is_same<W, std::uint64_t>::value) {
     const bool negative = detail::is_negative(a.raw()) != detail::is_negative(b.raw());
