@@ -359,13 +359,6 @@ TractionSample TractionMonitor::evaluate(const TractionInput& input, const Tract
   return (recent_count_ < kTractionMedianSamples) ? TractionSample::filling : TractionSample::ok;
 }
 
-TractionOutput TractionMonitor::step(const TractionInput& input, const TractionParams& params,
-                                     const MonitorParams& monitor, InverseRadius per_radius) noexcept {
-  TractionOutput out{};
-  step(input, params, monitor, per_radius, out);
-  return out;
-}
-
 void TractionMonitor::step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
                            InverseRadius per_radius, TractionOutput& out) noexcept {
   // Every field, as TractionOutput{} has them (the record is the previous

@@ -146,8 +146,8 @@ void evaluate(Row& r) {
         in.direction[i] = direction(r.in[10]);
       }
       TractionMonitor m;
-      const TractionOutput o =
-          m.step(in, table.traction, table.monitor, inverse_radius(LengthM::from_raw(i32(r.in[0]))));
+      TractionOutput o{};
+      m.step(in, table.traction, table.monitor, inverse_radius(LengthM::from_raw(i32(r.in[0]))), o);
       r.out[0] = o.rho_valid ? o.resistance.raw() : 0;
       r.status = static_cast<std::int64_t>(o.sample);
       break;

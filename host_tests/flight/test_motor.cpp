@@ -158,7 +158,9 @@ TEST(Motor, MagnitudeChainGivesTheCheckedChainsBits) {
     ASSERT_EQ(check_motor(m), EstimateStatus::ok);
     const std::int32_t ends[] = {range, -range, 0, 1, -1, range - 1, -(range - 1)};
     for (int j = 0; j < 27; ++j) {
-      const std::int32_t raw = (j < 7) ? ends[j] : static_cast<std::int32_t>((rng() % (2U * static_cast<std::uint64_t>(range) + 1U))) - range;
+      // A draw in [0, 2 range] less the range, on 64 bits (2 range exceeds int32_t).
+      const std::int64_t offset = static_cast<std::int64_t>(rng() % ((2U * static_cast<std::uint64_t>(range)) + 1U));
+      const std::int32_t raw = (j < 7) ? ends[j] : static_cast<std::int32_t>(offset - range);
       for (const DriveDirection dir : {DriveDirection::forward, DriveDirection::reverse}) {
         const CurrentA i = CurrentA::from_raw(raw);
         const TorqueResult expected = torque_by_checked_chain(m, i, dir);

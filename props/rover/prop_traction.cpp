@@ -57,7 +57,8 @@ RC_GTEST_PROP(TractionProp, CoefficientWithinBoundOfTheTwin, ()) {
   const flight::LengthM radius = raw_within<flight::LengthM>(0.01, 2.0);
   const double twin = ground::resistance_coefficient(t, p, w, d(radius));
   flight::TractionMonitor m;
-  const flight::TractionOutput out = m.step(in, table.traction, table.monitor, flight::inverse_radius(radius));
+  flight::TractionOutput out{};
+  m.step(in, table.traction, table.monitor, flight::inverse_radius(radius), out);
   if (std::fabs(twin) >= 127.0) {
     RC_ASSERT(!out.rho_valid || std::fabs(d(out.resistance)) >= 127.0);  // saturated or reported
     return;

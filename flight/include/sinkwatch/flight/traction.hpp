@@ -137,12 +137,11 @@ class TractionMonitor {
  public:
   TractionMonitor() noexcept;
 
-  /// One cycle; `params` is the table's section 8 and `monitor` its section 4
-  /// (the N-of-M window). `per_radius` is the table's 1/r (inverse_radius()).
-  TractionOutput step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
-                      InverseRadius per_radius) noexcept;
-  /// The same cycle into `out`, every field written (the rover step's
-  /// record: no output built and copied).
+  /// One cycle into `out`, every field written (the record may be the
+  /// previous cycle's: the rover step keeps it in its output, so no output
+  /// is built and copied); `params` is the table's section 8 and `monitor`
+  /// its section 4 (the N-of-M window). `per_radius` is the table's 1/r
+  /// (inverse_radius()).
   void step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
             InverseRadius per_radius, TractionOutput& out) noexcept;
 
