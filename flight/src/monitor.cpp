@@ -5,6 +5,7 @@
 #include "of_valid.hpp"
 
 #include "sinkwatch/fixedpoint/bounded.hpp"
+#include "sinkwatch/fixedpoint/inline.hpp"
 
 #include "sinkwatch/flight/current_limit.hpp"
 #include "sinkwatch/flight/estimator.hpp"
@@ -189,7 +190,7 @@ void WheelMonitor::hold_in_caution() noexcept {
   }
 }
 
-void WheelMonitor::track_episode(CurrentA directed, WheelLoadN load_n, SinkageM sinkage_m) noexcept {
+SW_FX_INLINE void WheelMonitor::track_episode(CurrentA directed, WheelLoadN load_n, SinkageM sinkage_m) noexcept {
   if ((!have_peak_) || (directed > peak_current_a_)) {
     have_peak_ = true;
     peak_current_a_ = directed;
@@ -201,8 +202,8 @@ void WheelMonitor::track_episode(CurrentA directed, WheelLoadN load_n, SinkageM 
   }
 }
 
-EventRecord WheelMonitor::stop_event(TimeMs now, StopReason reason,
-                                     const PreparedParameters& prepared) const noexcept {
+[[gnu::noinline]] EventRecord WheelMonitor::stop_event(TimeMs now, StopReason reason,
+                                                       const PreparedParameters& prepared) const noexcept {
   const ParameterTable& table = prepared.table();
   EventRecord e{};
   e.wheel = wheel_;
@@ -232,8 +233,8 @@ EventRecord WheelMonitor::stop_event(TimeMs now, StopReason reason,
   return e;
 }
 
-void WheelMonitor::transition(StopReason sample_reason, TimeMs now, const PreparedParameters& prepared,
-                              WheelOutput& out) noexcept {
+SW_FX_INLINE void WheelMonitor::transition(StopReason sample_reason, TimeMs now,
+                                           const PreparedParameters& prepared, WheelOutput& out) noexcept {
   const MonitorParams& mp = prepared.table().monitor;
   if (state_ == WheelState::stop) {
     return;  // STOP is latched until clear_stop()
