@@ -1,12 +1,6 @@
 // Section 7's maximum drive current (current_limit.hpp).
 #include "sinkwatch/flight/current_limit.hpp"
 
-#include <cstdint>
-#include <limits>
-
-#include "sinkwatch/fixedpoint/normalised_quotient.hpp"
-#include "sinkwatch/fixedpoint/wide.hpp"
-
 #include "of_valid.hpp"
 
 namespace sinkwatch {
@@ -32,9 +26,10 @@ CurrentLimitResult current_limit(const CorrectionResult& corr, const MotorParams
     return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, input_status};
   }
   // The motor is checked after T_max, as current_from_torque() would: a
-  // T_max beyond its format is overflow whatever the motor.
-  const TorqueLimitResult t =
-      detail::torque_limit_of_valid(corr.coefficients, corr.dp_max_ratio, radius_m, load_n, allowed_sinkage_m);
+  // T_max beyond its format is overflow whatever the motor. T_max through
+  // torque_limit() (its input check passes again): one expansion of the
+  // inline core in this file, not two.
+  const TorqueLimitResult t = torque_limit(corr.coefficients, corr.dp_max_ratio, radius_m, load_n, allowed_sinkage_m);
   const EstimateStatus motor_status = check_motor(motor);
   if ((t.status == EstimateStatus::ok) && (motor_status != EstimateStatus::ok)) {
     return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, motor_status};
