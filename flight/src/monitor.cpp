@@ -93,11 +93,11 @@ SampleStatus classify_sample(const WheelInput& input, TimeMs now, bool have_last
   // between them.
   const SinkageResult sink = detail::sinkage_of_valid(corr.coefficients, table.wheel_radius_m, input.load_n,
                                                       torque.torque_nm, input.drawbar_pull_n);
-  const TorqueLimitResult torque_limit =
+  const TorqueLimitResult torque_max =
       detail::torque_limit_of_valid(corr.coefficients, corr.dp_max_ratio, table.wheel_radius_m, input.load_n,
                                     table.monitor.allowed_sinkage_m);
   const CurrentLimitResult limit =
-      detail::limit_from_torque(corr, table.motor, prepared.motor_divisors(), torque_limit);
+      detail::limit_from_torque(corr, table.motor, prepared.motor_divisors(), torque_max);
   if ((sink.status != EstimateStatus::ok) || (limit.status != EstimateStatus::ok)) {
     return false;
   }
