@@ -5,6 +5,7 @@
 #include "of_valid.hpp"
 
 #include "sinkwatch/fixedpoint/bounded.hpp"
+#include "sinkwatch/fixedpoint/inline.hpp"
 
 #include "sinkwatch/flight/current_limit.hpp"
 #include "sinkwatch/flight/estimator.hpp"
@@ -68,31 +69,35 @@ SampleStatus classify_sample(const WheelInput& input, TimeMs now, bool have_last
   return SampleStatus::ok;
 }
 
-/// Stage 2: T, z and I_max of a usable sample into `out`; false when one of
-/// them has no number.
-bool estimate(const WheelInput& input, const PreparedParameters& prepared, WheelOutput& out) noexcept {
+/// Stage 2 from the sample's corrections `corr` (for its load): T, z and
+/// I_max into `out`; false when one of them has no number. Out of line: the
+/// Eq. 11 and limit cores inlined here (of_valid.hpp) keep their registers
+/// to themselves, not beside WheelMonitor::step's.
+[[gnu::noinline]] bool estimate_from(const CorrectionResult& corr, const WheelInput& input,
+                                     const PreparedParameters& prepared, WheelOutput& out) noexcept {
   const ParameterTable& table = prepared.table();
   // The caller's torque (WheelInput::drive_torque), the one the loads used.
   const TorqueResult& torque = input.drive_torque;
-  const CorrectionResult corr =
-      (input.corrections != nullptr)
-          ? *input.corrections
-          : corrections_at(table.correction, prepared.correction_divisors(), input.load_n);
   out.clamp = corr.clamp;
   // The coefficients, radius and load checked once for Eq. 11 and the limit
   // (the corrections may be the caller's); the motor is the validated
   // table's (of_valid.hpp).
   const EstimateStatus inputs = (corr.status == EstimateStatus::ok)
-                                    ? check_estimator_inputs(corr.coefficients, table.wheel_radius_m, input.load_n)
+                                    ? detail::estimator_inputs_status(corr.coefficients, table.wheel_radius_m, input.load_n)
                                     : corr.status;
   if ((torque.status != EstimateStatus::ok) || (inputs != EstimateStatus::ok)) {
     return false;
   }
+  // Eq. 11 and the limit in this one function (their cores are inline,
+  // of_valid.hpp): no call, argument record or result record per wheel
+  // between them.
   const SinkageResult sink = detail::sinkage_of_valid(corr.coefficients, table.wheel_radius_m, input.load_n,
                                                       torque.torque_nm, input.drawbar_pull_n);
-  const SinkageM allowed = table.monitor.allowed_sinkage_m;
-  const CurrentLimitResult limit = detail::current_limit_of_valid(corr, table.motor, prepared.motor_divisors(),
-                                                                  table.wheel_radius_m, input.load_n, allowed);
+  const TorqueLimitResult torque_max =
+      detail::torque_limit_of_valid(corr.coefficients, corr.dp_max_ratio, table.wheel_radius_m, input.load_n,
+                                    table.monitor.allowed_sinkage_m);
+  const CurrentLimitResult limit =
+      detail::limit_from_torque(corr, table.motor, prepared.motor_divisors(), torque_max);
   if ((sink.status != EstimateStatus::ok) || (limit.status != EstimateStatus::ok)) {
     return false;
   }
@@ -102,6 +107,17 @@ bool estimate(const WheelInput& input, const PreparedParameters& prepared, Wheel
   out.limit_valid = true;
   out.current_limit_a = limit.current_limit_a;
   return true;
+}
+
+/// Stage 2 of a usable sample. The caller's corrections (RoverStep's) are
+/// read in place, not copied (20 bytes per wheel).
+bool estimate(const WheelInput& input, const PreparedParameters& prepared, WheelOutput& out) noexcept {
+  if (input.corrections != nullptr) {
+    return estimate_from(*input.corrections, input, prepared, out);
+  }
+  const CorrectionResult own =
+      corrections_at(prepared.table().correction, prepared.correction_divisors(), input.load_n);
+  return estimate_from(own, input, prepared, out);
 }
 
 /// No estimate and no limit this cycle (an unusable sample, or one whose
@@ -174,7 +190,7 @@ void WheelMonitor::hold_in_caution() noexcept {
   }
 }
 
-void WheelMonitor::track_episode(CurrentA directed, WheelLoadN load_n, SinkageM sinkage_m) noexcept {
+SW_FX_INLINE void WheelMonitor::track_episode(CurrentA directed, WheelLoadN load_n, SinkageM sinkage_m) noexcept {
   if ((!have_peak_) || (directed > peak_current_a_)) {
     have_peak_ = true;
     peak_current_a_ = directed;
@@ -186,8 +202,8 @@ void WheelMonitor::track_episode(CurrentA directed, WheelLoadN load_n, SinkageM 
   }
 }
 
-EventRecord WheelMonitor::stop_event(TimeMs now, StopReason reason,
-                                     const PreparedParameters& prepared) const noexcept {
+[[gnu::noinline]] EventRecord WheelMonitor::stop_event(TimeMs now, StopReason reason,
+                                                       const PreparedParameters& prepared) const noexcept {
   const ParameterTable& table = prepared.table();
   EventRecord e{};
   e.wheel = wheel_;
@@ -217,8 +233,8 @@ EventRecord WheelMonitor::stop_event(TimeMs now, StopReason reason,
   return e;
 }
 
-void WheelMonitor::transition(StopReason sample_reason, TimeMs now, const PreparedParameters& prepared,
-                              WheelOutput& out) noexcept {
+SW_FX_INLINE void WheelMonitor::transition(StopReason sample_reason, TimeMs now,
+                                           const PreparedParameters& prepared, WheelOutput& out) noexcept {
   const MonitorParams& mp = prepared.table().monitor;
   if (state_ == WheelState::stop) {
     return;  // STOP is latched until clear_stop()

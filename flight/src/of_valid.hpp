@@ -11,12 +11,24 @@
 // input checks fewer (docs/performance.md, session 16). The cores differ
 // from the public functions only in the checks they leave out: the same
 // arithmetic, the same statuses for every other input.
+//
+// The input check, Eq. 11's and the limit's cores are defined here, forced
+// inline (SW_FX_INLINE): the monitor's one per-wheel function
+// (monitor.cpp, estimate_from) computes the sinkage and the limit without a
+// call, an argument record or a result record between them, and the public
+// functions (estimator.cpp, current_limit.cpp) expand the same code, so
+// there is still one definition of each (round 13: M0 -526, M4 -262
+// instructions per six-wheel step, the bits unchanged).
 #ifndef SINKWATCH_FLIGHT_OF_VALID_HPP
 #define SINKWATCH_FLIGHT_OF_VALID_HPP
 
 #include <cstdint>
+#include <limits>
 
+#include "sinkwatch/fixedpoint/inline.hpp"
+#include "sinkwatch/fixedpoint/normalised_quotient.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/reciprocal.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
 #include "sinkwatch/flight/current_limit.hpp"
 #include "sinkwatch/flight/estimator.hpp"
@@ -44,16 +56,136 @@ inline std::int64_t with_sign(bool negative, std::uint64_t magnitude) noexcept {
 [[nodiscard]] CurrentResult current_of_valid_motor(const MotorParams& motor, const MotorDivisors& divisors,
                                                    TorqueNm torque_nm, DriveDirection direction) noexcept;
 
-/// sinkage_from_pull() for inputs check_estimator_inputs() accepts.
-[[nodiscard]] SinkageResult sinkage_of_valid(const Coefficients& c, LengthM radius_m, WheelLoadN load_n,
-                                             TorqueNm torque_nm, DrawbarPullN drawbar_pull_n) noexcept;
+/// check_estimator_inputs(), inline: the monitor checks each wheel's inputs
+/// once per cycle without a call.
+SW_FX_INLINE EstimateStatus estimator_inputs_status(const Coefficients& c, LengthM radius_m,
+                                                    WheelLoadN load_n) noexcept {
+  if ((radius_m < kMinRadiusM) || (radius_m > kMaxRadiusM)) {
+    return EstimateStatus::invalid_radius;
+  }
+  if (load_n <= WheelLoadN::zero()) {
+    return EstimateStatus::invalid_load;
+  }
+  if ((c.c1 < kMinC12) || (c.c1 > kMaxC12) || (c.c2 < kMinC12) || (c.c2 > kMaxC12) || (c.c3 < kMinC3) ||
+      (c.c3 > kMaxC3)) {
+    return EstimateStatus::invalid_coefficient;
+  }
+  return EstimateStatus::ok;
+}
 
-/// current_limit() for corrections whose status is ok, with coefficients,
-/// radius and load that check_estimator_inputs() accepts, and a motor
-/// check_motor() accepts.
-[[nodiscard]] CurrentLimitResult current_limit_of_valid(const CorrectionResult& corrections, const MotorParams& motor,
-                                                        const MotorDivisors& divisors, LengthM radius_m,
-                                                        WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept;
+/// sinkage_from_pull() for inputs check_estimator_inputs() accepts.
+SW_FX_INLINE SinkageResult sinkage_of_valid(const Coefficients& c, LengthM radius_m, WheelLoadN load_n,
+                                             TorqueNm torque_nm, DrawbarPullN drawbar_pull_n) noexcept {
+  // z = (C1 T - r C3 W - r DP) / (C2 W): one division, its operands in
+  // Q23.40 on 64 bits (docs/flight.md, "Sinkage"). C1 T, r DP and C2 W are
+  // exact products; r C3 is rounded to Q2.29 before it meets W, so r C3 W is
+  // one product rounded to Q23.40. For inputs check_estimator_inputs()
+  // accepts (0 < C1, C2 <= 4, |C3| <= 1, 0 < r <= 2 m, W > 0; T and DP any
+  // 32-bit value) the terms are at most 2^57, 2^56 and 2^56 + 1 raw
+  // (|r C3| <= 2, 2^30 in Q2.29), their sum below 2^58: no intermediate can
+  // overflow, so the sum is plain 64-bit arithmetic without saturation
+  // tests, and each product is fx::mul's rounding of the exact product
+  // (ties away from zero), bit for bit the checked chain it replaced. r, W,
+  // C1 and C2 are positive, so only T, DP and C3 have a sign to take off and
+  // put back (r |C3| and its product with W as magnitudes, C3's sign put
+  // back once).
+  const std::int32_t r = radius_m.raw();
+  const std::int32_t w = load_n.raw();
+  const std::int64_t drive = with_sign(
+      torque_nm.raw() < 0,
+      fx::wide::mul_32x32_64(fx::detail::magnitude32(torque_nm.raw()), static_cast<std::uint32_t>(c.c1.raw())));
+  const std::int64_t pull_moment = with_sign(
+      drawbar_pull_n.raw() < 0,
+      fx::wide::mul_32x32_64(fx::detail::magnitude32(drawbar_pull_n.raw()), static_cast<std::uint32_t>(r)));
+  const auto r_c3 = static_cast<std::uint32_t>(fx::detail::round_shift_const<(2 * LengthQ::frac_bits) - 29>(
+      fx::wide::mul_32x32_64(static_cast<std::uint32_t>(r), fx::detail::magnitude32(c.c3.raw()))));  // <= 2^30
+  const std::int64_t offset_moment =
+      with_sign(c.c3.raw() < 0, fx::detail::round_shift_const<(29 + LoadQ::frac_bits) - 40>(
+                                    fx::wide::mul_32x32_64(r_c3, static_cast<std::uint32_t>(w))));  // < 2^56
+
+  using Moment = fx::Q<std::int64_t, 40>;
+  const Moment numerator = Moment::from_raw((drive - pull_moment) - offset_moment);
+  const fx::ScaledMagnitude denominator{
+      false, fx::wide::mul_32x32_64(static_cast<std::uint32_t>(c.c2.raw()), static_cast<std::uint32_t>(w)), 40};
+  fx::Status st;
+  const LengthQ z = fx::divide_normalised<LengthQ>(fx::to_scaled(numerator), denominator, st);
+  if (!st.ok()) {
+    return SinkageResult{SinkageM::zero(), EstimateStatus::overflow};
+  }
+  return SinkageResult{SinkageM(z), EstimateStatus::ok};
+}
+
+/// W L from L's leading 32 bits (truncated: < 2^-31 relative) times W > 0:
+/// one 32 x 32 -> 64-bit product whose scale is known only at run time.
+SW_FX_INLINE fx::ScaledMagnitude load_times(fx::Q<std::int64_t, 48> lever, WheelLoadN load_n) noexcept {
+  const std::uint64_t magnitude = fx::detail::magnitude(lever.raw());
+  const std::uint32_t bits = fx::wide::bit_length(magnitude);
+  const std::uint32_t leading = fx::wide::leading_word(magnitude, bits);  // magnitude 2^(32 - bits)
+  const std::uint64_t product =
+      fx::wide::mul_32x32_64(leading, static_cast<std::uint32_t>(load_n.raw()));  // < 2^63
+  return fx::ScaledMagnitude{lever.raw() < 0, product,
+                             ((16 + 48) + 32) - static_cast<std::int32_t>(bits)};
+}
+
+/// r (DP_max/W + C3) exactly (Q15.48 raw) for inputs check_estimator_inputs()
+/// accepts: r > 0 and |C3| <= 1 (2^24 raw), so the sum of the two ratios is
+/// below 2^31 + 2^24 < 2^32 in magnitude and r times it is one 32 x 32 ->
+/// 64-bit product (below 2^57). r DP_max/W + r C3, the same integer, took two.
+SW_FX_INLINE std::int64_t radius_times_ratios(std::int32_t r, Ratio dp_max_ratio, Ratio c3) noexcept {
+  const std::int64_t sum = static_cast<std::int64_t>(dp_max_ratio.raw()) + static_cast<std::int64_t>(c3.raw());
+  const auto sum_magnitude = static_cast<std::uint32_t>(fx::detail::magnitude(sum));  // < 2^32
+  return with_sign(sum < 0, fx::wide::mul_32x32_64(sum_magnitude, static_cast<std::uint32_t>(r)));
+}
+
+/// torque_limit() for inputs check_estimator_inputs() accepts.
+SW_FX_INLINE TorqueLimitResult torque_limit_of_valid(const Coefficients& c, Ratio dp_max_ratio, LengthM radius_m,
+                                        WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
+  // T_max = W L / C1 with the lever L = r (DP_max/W + C3) + C2 z_max, one
+  // division (docs/flight.md, "Current limit"). L is exact in Q15.48: for
+  // accepted inputs (0 < r <= 2 m, 0 < C1, C2 <= 4, |C3| <= 1, W > 0) and
+  // any 32-bit DP_max/W and z_max its products are below 2^57 (r times a
+  // sum below 2^32) and at most 2^57 raw and their sum below 2^58, so the sum
+  // is plain 64-bit arithmetic: the bits of the saturating sum it replaced,
+  // which could not saturate either. r, C1 and C2 are positive: only the
+  // other factors have a sign to take off and put back.
+  const std::int32_t z = allowed_sinkage_m.raw();
+  const std::int64_t lever =
+      radius_times_ratios(radius_m.raw(), dp_max_ratio, c.c3) +
+      with_sign(z < 0, fx::wide::mul_32x32_64(fx::detail::magnitude32(z), static_cast<std::uint32_t>(c.c2.raw())));
+  fx::Status st;
+  const fx::ScaledMagnitude c1{false, static_cast<std::uint32_t>(c.c1.raw()), RatioQ::frac_bits};
+  const LoadQ t_max = fx::divide_normalised<LoadQ>(load_times(fx::Q<std::int64_t, 48>::from_raw(lever), load_n), c1, st);
+  if (!st.ok()) {
+    return TorqueLimitResult{TorqueNm::zero(), EstimateStatus::overflow};
+  }
+  return TorqueLimitResult{TorqueNm(t_max), EstimateStatus::ok};
+}
+
+/// The limit from T_max: the motor model in the forward direction (a
+/// magnitude in the direction of motion: I0 adds), current_from_torque()'s
+/// bits for a motor check_motor() accepts. T_max times the prepared
+/// reciprocal of the gain is below 2^62 raw (a 32 x 32-bit product shifted
+/// right), I0 below 2^31, so their sum is exact in 64 bits; only a current
+/// beyond Q11.20 is refused, as rescaling the sum would refuse it.
+SW_FX_INLINE CurrentLimitResult limit_from_torque(const CorrectionResult& corr, const MotorParams& motor,
+                                     const MotorDivisors& divisors, const TorqueLimitResult& t) noexcept {
+  // Each return builds the whole result (no zeroed result overwritten
+  // field by field: the Cortex-M0 build cleared it with a memset per wheel).
+  if (t.status != EstimateStatus::ok) {
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, t.status};
+  }
+  using WideCurrentQ = fx::Q<std::int64_t, CurrentQ::frac_bits>;
+  fx::Status st;  // div_by_zero only for a motor without a reciprocal
+  const WideCurrentQ driving = fx::times_reciprocal<WideCurrentQ>(t.torque_nm.q(), divisors.inverse_gain, st);
+  const std::int64_t total = driving.raw() + static_cast<std::int64_t>(motor.no_load_current_a.raw());
+  constexpr std::int64_t kMin = std::numeric_limits<std::int32_t>::min();
+  constexpr std::int64_t kMax = std::numeric_limits<std::int32_t>::max();
+  if ((!st.ok()) || (total < kMin) || (total > kMax)) {
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, EstimateStatus::overflow};
+  }
+  const CurrentA limit(CurrentQ::from_raw(static_cast<std::int32_t>(total)));
+  return CurrentLimitResult{limit, t.torque_nm, corr.clamp, EstimateStatus::ok};
+}
 
 }  // namespace detail
 }  // namespace flight

@@ -344,21 +344,41 @@ void RoverStep::monitor_stage(const RoverTelemetry& t, TimeMs now, const Prepare
   const bool usable_sample = (out.status == RoverStepStatus::ok);
   const bool pass_as_stale = (out.status == RoverStepStatus::telemetry_stale);
   // Every field of every wheel's input is written: the record is the
-  // previous cycle's.
+  // previous cycle's. The stage's numbers in one loop when the sample is
+  // usable, the defaults in another when not: no choice per field and
+  // wheel, and fewer arrays live in each loop (the Cortex-M0's registers).
+  const bool valid = usable_sample || pass_as_stale;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     WheelInput& in = inputs_[i];
     in.time = t.time;
     in.current_a = t.current_a[i];
     in.direction = t.direction[i];
-    in.valid = usable_sample || pass_as_stale;
-    in.load_n = usable_sample ? out.load_n[i] : WheelLoadN::zero();
-    in.drawbar_pull_n = usable_sample ? out.drawbar_pull_n[i] : DrawbarPullN::zero();
-    in.corrections = usable_sample ? &terms_.corr[i] : nullptr;
-    // Field by field, as in wheel_torques.
-    in.drive_torque.torque_nm = usable_sample ? terms_.torque[i].torque_nm : kNoDriveTorque.torque_nm;
-    in.drive_torque.status = usable_sample ? terms_.torque[i].status : kNoDriveTorque.status;
-    in.drawbar_assumed = usable_sample && (out.drawbar_status == DrawbarStatus::saturated);
-    in.sensor_fault = usable_sample && !out.health.current_usable[i];
+    in.valid = valid;
+  }
+  if (usable_sample) {
+    const bool assumed = out.drawbar_status == DrawbarStatus::saturated;
+    for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+      WheelInput& in = inputs_[i];
+      in.load_n = out.load_n[i];
+      in.drawbar_pull_n = out.drawbar_pull_n[i];
+      in.corrections = &terms_.corr[i];
+      // Field by field, as in wheel_torques.
+      in.drive_torque.torque_nm = terms_.torque[i].torque_nm;
+      in.drive_torque.status = terms_.torque[i].status;
+      in.drawbar_assumed = assumed;
+      in.sensor_fault = !out.health.current_usable[i];
+    }
+  } else {
+    for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+      WheelInput& in = inputs_[i];
+      in.load_n = WheelLoadN::zero();
+      in.drawbar_pull_n = DrawbarPullN::zero();
+      in.corrections = nullptr;
+      in.drive_torque.torque_nm = kNoDriveTorque.torque_nm;
+      in.drive_torque.status = kNoDriveTorque.status;
+      in.drawbar_assumed = false;
+      in.sensor_fault = false;
+    }
   }
   monitor_.step(inputs_, now, prepared, out.monitor);
   traction_stage(t, prepared, out);

@@ -159,14 +159,18 @@ class WheelMonitor {
   const WheelCounters& counters() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
 
  private:
+  // track_episode and transition are step()'s stages, inline (defined and
+  // used only in monitor.cpp, forced inline there): a call each per wheel
+  // and cycle less (round 13: M0 -141, M4 -109 instructions per step).
   /// The episode's peak current (and its load) and largest estimate.
-  void track_episode(CurrentA directed, WheelLoadN load_n, SinkageM sinkage_m) noexcept;
+  inline void track_episode(CurrentA directed, WheelLoadN load_n, SinkageM sinkage_m) noexcept;
   /// Stage 4: NOMINAL -> CAUTION -> STOP and back (STOP latched).
   /// `sample_reason`: what the last usable sample was stop evidence of
   /// (current, slip, else sinkage); it names a STOP the window trips.
-  void transition(StopReason sample_reason, TimeMs now, const PreparedParameters& prepared,
-                  WheelOutput& out) noexcept;
-  /// The record written on entering STOP.
+  inline void transition(StopReason sample_reason, TimeMs now, const PreparedParameters& prepared,
+                         WheelOutput& out) noexcept;
+  /// The record written on entering STOP (out of line: its records are not
+  /// in step()'s frame on the cycles without a STOP).
   [[nodiscard]] EventRecord stop_event(TimeMs now, StopReason reason,
                                        const PreparedParameters& prepared) const noexcept;
 
