@@ -59,7 +59,9 @@ namespace detail {
 
 /// q * 2^exponent rounded to an integer (to nearest, ties up) for q < 2^32;
 /// all ones when it needs more than 64 bits (every format then saturates).
-constexpr std::uint64_t scale_quotient(std::uint32_t q, std::int32_t exponent) noexcept {
+/// Inline: in a file with two divisions GCC -Os made it a call (session 19:
+/// M0 -27, M4 -92 per step).
+SW_FX_INLINE constexpr std::uint64_t scale_quotient(std::uint32_t q, std::int32_t exponent) noexcept {
   if (exponent > 32) {
     return ~std::uint64_t{0U};
   }
