@@ -23,15 +23,15 @@ namespace {
 std::uint32_t fraction_of(std::uint32_t offset, const SegmentWidth& width) noexcept {
   const std::uint32_t v = width.normalised;
   const std::uint32_t a = offset << width.shift;  // < v
-  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
-  auto quotient = static_cast<std::uint32_t>(fx::wide::mul_32x32_64(a, width.mantissa) >> 31U);  // < 2^32
-  const std::uint64_t product = fx::wide::mul_32x32_64(quotient, v);
-  const auto product_low = static_cast<std::uint32_t>(product);
+  // floor(a m / 2^31) (< 2^32) from the product's words.
+  const detail::ProductWords estimate = detail::product_words(a, width.mantissa);
+  std::uint32_t quotient = (estimate.high << 1U) | (estimate.low >> 31U);
+  const detail::ProductWords product = detail::product_words(quotient, v);
   // a 2^32 - q' v (< 3 v) as two words: the low one wraps by design, and
   // the high one takes a borrow when the product's low word is not zero
   // (its top bit or its negation's is then set).
-  std::uint32_t low = 0U - product_low;
-  std::uint32_t high = a - static_cast<std::uint32_t>(product / kWord) - ((product_low | low) >> 31U);
+  std::uint32_t low = 0U - product.low;
+  std::uint32_t high = a - product.high - ((product.low | low) >> 31U);
   // MISRA C++:2023 9.5.1: a simple counted loop, no break.
   for (std::uint32_t step = 0U; step < 2U; ++step) {
     if ((high != 0U) || (low >= v)) {

@@ -147,8 +147,9 @@ TEST(CorrectionPaths, ShippedTablesAtEveryLoadStepMatchTheQ3132Chain) {
   }
 }
 
-// The column product of detail::interpolate_raw (session 19) against the
-// 64-bit product it replaced: the high word and bits 16..31, on random
+// The column products of detail::interpolate_raw and of the fraction
+// (session 19) against the 64-bit product they replaced: the high word, bits
+// 16..31 and the low word, on random
 // fractions and spans and on the extremes of both.
 TEST(CorrectionPaths, ColumnProductTopIsTheWideProducts) {
   std::mt19937_64 rng(23U);
@@ -161,6 +162,12 @@ TEST(CorrectionPaths, ColumnProductTopIsTheWideProducts) {
           flight::detail::product_top(flight::detail::halves_of(f), s)}) {
       ASSERT_EQ(top.high, static_cast<std::uint32_t>(p >> 32U)) << f << " " << s;
       ASSERT_EQ(top.bits16, static_cast<std::uint32_t>((p >> 16U) & 0xFFFFU)) << f << " " << s;
+    }
+    for (const flight::detail::ProductWords words :
+         {flight::detail::product_words_by_columns(flight::detail::halves_of(f), s),
+          flight::detail::product_words(f, s)}) {
+      ASSERT_EQ(words.high, static_cast<std::uint32_t>(p >> 32U)) << f << " " << s;
+      ASSERT_EQ(words.low, static_cast<std::uint32_t>(p)) << f << " " << s;
     }
   };
   for (const std::uint32_t f : edges) {

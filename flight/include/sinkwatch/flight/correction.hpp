@@ -127,6 +127,33 @@ struct ProductTop {
   }
 }
 
+/// P = a b as its two 32-bit words.
+struct ProductWords {
+  std::uint32_t high;
+  std::uint32_t low;
+};
+
+/// a b by the columns of product_top_by_columns, with the low word
+/// z 2^16 + x mod 2^16 (the same bounds: no carry is tested).
+[[nodiscard]] SW_FX_INLINE constexpr ProductWords product_words_by_columns(FractionHalves a, std::uint32_t b) noexcept {
+  const std::uint32_t b_low = b & 0xFFFFU;
+  const std::uint32_t b_high = b >> 16U;
+  const std::uint32_t x = a.low * b_low;
+  const std::uint32_t y = (a.low * b_high) + (x >> 16U);
+  const std::uint32_t z = (a.high * b_low) + (y & 0xFFFFU);
+  return ProductWords{(a.high * b_high) + (y >> 16U) + (z >> 16U), (z << 16U) | (x & 0xFFFFU)};
+}
+
+/// a b's words: by columns on ARMv6-M, else the widening multiply.
+[[nodiscard]] SW_FX_INLINE constexpr ProductWords product_words(std::uint32_t a, std::uint32_t b) noexcept {
+  if constexpr (fx::wide::kMul32x32BySoftware) {
+    return product_words_by_columns(halves_of(a), b);
+  } else {
+    const std::uint64_t p = fx::wide::mul_32x32_64(a, b);
+    return ProductWords{static_cast<std::uint32_t>(p >> 32U), static_cast<std::uint32_t>(p)};
+  }
+}
+
 /// floor((P + 2^31 +- 2^23) / 2^32) from P's top: the bias is (2^15 +- 2^7)
 /// 2^16, so the carry into the high word is that of bits16 + 2^15 +- 2^7.
 /// `down`: the smaller bias (the value crossed zero; see interpolate_raw).
