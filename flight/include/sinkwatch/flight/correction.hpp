@@ -154,6 +154,14 @@ struct ProductWords {
   }
 }
 
+/// a b on 64 bits from product_words (the drawbar pulls' products,
+/// drawbar_pull.hpp): the same bits as fx::wide::mul_32x32_64 on every
+/// target, without its carry tests on ARMv6-M.
+[[nodiscard]] SW_FX_INLINE constexpr std::uint64_t product_64(std::uint32_t a, std::uint32_t b) noexcept {
+  const ProductWords words = product_words(a, b);
+  return (static_cast<std::uint64_t>(words.high) << 32U) | words.low;
+}
+
 /// floor((P + 2^31 +- 2^23) / 2^32) from P's top: the bias is (2^15 +- 2^7)
 /// 2^16, so the carry into the high word is that of bits16 + 2^15 +- 2^7.
 /// `down`: the smaller bias (the value crossed zero; see interpolate_raw).
