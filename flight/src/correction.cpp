@@ -9,53 +9,6 @@ namespace flight {
 
 namespace {
 
-/// The rounded step of lerp() below, floor((P + bias) / 2^32) for the
-/// product P = f |d|: bias 2^31 - 2^23 when the value crossed zero (a has
-/// the sign opposite to d's, `against`, and P's high word is below |a|),
-/// else 2^31 + 2^23.
-std::uint32_t rounded_step(std::uint64_t product, bool against, std::uint32_t a_magnitude) noexcept {
-  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
-  constexpr std::uint64_t kHalf = std::uint64_t{1U} << 31U;
-  constexpr std::uint64_t kStepHalf = std::uint64_t{1U} << 23U;
-  const bool crossed = against && (static_cast<std::uint32_t>(product / kWord) < a_magnitude);
-  return static_cast<std::uint32_t>((product + (crossed ? (kHalf - kStepHalf) : (kHalf + kStepHalf))) >> 32U);
-}
-
-/// a + f (b - a) for the fraction f = fraction / 2^32 in [0, 1), bit for bit
-/// the Q31.32 interpolation (the dividing oracle's, host_tests/flight): with
-/// d = b - a (|d| < 2^32) and P = f |d| < 2^64, that interpolation rounds
-/// the step m = round(P / 2^24) (half up) into Q31.32 as a 2^8 +- m, and the
-/// value v = a 2^8 +- m into Q7.24, half away from zero. Since a 2^8 is a
-/// multiple of 2^8, v's rounding is a +- one of two roundings of m / 2^8:
-///   up   = floor((m + 128) / 2^8) = floor((P + 2^31 + 2^23) / 2^32)
-///            when v has d's sign (v rounds away from a),
-///   down = floor((m + 127) / 2^8) = floor((P + 2^31 - 2^23) / 2^32)
-///            when it has not (v crossed zero: it rounds back towards a),
-/// each the high word of one 64-bit sum (floor(floor(x) / k) = floor(x / k)
-/// for integer k). The value lies between a and b, so the result fits Q7.24
-/// and no status is needed (docs/performance.md, session 16).
-///
-/// v has d's sign when a has it too, or when m > |a| 2^8, that is (m an
-/// integer) P >= |a| 2^32 + 2^23. The two roundings differ only where P's
-/// low word is in [2^31 - 2^23, 2^31 + 2^23), and there that comparison is
-/// P's high word >= |a|: one 32-bit comparison instead of m's 64-bit shift
-/// and compare, on a branch per direction of d (session 18; the same bits).
-Ratio lerp(Ratio a, Ratio b, std::uint32_t fraction) noexcept {
-  const std::int32_t a_raw = a.raw();
-  const std::int32_t b_raw = b.raw();
-  const auto a_magnitude = static_cast<std::uint32_t>(fx::detail::magnitude(a_raw));  // <= 2^31
-  // |b - a| in modular 32-bit arithmetic: exact, as it is below 2^32. The
-  // value lies between a and b, so it fits Q7.24.
-  if (b_raw < a_raw) {
-    const std::uint32_t span = static_cast<std::uint32_t>(a_raw) - static_cast<std::uint32_t>(b_raw);
-    const std::uint32_t step = rounded_step(fx::wide::mul_32x32_64(fraction, span), a_raw > 0, a_magnitude);
-    return Ratio(RatioQ::from_raw(static_cast<std::int32_t>(static_cast<std::int64_t>(a_raw) - std::int64_t{step})));
-  }
-  const std::uint32_t span = static_cast<std::uint32_t>(b_raw) - static_cast<std::uint32_t>(a_raw);
-  const std::uint32_t step = rounded_step(fx::wide::mul_32x32_64(fraction, span), a_raw < 0, a_magnitude);
-  return Ratio(RatioQ::from_raw(static_cast<std::int32_t>(static_cast<std::int64_t>(a_raw) + std::int64_t{step})));
-}
-
 /// f = offset / width as raw Q0.32, bit for bit fx::div<WideQ>(offset, width),
 /// for 0 <= offset < width (raw Q15.16; the caller checks it). Then
 /// a = offset 2^shift < v = width 2^shift < 2^32 is exact in 32 bits. With
@@ -70,15 +23,15 @@ Ratio lerp(Ratio a, Ratio b, std::uint32_t fraction) noexcept {
 std::uint32_t fraction_of(std::uint32_t offset, const SegmentWidth& width) noexcept {
   const std::uint32_t v = width.normalised;
   const std::uint32_t a = offset << width.shift;  // < v
-  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
-  auto quotient = static_cast<std::uint32_t>(fx::wide::mul_32x32_64(a, width.mantissa) >> 31U);  // < 2^32
-  const std::uint64_t product = fx::wide::mul_32x32_64(quotient, v);
-  const auto product_low = static_cast<std::uint32_t>(product);
+  // floor(a m / 2^31) (< 2^32) from the product's words.
+  const detail::ProductWords estimate = detail::product_words(a, width.mantissa);
+  std::uint32_t quotient = (estimate.high << 1U) | (estimate.low >> 31U);
+  const detail::ProductWords product = detail::product_words(quotient, v);
   // a 2^32 - q' v (< 3 v) as two words: the low one wraps by design, and
   // the high one takes a borrow when the product's low word is not zero
   // (its top bit or its negation's is then set).
-  std::uint32_t low = 0U - product_low;
-  std::uint32_t high = a - static_cast<std::uint32_t>(product / kWord) - ((product_low | low) >> 31U);
+  std::uint32_t low = 0U - product.low;
+  std::uint32_t high = a - product.high - ((product.low | low) >> 31U);
   // MISRA C++:2023 9.5.1: a simple counted loop, no break.
   for (std::uint32_t step = 0U; step < 2U; ++step) {
     if ((high != 0U) || (low >= v)) {
@@ -151,9 +104,14 @@ CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDi
   if (!offset_in(load_n, lo.load_n, divisors.width[seg], offset)) {
     return refused(EstimateStatus::invalid_coefficient);
   }
-  const std::uint32_t fraction = fraction_of(offset, divisors.width[seg]);
-  const Coefficients c{lerp(lo.c1, hi.c1, fraction), lerp(lo.c2, hi.c2, fraction), lerp(lo.c3, hi.c3, fraction)};
-  return CorrectionResult{c, lerp(lo.dp_max_ratio, hi.dp_max_ratio, fraction), LoadClamp::none, EstimateStatus::ok};
+  // The fraction's halves once for the four coefficients (session 19: one
+  // lerp call per coefficient, each splitting it, before).
+  const detail::FractionHalves f = detail::halves_of(fraction_of(offset, divisors.width[seg]));
+  const Coefficients c{Ratio::from_raw(detail::interpolate_raw(lo.c1.raw(), hi.c1.raw(), f)),
+                       Ratio::from_raw(detail::interpolate_raw(lo.c2.raw(), hi.c2.raw(), f)),
+                       Ratio::from_raw(detail::interpolate_raw(lo.c3.raw(), hi.c3.raw(), f))};
+  return CorrectionResult{c, Ratio::from_raw(detail::interpolate_raw(lo.dp_max_ratio.raw(), hi.dp_max_ratio.raw(), f)),
+                          LoadClamp::none, EstimateStatus::ok};
 }
 
 CorrectionDivisors make_correction_divisors(const CorrectionTable& table) noexcept {

@@ -147,5 +147,108 @@ TEST(CorrectionPaths, ShippedTablesAtEveryLoadStepMatchTheQ3132Chain) {
   }
 }
 
+// The column products of detail::interpolate_raw and of the fraction
+// (session 19) against the 64-bit product they replaced: the high word, bits
+// 16..31 and the low word, on random
+// fractions and spans and on the extremes of both.
+TEST(CorrectionPaths, ColumnProductTopIsTheWideProducts) {
+  std::mt19937_64 rng(23U);
+  const std::uint32_t edges[] = {0U, 1U, 0xFFFFU, 0x10000U, 0x7FFFFFFFU, 0x80000000U, 0xFFFF0000U, 0xFFFFFFFEU,
+                                 0xFFFFFFFFU};
+  const auto check = [](std::uint32_t f, std::uint32_t s) {
+    const std::uint64_t p = std::uint64_t{f} * std::uint64_t{s};
+    for (const flight::detail::ProductTop top :
+         {flight::detail::product_top_by_columns(flight::detail::halves_of(f), s),
+          flight::detail::product_top(flight::detail::halves_of(f), s)}) {
+      ASSERT_EQ(top.high, static_cast<std::uint32_t>(p >> 32U)) << f << " " << s;
+      ASSERT_EQ(top.bits16, static_cast<std::uint32_t>((p >> 16U) & 0xFFFFU)) << f << " " << s;
+    }
+    for (const flight::detail::ProductWords words :
+         {flight::detail::product_words_by_columns(flight::detail::halves_of(f), s),
+          flight::detail::product_words(f, s)}) {
+      ASSERT_EQ(words.high, static_cast<std::uint32_t>(p >> 32U)) << f << " " << s;
+      ASSERT_EQ(words.low, static_cast<std::uint32_t>(p)) << f << " " << s;
+    }
+  };
+  for (const std::uint32_t f : edges) {
+    for (const std::uint32_t s : edges) {
+      check(f, s);
+    }
+  }
+  for (int k = 0; k < 2000000; ++k) {
+    const auto f = static_cast<std::uint32_t>(rng() >> (rng() % 33U));
+    const auto s = static_cast<std::uint32_t>(rng() >> (rng() % 33U));
+    check(f, s);
+  }
+}
+
+/// The exact reference of interpolate_raw: the Q31.32 chain's two roundings
+/// (the step f |b - a| / 2^24 half up, then the value a 2^8 +- step into
+/// Q7.24 half away from zero), on 64-bit integers that hold them exactly:
+/// f |b - a| <= (2^32 - 1)^2 leaves room for the half, |a 2^8 +- step| < 2^41.
+std::int32_t interpolation_reference(std::int32_t a, std::int32_t b, std::uint32_t f) {
+  const std::int64_t d = std::int64_t{b} - a;
+  const auto d_mag = static_cast<std::uint64_t>((d < 0) ? -d : d);
+  const auto m = static_cast<std::int64_t>(((d_mag * f) + (1ULL << 23U)) >> 24U);
+  const std::int64_t v = (std::int64_t{a} * 256) + ((d < 0) ? -m : m);
+  const std::int64_t r = (((v < 0) ? -v : v) + 128) >> 8U;
+  return static_cast<std::int32_t>((v < 0) ? -r : r);
+}
+
+/// The form interpolate_raw replaced (session 18's lerp): the 64-bit product
+/// and the high word of its biased sum.
+std::int32_t interpolation_64(std::int32_t a, std::int32_t b, std::uint32_t f) {
+  const auto a_mag = static_cast<std::uint32_t>((a < 0) ? -static_cast<std::int64_t>(a) : a);
+  const bool falling = b < a;
+  const std::uint32_t span = falling ? (static_cast<std::uint32_t>(a) - static_cast<std::uint32_t>(b))
+                                     : (static_cast<std::uint32_t>(b) - static_cast<std::uint32_t>(a));
+  const std::uint64_t p = std::uint64_t{f} * span;
+  const bool against = falling ? (a > 0) : (a < 0);
+  const bool crossed = against && (static_cast<std::uint32_t>(p >> 32U) < a_mag);
+  const std::uint64_t bias = crossed ? ((1ULL << 31U) - (1ULL << 23U)) : ((1ULL << 31U) + (1ULL << 23U));
+  const auto step = static_cast<std::int64_t>((p + bias) >> 32U);
+  return static_cast<std::int32_t>(falling ? (std::int64_t{a} - step) : (std::int64_t{a} + step));
+}
+
+// interpolate_raw against both, on random ends of every magnitude and sign,
+// random fractions, the extremes of the format and fractions near the
+// crossings' ties (P's low word near 2^31 +- 2^23 and its high word at |a|).
+TEST(CorrectionPaths, InterpolationIsTheWideFormAndTheExactChain) {
+  std::mt19937_64 rng(29U);
+  const std::int32_t ends[] = {INT32_MIN, INT32_MIN + 1, -(1 << 24), -1, 0, 1, 1 << 24, INT32_MAX - 1, INT32_MAX};
+  const std::uint32_t fractions[] = {0U, 1U, 0x7FFFFFFFU, 0x80000000U, 0x80800000U, 0x7F800000U, 0xFFFFFFFFU};
+  const auto check = [](std::int32_t a, std::int32_t b, std::uint32_t f) {
+    const std::int32_t got = flight::detail::interpolate_raw(a, b, flight::detail::halves_of(f));
+    ASSERT_EQ(got, interpolation_64(a, b, f)) << a << " " << b << " " << f;
+    ASSERT_EQ(got, interpolation_reference(a, b, f)) << a << " " << b << " " << f;
+  };
+  for (const std::int32_t a : ends) {
+    for (const std::int32_t b : ends) {
+      for (const std::uint32_t f : fractions) {
+        check(a, b, f);
+      }
+    }
+  }
+  for (int k = 0; k < 2000000; ++k) {
+    const auto a = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng())) >> (rng() % 32U);
+    const auto b = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng())) >> (rng() % 32U);
+    check(a, b, static_cast<std::uint32_t>(rng()));
+    // A fraction putting the step's rounding next to a tie and the value
+    // next to zero: f |d| close to |a| 2^32 + 2^31 +- 2^23.
+    const std::uint64_t span = (b < a) ? (std::uint64_t{static_cast<std::uint32_t>(a) - static_cast<std::uint32_t>(b)})
+                                       : (std::uint64_t{static_cast<std::uint32_t>(b) - static_cast<std::uint32_t>(a)});
+    const std::uint64_t a_mag = (a < 0) ? (0U - static_cast<std::uint64_t>(static_cast<std::int64_t>(a))) : static_cast<std::uint64_t>(a);
+    if ((span != 0U) && (a_mag < span)) {
+      // Below 2^64: a_mag < span < 2^32.
+      const std::uint64_t target = (a_mag << 32U) + (1ULL << 31U) +
+                                   (((k % 2) == 0) ? (1ULL << 23U) : (0ULL - (1ULL << 23U)));
+      const auto f0 = static_cast<std::uint64_t>(target / span);
+      for (std::uint64_t f = (f0 > 2U) ? (f0 - 2U) : 0U; (f <= f0 + 2U) && (f <= 0xFFFFFFFFU); ++f) {
+        check(a, b, static_cast<std::uint32_t>(f));
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sinkwatch

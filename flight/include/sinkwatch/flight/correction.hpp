@@ -18,6 +18,8 @@
 
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/units.hpp"
+#include "sinkwatch/fixedpoint/inline.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
 
 namespace sinkwatch {
 namespace flight {
@@ -68,6 +70,141 @@ struct SegmentWidth {
 struct CorrectionDivisors {
   SegmentWidth width[kMaxCorrectionRows];  ///< [k]: rows k..k+1; unused entries: zero
 };
+
+namespace detail {
+// The interpolation of corrections_at() on raw integers. Here, not in the
+// source, so that host_tests/flight/test_correction_paths.cpp can compare it
+// with the 64-bit form it replaced (session 19) on random and edge inputs.
+
+/// An interpolation fraction f (raw Q0.32) in its two 16-bit halves: split
+/// once per load and used for all four coefficients of the row pair.
+struct FractionHalves {
+  std::uint32_t low;   ///< f mod 2^16
+  std::uint32_t high;  ///< floor(f / 2^16)
+};
+
+[[nodiscard]] SW_FX_INLINE constexpr FractionHalves halves_of(std::uint32_t fraction) noexcept {
+  return FractionHalves{fraction & 0xFFFFU, fraction >> 16U};
+}
+
+/// The top of P = f s for a 32-bit span s: P's high word floor(P / 2^32) and
+/// its bits 16 to 31, all the interpolation's rounding reads (the bias added
+/// to P is a multiple of 2^16, so P's low 16 bits never carry into it).
+struct ProductTop {
+  std::uint32_t high;    ///< floor(P / 2^32)
+  std::uint32_t bits16;  ///< floor(P / 2^16) mod 2^16
+};
+
+/// P = f s by 16-bit columns, each partial sum below 2^32 so that no carry
+/// is tested (ARMv6-M has no widening multiply; the four MULS of
+/// mul_32x32_64 are kept, its carry tests are not): with f = fh 2^16 + fl
+/// and s = sh 2^16 + sl,
+///   x = fl sl,                  below 2^32,
+///   y = fl sh + x / 2^16,       at most (2^16 - 1)^2 + 2^16 - 1 < 2^32,
+///   z = fh sl + y mod 2^16,     at most (2^16 - 1)^2 + 2^16 - 1,
+///   P / 2^32 floored = fh sh + y / 2^16 + z / 2^16 (floors), at most
+///       (2^16 - 1)^2 + 2 (2^16 - 1) = 2^32 - 1,
+/// since fl s = y 2^16 + x mod 2^16 and P = fl s + fh s 2^16.
+[[nodiscard]] SW_FX_INLINE constexpr ProductTop product_top_by_columns(FractionHalves f, std::uint32_t span) noexcept {
+  const std::uint32_t span_low = span & 0xFFFFU;
+  const std::uint32_t span_high = span >> 16U;
+  const std::uint32_t x = f.low * span_low;
+  const std::uint32_t y = (f.low * span_high) + (x >> 16U);
+  const std::uint32_t z = (f.high * span_low) + (y & 0xFFFFU);
+  return ProductTop{(f.high * span_high) + (y >> 16U) + (z >> 16U), z & 0xFFFFU};
+}
+
+/// P's top by columns where the core has no widening multiply (ARMv6-M),
+/// else from the one widening multiply (UMULL; the columns cost the
+/// Cortex-M4 more). The same bits either way; the host tests call
+/// product_top_by_columns directly, as it is not on the host's path.
+[[nodiscard]] SW_FX_INLINE constexpr ProductTop product_top(FractionHalves f, std::uint32_t span) noexcept {
+  if constexpr (fx::wide::kMul32x32BySoftware) {
+    return product_top_by_columns(f, span);
+  } else {
+    const std::uint64_t p = fx::wide::mul_32x32_64((f.high << 16U) | f.low, span);
+    return ProductTop{static_cast<std::uint32_t>(p >> 32U), static_cast<std::uint32_t>(p >> 16U) & 0xFFFFU};
+  }
+}
+
+/// P = a b as its two 32-bit words.
+struct ProductWords {
+  std::uint32_t high;
+  std::uint32_t low;
+};
+
+/// a b by the columns of product_top_by_columns, with the low word
+/// z 2^16 + x mod 2^16 (the same bounds: no carry is tested).
+[[nodiscard]] SW_FX_INLINE constexpr ProductWords product_words_by_columns(FractionHalves a, std::uint32_t b) noexcept {
+  const std::uint32_t b_low = b & 0xFFFFU;
+  const std::uint32_t b_high = b >> 16U;
+  const std::uint32_t x = a.low * b_low;
+  const std::uint32_t y = (a.low * b_high) + (x >> 16U);
+  const std::uint32_t z = (a.high * b_low) + (y & 0xFFFFU);
+  return ProductWords{(a.high * b_high) + (y >> 16U) + (z >> 16U), (z << 16U) | (x & 0xFFFFU)};
+}
+
+/// a b's words: by columns on ARMv6-M, else the widening multiply.
+[[nodiscard]] SW_FX_INLINE constexpr ProductWords product_words(std::uint32_t a, std::uint32_t b) noexcept {
+  if constexpr (fx::wide::kMul32x32BySoftware) {
+    return product_words_by_columns(halves_of(a), b);
+  } else {
+    const std::uint64_t p = fx::wide::mul_32x32_64(a, b);
+    return ProductWords{static_cast<std::uint32_t>(p >> 32U), static_cast<std::uint32_t>(p)};
+  }
+}
+
+/// a b on 64 bits from product_words (the drawbar pulls' products,
+/// drawbar_pull.hpp): the same bits as fx::wide::mul_32x32_64 on every
+/// target, without its carry tests on ARMv6-M.
+[[nodiscard]] SW_FX_INLINE constexpr std::uint64_t product_64(std::uint32_t a, std::uint32_t b) noexcept {
+  const ProductWords words = product_words(a, b);
+  return (static_cast<std::uint64_t>(words.high) << 32U) | words.low;
+}
+
+/// floor((P + 2^31 +- 2^23) / 2^32) from P's top: the bias is (2^15 +- 2^7)
+/// 2^16, so the carry into the high word is that of bits16 + 2^15 +- 2^7.
+/// `down`: the smaller bias (the value crossed zero; see interpolate_raw).
+[[nodiscard]] SW_FX_INLINE constexpr std::uint32_t rounded_step(ProductTop p, bool down) noexcept {
+  return p.high + ((p.bits16 + (down ? 0x7F80U : 0x8080U)) >> 16U);
+}
+
+/// a + f (b - a) (raw Q7.24) for the fraction f in [0, 1), bit for bit the
+/// Q31.32 interpolation (the dividing oracle's, host_tests/flight): with
+/// d = b - a (|d| < 2^32) and P = f |d| < 2^64, that interpolation rounds
+/// the step m = round(P / 2^24) (half up) into Q31.32 as a 2^8 +- m, and the
+/// value v = a 2^8 +- m into Q7.24, half away from zero. Since a 2^8 is a
+/// multiple of 2^8, v's rounding is a +- one of two roundings of m / 2^8:
+///   up   = floor((m + 128) / 2^8) = floor((P + 2^31 + 2^23) / 2^32)
+///            when v has d's sign (v rounds away from a),
+///   down = floor((m + 127) / 2^8) = floor((P + 2^31 - 2^23) / 2^32)
+///            when it has not (v crossed zero: it rounds back towards a)
+/// (floor(floor(x) / k) = floor(x / k) for integer k). The value lies
+/// between a and b, so the result fits Q7.24 and no status is needed
+/// (docs/performance.md, session 16).
+///
+/// v has d's sign when a has it too, or when m > |a| 2^8, that is (m an
+/// integer) P >= |a| 2^32 + 2^23. The two roundings differ only where P's
+/// low word is in [2^31 - 2^23, 2^31 + 2^23), and there that comparison is
+/// P's high word >= |a| (session 18). |b - a| is the modular 32-bit
+/// difference: exact, as it is below 2^32.
+[[nodiscard]] SW_FX_INLINE constexpr std::int32_t interpolate_raw(std::int32_t a_raw, std::int32_t b_raw,
+                                                                   FractionHalves f) noexcept {
+  const auto a_bits = static_cast<std::uint32_t>(a_raw);
+  const auto b_bits = static_cast<std::uint32_t>(b_raw);
+  if (b_raw < a_raw) {
+    const ProductTop p = product_top(f, a_bits - b_bits);
+    // Against d's sign: a > 0, |a| = a.
+    const std::uint32_t step = rounded_step(p, (a_raw > 0) && (p.high < a_bits));
+    return static_cast<std::int32_t>(static_cast<std::int64_t>(a_raw) - std::int64_t{step});
+  }
+  const ProductTop p = product_top(f, b_bits - a_bits);
+  // Against d's sign: a < 0, |a| = 0 - a modulo 2^32 (2^31 for INT32_MIN).
+  const std::uint32_t step = rounded_step(p, (a_raw < 0) && (p.high < (0U - a_bits)));
+  return static_cast<std::int32_t>(static_cast<std::int64_t>(a_raw) + std::int64_t{step});
+}
+
+}  // namespace detail
 
 /// Once per table load. Widths that are not positive (a table validate()
 /// refuses) stay zero, and corrections_at below then fails with a status,
