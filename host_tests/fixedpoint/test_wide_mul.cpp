@@ -26,6 +26,7 @@ constexpr std::int32_t kI32Min = std::numeric_limits<std::int32_t>::min();
 // fx::mul, trig's tables).
 static_assert(wide::mul_32x32_64_halves(kU32Max, kU32Max) == 0xFFFFFFFE00000001ULL, "halves: max * max");
 static_assert(wide::mul_32x32_64(kI32Min, kI32Min) == (std::int64_t{1} << 62), "signed: min * min");
+static_assert(wide::mul_32x32_rounded_high_by_columns(kU32Max, kU32Max) == 0xFFFFFFFEU, "rounded high: max * max");
 
 // Edge words: zero, one, the half-word boundaries, the signed limits.
 std::vector<std::uint32_t> edge_words() {
@@ -127,6 +128,37 @@ TEST(WideMul, FullProductSkippingZeroWordsEqualsTheFullProduct) {
     const std::uint64_t a = rng() >> (static_cast<std::uint32_t>(i) % 64U);
     const std::uint64_t b = rng() >> (static_cast<std::uint32_t>(i / 64) % 64U);
     ASSERT_TRUE(wide::equal(wide::mul_full_skipping_zero_words(a, b), wide::mul_full(a, b))) << a << " * " << b;
+  }
+}
+
+// round(a b / 2^32) half up: the ARMv6-M columns (only the high word and
+// the carry of bits 16..31 plus 2^15) and the dispatching form against the
+// built-in product, on edge words, random words of every length and, for
+// each random b, the a whose product's low word lies at the rounding's tie
+// 2^31 and either side of it (the drawbar pulls' shares, session 19).
+TEST(WideMul, RoundedHighWordIsTheProductRoundedHalfUp) {
+  const auto check = [](std::uint32_t a, std::uint32_t b) {
+    const auto rounded = static_cast<std::uint32_t>((builtin_product(a, b) + (1ULL << 31U)) >> 32U);
+    ASSERT_EQ(wide::mul_32x32_rounded_high_by_columns(a, b), rounded) << a << " * " << b;
+    ASSERT_EQ(wide::mul_32x32_rounded_high(a, b), rounded) << a << " * " << b;
+  };
+  for (const std::uint32_t a : edge_words()) {
+    for (const std::uint32_t b : edge_words()) {
+      check(a, b);
+    }
+  }
+  std::mt19937_64 rng(0x19u);
+  for (int i = 0; i < 1000000; ++i) {
+    const auto a = static_cast<std::uint32_t>(rng() >> (32U + (static_cast<std::uint32_t>(i) % 33U)));
+    const auto b = static_cast<std::uint32_t>(rng() >> (32U + (static_cast<std::uint32_t>(i / 33) % 33U)));
+    check(a, b);
+    if (b != 0U) {
+      const std::uint64_t target = (builtin_product(a, b) & ~0xFFFFFFFFULL) + (1ULL << 31U);
+      const std::uint64_t a_tie = target / b;
+      for (std::uint64_t x = (a_tie > 1U) ? (a_tie - 1U) : 0U; (x <= a_tie + 1U) && (x <= kU32Max); ++x) {
+        check(static_cast<std::uint32_t>(x), b);
+      }
+    }
   }
 }
 

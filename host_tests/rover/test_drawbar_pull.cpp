@@ -453,39 +453,6 @@ TEST(DrawbarArithmetic, ProductByHalvesIsTheProduct) {
   }
 }
 
-// The ARMv6-M products of the pulls (session 19; correction.hpp's columns)
-// against the 64-bit product: the whole product and its high word rounded
-// half up, on random operands of every length and on the extremes.
-TEST(DrawbarArithmetic, ColumnProductsAreTheProduct) {
-  std::mt19937_64 rng(19U);
-  const std::uint32_t edges[] = {0U, 1U, 0x7FFFU, 0x8000U, 0xFFFFU, 0x10000U, 0x80000000U, 0xFFFFFFFEU, 0xFFFFFFFFU};
-  const auto check = [](std::uint32_t a, std::uint32_t b) {
-    const std::uint64_t p = std::uint64_t{a} * std::uint64_t{b};
-    ASSERT_EQ(flight::detail::product_64(a, b), p) << a << " " << b;
-    const auto rounded = static_cast<std::uint32_t>((p + (1ULL << 31U)) >> 32U);
-    ASSERT_EQ(flight::detail::product_rounded_high_by_columns(a, b), rounded) << a << " " << b;
-    ASSERT_EQ(flight::detail::product_rounded_high(a, b), rounded) << a << " " << b;
-  };
-  for (const std::uint32_t a : edges) {
-    for (const std::uint32_t b : edges) {
-      check(a, b);
-    }
-  }
-  for (int trial = 0; trial < 2000000; ++trial) {
-    const auto a = static_cast<std::uint32_t>(rng() >> (rng() % 33U));
-    const auto b = static_cast<std::uint32_t>(rng() >> (rng() % 33U));
-    check(a, b);
-    // Low words at the rounding's tie and either side of it.
-    if (b != 0U) {
-      const std::uint64_t target = ((std::uint64_t{a} * b) & ~0xFFFFFFFFULL) + (1ULL << 31U);
-      const std::uint64_t a_tie = target / b;
-      for (std::uint64_t x = (a_tie > 1U) ? (a_tie - 1U) : 0U; (x <= a_tie + 1U) && (x <= 0xFFFFFFFFU); ++x) {
-        check(static_cast<std::uint32_t>(x), b);
-      }
-    }
-  }
-}
-
 TEST(DrawbarArithmetic, WordShiftIsTheShift) {
   std::mt19937_64 rng(18U);
   for (int trial = 0; trial < 100000; ++trial) {

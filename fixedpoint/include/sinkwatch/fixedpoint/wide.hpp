@@ -233,6 +233,34 @@ SW_FX_INLINE constexpr std::uint64_t mul_32x32_64(std::uint32_t a, std::uint32_t
   }
 }
 
+/// round(a b / 2^32), half up (at most 2^32 - 1, as a b <= (2^32 - 1)^2),
+/// on ARMv6-M from the columns of mul_32x32_64_halves without its low word:
+/// the rounding half 2^31 = 2^15 2^16 carries into the high word exactly
+/// when bits 16 to 31 of a b plus 2^15 do, since bits 0 to 15 cannot carry
+/// (they are the low product's low half, added to nothing). The host tests
+/// call it directly against the built-in product (test_wide_mul).
+SW_FX_INLINE constexpr std::uint32_t mul_32x32_rounded_high_by_columns(std::uint32_t a, std::uint32_t b) noexcept {
+  const std::uint32_t half_mask = 0xFFFFU;
+  const std::uint32_t a_lo = a & half_mask;
+  const std::uint32_t a_hi = a >> 16U;
+  const std::uint32_t b_lo = b & half_mask;
+  const std::uint32_t b_hi = b >> 16U;
+  const std::uint32_t column_16 = (a_lo * b_hi) + ((a_lo * b_lo) >> 16U);
+  const std::uint32_t column_16_cross = (a_hi * b_lo) + (column_16 & half_mask);
+  const std::uint32_t high = (a_hi * b_hi) + (column_16 >> 16U) + (column_16_cross >> 16U);
+  return high + (((column_16_cross & half_mask) + 0x8000U) >> 16U);
+}
+
+/// round(a b / 2^32), half up, on every target: the columns on ARMv6-M,
+/// else the widening multiply and one 64-bit add. The same integer.
+SW_FX_INLINE constexpr std::uint32_t mul_32x32_rounded_high(std::uint32_t a, std::uint32_t b) noexcept {
+  if constexpr (kMul32x32BySoftware) {
+    return mul_32x32_rounded_high_by_columns(a, b);
+  } else {
+    return static_cast<std::uint32_t>((mul_32x32_64(a, b) + (std::uint64_t{1U} << 31U)) >> 32U);
+  }
+}
+
 /// Full product of two signed 32-bit values, through the magnitudes: |a b| <=
 /// 2^62 fits int64_t, so the sign is put back without any wrap.
 SW_FX_INLINE constexpr std::int64_t mul_32x32_64(std::int32_t a, std::int32_t b) noexcept {

@@ -95,36 +95,12 @@ struct ProductTop {
   std::uint32_t bits16;  ///< floor(P / 2^16) mod 2^16
 };
 
-/// P = f s by 16-bit columns, each partial sum below 2^32 so that no carry
-/// is tested (ARMv6-M has no widening multiply; the four MULS of
-/// mul_32x32_64 are kept, its carry tests are not): with f = fh 2^16 + fl
-/// and s = sh 2^16 + sl,
-///   x = fl sl,                  below 2^32,
-///   y = fl sh + x / 2^16,       at most (2^16 - 1)^2 + 2^16 - 1 < 2^32,
-///   z = fh sl + y mod 2^16,     at most (2^16 - 1)^2 + 2^16 - 1,
-///   P / 2^32 floored = fh sh + y / 2^16 + z / 2^16 (floors), at most
-///       (2^16 - 1)^2 + 2 (2^16 - 1) = 2^32 - 1,
-/// since fl s = y 2^16 + x mod 2^16 and P = fl s + fh s 2^16.
-[[nodiscard]] SW_FX_INLINE constexpr ProductTop product_top_by_columns(FractionHalves f, std::uint32_t span) noexcept {
-  const std::uint32_t span_low = span & 0xFFFFU;
-  const std::uint32_t span_high = span >> 16U;
-  const std::uint32_t x = f.low * span_low;
-  const std::uint32_t y = (f.low * span_high) + (x >> 16U);
-  const std::uint32_t z = (f.high * span_low) + (y & 0xFFFFU);
-  return ProductTop{(f.high * span_high) + (y >> 16U) + (z >> 16U), z & 0xFFFFU};
-}
-
-/// P's top by columns where the core has no widening multiply (ARMv6-M),
-/// else from the one widening multiply (UMULL; the columns cost the
-/// Cortex-M4 more). The same bits either way; the host tests call
-/// product_top_by_columns directly, as it is not on the host's path.
+/// P's top from fx::wide::mul_32x32_64 (on ARMv6-M its carry-free 16-bit
+/// columns, whose low-word instructions the compiler drops here, where only
+/// bits 16 to 63 are read; elsewhere the widening multiply).
 [[nodiscard]] SW_FX_INLINE constexpr ProductTop product_top(FractionHalves f, std::uint32_t span) noexcept {
-  if constexpr (fx::wide::kMul32x32BySoftware) {
-    return product_top_by_columns(f, span);
-  } else {
-    const std::uint64_t p = fx::wide::mul_32x32_64((f.high << 16U) | f.low, span);
-    return ProductTop{static_cast<std::uint32_t>(p >> 32U), static_cast<std::uint32_t>(p >> 16U) & 0xFFFFU};
-  }
+  const std::uint64_t p = fx::wide::mul_32x32_64((f.high << 16U) | f.low, span);
+  return ProductTop{static_cast<std::uint32_t>(p >> 32U), static_cast<std::uint32_t>(p >> 16U) & 0xFFFFU};
 }
 
 /// P = a b as its two 32-bit words.
@@ -133,33 +109,10 @@ struct ProductWords {
   std::uint32_t low;
 };
 
-/// a b by the columns of product_top_by_columns, with the low word
-/// z 2^16 + x mod 2^16 (the same bounds: no carry is tested).
-[[nodiscard]] SW_FX_INLINE constexpr ProductWords product_words_by_columns(FractionHalves a, std::uint32_t b) noexcept {
-  const std::uint32_t b_low = b & 0xFFFFU;
-  const std::uint32_t b_high = b >> 16U;
-  const std::uint32_t x = a.low * b_low;
-  const std::uint32_t y = (a.low * b_high) + (x >> 16U);
-  const std::uint32_t z = (a.high * b_low) + (y & 0xFFFFU);
-  return ProductWords{(a.high * b_high) + (y >> 16U) + (z >> 16U), (z << 16U) | (x & 0xFFFFU)};
-}
-
-/// a b's words: by columns on ARMv6-M, else the widening multiply.
+/// a b's words (fx::wide::mul_32x32_64).
 [[nodiscard]] SW_FX_INLINE constexpr ProductWords product_words(std::uint32_t a, std::uint32_t b) noexcept {
-  if constexpr (fx::wide::kMul32x32BySoftware) {
-    return product_words_by_columns(halves_of(a), b);
-  } else {
-    const std::uint64_t p = fx::wide::mul_32x32_64(a, b);
-    return ProductWords{static_cast<std::uint32_t>(p >> 32U), static_cast<std::uint32_t>(p)};
-  }
-}
-
-/// a b on 64 bits from product_words (the drawbar pulls' products,
-/// drawbar_pull.hpp): the same bits as fx::wide::mul_32x32_64 on every
-/// target, without its carry tests on ARMv6-M.
-[[nodiscard]] SW_FX_INLINE constexpr std::uint64_t product_64(std::uint32_t a, std::uint32_t b) noexcept {
-  const ProductWords words = product_words(a, b);
-  return (static_cast<std::uint64_t>(words.high) << 32U) | words.low;
+  const std::uint64_t p = fx::wide::mul_32x32_64(a, b);
+  return ProductWords{static_cast<std::uint32_t>(p >> 32U), static_cast<std::uint32_t>(p)};
 }
 
 /// floor((P + 2^31 +- 2^23) / 2^32) from P's top: the bias is (2^15 +- 2^7)

@@ -133,7 +133,7 @@ inline constexpr std::uint64_t kWordRemainderSum{0x55555555U};
 /// word is zero): one 32-bit product, no step down, 32-bit steps up.
 /// At most 2^32 (one): L <= S.
 [[nodiscard]] constexpr std::uint64_t load_fraction(std::uint32_t load_raw, const LoadSum& sum) noexcept {
-  const std::uint64_t estimate = product_64(load_raw, sum.mantissa);
+  const std::uint64_t estimate = fx::wide::mul_32x32_64(load_raw, sum.mantissa);
   // By words where a 64-bit shift by a run-time count is a library call
   // (ARMv6-M, the cores without a widening multiply).
   std::uint64_t q = fx::wide::kMul32x32BySoftware ? shr_by_words(estimate, sum.shift) : (estimate >> sum.shift);
@@ -181,27 +181,7 @@ inline constexpr std::uint64_t kWordRemainderSum{0x55555555U};
   if constexpr (fx::wide::kMul32x32BySoftware) {
     return mul_16x32_64_by_halves(a, b);
   } else {
-    return product_64(a, b);
-  }
-}
-
-/// round(a b / 2^32), half up (at most 2^32 - 1: a b <= (2^32 - 1)^2). On
-/// ARMv6-M from the columns' top (correction.hpp, product_top_by_columns):
-/// the carry of 2^31 = 2^15 2^16 into the high word is that of bits 16..31
-/// plus 2^15, as bits 0..15 cannot carry; else from the widening multiply.
-/// The host tests call the column form directly, as it is not on the host's
-/// path.
-[[nodiscard]] constexpr std::uint32_t product_rounded_high_by_columns(std::uint32_t a, std::uint32_t b) noexcept {
-  const ProductTop top = product_top_by_columns(halves_of(b), a);
-  return top.high + ((top.bits16 + 0x8000U) >> 16U);
-}
-
-/// round(a b / 2^32) on every target.
-[[nodiscard]] constexpr std::uint32_t product_rounded_high(std::uint32_t a, std::uint32_t b) noexcept {
-  if constexpr (fx::wide::kMul32x32BySoftware) {
-    return product_rounded_high_by_columns(a, b);
-  } else {
-    return static_cast<std::uint32_t>((fx::wide::mul_32x32_64(a, b) + (std::uint64_t{1U} << 31U)) >> 32U);
+    return fx::wide::mul_32x32_64(a, b);
   }
 }
 
@@ -217,8 +197,8 @@ inline constexpr std::uint64_t kWordRemainderSum{0x55555555U};
   }
   const auto f = static_cast<std::uint32_t>(fraction);
   const auto hi = static_cast<std::uint32_t>(t_mag >> 32U);
-  const std::uint64_t high = (hi <= 0xFFFFU) ? mul_16x32_64(hi, f) : product_64(hi, f);
-  return high + product_rounded_high(static_cast<std::uint32_t>(t_mag), f);
+  const std::uint64_t high = (hi <= 0xFFFFU) ? mul_16x32_64(hi, f) : fx::wide::mul_32x32_64(hi, f);
+  return high + fx::wide::mul_32x32_rounded_high(static_cast<std::uint32_t>(t_mag), f);
 }
 
 /// One wheel's pull in Q15.16 (raw), whether its share was capped, and
@@ -246,7 +226,7 @@ struct WheelPull {
 ///    2^31 - 1 (2^31 for a negative pull), raising overflow.
 [[nodiscard]] constexpr WheelPull wheel_pull(std::int64_t total_raw, std::uint64_t fraction, std::uint32_t load_raw,
                                              std::uint32_t ratio_raw, bool saturated) noexcept {
-  const std::uint64_t cap = (product_64(ratio_raw, load_raw) + 128U) >> 8U;
+  const std::uint64_t cap = (fx::wide::mul_32x32_64(ratio_raw, load_raw) + 128U) >> 8U;
   std::uint64_t mag = cap;
   bool capped = false;
   bool negative = false;
@@ -278,12 +258,12 @@ struct WheelPull {
 [[nodiscard]] constexpr std::int64_t along_force_raw(std::uint32_t mass_raw, std::uint32_t gravity_raw,
                                                      std::int32_t sin_raw, std::int32_t accel_raw) noexcept {
   const std::uint64_t g_sin_mag =
-      (product_64(gravity_raw, fx::detail::magnitude32(sin_raw)) + (std::uint64_t{1U} << 21U)) >> 22U;
+      (fx::wide::mul_32x32_64(gravity_raw, fx::detail::magnitude32(sin_raw)) + (std::uint64_t{1U} << 21U)) >> 22U;
   const auto g_sin = static_cast<std::int64_t>(g_sin_mag);
   const std::int64_t sum = (static_cast<std::int64_t>(accel_raw) * 256) + ((sin_raw < 0) ? -g_sin : g_sin);
   const std::uint64_t sum_mag = fx::detail::magnitude(sum);
-  const std::uint64_t low = product_64(mass_raw, static_cast<std::uint32_t>(sum_mag));
-  const std::uint64_t high = product_64(mass_raw, static_cast<std::uint32_t>(sum_mag >> 32U));
+  const std::uint64_t low = fx::wide::mul_32x32_64(mass_raw, static_cast<std::uint32_t>(sum_mag));
+  const std::uint64_t high = fx::wide::mul_32x32_64(mass_raw, static_cast<std::uint32_t>(sum_mag >> 32U));
   const auto total = static_cast<std::int64_t>((high << 16U) + ((low + (std::uint64_t{1U} << 15U)) >> 16U));
   return (sum < 0) ? -total : total;
 }
