@@ -90,32 +90,41 @@ constexpr std::uint64_t mul_round(std::uint64_t a, std::uint64_t b, std::uint32_
   return (wide::mul_64x64_low(a, b) + (std::uint64_t{1U} << (shift - 1U))) >> shift;
 }
 
-/// floor(a b / 2^32), the high word of a 32 x 32 -> 64-bit product, exactly,
-/// from four 16 x 16 -> 32-bit products (each a MULS on ARMv6-M) summed by
-/// columns so that no sum can carry out of 32 bits: each partial product is
-/// at most (2^16 - 1)^2 and each added column part below 2^16, so both sums
-/// are at most (2^16 - 1) 2^16. Without carries to test, it costs about half
-/// the instructions of wide::mul_32x32_64_halves. Plain integer arithmetic:
-/// the host tests call it directly against the built-in product.
-SW_FX_INLINE constexpr std::uint32_t mul_high_word_by_halves(std::uint32_t a, std::uint32_t b) noexcept {
+/// a * b exactly, from four 16 x 16 -> 32-bit products (each a MULS on
+/// ARMv6-M) summed by columns so that no sum can carry out of 32 bits: each
+/// partial product is at most (2^16 - 1)^2 and each added column part below
+/// 2^16, so both sums are at most (2^16 - 1) 2^16. Without carries to test,
+/// it costs fewer instructions than wide::mul_32x32_64_halves (and its high
+/// word alone about half). Plain integer arithmetic: the host tests call it
+/// directly against the built-in product.
+SW_FX_INLINE constexpr std::uint64_t mul_32x32_64_by_columns(std::uint32_t a, std::uint32_t b) noexcept {
   const std::uint32_t half_mask = 0xFFFFU;
   const std::uint32_t a_lo = a & half_mask;
   const std::uint32_t a_hi = a >> 16U;
   const std::uint32_t b_lo = b & half_mask;
   const std::uint32_t b_hi = b >> 16U;
-  const std::uint32_t column_16 = (a_lo * b_hi) + ((a_lo * b_lo) >> 16U);
+  const std::uint32_t low = a_lo * b_lo;
+  const std::uint32_t column_16 = (a_lo * b_hi) + (low >> 16U);
   const std::uint32_t column_16_cross = (a_hi * b_lo) + (column_16 & half_mask);
-  return (a_hi * b_hi) + (column_16 >> 16U) + (column_16_cross >> 16U);
+  const std::uint32_t hi = (a_hi * b_hi) + (column_16 >> 16U) + (column_16_cross >> 16U);
+  const std::uint32_t lo = (low & half_mask) | (column_16_cross << 16U);
+  return (static_cast<std::uint64_t>(hi) << 32U) | lo;
 }
 
-/// floor(a b / 2^32): the halves form on ARMv6-M, the widening multiply's
-/// high word elsewhere. The same bits either way.
-SW_FX_INLINE constexpr std::uint32_t mul_high_word(std::uint32_t a, std::uint32_t b) noexcept {
+/// a * b exactly: the column form on ARMv6-M, the widening multiply
+/// elsewhere. The same bits either way.
+SW_FX_INLINE constexpr std::uint64_t mul_wide(std::uint32_t a, std::uint32_t b) noexcept {
   if constexpr (wide::kMul32x32BySoftware) {
-    return mul_high_word_by_halves(a, b);
+    return mul_32x32_64_by_columns(a, b);
   } else {
-    return static_cast<std::uint32_t>(wide::mul_32x32_64(a, b) >> 32U);
+    return wide::mul_32x32_64(a, b);
   }
+}
+
+/// floor(a b / 2^32), the product's high word: where only it is needed, the
+/// compiler drops the low word's instructions.
+SW_FX_INLINE constexpr std::uint32_t mul_high_word(std::uint32_t a, std::uint32_t b) noexcept {
+  return static_cast<std::uint32_t>(mul_wide(a, b) >> 32U);
 }
 
 /// round(a b / 2^Shift) = (a b + 2^(Shift - 1)) >> Shift for a <= 2^31 and
@@ -148,11 +157,14 @@ template <std::int32_t F, std::int32_t J, std::int32_t I>
 SW_FX_INLINE constexpr std::uint64_t turn_part(std::uint32_t limb) noexcept {
   constexpr std::int32_t s = (32 + (32 * (J - I))) - F;
   if constexpr ((s < 64) && (s > -64)) {
-    const std::uint64_t p = wide::mul_32x32_64(limb, k_inv_two_pi[I]);
     if constexpr (s >= 0) {
-      return p << static_cast<std::uint32_t>(s);
+      return mul_wide(limb, k_inv_two_pi[I]) << static_cast<std::uint32_t>(s);
+    } else if constexpr (s <= -32) {
+      // floor(p / 2^-s) = floor(floor(p / 2^32) / 2^(-s - 32)): the high
+      // word alone, the same bits.
+      return static_cast<std::uint64_t>(mul_high_word(limb, k_inv_two_pi[I]) >> static_cast<std::uint32_t>(-s - 32));
     } else {
-      return p >> static_cast<std::uint32_t>(-s);
+      return mul_wide(limb, k_inv_two_pi[I]) >> static_cast<std::uint32_t>(-s);
     }
   } else {
     return 0U;
@@ -205,7 +217,7 @@ constexpr std::uint32_t square_q31(std::uint64_t m) noexcept {
   const std::uint64_t m_lo = m & 0x3FFFFFFFU;  // < 2^30
   // v^2 * 2^31 = m_hi^2 2^-31 + m_hi m_lo 2^-60 + m_lo^2 2^-91; the last term
   // is below 2^-31 units and dropped.
-  const std::uint64_t sum = wide::mul_32x32_64(word(m_hi), word(m_hi)) + (wide::mul_32x32_64(word(m_hi), word(m_lo)) >> 29U);
+  const std::uint64_t sum = mul_wide(word(m_hi), word(m_hi)) + (mul_wide(word(m_hi), word(m_lo)) >> 29U);
   return word((sum + (std::uint64_t{1U} << 30U)) >> 31U);
 }
 
@@ -230,7 +242,7 @@ constexpr std::uint64_t sin_kernel(std::uint64_t m, std::uint32_t w) noexcept {
   // m * P * 2^-63. m = m_hi 2^30 + m_lo keeps both products below 2^63.
   const std::uint64_t m_hi = m >> 30U;
   const std::uint64_t m_lo = m & 0x3FFFFFFFU;
-  const std::uint64_t t = wide::mul_32x32_64(word(m_hi), p) + (wide::mul_32x32_64(word(m_lo), p) >> 30U);
+  const std::uint64_t t = mul_wide(word(m_hi), p) + (mul_wide(word(m_lo), p) >> 30U);
   return (t + (std::uint64_t{1U} << 32U)) >> 33U;
 }
 
