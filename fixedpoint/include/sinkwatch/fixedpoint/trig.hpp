@@ -37,6 +37,7 @@
 #define SINKWATCH_FIXEDPOINT_TRIG_HPP
 
 #include <cstdint>
+#include <type_traits>
 
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/sqrt.hpp"
@@ -189,6 +190,19 @@ constexpr std::uint64_t turns(std::uint64_t m) noexcept {
   // A zero high limb (always, for 32-bit storage) skips its products.
   const std::uint64_t from_high = (high != 0U) ? turn_parts<F, 1>(high) : 0U;
   return turn_parts<F, 0>(low) + from_high;
+}
+
+/// turns() of the magnitude of a raw angle of either storage. A 32-bit
+/// angle's magnitude (<= 2^31) is one limb, taken as a word (magnitude32), so
+/// its high limb is neither formed nor tested: the same value, since that
+/// limb is zero.
+template <std::int32_t F, typename S>
+constexpr std::uint64_t angle_turns(S raw) noexcept {
+  if constexpr (std::is_same<S, std::int32_t>::value) {
+    return turn_parts<F, 0>(magnitude32(raw));
+  } else {
+    return turns<F>(magnitude(raw));
+  }
 }
 
 /// An angle reduced to q * pi/2 + r with |r| <= pi/4. r = (negative ? -1 : 1)
@@ -344,7 +358,7 @@ constexpr Q3_28 q3_28_from_q32(bool negative, std::uint64_t angle_q32) noexcept 
 template <typename S, std::int32_t F>
 [[nodiscard]] constexpr Q1_30 sin(Q<S, F> angle_rad, Status& status) noexcept {
   static_cast<void>(status);
-  const detail::trig::Reduced r = detail::trig::reduce(detail::trig::turns<F>(detail::magnitude(angle_rad.raw())));
+  const detail::trig::Reduced r = detail::trig::reduce(detail::trig::angle_turns<F>(angle_rad.raw()));
   const std::uint32_t w = detail::trig::square_q31(r.m);
   const bool odd_quadrant = (r.quadrant & 1U) != 0U;
   const std::uint64_t mag = odd_quadrant ? detail::trig::cos_kernel(w) : detail::trig::sin_kernel(r.m, w);
@@ -357,7 +371,7 @@ template <typename S, std::int32_t F>
 template <typename S, std::int32_t F>
 [[nodiscard]] constexpr Q1_30 cos(Q<S, F> angle_rad, Status& status) noexcept {
   static_cast<void>(status);
-  const detail::trig::Reduced r = detail::trig::reduce(detail::trig::turns<F>(detail::magnitude(angle_rad.raw())));
+  const detail::trig::Reduced r = detail::trig::reduce(detail::trig::angle_turns<F>(angle_rad.raw()));
   const std::uint32_t w = detail::trig::square_q31(r.m);
   const bool odd_quadrant = (r.quadrant & 1U) != 0U;
   const std::uint64_t mag = odd_quadrant ? detail::trig::sin_kernel(r.m, w) : detail::trig::cos_kernel(w);
@@ -378,7 +392,7 @@ struct SinCos {
 template <typename S, std::int32_t F>
 [[nodiscard]] constexpr SinCos sincos(Q<S, F> angle_rad, Status& status) noexcept {
   static_cast<void>(status);
-  const detail::trig::Reduced r = detail::trig::reduce(detail::trig::turns<F>(detail::magnitude(angle_rad.raw())));
+  const detail::trig::Reduced r = detail::trig::reduce(detail::trig::angle_turns<F>(angle_rad.raw()));
   const std::uint32_t w = detail::trig::square_q31(r.m);
   const std::uint64_t sin_r = detail::trig::sin_kernel(r.m, w);
   const std::uint64_t cos_r = detail::trig::cos_kernel(w);
