@@ -248,16 +248,16 @@ constexpr std::uint32_t sin_poly(std::uint32_t w) noexcept {
   return k_sin_a[0] - mul_round_high<(31U + k_sin_shift[1]) - k_sin_shift[0]>(w, b);
 }
 
-/// |sin(pi/4 v)| * 2^30 rounded, for v = m * 2^-61 in [0, 1] and
-/// w = square_q31(m) (computed once when cos_kernel needs it too).
-constexpr std::uint64_t sin_kernel(std::uint64_t m, std::uint32_t w) noexcept {
+/// |sin(pi/4 v)| * 2^30 rounded (<= 2^30, one word), for v = m * 2^-61 in
+/// [0, 1] and w = square_q31(m) (computed once when cos_kernel needs it too).
+constexpr std::uint32_t sin_kernel(std::uint64_t m, std::uint32_t w) noexcept {
   const std::uint32_t p = sin_poly(w);
   // sin = v P with v taken at full precision: m * P * 2^-93, in 2^-30 units
   // m * P * 2^-63. m = m_hi 2^30 + m_lo keeps both products below 2^63.
   const std::uint64_t m_hi = m >> 30U;
   const std::uint64_t m_lo = m & 0x3FFFFFFFU;
   const std::uint64_t t = mul_wide(word(m_hi), p) + (mul_wide(word(m_lo), p) >> 30U);
-  return (t + (std::uint64_t{1U} << 32U)) >> 33U;
+  return word((t + (std::uint64_t{1U} << 32U)) >> 33U);
 }
 
 /// cos(pi/4 v) * 2^30 rounded, for w = square_q31(m), v = m * 2^-61 in [0, 1].
