@@ -449,7 +449,7 @@ bool round_high_matches_all(std::uint32_t a, std::uint32_t b) {
 
 TEST(FxTrigKernels, RoundingOnTheHighWordIsTheRoundingOnSixtyFourBits) {
   std::mt19937_64 rng(151U);
-  for (std::uint32_t i = 0U; i < 2000000U; ++i) {
+  for (std::uint32_t i = 0U; i < 1000000U; ++i) {
     const std::uint64_t r = rng();
     const auto a = static_cast<std::uint32_t>(r) >> 1U;  // a < 2^31
     const auto b = static_cast<std::uint32_t>(r >> 32U);
@@ -519,7 +519,7 @@ TEST(FxTrigKernels, SinCosSameBitsAsTheSixtyFourBitFormsInEveryFormat) {
     ASSERT_TRUE(sincos_matches(QInt64::from_raw(raw))) << raw;
   }
   std::mt19937_64 rng(28U);
-  for (std::uint32_t i = 0U; i < 2000000U; ++i) {
+  for (std::uint32_t i = 0U; i < 1000000U; ++i) {
     const std::uint64_t r = rng();
     const auto raw32 = static_cast<std::int32_t>(static_cast<std::uint32_t>(r));
     ASSERT_TRUE(sincos_matches(Q3_28::from_raw(raw32))) << raw32;

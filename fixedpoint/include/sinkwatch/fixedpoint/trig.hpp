@@ -145,6 +145,18 @@ SW_FX_INLINE constexpr std::uint32_t mul_round_high(std::uint32_t a, std::uint32
 /// its coefficient, each limb of m), as the 32-bit operand of a product.
 SW_FX_INLINE constexpr std::uint32_t word(std::uint64_t v) noexcept { return static_cast<std::uint32_t>(v); }
 
+/// floor(limb c / 2^Shift), 1 <= Shift <= 63: from the product's high word
+/// alone when Shift >= 32 (floor(p / 2^Shift) = floor(floor(p / 2^32) /
+/// 2^(Shift - 32)), the same bits).
+template <std::int32_t Shift>
+SW_FX_INLINE constexpr std::uint64_t turn_part_shifted_right(std::uint32_t limb, std::uint32_t c) noexcept {
+  if constexpr (Shift >= 32) {
+    return static_cast<std::uint64_t>(mul_high_word(limb, c) >> static_cast<std::uint32_t>(Shift - 32));
+  } else {
+    return mul_wide(limb, c) >> static_cast<std::uint32_t>(Shift);
+  }
+}
+
 /// Fraction of a turn of the angle m * 2^-F rad, in units of 2^-64 turn:
 /// m * 2^-F / (2 pi) mod 1, computed limb by limb. Whole turns fall off the
 /// top of the uint64_t (unsigned wrap, which is exactly "mod 1 turn").
@@ -160,12 +172,8 @@ SW_FX_INLINE constexpr std::uint64_t turn_part(std::uint32_t limb) noexcept {
   if constexpr ((s < 64) && (s > -64)) {
     if constexpr (s >= 0) {
       return mul_wide(limb, k_inv_two_pi[I]) << static_cast<std::uint32_t>(s);
-    } else if constexpr (s <= -32) {
-      // floor(p / 2^-s) = floor(floor(p / 2^32) / 2^(-s - 32)): the high
-      // word alone, the same bits.
-      return static_cast<std::uint64_t>(mul_high_word(limb, k_inv_two_pi[I]) >> static_cast<std::uint32_t>(-s - 32));
     } else {
-      return mul_wide(limb, k_inv_two_pi[I]) >> static_cast<std::uint32_t>(-s);
+      return turn_part_shifted_right<-s>(limb, k_inv_two_pi[I]);
     }
   } else {
     return 0U;
