@@ -1,12 +1,17 @@
 // test_trig.cpp: worked examples and error paths of sin, cos, asin, acos and
 // entry_angle, the wheel-sinkage example that motivates the 2 asin(sqrt(z /
-// 2r)) form, and checks of the integer constants against long double.
+// 2r)) form, checks of the integer constants against long double, and the
+// sine and cosine kernels against their round-12 forms kept verbatim as an
+// oracle (every cheaper form must give the same bits).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <random>
+#include <utility>
+#include <vector>
 
 #include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
@@ -263,6 +268,272 @@ TEST(FxAtan2, OriginIsADomainError) {
   fx::Status s;
   EXPECT_EQ(fx::atan2(Q15_16::zero(), Q15_16::zero(), s).raw(), 0);
   EXPECT_EQ(s.bits(), only(Flag::domain));
+}
+
+// ------------------------------------------- round-12 kernels, the oracle
+//
+// The reduction, square and kernels of sin, cos and sincos as they were
+// before the word-sized forms (round 13), kept verbatim: every product 64
+// bits wide, mul_round_by's rounding on 64 bits. The current forms must give
+// the same bits for every input the kernels can receive.
+namespace kernels_by_64_bit_products {
+
+namespace t = fx::detail::trig;
+namespace wide = fx::wide;
+
+template <std::uint32_t Shift>
+constexpr std::uint64_t mul_round_by(std::uint32_t a, std::uint32_t b) noexcept {
+  static_assert((Shift >= 1U) && (Shift <= 63U), "a rounding shift of 1 to 63 bits");
+  return (wide::mul_32x32_64(a, b) + (std::uint64_t{1U} << (Shift - 1U))) >> Shift;
+}
+
+constexpr std::uint32_t word(std::uint64_t v) noexcept { return static_cast<std::uint32_t>(v); }
+
+template <std::int32_t F, std::int32_t J, std::int32_t I>
+constexpr std::uint64_t turn_part(std::uint32_t limb) noexcept {
+  constexpr std::int32_t s = (32 + (32 * (J - I))) - F;
+  if constexpr ((s < 64) && (s > -64)) {
+    const std::uint64_t p = wide::mul_32x32_64(limb, t::k_inv_two_pi[I]);
+    if constexpr (s >= 0) {
+      return p << static_cast<std::uint32_t>(s);
+    } else {
+      return p >> static_cast<std::uint32_t>(-s);
+    }
+  } else {
+    return 0U;
+  }
+}
+
+template <std::int32_t F, std::int32_t J>
+constexpr std::uint64_t turn_parts(std::uint32_t limb) noexcept {
+  return turn_part<F, J, 0>(limb) + turn_part<F, J, 1>(limb) + turn_part<F, J, 2>(limb) + turn_part<F, J, 3>(limb);
+}
+
+template <std::int32_t F>
+constexpr std::uint64_t turns(std::uint64_t m) noexcept {
+  const std::uint32_t low = word(m & 0xFFFFFFFFU);
+  const std::uint32_t high = word(m >> 32U);
+  const std::uint64_t from_high = (high != 0U) ? turn_parts<F, 1>(high) : 0U;
+  return turn_parts<F, 0>(low) + from_high;
+}
+
+struct Reduced {
+  std::uint32_t quadrant;
+  bool negative;
+  std::uint64_t m;
+};
+
+constexpr Reduced reduce(std::uint64_t turn_fraction) noexcept {
+  const std::uint64_t eighth = std::uint64_t{1U} << 61U;
+  const std::uint64_t u = turn_fraction + eighth;
+  const std::uint32_t quadrant = static_cast<std::uint32_t>(u >> 62U);
+  const std::uint64_t g = u & ((std::uint64_t{1U} << 62U) - 1U);
+  if (g >= eighth) {
+    return Reduced{quadrant, false, g - eighth};
+  }
+  return Reduced{quadrant, true, eighth - g};
+}
+
+constexpr std::uint64_t square_q31(std::uint64_t m) noexcept {
+  const std::uint64_t m_hi = m >> 30U;
+  const std::uint64_t m_lo = m & 0x3FFFFFFFU;
+  const std::uint64_t sum = wide::mul_32x32_64(word(m_hi), word(m_hi)) + (wide::mul_32x32_64(word(m_hi), word(m_lo)) >> 29U);
+  return (sum + (std::uint64_t{1U} << 30U)) >> 31U;
+}
+
+constexpr std::uint64_t sin_kernel(std::uint64_t m, std::uint64_t w) noexcept {
+  const std::uint32_t w32 = word(w);
+  std::uint64_t b = t::k_sin_a[5];
+  b = t::k_sin_a[4] - mul_round_by<(31U + t::k_sin_shift[5]) - t::k_sin_shift[4]>(w32, word(b));
+  b = t::k_sin_a[3] - mul_round_by<(31U + t::k_sin_shift[4]) - t::k_sin_shift[3]>(w32, word(b));
+  b = t::k_sin_a[2] - mul_round_by<(31U + t::k_sin_shift[3]) - t::k_sin_shift[2]>(w32, word(b));
+  b = t::k_sin_a[1] - mul_round_by<(31U + t::k_sin_shift[2]) - t::k_sin_shift[1]>(w32, word(b));
+  b = t::k_sin_a[0] - mul_round_by<(31U + t::k_sin_shift[1]) - t::k_sin_shift[0]>(w32, word(b));
+  const std::uint64_t m_hi = m >> 30U;
+  const std::uint64_t m_lo = m & 0x3FFFFFFFU;
+  const std::uint64_t tt = wide::mul_32x32_64(word(m_hi), word(b)) + (wide::mul_32x32_64(word(m_lo), word(b)) >> 30U);
+  return (tt + (std::uint64_t{1U} << 32U)) >> 33U;
+}
+
+constexpr std::uint64_t cos_kernel(std::uint64_t w) noexcept {
+  const std::uint32_t w32 = word(w);
+  std::uint64_t b = t::k_cos_b[5];
+  b = t::k_cos_b[4] - mul_round_by<(31U + t::k_cos_shift[5]) - t::k_cos_shift[4]>(w32, word(b));
+  b = t::k_cos_b[3] - mul_round_by<(31U + t::k_cos_shift[4]) - t::k_cos_shift[3]>(w32, word(b));
+  b = t::k_cos_b[2] - mul_round_by<(31U + t::k_cos_shift[3]) - t::k_cos_shift[2]>(w32, word(b));
+  b = t::k_cos_b[1] - mul_round_by<(31U + t::k_cos_shift[2]) - t::k_cos_shift[1]>(w32, word(b));
+  b = t::k_cos_b[0] - mul_round_by<(31U + t::k_cos_shift[1]) - t::k_cos_shift[0]>(w32, word(b));
+  return (std::uint64_t{1U} << 30U) - mul_round_by<34U>(w32, word(b));
+}
+
+constexpr bool sin_negative(const Reduced& r, bool angle_negative) noexcept {
+  const bool odd_quadrant = (r.quadrant & 1U) != 0U;
+  const bool negative = odd_quadrant ? (r.quadrant == 3U) : (r.negative != (r.quadrant == 2U));
+  return negative != angle_negative;
+}
+
+constexpr bool cos_negative(const Reduced& r) noexcept {
+  const bool odd_quadrant = (r.quadrant & 1U) != 0U;
+  return odd_quadrant ? (r.negative != (r.quadrant == 1U)) : (r.quadrant == 2U);
+}
+
+constexpr std::int32_t signed_raw(bool negative, std::uint64_t mag) noexcept {
+  const std::int32_t v = static_cast<std::int32_t>(mag);
+  return negative ? -v : v;
+}
+
+/// fx::sincos's raw sine and cosine as they were.
+template <typename S, std::int32_t F>
+std::pair<std::int32_t, std::int32_t> sincos(fx::Q<S, F> angle) noexcept {
+  const Reduced r = reduce(turns<F>(fx::detail::magnitude(angle.raw())));
+  const std::uint64_t w = square_q31(r.m);
+  const std::uint64_t sin_r = sin_kernel(r.m, w);
+  const std::uint64_t cos_r = cos_kernel(w);
+  const bool odd_quadrant = (r.quadrant & 1U) != 0U;
+  return {signed_raw(sin_negative(r, angle.raw() < 0), odd_quadrant ? cos_r : sin_r),
+          signed_raw(cos_negative(r), odd_quadrant ? sin_r : cos_r)};
+}
+
+}  // namespace kernels_by_64_bit_products
+
+namespace old = kernels_by_64_bit_products;
+
+/// m in [0, 2^61], the reduced residual the kernels receive: the ends, the
+/// powers of two and their neighbours, then uniform draws.
+std::vector<std::uint64_t> residual_edges() {
+  std::vector<std::uint64_t> out{0U, 1U, 2U, (std::uint64_t{1U} << 61U), (std::uint64_t{1U} << 61U) - 1U};
+  for (std::uint32_t k = 0U; k < 61U; ++k) {
+    const std::uint64_t p = std::uint64_t{1U} << k;
+    out.push_back(p);
+    out.push_back(p + 1U);
+    out.push_back(p - 1U);
+    out.push_back((std::uint64_t{1U} << 61U) - p);
+  }
+  // The borders of the m_hi / m_lo split at 2^30.
+  for (std::uint64_t hi = 0U; hi < 4U; ++hi) {
+    out.push_back((hi << 30U) | 0x3FFFFFFFU);
+    out.push_back(((std::uint64_t{0x7FFFFFFFU} - hi) << 30U) | 0x3FFFFFFFU);
+  }
+  return out;
+}
+
+TEST(FxTrigKernels, ColumnProductIsTheBuiltInProduct) {
+  const std::uint32_t edges[] = {0U, 1U, 2U, 0xFFFFU, 0x10000U, 0x10001U, 0x7FFFFFFFU, 0x80000000U, 0x80000001U,
+                                 0xFFFEFFFFU, 0xFFFF0000U, 0xFFFFFFFEU, 0xFFFFFFFFU};
+  for (const std::uint32_t a : edges) {
+    for (const std::uint32_t b : edges) {
+      ASSERT_EQ(fx::detail::trig::mul_32x32_64_by_columns(a, b), std::uint64_t{a} * b) << a << " " << b;
+    }
+  }
+  std::mt19937_64 rng(20261127U);
+  for (std::uint32_t i = 0U; i < 4000000U; ++i) {
+    const std::uint64_t r = rng();
+    const auto a = static_cast<std::uint32_t>(r);
+    const auto b = static_cast<std::uint32_t>(r >> 32U);
+    ASSERT_EQ(fx::detail::trig::mul_32x32_64_by_columns(a, b), std::uint64_t{a} * b) << a << " " << b;
+  }
+}
+
+/// The rounding of the high word against the 64-bit rounding, for one shift.
+template <std::uint32_t Shift>
+bool round_high_matches(std::uint32_t a, std::uint32_t b) {
+  return fx::detail::trig::mul_round_high<Shift>(a, b) == old::mul_round_by<Shift>(a, b);
+}
+
+/// ... for every shift the kernels use, and the ends.
+bool round_high_matches_all(std::uint32_t a, std::uint32_t b) {
+  return round_high_matches<33U>(a, b) && round_high_matches<34U>(a, b) && round_high_matches<35U>(a, b) &&
+         round_high_matches<36U>(a, b) && round_high_matches<37U>(a, b) && round_high_matches<38U>(a, b) &&
+         round_high_matches<39U>(a, b) && round_high_matches<63U>(a, b);
+}
+
+TEST(FxTrigKernels, RoundingOnTheHighWordIsTheRoundingOnSixtyFourBits) {
+  std::mt19937_64 rng(151U);
+  for (std::uint32_t i = 0U; i < 1000000U; ++i) {
+    const std::uint64_t r = rng();
+    const auto a = static_cast<std::uint32_t>(r) >> 1U;  // a < 2^31
+    const auto b = static_cast<std::uint32_t>(r >> 32U);
+    ASSERT_TRUE(round_high_matches_all(a, b)) << a << " " << b;
+  }
+  // a = 2^31 (w at v = 1), and products at and beside a rounding boundary:
+  // 2^31 b = k 2^Shift +- 2^(Shift - 1).
+  const std::uint32_t bs[] = {0U, 1U, 3U, 4U, 5U, 0xBFU, 0xC0U, 0xC1U, 0x7FFFFFFFU, 0xFFFFFFFFU};
+  for (const std::uint32_t b : bs) {
+    ASSERT_TRUE(round_high_matches_all(0x80000000U, b)) << b;
+    ASSERT_TRUE(round_high_matches_all(0x7FFFFFFFU, b)) << b;
+  }
+}
+
+TEST(FxTrigKernels, SameBitsAsTheSixtyFourBitKernelsOverTheWholeDomain) {
+  namespace t = fx::detail::trig;
+  std::vector<std::uint64_t> ms = residual_edges();
+  std::mt19937_64 rng(61U);
+  for (std::uint32_t i = 0U; i < 3000000U; ++i) {
+    ms.push_back(rng() % ((std::uint64_t{1U} << 61U) + 1U));
+  }
+  for (const std::uint64_t m : ms) {
+    const std::uint64_t w_old = old::square_q31(m);
+    const std::uint32_t w = t::square_q31(m);
+    ASSERT_EQ(w, w_old) << m;
+    ASSERT_EQ(t::sin_kernel(m, w), old::sin_kernel(m, w_old)) << m;
+    ASSERT_EQ(t::cos_kernel(w), old::cos_kernel(w_old)) << m;
+  }
+  // Every w <= 2^31 the square can give, strided, and its ends: the
+  // polynomials depend on w alone.
+  for (std::uint64_t w = 0U; w <= (std::uint64_t{1U} << 31U); w += 997U) {
+    ASSERT_EQ(t::cos_kernel(static_cast<std::uint32_t>(w)), old::cos_kernel(w)) << w;
+    ASSERT_EQ(t::sin_kernel(std::uint64_t{1U} << 61U, static_cast<std::uint32_t>(w)),
+              old::sin_kernel(std::uint64_t{1U} << 61U, w))
+        << w;
+  }
+  for (std::uint64_t w = (std::uint64_t{1U} << 31U) - 4096U; w <= (std::uint64_t{1U} << 31U); ++w) {
+    ASSERT_EQ(t::cos_kernel(static_cast<std::uint32_t>(w)), old::cos_kernel(w)) << w;
+  }
+}
+
+/// fx::sincos, fx::sin and fx::cos against the round-12 composition for one
+/// angle.
+template <typename S, std::int32_t F>
+bool sincos_matches(fx::Q<S, F> angle) {
+  fx::Status s;
+  const fx::SinCos now = fx::sincos(angle, s);
+  const auto was = old::sincos(angle);
+  return (now.sin.raw() == was.first) && (now.cos.raw() == was.second) && (fx::sin(angle, s).raw() == was.first) &&
+         (fx::cos(angle, s).raw() == was.second) && s.ok();
+}
+
+TEST(FxTrigKernels, SinCosSameBitsAsTheSixtyFourBitFormsInEveryFormat) {
+  const std::int32_t edges32[] = {0, 1, -1, 2, std::numeric_limits<std::int32_t>::max(),
+                                  std::numeric_limits<std::int32_t>::min(), std::numeric_limits<std::int32_t>::min() + 1,
+                                  421657428, 421657429, 843314857, -843314857, 210828714, 1686629713};
+  for (const std::int32_t raw : edges32) {
+    ASSERT_TRUE(sincos_matches(Q3_28::from_raw(raw))) << raw;
+    ASSERT_TRUE(sincos_matches(Q15_16::from_raw(raw))) << raw;
+    ASSERT_TRUE(sincos_matches(Q1_30::from_raw(raw))) << raw;
+    ASSERT_TRUE(sincos_matches(QInt32::from_raw(raw))) << raw;
+  }
+  const std::int64_t edges64[] = {0, 1, -1, std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::min(),
+                                  std::numeric_limits<std::int64_t>::min() + 1, 0x100000000LL, 0xFFFFFFFFLL};
+  for (const std::int64_t raw : edges64) {
+    ASSERT_TRUE(sincos_matches(Q31_32::from_raw(raw))) << raw;
+    ASSERT_TRUE(sincos_matches(QInt64::from_raw(raw))) << raw;
+  }
+  std::mt19937_64 rng(28U);
+  for (std::uint32_t i = 0U; i < 1000000U; ++i) {
+    const std::uint64_t r = rng();
+    const auto raw32 = static_cast<std::int32_t>(static_cast<std::uint32_t>(r));
+    ASSERT_TRUE(sincos_matches(Q3_28::from_raw(raw32))) << raw32;
+    if ((i % 8U) == 0U) {
+      ASSERT_TRUE(sincos_matches(Q15_16::from_raw(raw32))) << raw32;
+      ASSERT_TRUE(sincos_matches(Q31_32::from_raw(static_cast<std::int64_t>(r)))) << r;
+      // Small 64-bit angles, whose high limb is zero or small.
+      ASSERT_TRUE(sincos_matches(Q31_32::from_raw(static_cast<std::int64_t>(r >> 28U) - (std::int64_t{1} << 35U)))) << r;
+    }
+  }
+  // Every Q3.28 angle of the rover's range, strided: |angle| <= pi/2.
+  for (std::int32_t raw = -421657429; raw <= 421657429; raw += 4093) {
+    ASSERT_TRUE(sincos_matches(Q3_28::from_raw(raw))) << raw;
+  }
 }
 
 // ---------------------------------------------------------------- constants

@@ -37,6 +37,7 @@
 #define SINKWATCH_FIXEDPOINT_TRIG_HPP
 
 #include <cstdint>
+#include <type_traits>
 
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/sqrt.hpp"
@@ -90,20 +91,71 @@ constexpr std::uint64_t mul_round(std::uint64_t a, std::uint64_t b, std::uint32_
   return (wide::mul_64x64_low(a, b) + (std::uint64_t{1U} << (shift - 1U))) >> shift;
 }
 
-/// The same for a shift known at compile time and operands below 2^32 (every
-/// product of the sine and cosine kernels): one 32 x 32 -> 64-bit product
-/// and constant shifts, which -Os would otherwise leave as library calls for
-/// the run-time shift count (docs/performance.md, session 12). The same bits
-/// as mul_round.
+/// a * b exactly, from four 16 x 16 -> 32-bit products (each a MULS on
+/// ARMv6-M) summed by columns so that no sum can carry out of 32 bits: each
+/// partial product is at most (2^16 - 1)^2 and each added column part below
+/// 2^16, so both sums are at most (2^16 - 1) 2^16. Without carries to test,
+/// it costs fewer instructions than wide::mul_32x32_64_halves (and its high
+/// word alone about half). Plain integer arithmetic: the host tests call it
+/// directly against the built-in product.
+SW_FX_INLINE constexpr std::uint64_t mul_32x32_64_by_columns(std::uint32_t a, std::uint32_t b) noexcept {
+  const std::uint32_t half_mask = 0xFFFFU;
+  const std::uint32_t a_lo = a & half_mask;
+  const std::uint32_t a_hi = a >> 16U;
+  const std::uint32_t b_lo = b & half_mask;
+  const std::uint32_t b_hi = b >> 16U;
+  const std::uint32_t low = a_lo * b_lo;
+  const std::uint32_t column_16 = (a_lo * b_hi) + (low >> 16U);
+  const std::uint32_t column_16_cross = (a_hi * b_lo) + (column_16 & half_mask);
+  const std::uint32_t hi = (a_hi * b_hi) + (column_16 >> 16U) + (column_16_cross >> 16U);
+  const std::uint32_t lo = (low & half_mask) | (column_16_cross << 16U);
+  return (static_cast<std::uint64_t>(hi) << 32U) | lo;
+}
+
+/// a * b exactly: the column form on ARMv6-M, the widening multiply
+/// elsewhere. The same bits either way.
+SW_FX_INLINE constexpr std::uint64_t mul_wide(std::uint32_t a, std::uint32_t b) noexcept {
+  if constexpr (wide::kMul32x32BySoftware) {
+    return mul_32x32_64_by_columns(a, b);
+  } else {
+    return wide::mul_32x32_64(a, b);
+  }
+}
+
+/// floor(a b / 2^32), the product's high word: where only it is needed, the
+/// compiler drops the low word's instructions.
+SW_FX_INLINE constexpr std::uint32_t mul_high_word(std::uint32_t a, std::uint32_t b) noexcept {
+  return static_cast<std::uint32_t>(mul_wide(a, b) >> 32U);
+}
+
+/// round(a b / 2^Shift) = (a b + 2^(Shift - 1)) >> Shift for a <= 2^31 and
+/// a shift known at compile time of 33 to 63 bits (every product of the sine
+/// and cosine kernels), from the product's high word alone: the rounding
+/// half 2^(Shift - 1) lies wholly in the high word, so a b + 2^(Shift - 1) =
+/// (hi + 2^(Shift - 33)) 2^32 + lo with lo < 2^32, which the shift by
+/// Shift >= 32 drops whole. a <= 2^31 keeps hi < 2^31, so adding the half
+/// (<= 2^30) cannot carry out. Exactly the bits of the 64-bit form.
 template <std::uint32_t Shift>
-SW_FX_INLINE constexpr std::uint64_t mul_round_by(std::uint32_t a, std::uint32_t b) noexcept {
-  static_assert((Shift >= 1U) && (Shift <= 63U), "a rounding shift of 1 to 63 bits");
-  return (wide::mul_32x32_64(a, b) + (std::uint64_t{1U} << (Shift - 1U))) >> Shift;
+SW_FX_INLINE constexpr std::uint32_t mul_round_high(std::uint32_t a, std::uint32_t b) noexcept {
+  static_assert((Shift >= 33U) && (Shift <= 63U), "a rounding shift of 33 to 63 bits");
+  return (mul_high_word(a, b) + (std::uint32_t{1U} << (Shift - 33U))) >> (Shift - 32U);
 }
 
 /// A value the kernels keep below 2^32 (w <= 2^31, every Horner bracket below
 /// its coefficient, each limb of m), as the 32-bit operand of a product.
 SW_FX_INLINE constexpr std::uint32_t word(std::uint64_t v) noexcept { return static_cast<std::uint32_t>(v); }
+
+/// floor(limb c / 2^Shift), 1 <= Shift <= 63: from the product's high word
+/// alone when Shift >= 32 (floor(p / 2^Shift) = floor(floor(p / 2^32) /
+/// 2^(Shift - 32)), the same bits).
+template <std::int32_t Shift>
+SW_FX_INLINE constexpr std::uint64_t turn_part_shifted_right(std::uint32_t limb, std::uint32_t c) noexcept {
+  if constexpr (Shift >= 32) {
+    return static_cast<std::uint64_t>(mul_high_word(limb, c) >> static_cast<std::uint32_t>(Shift - 32));
+  } else {
+    return mul_wide(limb, c) >> static_cast<std::uint32_t>(Shift);
+  }
+}
 
 /// Fraction of a turn of the angle m * 2^-F rad, in units of 2^-64 turn:
 /// m * 2^-F / (2 pi) mod 1, computed limb by limb. Whole turns fall off the
@@ -118,11 +170,10 @@ template <std::int32_t F, std::int32_t J, std::int32_t I>
 SW_FX_INLINE constexpr std::uint64_t turn_part(std::uint32_t limb) noexcept {
   constexpr std::int32_t s = (32 + (32 * (J - I))) - F;
   if constexpr ((s < 64) && (s > -64)) {
-    const std::uint64_t p = wide::mul_32x32_64(limb, k_inv_two_pi[I]);
     if constexpr (s >= 0) {
-      return p << static_cast<std::uint32_t>(s);
+      return mul_wide(limb, k_inv_two_pi[I]) << static_cast<std::uint32_t>(s);
     } else {
-      return p >> static_cast<std::uint32_t>(-s);
+      return turn_part_shifted_right<-s>(limb, k_inv_two_pi[I]);
     }
   } else {
     return 0U;
@@ -149,6 +200,19 @@ constexpr std::uint64_t turns(std::uint64_t m) noexcept {
   return turn_parts<F, 0>(low) + from_high;
 }
 
+/// turns() of the magnitude of a raw angle of either storage. A 32-bit
+/// angle's magnitude (<= 2^31) is one limb, taken as a word (magnitude32), so
+/// its high limb is neither formed nor tested: the same value, since that
+/// limb is zero.
+template <std::int32_t F, typename S>
+constexpr std::uint64_t angle_turns(S raw) noexcept {
+  if constexpr (std::is_same<S, std::int32_t>::value) {
+    return turn_parts<F, 0>(magnitude32(raw));
+  } else {
+    return turns<F>(magnitude(raw));
+  }
+}
+
 /// An angle reduced to q * pi/2 + r with |r| <= pi/4. r = (negative ? -1 : 1)
 /// * m * 2^-61 * pi/4, m <= 2^61.
 struct Reduced {
@@ -169,46 +233,51 @@ constexpr Reduced reduce(std::uint64_t turn_fraction) noexcept {
 }
 
 /// v^2 in units of 2^-31 for v = m * 2^-61 <= 1, within 0.5 + 2^-30 units.
-constexpr std::uint64_t square_q31(std::uint64_t m) noexcept {
+/// At most 2^31 (v <= 1), so it is returned as one word.
+constexpr std::uint32_t square_q31(std::uint64_t m) noexcept {
   const std::uint64_t m_hi = m >> 30U;          // <= 2^31
   const std::uint64_t m_lo = m & 0x3FFFFFFFU;  // < 2^30
   // v^2 * 2^31 = m_hi^2 2^-31 + m_hi m_lo 2^-60 + m_lo^2 2^-91; the last term
   // is below 2^-31 units and dropped.
-  const std::uint64_t sum = wide::mul_32x32_64(word(m_hi), word(m_hi)) + (wide::mul_32x32_64(word(m_hi), word(m_lo)) >> 29U);
-  return (sum + (std::uint64_t{1U} << 30U)) >> 31U;
+  const std::uint64_t sum = mul_wide(word(m_hi), word(m_hi)) + (mul_wide(word(m_hi), word(m_lo)) >> 29U);
+  return word((sum + (std::uint64_t{1U} << 30U)) >> 31U);
 }
 
-/// |sin(pi/4 v)| * 2^30 rounded, for v = m * 2^-61 in [0, 1] and
-/// w = square_q31(m) (computed once when cos_kernel needs it too).
-constexpr std::uint64_t sin_kernel(std::uint64_t m, std::uint64_t w) noexcept {
-  // P(w) = a1 - w (a3 - w (a5 - w (a7 - w (a9 - w a11)))): every bracket is
-  // positive (a_k > a_(k+2) and w <= 1), so the Horner steps stay unsigned.
-  const std::uint32_t w32 = word(w);
-  std::uint64_t b = k_sin_a[5];
-  b = k_sin_a[4] - mul_round_by<(31U + k_sin_shift[5]) - k_sin_shift[4]>(w32, word(b));
-  b = k_sin_a[3] - mul_round_by<(31U + k_sin_shift[4]) - k_sin_shift[3]>(w32, word(b));
-  b = k_sin_a[2] - mul_round_by<(31U + k_sin_shift[3]) - k_sin_shift[2]>(w32, word(b));
-  b = k_sin_a[1] - mul_round_by<(31U + k_sin_shift[2]) - k_sin_shift[1]>(w32, word(b));
-  b = k_sin_a[0] - mul_round_by<(31U + k_sin_shift[1]) - k_sin_shift[0]>(w32, word(b));
+/// P(w) = a1 - w (a3 - w (a5 - w (a7 - w (a9 - w a11)))) in units of 2^-32,
+/// w <= 2^31 (v <= 1): every bracket is positive (a_k > a_(k+2) and w <= 1),
+/// so the Horner steps stay unsigned, and each is below its coefficient, so
+/// one word.
+constexpr std::uint32_t sin_poly(std::uint32_t w) noexcept {
+  std::uint32_t b = k_sin_a[5];
+  b = k_sin_a[4] - mul_round_high<(31U + k_sin_shift[5]) - k_sin_shift[4]>(w, b);
+  b = k_sin_a[3] - mul_round_high<(31U + k_sin_shift[4]) - k_sin_shift[3]>(w, b);
+  b = k_sin_a[2] - mul_round_high<(31U + k_sin_shift[3]) - k_sin_shift[2]>(w, b);
+  b = k_sin_a[1] - mul_round_high<(31U + k_sin_shift[2]) - k_sin_shift[1]>(w, b);
+  return k_sin_a[0] - mul_round_high<(31U + k_sin_shift[1]) - k_sin_shift[0]>(w, b);
+}
+
+/// |sin(pi/4 v)| * 2^30 rounded (<= 2^30, one word), for v = m * 2^-61 in
+/// [0, 1] and w = square_q31(m) (computed once when cos_kernel needs it too).
+constexpr std::uint32_t sin_kernel(std::uint64_t m, std::uint32_t w) noexcept {
+  const std::uint32_t p = sin_poly(w);
   // sin = v P with v taken at full precision: m * P * 2^-93, in 2^-30 units
   // m * P * 2^-63. m = m_hi 2^30 + m_lo keeps both products below 2^63.
   const std::uint64_t m_hi = m >> 30U;
   const std::uint64_t m_lo = m & 0x3FFFFFFFU;
-  const std::uint64_t t = wide::mul_32x32_64(word(m_hi), word(b)) + (wide::mul_32x32_64(word(m_lo), word(b)) >> 30U);
-  return (t + (std::uint64_t{1U} << 32U)) >> 33U;
+  const std::uint64_t t = mul_wide(word(m_hi), p) + (mul_wide(word(m_lo), p) >> 30U);
+  return word((t + (std::uint64_t{1U} << 32U)) >> 33U);
 }
 
 /// cos(pi/4 v) * 2^30 rounded, for w = square_q31(m), v = m * 2^-61 in [0, 1].
-constexpr std::uint64_t cos_kernel(std::uint64_t w) noexcept {
-  const std::uint32_t w32 = word(w);
-  std::uint64_t b = k_cos_b[5];
-  b = k_cos_b[4] - mul_round_by<(31U + k_cos_shift[5]) - k_cos_shift[4]>(w32, word(b));
-  b = k_cos_b[3] - mul_round_by<(31U + k_cos_shift[4]) - k_cos_shift[3]>(w32, word(b));
-  b = k_cos_b[2] - mul_round_by<(31U + k_cos_shift[3]) - k_cos_shift[2]>(w32, word(b));
-  b = k_cos_b[1] - mul_round_by<(31U + k_cos_shift[2]) - k_cos_shift[1]>(w32, word(b));
-  b = k_cos_b[0] - mul_round_by<(31U + k_cos_shift[1]) - k_cos_shift[0]>(w32, word(b));
+constexpr std::uint64_t cos_kernel(std::uint32_t w) noexcept {
+  std::uint32_t b = k_cos_b[5];
+  b = k_cos_b[4] - mul_round_high<(31U + k_cos_shift[5]) - k_cos_shift[4]>(w, b);
+  b = k_cos_b[3] - mul_round_high<(31U + k_cos_shift[4]) - k_cos_shift[3]>(w, b);
+  b = k_cos_b[2] - mul_round_high<(31U + k_cos_shift[3]) - k_cos_shift[2]>(w, b);
+  b = k_cos_b[1] - mul_round_high<(31U + k_cos_shift[2]) - k_cos_shift[1]>(w, b);
+  b = k_cos_b[0] - mul_round_high<(31U + k_cos_shift[1]) - k_cos_shift[0]>(w, b);
   // cos = 1 - w Q, Q = b in units 2^-33: w Q in 2^-30 units is w b 2^-34.
-  return (std::uint64_t{1U} << 30U) - mul_round_by<34U>(w32, word(b));
+  return (std::uint64_t{1U} << 30U) - mul_round_high<34U>(w, b);
 }
 
 /// |angle| = q pi/2 + r: sin is +-sin(r) in quadrants 0 and 2, +-cos(r) in
@@ -297,8 +366,8 @@ constexpr Q3_28 q3_28_from_q32(bool negative, std::uint64_t angle_q32) noexcept 
 template <typename S, std::int32_t F>
 [[nodiscard]] constexpr Q1_30 sin(Q<S, F> angle_rad, Status& status) noexcept {
   static_cast<void>(status);
-  const detail::trig::Reduced r = detail::trig::reduce(detail::trig::turns<F>(detail::magnitude(angle_rad.raw())));
-  const std::uint64_t w = detail::trig::square_q31(r.m);
+  const detail::trig::Reduced r = detail::trig::reduce(detail::trig::angle_turns<F>(angle_rad.raw()));
+  const std::uint32_t w = detail::trig::square_q31(r.m);
   const bool odd_quadrant = (r.quadrant & 1U) != 0U;
   const std::uint64_t mag = odd_quadrant ? detail::trig::cos_kernel(w) : detail::trig::sin_kernel(r.m, w);
   return detail::trig::signed_q1_30(detail::trig::sin_negative(r, angle_rad.raw() < 0), mag);
@@ -310,8 +379,8 @@ template <typename S, std::int32_t F>
 template <typename S, std::int32_t F>
 [[nodiscard]] constexpr Q1_30 cos(Q<S, F> angle_rad, Status& status) noexcept {
   static_cast<void>(status);
-  const detail::trig::Reduced r = detail::trig::reduce(detail::trig::turns<F>(detail::magnitude(angle_rad.raw())));
-  const std::uint64_t w = detail::trig::square_q31(r.m);
+  const detail::trig::Reduced r = detail::trig::reduce(detail::trig::angle_turns<F>(angle_rad.raw()));
+  const std::uint32_t w = detail::trig::square_q31(r.m);
   const bool odd_quadrant = (r.quadrant & 1U) != 0U;
   const std::uint64_t mag = odd_quadrant ? detail::trig::sin_kernel(r.m, w) : detail::trig::cos_kernel(w);
   return detail::trig::signed_q1_30(detail::trig::cos_negative(r), mag);
@@ -331,8 +400,8 @@ struct SinCos {
 template <typename S, std::int32_t F>
 [[nodiscard]] constexpr SinCos sincos(Q<S, F> angle_rad, Status& status) noexcept {
   static_cast<void>(status);
-  const detail::trig::Reduced r = detail::trig::reduce(detail::trig::turns<F>(detail::magnitude(angle_rad.raw())));
-  const std::uint64_t w = detail::trig::square_q31(r.m);
+  const detail::trig::Reduced r = detail::trig::reduce(detail::trig::angle_turns<F>(angle_rad.raw()));
+  const std::uint32_t w = detail::trig::square_q31(r.m);
   const std::uint64_t sin_r = detail::trig::sin_kernel(r.m, w);
   const std::uint64_t cos_r = detail::trig::cos_kernel(w);
   const bool odd_quadrant = (r.quadrant & 1U) != 0U;
