@@ -417,23 +417,6 @@ std::vector<std::uint64_t> residual_edges() {
   return out;
 }
 
-TEST(FxTrigKernels, ColumnProductIsTheBuiltInProduct) {
-  const std::uint32_t edges[] = {0U, 1U, 2U, 0xFFFFU, 0x10000U, 0x10001U, 0x7FFFFFFFU, 0x80000000U, 0x80000001U,
-                                 0xFFFEFFFFU, 0xFFFF0000U, 0xFFFFFFFEU, 0xFFFFFFFFU};
-  for (const std::uint32_t a : edges) {
-    for (const std::uint32_t b : edges) {
-      ASSERT_EQ(fx::detail::trig::mul_32x32_64_by_columns(a, b), std::uint64_t{a} * b) << a << " " << b;
-    }
-  }
-  std::mt19937_64 rng(20261127U);
-  for (std::uint32_t i = 0U; i < 4000000U; ++i) {
-    const std::uint64_t r = rng();
-    const auto a = static_cast<std::uint32_t>(r);
-    const auto b = static_cast<std::uint32_t>(r >> 32U);
-    ASSERT_EQ(fx::detail::trig::mul_32x32_64_by_columns(a, b), std::uint64_t{a} * b) << a << " " << b;
-  }
-}
-
 /// The rounding of the high word against the 64-bit rounding, for one shift.
 template <std::uint32_t Shift>
 bool round_high_matches(std::uint32_t a, std::uint32_t b) {

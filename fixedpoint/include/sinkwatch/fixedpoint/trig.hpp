@@ -91,35 +91,10 @@ constexpr std::uint64_t mul_round(std::uint64_t a, std::uint64_t b, std::uint32_
   return (wide::mul_64x64_low(a, b) + (std::uint64_t{1U} << (shift - 1U))) >> shift;
 }
 
-/// a * b exactly, from four 16 x 16 -> 32-bit products (each a MULS on
-/// ARMv6-M) summed by columns so that no sum can carry out of 32 bits: each
-/// partial product is at most (2^16 - 1)^2 and each added column part below
-/// 2^16, so both sums are at most (2^16 - 1) 2^16. Without carries to test,
-/// it costs fewer instructions than wide::mul_32x32_64_halves (and its high
-/// word alone about half). Plain integer arithmetic: the host tests call it
-/// directly against the built-in product.
-SW_FX_INLINE constexpr std::uint64_t mul_32x32_64_by_columns(std::uint32_t a, std::uint32_t b) noexcept {
-  const std::uint32_t half_mask = 0xFFFFU;
-  const std::uint32_t a_lo = a & half_mask;
-  const std::uint32_t a_hi = a >> 16U;
-  const std::uint32_t b_lo = b & half_mask;
-  const std::uint32_t b_hi = b >> 16U;
-  const std::uint32_t low = a_lo * b_lo;
-  const std::uint32_t column_16 = (a_lo * b_hi) + (low >> 16U);
-  const std::uint32_t column_16_cross = (a_hi * b_lo) + (column_16 & half_mask);
-  const std::uint32_t hi = (a_hi * b_hi) + (column_16 >> 16U) + (column_16_cross >> 16U);
-  const std::uint32_t lo = (low & half_mask) | (column_16_cross << 16U);
-  return (static_cast<std::uint64_t>(hi) << 32U) | lo;
-}
-
-/// a * b exactly: the column form on ARMv6-M, the widening multiply
-/// elsewhere. The same bits either way.
+/// a * b exactly: fx::wide::mul_32x32_64 (on ARMv6-M four MULS summed by
+/// carry-free 16-bit columns, elsewhere the widening multiply).
 SW_FX_INLINE constexpr std::uint64_t mul_wide(std::uint32_t a, std::uint32_t b) noexcept {
-  if constexpr (wide::kMul32x32BySoftware) {
-    return mul_32x32_64_by_columns(a, b);
-  } else {
-    return wide::mul_32x32_64(a, b);
-  }
+  return wide::mul_32x32_64(a, b);
 }
 
 /// floor(a b / 2^32), the product's high word: where only it is needed, the
