@@ -119,10 +119,21 @@ StaticsConstants<P> constants_in(const RoverParams& params, fx::Status& st) noex
           kWeightFracBits)};
 }
 
+/// Whether P is the format of every cycle's pass (Q6.25): the wider passes
+/// run only far beyond the stability limit.
+template <typename P>
+constexpr bool kEveryCycle{std::is_same<P, Fine>::value};
+
+/// Where the geometry's bounded products round in P (fx::Rounding): in the
+/// caller in every cycle's pass, in fx's one function per shift in the
+/// wider ones, so that they add no flash.
+template <typename P>
+constexpr fx::Rounding kRoundingIn{kEveryCycle<P> ? fx::Rounding::inlined : fx::Rounding::called};
+
 /// v - z k: the coordinate of a point projected along gravity (section 3.2).
 template <typename P, std::uint32_t V, std::uint32_t Z, std::uint32_t KB>
 auto project(fx::Bounded<P, V> v, fx::Bounded<P, Z> z, fx::Bounded<K, KB> k) noexcept {
-  return fx::sub(v, fx::mul<P>(z, k));
+  return fx::sub(v, fx::mul<P, kRoundingIn<P>>(z, k));
 }
 
 WheelLoadResult failed(WheelLoadStatus status) noexcept {
@@ -182,11 +193,6 @@ RoverParamStatus validate_suspension(const RoverParams& p) noexcept {
   }
   return RoverParamStatus::ok;
 }
-
-/// Whether P is the format of every cycle's pass (Q6.25): the wider passes
-/// run only far beyond the stability limit.
-template <typename P>
-constexpr bool kEveryCycle{std::is_same<P, Fine>::value};
 
 /// a + b, checked: forced inline in every cycle's pass, where about 30 sums
 /// and differences follow the first quotient (each a call before, docs/
@@ -280,10 +286,10 @@ SideAxles<P> side_axles(const StaticsConstants<P>& k, const SideJoints& joints) 
   fx::BoundedPoint<P, kRotatedLink<P>> front{};
   fx::BoundedPoint<P, kRotatedLink<P>> middle{};
   fx::BoundedPoint<P, kRotatedLink<P>> rear{};
-  fx::rotated(k.rocker_bogie, rocker_sc, pivot);
-  fx::rotated(k.rocker_front, rocker_sc, front);
-  fx::rotated(k.bogie_middle, bogie_sc, middle);
-  fx::rotated(k.bogie_rear, bogie_sc, rear);
+  fx::rotated<kRoundingIn<P>>(k.rocker_bogie, rocker_sc, pivot);
+  fx::rotated<kRoundingIn<P>>(k.rocker_front, rocker_sc, front);
+  fx::rotated<kRoundingIn<P>>(k.bogie_middle, bogie_sc, middle);
+  fx::rotated<kRoundingIn<P>>(k.bogie_rear, bogie_sc, rear);
   return SideAxles<P>{pivot, front, sum(middle, pivot), sum(rear, pivot)};
 }
 
@@ -452,7 +458,7 @@ Body<P> body_of(const StaticsConstants<P>& k, const GravityFrame& g, fx::Status&
   const auto com_xt = project(k.com_x, k.com_z, g.kx);
   const auto com_yt = project(k.com_y, k.com_z, g.ky);
   constexpr auto kHalfRaw = static_cast<std::int32_t>(1U << static_cast<std::uint32_t>(P::frac_bits - 1));
-  return Body<P>{weight_normal_n, k.inv_weight, com_yt.q(), fx::mul<P>(fx::bounded_raw<P, kHalfRaw>(), com_xt).q()};
+  return Body<P>{weight_normal_n, k.inv_weight, com_yt.q(), fx::mul<P, kRoundingIn<P>>(fx::bounded_raw<P, kHalfRaw>(), com_xt).q()};
 }
 
 /// Each side's pivot moment less its front couple, M - t_front (section 12).
