@@ -117,8 +117,10 @@ TEST(BoundedTest, ProductsEqualTheCheckedProductBitForBit) {
 /// extremes (0, 1, 0xFFFF, the largest the bound allows) or random.
 std::int32_t draw_halves(std::mt19937& rng, std::uint32_t m) {
   const std::uint32_t top = m >> 16U;
-  const std::uint32_t his[] = {0U, 1U, top, (top > 0U) ? top - 1U : 0U, std::uniform_int_distribution<std::uint32_t>(0U, top)(rng)};
-  const std::uint32_t los[] = {0U, 1U, 0xFFFFU, 0x8000U, 0x7FFFU, std::uniform_int_distribution<std::uint32_t>(0U, 0xFFFFU)(rng)};
+  const std::uint32_t his[] = {0U, 1U, top, (top > 0U) ? top - 1U : 0U,
+                               std::uniform_int_distribution<std::uint32_t>(0U, top)(rng)};
+  const std::uint32_t los[] = {0U, 1U, 0xFFFFU, 0x8000U, 0x7FFFU,
+                               std::uniform_int_distribution<std::uint32_t>(0U, 0xFFFFU)(rng)};
   std::uint32_t mag = (his[rng() % 5U] << 16U) | los[rng() % 6U];
   if (mag > m) {
     mag = m;

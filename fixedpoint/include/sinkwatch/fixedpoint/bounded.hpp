@@ -197,10 +197,10 @@ constexpr bool kRoundsInWords = (Shift >= 17) && (Shift <= 31);
 /// floor(ll / 2^16) <= 2^16 - 2 and 2^(s-17) <= 2^14. hh 2^(32-s) is at most
 /// the rounded magnitude, below 2^31.
 /// host_tests/fixedpoint/test_bounded.cpp compares it with fx::mul.
-/// Not forced inline, as product_rounded: inlined at every use it took 141
-/// instructions off the Cortex-M0's step for 3.6 KiB of flash.
+/// Forced inline: the caller chooses (Rounding) between this and the call
+/// below.
 template <std::int32_t Shift>
-constexpr std::int32_t product_rounded_by_words(std::int32_t a, std::int32_t b) noexcept {
+SW_FX_INLINE constexpr std::int32_t product_rounded_by_words_inline(std::int32_t a, std::int32_t b) noexcept {
   static_assert(kRoundsInWords<Shift>, "a product rounded by a right shift of 17 to 31 bits");
   constexpr std::uint32_t kHalfMask = 0xFFFFU;
   constexpr auto kLowShift = static_cast<std::uint32_t>(Shift - 16);
@@ -217,18 +217,51 @@ constexpr std::int32_t product_rounded_by_words(std::int32_t a, std::int32_t b) 
   return ((a < 0) != (b < 0)) ? -value : value;
 }
 
+/// The same as one function per shift, not forced inline (as
+/// product_rounded).
+template <std::int32_t Shift>
+constexpr std::int32_t product_rounded_by_words(std::int32_t a, std::int32_t b) noexcept {
+  return product_rounded_by_words_inline<Shift>(a, b);
+}
 }  // namespace detail
 
 /// Where a bounded product's rounding runs: in one function per shift
 /// (`called`, the default: the flash of code that runs rarely), or in the
-/// caller (`inlined`, for a caller that runs every cycle) on the cores with
-/// a widening multiply, where the SMULL form is about the size of its call:
-/// the Cortex-M4's statics took 193 instructions fewer per step with every
-/// product inlined, for 1.4 KiB of flash, and most of that with only the
-/// every-cycle pass's. On ARMv6-M the product stays a call either way: the
-/// words' form inlined at every use took 141 instructions off the M0's step
-/// for 3.6 KiB.
+/// caller (`inlined`, for a caller that runs every cycle): the SMULL form
+/// where the core has it (about the size of its call), the words' form on
+/// ARMv6-M. Every product inlined took 193 instructions off the Cortex-M4's
+/// step for 1.4 KiB of flash and 141 off the Cortex-M0's for 3.6 KiB; the
+/// statics ask for it in the every-cycle pass only (wheel_load.cpp,
+/// kRotationRounding), and on ARMv6-M for the rotations only.
 enum class Rounding : std::uint8_t { called, inlined };
+
+namespace detail {
+/// The called form: the words' one function per shift where they hold, else
+/// product_rounded (two-way branches, for hicpp-multiway-paths-covered).
+template <std::int32_t Shift>
+SW_FX_INLINE constexpr std::int32_t product_rounded_called(std::int32_t a, std::int32_t b) noexcept {
+  if constexpr (wide::kMul32x32BySoftware && kRoundsInWords<Shift>) {
+    return product_rounded_by_words<Shift>(a, b);
+  } else {
+    return product_rounded<Shift>(a, b);
+  }
+}
+
+/// The inlined form: the SMULL form, or on ARMv6-M the words' form (the
+/// called one for a shift they do not hold).
+template <std::int32_t Shift>
+SW_FX_INLINE constexpr std::int32_t product_rounded_inlined(std::int32_t a, std::int32_t b) noexcept {
+  if constexpr (!wide::kMul32x32BySoftware) {
+    return product_rounded_signed<Shift>(a, b);
+  } else {
+    if constexpr (kRoundsInWords<Shift>) {
+      return product_rounded_by_words_inline<Shift>(a, b);
+    } else {
+      return product_rounded<Shift>(a, b);
+    }
+  }
+}
+}  // namespace detail
 
 /// a * b in Out (32-bit storage, no more fraction bits than a and b have
 /// together), rounded to nearest, ties away from zero: fx::mul's bits. On
@@ -239,12 +272,10 @@ template <typename Out, Rounding Where = Rounding::called, typename QA, std::uin
   constexpr std::uint64_t kBound = detail::kProductBound<A, B, kShift>;
   static_assert(kBound <= kMaxBound, "the product's bound leaves the format");
   using Result = Bounded<Out, static_cast<std::uint32_t>(kBound)>;
-  if constexpr (wide::kMul32x32BySoftware && detail::kRoundsInWords<kShift>) {
-    return Result::trusted(detail::product_rounded_by_words<kShift>(a.raw(), b.raw()));
-  } else if constexpr (!wide::kMul32x32BySoftware && (Where == Rounding::inlined)) {
-    return Result::trusted(detail::product_rounded_signed<kShift>(a.raw(), b.raw()));
+  if constexpr (Where == Rounding::inlined) {
+    return Result::trusted(detail::product_rounded_inlined<kShift>(a.raw(), b.raw()));
   } else {
-    return Result::trusted(detail::product_rounded<kShift>(a.raw(), b.raw()));
+    return Result::trusted(detail::product_rounded_called<kShift>(a.raw(), b.raw()));
   }
 }
 
