@@ -119,10 +119,30 @@ StaticsConstants<P> constants_in(const RoverParams& params, fx::Status& st) noex
           kWeightFracBits)};
 }
 
+/// Whether P is the format of every cycle's pass (Q6.25): the wider passes
+/// run only far beyond the stability limit.
+template <typename P>
+constexpr bool kEveryCycle{std::is_same<P, Fine>::value};
+
+/// Where the joints' rotations round their products in P (fx::Rounding):
+/// in the caller in every cycle's pass (the Cortex-M0 runs 186 instructions
+/// fewer per step for 780 bytes of flash and 24 B of stack, the M4 most of
+/// its 193), in fx's one function per shift in the wider passes, so that
+/// they add no flash.
+template <typename P>
+constexpr fx::Rounding kRotationRounding{kEveryCycle<P> ? fx::Rounding::inlined : fx::Rounding::called};
+/// The projections' and the centre of mass's: the same where the core has
+/// SMULL; calls on ARMv6-M, where the words' form inlined there too took
+/// side_levers' registers (45 instructions more per step than the calls,
+/// 448 bytes and 40 B of stack more).
+template <typename P>
+constexpr fx::Rounding kProjectionRounding{fx::wide::kMul32x32BySoftware ? fx::Rounding::called
+                                                                          : kRotationRounding<P>};
+
 /// v - z k: the coordinate of a point projected along gravity (section 3.2).
 template <typename P, std::uint32_t V, std::uint32_t Z, std::uint32_t KB>
 auto project(fx::Bounded<P, V> v, fx::Bounded<P, Z> z, fx::Bounded<K, KB> k) noexcept {
-  return fx::sub(v, fx::mul<P>(z, k));
+  return fx::sub(v, fx::mul<P, kProjectionRounding<P>>(z, k));
 }
 
 WheelLoadResult failed(WheelLoadStatus status) noexcept {
@@ -183,11 +203,6 @@ RoverParamStatus validate_suspension(const RoverParams& p) noexcept {
   return RoverParamStatus::ok;
 }
 
-/// Whether P is the format of every cycle's pass (Q6.25): the wider passes
-/// run only far beyond the stability limit.
-template <typename P>
-constexpr bool kEveryCycle{std::is_same<P, Fine>::value};
-
 /// a + b, checked: forced inline in every cycle's pass, where about 30 sums
 /// and differences follow the first quotient (each a call before, docs/
 /// performance.md session 18), and fx::add's call in the wider passes, so
@@ -209,6 +224,20 @@ SW_FX_INLINE P minus(P a, P b, fx::Status& st) noexcept {
     return fx::detail::sub_word(a, b, st);
   } else {
     return fx::sub(a, b, st);
+  }
+}
+
+/// a b, checked: fx::mul's bits and flags. In every cycle's pass on ARMv6-M
+/// by 32-bit words (detail::product_checked_by_words: the Cortex-M0 runs 106
+/// instructions fewer per step), else fx::mul's call (inlining its SMULL
+/// form in that pass took 53 instructions off the Cortex-M4's step for 388
+/// bytes of flash: not kept).
+template <typename P>
+SW_FX_INLINE P times(P a, P b, fx::Status& st) noexcept {
+  if constexpr (kEveryCycle<P> && fx::wide::kMul32x32BySoftware) {
+    return P::from_raw(detail::product_checked_by_words<P::frac_bits>(a.raw(), b.raw(), st));
+  } else {
+    return fx::mul(a, b, st);
   }
 }
 
@@ -280,10 +309,10 @@ SideAxles<P> side_axles(const StaticsConstants<P>& k, const SideJoints& joints) 
   fx::BoundedPoint<P, kRotatedLink<P>> front{};
   fx::BoundedPoint<P, kRotatedLink<P>> middle{};
   fx::BoundedPoint<P, kRotatedLink<P>> rear{};
-  fx::rotated(k.rocker_bogie, rocker_sc, pivot);
-  fx::rotated(k.rocker_front, rocker_sc, front);
-  fx::rotated(k.bogie_middle, bogie_sc, middle);
-  fx::rotated(k.bogie_rear, bogie_sc, rear);
+  fx::rotated<kRotationRounding<P>>(k.rocker_bogie, rocker_sc, pivot);
+  fx::rotated<kRotationRounding<P>>(k.rocker_front, rocker_sc, front);
+  fx::rotated<kRotationRounding<P>>(k.bogie_middle, bogie_sc, middle);
+  fx::rotated<kRotationRounding<P>>(k.bogie_rear, bogie_sc, rear);
   return SideAxles<P>{pivot, front, sum(middle, pivot), sum(rear, pivot)};
 }
 
@@ -335,7 +364,7 @@ SideLateral<P> side_lateral(const ContactHeights<P>& z, StaticsLength<P> y_side,
   const auto yt_m = project(y_side, z.middle, ky);
   const auto yt_r = project(y_side, z.rear, ky);
   // beta yt_m + (1 - beta) yt_r, written so that beta multiplies a difference.
-  return SideLateral<P>{project(y_side, z.front, ky).q(), plus(yt_r.q(), fx::mul(beta, fx::sub(yt_m, yt_r).q(), st), st),
+  return SideLateral<P>{project(y_side, z.front, ky).q(), plus(yt_r.q(), times(beta, fx::sub(yt_m, yt_r).q(), st), st),
                         fx::sub(yt_r, yt_m).q()};
 }
 
@@ -452,7 +481,8 @@ Body<P> body_of(const StaticsConstants<P>& k, const GravityFrame& g, fx::Status&
   const auto com_xt = project(k.com_x, k.com_z, g.kx);
   const auto com_yt = project(k.com_y, k.com_z, g.ky);
   constexpr auto kHalfRaw = static_cast<std::int32_t>(1U << static_cast<std::uint32_t>(P::frac_bits - 1));
-  return Body<P>{weight_normal_n, k.inv_weight, com_yt.q(), fx::mul<P>(fx::bounded_raw<P, kHalfRaw>(), com_xt).q()};
+  return Body<P>{weight_normal_n, k.inv_weight, com_yt.q(),
+                 fx::mul<P, kProjectionRounding<P>>(fx::bounded_raw<P, kHalfRaw>(), com_xt).q()};
 }
 
 /// Each side's pivot moment less its front couple, M - t_front (section 12).
@@ -473,15 +503,15 @@ Lateral<P> lateral_of(const SideLevers<P>& side, fx::Status& st) noexcept {
   // Y_s = (b y~_F + a y~_bog) / (a + b) = y~_bog + b Z_s: no product of two
   // lengths is formed (section 7.4), so Y_s stays within Q6.25.
   const P z = detail::quotient<P>(minus(side.yt_front, side.yt_bogie, st), side.lever, st);
-  return Lateral<P>{z, plus(side.yt_bogie, fx::mul(side.b, z, st), st)};
+  return Lateral<P>{z, plus(side.yt_bogie, times(side.b, z, st), st)};
 }
 
 /// The torque terms so far plus side s's q_s - t_front,s Z_s, added in that
 /// order (each step saturates).
 template <typename P>
 P plus_torque_terms(P terms, const SideLevers<P>& side, P z, fx::Status& st) noexcept {
-  const P with_shift = plus(terms, fx::mul(side.bogie_shift, side.yt_rear_minus_middle, st), st);
-  return minus(with_shift, fx::mul(side.front_couple, z, st), st);
+  const P with_shift = plus(terms, times(side.bogie_shift, side.yt_rear_minus_middle, st), st);
+  return minus(with_shift, times(side.front_couple, z, st), st);
 }
 
 /// The left side's share of the weight from the roll balance; `collapsed`
@@ -509,7 +539,7 @@ LeftTotal<P> left_side_total(const SideLevers<P> (&side)[kSideCount], const Body
     return LeftTotal<P>{P::zero(), true, false};
   }
   const P roll_moment =
-      minus(minus(minus(body.com_yt, fx::mul(body.pivot_moment, plus(left.z, right.z, st), st), st), torque_terms, st),
+      minus(minus(minus(body.com_yt, times(body.pivot_moment, plus(left.z, right.z, st), st), st), torque_terms, st),
             right.y, st);
   const bool clean_to_shares = st.ok();
   return LeftTotal<P>{detail::quotient<P>(roll_moment, detail::reciprocal_of(lateral_span), st), false,
@@ -528,9 +558,9 @@ struct SideShares {
 template <typename P>
 SideShares<P> side_shares(const SideLevers<P>& side, const Body<P>& body, P side_total, fx::Status& st) noexcept {
   const P front = detail::quotient<P>(
-      plus(side_moment(body, side, st), fx::mul(side.b, side_total, st), st), side.lever, st);
+      plus(side_moment(body, side, st), times(side.b, side_total, st), st), side.lever, st);
   const P bogie = minus(side_total, front, st);
-  const P middle = minus(fx::mul(side.beta, bogie, st), side.bogie_shift, st);
+  const P middle = minus(times(side.beta, bogie, st), side.bogie_shift, st);
   return SideShares<P>{front, middle, minus(bogie, middle, st)};
 }
 

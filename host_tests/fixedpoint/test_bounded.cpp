@@ -3,6 +3,7 @@
 // every operation gives the bits of the checked one it replaces.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <climits>
 #include <cstdint>
 #include <random>
@@ -93,6 +94,9 @@ void expect_products_match(std::uint32_t seed) {
     // Both forms of the rounding, whichever this core uses.
     ASSERT_EQ(fx::detail::product_rounded_by_magnitudes<kShift>(a.raw(), b.raw()), checked.raw());
     ASSERT_EQ(fx::detail::product_rounded_signed<kShift>(a.raw(), b.raw()), checked.raw());
+    if constexpr (fx::detail::kRoundsInWords<kShift>) {
+      ASSERT_EQ(fx::detail::product_rounded_by_words<kShift>(a.raw(), b.raw()), checked.raw());
+    }
     ASSERT_TRUE(st.ok());
     ASSERT_LE(static_cast<std::uint32_t>(bounded.raw() < 0 ? -bounded.raw() : bounded.raw()),
               decltype(bounded)::max_mag);
@@ -107,6 +111,91 @@ TEST(BoundedTest, ProductsEqualTheCheckedProductBitForBit) {
   expect_products_match<Q6_25, Q6_25, 0x7FFFFFFFU, Q6_25, 1U << 24U>(3U);
   expect_products_match<Q15_16, Q15_16, 0x7FFFFFFFU, fx::Q1_30, kOneQ30>(4U);
   expect_products_match<Q15_16, Q15_16, 1U << 20U, fx::Q3_28, kKx>(5U);
+}
+
+/// A raw value within [-m, m] whose magnitude's 16-bit halves are at their
+/// extremes (0, 1, 0xFFFF, the largest the bound allows) or random.
+std::int32_t draw_halves(std::mt19937& rng, std::uint32_t m) {
+  const std::uint32_t top = m >> 16U;
+  const std::uint32_t his[] = {0U, 1U, top, (top > 0U) ? top - 1U : 0U,
+                               std::uniform_int_distribution<std::uint32_t>(0U, top)(rng)};
+  const std::uint32_t los[] = {0U, 1U, 0xFFFFU, 0x8000U, 0x7FFFU,
+                               std::uniform_int_distribution<std::uint32_t>(0U, 0xFFFFU)(rng)};
+  std::uint32_t mag = (his[rng() % 5U] << 16U) | los[rng() % 6U];
+  if (mag > m) {
+    mag = m;
+  }
+  const auto v = static_cast<std::int32_t>(mag);
+  return ((rng() & 1U) != 0U) ? -v : v;
+}
+
+/// product_rounded_by_words<Shift> against fx::mul for |a| <= A, |b| <= B
+/// (bounds whose rounded product stays below 2^31): random operands, operands whose halves
+/// are at their extremes (the middle column's largest values), and the
+/// ties of the rounding (b an odd multiple of half an LSB of the result).
+template <std::uint32_t A, std::uint32_t B, std::int32_t Shift>
+void expect_words_products_match(std::uint32_t seed) {
+  static_assert(fx::detail::kRoundsInWords<Shift>, "a shift the words' form holds for");
+  static_assert(fx::detail::kProductBound<A, B, Shift> <= fx::kMaxBound, "a product within 31 bits");
+  // 16 + 15 fraction bits into 31 - Shift: a right shift by Shift.
+  using InA = fx::Q<std::int32_t, 16>;
+  using InB = fx::Q<std::int32_t, 15>;
+  using Out = fx::Q<std::int32_t, 31 - Shift>;
+  std::mt19937 rng(seed);
+  for (int i = 0; i < 300000; ++i) {
+    std::int32_t a = 0;
+    std::int32_t b = 0;
+    switch (i % 4) {
+      case 0:
+        a = draw(rng, A);
+        b = draw(rng, B);
+        break;
+      case 1:
+        a = draw_halves(rng, A);
+        b = draw_halves(rng, B);
+        break;
+      case 2:
+        a = (i % 8 == 2) ? 1 : -1;
+        b = draw(rng, B);
+        break;
+      default: {
+        // a b = (2k + 1) 2^(Shift-1) exactly: a tie.
+        a = ((rng() & 1U) != 0U) ? 1 : -1;
+        const std::uint32_t half = 1U << static_cast<std::uint32_t>(Shift - 1);
+        const std::uint32_t odd = (2U * (rng() % ((B / half + 1U) / 2U + 1U))) + 1U;
+        const std::uint32_t mag = (odd * half <= B) ? odd * half : half;
+        b = ((rng() & 1U) != 0U) ? static_cast<std::int32_t>(mag) : -static_cast<std::int32_t>(mag);
+        if (i % 8 == 7) {
+          a = a * static_cast<std::int32_t>(std::min<std::uint32_t>(A, 3U));
+        }
+        break;
+      }
+    }
+    fx::Status st;
+    const Out checked = fx::mul<Out>(InA::from_raw(a), InB::from_raw(b), st);
+    ASSERT_TRUE(st.ok()) << a << " * " << b;
+    ASSERT_EQ(fx::detail::product_rounded_by_words<Shift>(a, b), checked.raw()) << a << " * " << b;
+  }
+}
+
+TEST(BoundedTest, WordsProductsEqualTheCheckedProductBitForBit) {
+  // The statics' products on ARMv6-M: a link (2 m in Q6.25), a contact
+  // height and a span (up to 8 m) by a sine or cosine (Q1.30) or a slope
+  // (3.51 in Q3.28); and the largest operands the form accepts at the
+  // shifts' ends (the middle column's largest value at 31).
+  expect_words_products_match<kTwoMetres, kOneQ30, 30>(21U);
+  expect_words_products_match<8U * kTwoMetres, kKx, 28>(22U);
+  expect_words_products_match<0x7FFFFFFFU, 0xFFFFU, 17>(23U);
+  expect_words_products_match<0x7FFFFFFFU, 0x7FFFFFFFU, 31>(24U);
+  expect_words_products_match<0x3FFFFU, 0x3FFFFU, 31>(25U);
+  expect_words_products_match<(1U << 30U) - 1U, 0xFFFFU, 20>(26U);
+}
+
+TEST(BoundedTest, WordsFormTakesShiftsOf17To31) {
+  static_assert(fx::detail::kRoundsInWords<30> && fx::detail::kRoundsInWords<28>, "the statics' shifts");
+  static_assert(fx::detail::kRoundsInWords<17> && fx::detail::kRoundsInWords<31>, "the ends");
+  static_assert(!fx::detail::kRoundsInWords<16> && !fx::detail::kRoundsInWords<32>, "beyond them");
+  SUCCEED();
 }
 
 /// wide_product_rounded<Shift> against fx::mul into the 64-bit format with

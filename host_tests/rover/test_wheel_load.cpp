@@ -4,6 +4,7 @@
 // independent 3-D equilibrium solve is in test_wheel_load_equilibrium.cpp.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -788,6 +789,50 @@ TEST(StaticsArithmetic, RoundedShiftByWordsIsTheWideShift) {
       }
     }
   }
+}
+
+/// product_checked_by_words<Shift> against fx::mul (bits and flag) for two
+/// Q values whose fraction bits add up to Shift more than the result's.
+template <typename Out, std::int32_t Fa, std::int32_t Fb>
+int compare_checked_products(std::mt19937_64& rng, int trials) {
+  constexpr std::int32_t kShift = (Fa + Fb) - Out::frac_bits;
+  int saturated = 0;
+  for (int trial = 0; trial < trials; ++trial) {
+    std::int32_t a = raw32(rng);
+    std::int32_t b = raw32(rng);
+    if ((trial % 5) == 0) {
+      // Near the format's limits: a product within a few LSB of 2^31 either
+      // side, and ties (b an odd multiple of half an LSB of the result).
+      const std::uint32_t half = 1U << static_cast<std::uint32_t>(kShift - 1);
+      a = static_cast<std::int32_t>(1U + (rng() % 255U)) * (((rng() % 2U) == 0U) ? 1 : -1);
+      const std::uint64_t target = ((std::uint64_t{1U} << 31U) << static_cast<std::uint32_t>(kShift)) /
+                                   static_cast<std::uint64_t>(a < 0 ? -a : a);
+      const std::uint64_t near = (trial % 10 == 0) ? (target + (rng() % 7U)) - 3U
+                                                   : (((rng() % 2U) == 0U) ? half : 3U * half);
+      b = static_cast<std::int32_t>(std::min<std::uint64_t>(near, 0x7FFFFFFFU)) * (((rng() % 2U) == 0U) ? 1 : -1);
+    }
+    fx::Status words;
+    fx::Status general;
+    const std::int32_t q = flight::detail::product_checked_by_words<kShift>(a, b, words);
+    const Out expected = fx::mul<Out>(fx::Q<std::int32_t, Fa>::from_raw(a), fx::Q<std::int32_t, Fb>::from_raw(b), general);
+    EXPECT_EQ(q, expected.raw()) << a << " * " << b;
+    EXPECT_EQ(words.bits(), general.bits()) << a << " * " << b;
+    if (q != expected.raw()) {
+      return -1;
+    }
+    saturated += general.has(fx::Flag::overflow) ? 1 : 0;
+  }
+  return saturated;
+}
+
+TEST(StaticsArithmetic, CheckedProductByWordsIsFxMulBitForBit) {
+  std::mt19937_64 rng(25U);
+  // The statics' Q6.25 products, and the shifts' ends.
+  EXPECT_GT((compare_checked_products<P, 25, 25>(rng, 1000000)), 10000);
+  EXPECT_GT((compare_checked_products<fx::Q<std::int32_t, 0>, 16, 1>(rng, 300000)), 3000);
+  // (a shift of 31 leaves Q31.0 only for operands near both ends: fewer)
+  EXPECT_GT((compare_checked_products<fx::Q<std::int32_t, 0>, 16, 15>(rng, 300000)), 100);
+  EXPECT_GT((compare_checked_products<fx::Q<std::int32_t, 10>, 20, 20>(rng, 300000)), 3000);
 }
 
 TEST(StaticsArithmetic, ReciprocalOfAQIsTheNormalisedReciprocal) {

@@ -176,16 +176,107 @@ constexpr std::int32_t product_rounded(std::int32_t a, std::int32_t b) noexcept 
     return product_rounded_signed<Shift>(a, b);
   }
 }
+
+/// Whether product_rounded_by_words<Shift> holds: a shift of 17 to 31 (its
+/// operands are any bounded ones, below 2^31 in magnitude).
+template <std::int32_t Shift>
+constexpr bool kRoundsInWords = (Shift >= 17) && (Shift <= 31);
+
+/// product_rounded's bits with the rounding done on 32-bit words, for a
+/// shift of 17 to 31 (the statics' rotations and projections: 30 and 28) and
+/// a product whose rounded magnitude the caller has bounded below 2^31: on
+/// ARMv6-M the 64-bit product's assembly and its 64-bit shift are most of
+/// product_rounded_by_magnitudes. With |a| = a_hi 2^16 + a_lo, |b| likewise,
+/// |a b| = hh 2^32 + mid 2^16 + ll, and s = Shift:
+///   floor((|a b| + 2^(s-1)) / 2^s)
+///     = floor((hh 2^16 + mid + 2^(s-17) + floor(ll / 2^16)) / 2^(s-16))
+///     = hh 2^(32-s) + floor((mid + 2^(s-17) + floor(ll / 2^16)) / 2^(s-16)),
+/// as floor(floor(x / m) / n) = floor(x / (m n)) and hh 2^16 is a multiple of
+/// 2^(s-16). The bracket fits a word: with |a|, |b| <= 2^31 - 1 the high
+/// halves are below 2^15, so mid <= 2 (2^16 - 1)(2^15 - 1) = 2^32 - 3 2^16 + 2,
+/// floor(ll / 2^16) <= 2^16 - 2 and 2^(s-17) <= 2^14. hh 2^(32-s) is at most
+/// the rounded magnitude, below 2^31.
+/// host_tests/fixedpoint/test_bounded.cpp compares it with fx::mul.
+/// Forced inline: the caller chooses (Rounding) between this and the call
+/// below.
+template <std::int32_t Shift>
+SW_FX_INLINE constexpr std::int32_t product_rounded_by_words_inline(std::int32_t a, std::int32_t b) noexcept {
+  static_assert(kRoundsInWords<Shift>, "a product rounded by a right shift of 17 to 31 bits");
+  constexpr std::uint32_t kHalfMask = 0xFFFFU;
+  constexpr auto kLowShift = static_cast<std::uint32_t>(Shift - 16);
+  constexpr std::uint32_t kHalf = 1U << static_cast<std::uint32_t>(Shift - 17);
+  const std::uint32_t mag_a = magnitude32(a);
+  const std::uint32_t mag_b = magnitude32(b);
+  const std::uint32_t a_lo = mag_a & kHalfMask;
+  const std::uint32_t a_hi = mag_a >> 16U;
+  const std::uint32_t b_lo = mag_b & kHalfMask;
+  const std::uint32_t b_hi = mag_b >> 16U;
+  const std::uint32_t column = (((a_lo * b_hi) + (a_hi * b_lo)) + kHalf) + ((a_lo * b_lo) >> 16U);
+  const std::uint32_t bits = ((a_hi * b_hi) << (32U - static_cast<std::uint32_t>(Shift))) + (column >> kLowShift);
+  const auto value = static_cast<std::int32_t>(bits);  // below 2^31: the caller's bound
+  return ((a < 0) != (b < 0)) ? -value : value;
+}
+
+/// The same as one function per shift, not forced inline (as
+/// product_rounded).
+template <std::int32_t Shift>
+constexpr std::int32_t product_rounded_by_words(std::int32_t a, std::int32_t b) noexcept {
+  return product_rounded_by_words_inline<Shift>(a, b);
+}
+}  // namespace detail
+
+/// Where a bounded product's rounding runs: in one function per shift
+/// (`called`, the default: the flash of code that runs rarely), or in the
+/// caller (`inlined`, for a caller that runs every cycle): the SMULL form
+/// where the core has it (about the size of its call), the words' form on
+/// ARMv6-M. Every product inlined took 193 instructions off the Cortex-M4's
+/// step for 1.4 KiB of flash and 141 off the Cortex-M0's for 3.6 KiB; the
+/// statics ask for it in the every-cycle pass only (wheel_load.cpp,
+/// kRotationRounding), and on ARMv6-M for the rotations only.
+enum class Rounding : std::uint8_t { called, inlined };
+
+namespace detail {
+/// The called form: the words' one function per shift where they hold, else
+/// product_rounded (two-way branches, for hicpp-multiway-paths-covered).
+template <std::int32_t Shift>
+SW_FX_INLINE constexpr std::int32_t product_rounded_called(std::int32_t a, std::int32_t b) noexcept {
+  if constexpr (wide::kMul32x32BySoftware && kRoundsInWords<Shift>) {
+    return product_rounded_by_words<Shift>(a, b);
+  } else {
+    return product_rounded<Shift>(a, b);
+  }
+}
+
+/// The inlined form: the SMULL form, or on ARMv6-M the words' form (the
+/// called one for a shift they do not hold).
+template <std::int32_t Shift>
+SW_FX_INLINE constexpr std::int32_t product_rounded_inlined(std::int32_t a, std::int32_t b) noexcept {
+  if constexpr (!wide::kMul32x32BySoftware) {
+    return product_rounded_signed<Shift>(a, b);
+  } else {
+    if constexpr (kRoundsInWords<Shift>) {
+      return product_rounded_by_words_inline<Shift>(a, b);
+    } else {
+      return product_rounded<Shift>(a, b);
+    }
+  }
+}
 }  // namespace detail
 
 /// a * b in Out (32-bit storage, no more fraction bits than a and b have
-/// together), rounded to nearest, ties away from zero: fx::mul's bits.
-template <typename Out, typename QA, std::uint32_t A, typename QB, std::uint32_t B>
+/// together), rounded to nearest, ties away from zero: fx::mul's bits. On
+/// ARMv6-M by 32-bit words where the shift allows it (kRoundsInWords).
+template <typename Out, Rounding Where = Rounding::called, typename QA, std::uint32_t A, typename QB, std::uint32_t B>
 [[nodiscard]] SW_FX_INLINE constexpr auto mul(Bounded<QA, A> a, Bounded<QB, B> b) noexcept {
   constexpr std::int32_t kShift = (QA::frac_bits + QB::frac_bits) - Out::frac_bits;
   constexpr std::uint64_t kBound = detail::kProductBound<A, B, kShift>;
   static_assert(kBound <= kMaxBound, "the product's bound leaves the format");
-  return Bounded<Out, static_cast<std::uint32_t>(kBound)>::trusted(detail::product_rounded<kShift>(a.raw(), b.raw()));
+  using Result = Bounded<Out, static_cast<std::uint32_t>(kBound)>;
+  if constexpr (Where == Rounding::inlined) {
+    return Result::trusted(detail::product_rounded_inlined<kShift>(a.raw(), b.raw()));
+  } else {
+    return Result::trusted(detail::product_rounded_called<kShift>(a.raw(), b.raw()));
+  }
 }
 
 /// fx::sincos's sine and cosine as bounded Q1.30 values (within 1 LSB of
@@ -218,14 +309,15 @@ struct BoundedPoint {
 /// p turned by the angle of `sc` (positive raising the +x end): x cos - z sin,
 /// x sin + z cos, each product rounded as fx::mul rounds it. Written into
 /// the caller's point (a returned 8-byte point is a copy on the Cortex-M0).
-template <typename QType, std::uint32_t M>
+/// `Where` as mul's.
+template <Rounding Where = Rounding::called, typename QType, std::uint32_t M>
 SW_FX_INLINE void rotated(BoundedPoint<QType, M> p, BoundedSinCos sc,
                           BoundedPoint<QType, static_cast<std::uint32_t>(detail::kRotatedBound<M>)>& out) noexcept {
   constexpr std::uint64_t kBound = detail::kRotatedBound<M>;
   static_assert(kBound <= kMaxBound, "the rotated point's bound leaves the format");
   using Out = Bounded<QType, static_cast<std::uint32_t>(kBound)>;
-  out.x = Out::trusted(sub(mul<QType>(p.x, sc.cos), mul<QType>(p.z, sc.sin)).raw());
-  out.z = Out::trusted(add(mul<QType>(p.x, sc.sin), mul<QType>(p.z, sc.cos)).raw());
+  out.x = Out::trusted(sub(mul<QType, Where>(p.x, sc.cos), mul<QType, Where>(p.z, sc.sin)).raw());
+  out.z = Out::trusted(add(mul<QType, Where>(p.x, sc.sin), mul<QType, Where>(p.z, sc.cos)).raw());
 }
 
 }  // namespace fx
