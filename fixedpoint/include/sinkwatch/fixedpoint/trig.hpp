@@ -218,18 +218,27 @@ constexpr std::uint32_t square_q31(std::uint64_t m) noexcept {
   return word((sum + (std::uint64_t{1U} << 30U)) >> 31U);
 }
 
-/// P(w) = a1 - w (a3 - w (a5 - w (a7 - w (a9 - w a11)))) in units of 2^-32,
-/// w <= 2^31 (v <= 1): every bracket is positive (a_k > a_(k+2) and w <= 1),
-/// so the Horner steps stay unsigned, and each is below its coefficient, so
-/// one word.
-constexpr std::uint32_t sin_poly(std::uint32_t w) noexcept {
-  std::uint32_t b = k_sin_a[5];
-  b = k_sin_a[4] - mul_round_high<(31U + k_sin_shift[5]) - k_sin_shift[4]>(w, b);
-  b = k_sin_a[3] - mul_round_high<(31U + k_sin_shift[4]) - k_sin_shift[3]>(w, b);
-  b = k_sin_a[2] - mul_round_high<(31U + k_sin_shift[3]) - k_sin_shift[2]>(w, b);
-  b = k_sin_a[1] - mul_round_high<(31U + k_sin_shift[2]) - k_sin_shift[1]>(w, b);
-  return k_sin_a[0] - mul_round_high<(31U + k_sin_shift[1]) - k_sin_shift[0]>(w, b);
+/// c0 - w (c1 - w (c2 - w (c3 - w (c4 - w c5)))) for w <= 2^31 (v <= 1),
+/// each c_k in units of 2^-(32 + S[k]) and the result in c0's: the Horner
+/// steps of both kernels, each product rounded on its high word
+/// (mul_round_high). For both coefficient sets every bracket is positive
+/// (c_k exceeds the next term, w <= 1), so the steps stay unsigned, and each
+/// is below its coefficient, so one word. Forced inline: one source for both
+/// kernels, and the code GCC made of each before (sin_poly out of line,
+/// cos_kernel's steps in place); as a plain template it cost the Cortex-M0
+/// 67 instructions per step, out of line 39.
+template <const std::uint32_t (&C)[6], const std::uint32_t (&S)[6]>
+SW_FX_INLINE constexpr std::uint32_t alternating_horner(std::uint32_t w) noexcept {
+  std::uint32_t b = C[5];
+  b = C[4] - mul_round_high<(31U + S[5]) - S[4]>(w, b);
+  b = C[3] - mul_round_high<(31U + S[4]) - S[3]>(w, b);
+  b = C[2] - mul_round_high<(31U + S[3]) - S[2]>(w, b);
+  b = C[1] - mul_round_high<(31U + S[2]) - S[1]>(w, b);
+  return C[0] - mul_round_high<(31U + S[1]) - S[0]>(w, b);
 }
+
+/// P(w) = a1 - w (a3 - w (a5 - w (a7 - w (a9 - w a11)))) in units of 2^-32.
+constexpr std::uint32_t sin_poly(std::uint32_t w) noexcept { return alternating_horner<k_sin_a, k_sin_shift>(w); }
 
 /// |sin(pi/4 v)| * 2^30 rounded (<= 2^30, one word), for v = m * 2^-61 in
 /// [0, 1] and w = square_q31(m) (computed once when cos_kernel needs it too).
@@ -245,12 +254,7 @@ constexpr std::uint32_t sin_kernel(std::uint64_t m, std::uint32_t w) noexcept {
 
 /// cos(pi/4 v) * 2^30 rounded, for w = square_q31(m), v = m * 2^-61 in [0, 1].
 constexpr std::uint64_t cos_kernel(std::uint32_t w) noexcept {
-  std::uint32_t b = k_cos_b[5];
-  b = k_cos_b[4] - mul_round_high<(31U + k_cos_shift[5]) - k_cos_shift[4]>(w, b);
-  b = k_cos_b[3] - mul_round_high<(31U + k_cos_shift[4]) - k_cos_shift[3]>(w, b);
-  b = k_cos_b[2] - mul_round_high<(31U + k_cos_shift[3]) - k_cos_shift[2]>(w, b);
-  b = k_cos_b[1] - mul_round_high<(31U + k_cos_shift[2]) - k_cos_shift[1]>(w, b);
-  b = k_cos_b[0] - mul_round_high<(31U + k_cos_shift[1]) - k_cos_shift[0]>(w, b);
+  const std::uint32_t b = alternating_horner<k_cos_b, k_cos_shift>(w);
   // cos = 1 - w Q, Q = b in units 2^-33: w Q in 2^-30 units is w b 2^-34.
   return (std::uint64_t{1U} << 30U) - mul_round_high<34U>(w, b);
 }

@@ -195,18 +195,19 @@ constexpr bool kMul32x32BySoftware = true;
 constexpr bool kMul32x32BySoftware = false;
 #endif
 
-/// a * b exactly, from four 16 x 16 -> 32-bit products (each a MULS on
-/// ARMv6-M) summed by columns so that no 32-bit sum can carry out: each
-/// partial product is at most (2^16 - 1)^2 and each column part added to it
-/// below 2^16, so every sum is at most (2^16 - 1) 2^16 + 2^16 - 1 < 2^32
-/// (Hacker's Delight's mulhu, with the low word kept). With no carry to
-/// test it is about five instructions shorter than the form with carries it
-/// replaced (session 19), and a caller that keeps only the high word lets
-/// the compiler drop the low word's instructions. Plain integer arithmetic,
-/// so the same 64 bits as the widening multiply on every target. The ARMv6-M
-/// build of mul_32x32_64 uses it; the host tests call it directly
-/// (test_wide_mul) because there it is not on the product's path.
-SW_FX_INLINE constexpr std::uint64_t mul_32x32_64_halves(std::uint32_t a, std::uint32_t b) noexcept {
+/// The columns of a 32 x 32-bit product from four 16 x 16 -> 32-bit
+/// products (each a MULS on ARMv6-M), summed so that no 32-bit sum can carry
+/// out: each partial product is at most (2^16 - 1)^2 and each column part
+/// added to it below 2^16, so every sum is at most (2^16 - 1) 2^16 + 2^16 - 1
+/// < 2^32 (Hacker's Delight's mulhu, with the low word kept). a b = high 2^32
+/// + (cross mod 2^16) 2^16 + (low mod 2^16).
+struct ProductColumns {
+  std::uint32_t high;   ///< floor(a b / 2^32)
+  std::uint32_t cross;  ///< its low half: bits 16..31 of a b
+  std::uint32_t low;    ///< its low half: bits 0..15 of a b
+};
+
+SW_FX_INLINE constexpr ProductColumns product_columns(std::uint32_t a, std::uint32_t b) noexcept {
   const std::uint32_t half_mask = 0xFFFFU;
   const std::uint32_t a_lo = a & half_mask;
   const std::uint32_t a_hi = a >> 16U;
@@ -217,9 +218,20 @@ SW_FX_INLINE constexpr std::uint64_t mul_32x32_64_halves(std::uint32_t a, std::u
   // plus the low half of that sum; the high halves go up to weight 2^32.
   const std::uint32_t column_16 = (a_lo * b_hi) + (low >> 16U);
   const std::uint32_t column_16_cross = (a_hi * b_lo) + (column_16 & half_mask);
-  const std::uint32_t hi = (a_hi * b_hi) + (column_16 >> 16U) + (column_16_cross >> 16U);
-  const std::uint32_t lo = (low & half_mask) | (column_16_cross << 16U);
-  return (static_cast<std::uint64_t>(hi) << 32U) | lo;
+  const std::uint32_t high = (a_hi * b_hi) + (column_16 >> 16U) + (column_16_cross >> 16U);
+  return ProductColumns{high, column_16_cross, low};
+}
+
+/// a * b exactly from its columns. With no carry to test it is about five
+/// instructions shorter than the form with carries it replaced (session
+/// 19), and a caller that keeps only the high word lets the compiler drop
+/// the low word's instructions. Plain integer arithmetic, so the same 64
+/// bits as the widening multiply on every target. The ARMv6-M build of
+/// mul_32x32_64 uses it; the host tests call it directly (test_wide_mul)
+/// because there it is not on the product's path.
+SW_FX_INLINE constexpr std::uint64_t mul_32x32_64_halves(std::uint32_t a, std::uint32_t b) noexcept {
+  const ProductColumns c = product_columns(a, b);
+  return (static_cast<std::uint64_t>(c.high) << 32U) | ((c.low & 0xFFFFU) | (c.cross << 16U));
 }
 
 /// Full product of two unsigned 32-bit values: one widening multiply
@@ -234,21 +246,14 @@ SW_FX_INLINE constexpr std::uint64_t mul_32x32_64(std::uint32_t a, std::uint32_t
 }
 
 /// round(a b / 2^32), half up (at most 2^32 - 1, as a b <= (2^32 - 1)^2),
-/// on ARMv6-M from the columns of mul_32x32_64_halves without its low word:
-/// the rounding half 2^31 = 2^15 2^16 carries into the high word exactly
-/// when bits 16 to 31 of a b plus 2^15 do, since bits 0 to 15 cannot carry
-/// (they are the low product's low half, added to nothing). The host tests
-/// call it directly against the built-in product (test_wide_mul).
+/// on ARMv6-M from the product's columns without its low word: the rounding
+/// half 2^31 = 2^15 2^16 carries into the high word exactly when bits 16 to
+/// 31 of a b plus 2^15 do, since bits 0 to 15 cannot carry (they are the low
+/// product's low half, added to nothing). The host tests call it directly
+/// against the built-in product (test_wide_mul).
 SW_FX_INLINE constexpr std::uint32_t mul_32x32_rounded_high_by_columns(std::uint32_t a, std::uint32_t b) noexcept {
-  const std::uint32_t half_mask = 0xFFFFU;
-  const std::uint32_t a_lo = a & half_mask;
-  const std::uint32_t a_hi = a >> 16U;
-  const std::uint32_t b_lo = b & half_mask;
-  const std::uint32_t b_hi = b >> 16U;
-  const std::uint32_t column_16 = (a_lo * b_hi) + ((a_lo * b_lo) >> 16U);
-  const std::uint32_t column_16_cross = (a_hi * b_lo) + (column_16 & half_mask);
-  const std::uint32_t high = (a_hi * b_hi) + (column_16 >> 16U) + (column_16_cross >> 16U);
-  return high + (((column_16_cross & half_mask) + 0x8000U) >> 16U);
+  const ProductColumns c = product_columns(a, b);
+  return c.high + (((c.cross & 0xFFFFU) + 0x8000U) >> 16U);
 }
 
 /// round(a b / 2^32), half up, on every target: the columns on ARMv6-M,
