@@ -115,11 +115,6 @@ RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) n
 /// live below it during the wheel loads (the deepest call of a cycle).
 [[gnu::noinline]] RoverStepStatus drawbar_stage(const PreparedParameters& prepared, const WheelLoadResult& loads,
                               CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept {
-  DrawbarInput in{};
-  in.accel_mps2 = out.accel_mps2;
-  in.pitch_rad = out.health.attitude.pitch_rad;
-  in.slip_known = out.slip_known;
-  in.slip = out.slip;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     // Field by field: the result assigned whole is a memcpy call per wheel
     // on the Cortex-M0 (as in wheel_torques; 318 instructions per step).
@@ -135,8 +130,16 @@ RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) n
       out.drawbar_status = DrawbarStatus::invalid_input;
       return RoverStepStatus::drawbar_failed;
     }
-    in.dp_max_ratio[i] = corr[i].dp_max_ratio;
   }
+  // Built whole, every field given (a zeroed input filled in afterwards was
+  // a memset per cycle on the Cortex-M0).
+  static_assert(kWheelCount == 6U, "one ratio per wheel below");
+  const DrawbarInput in{out.accel_mps2,
+                        out.health.attitude.pitch_rad,
+                        out.slip_known,
+                        out.slip,
+                        {corr[0].dp_max_ratio, corr[1].dp_max_ratio, corr[2].dp_max_ratio, corr[3].dp_max_ratio,
+                         corr[4].dp_max_ratio, corr[5].dp_max_ratio}};
   const DrawbarResult dp = drawbar_pulls(prepared, loads, in);
   out.drawbar_status = dp.status;
   if (!usable(dp.status)) {
