@@ -199,20 +199,34 @@ constexpr bool kRoundsInWords = (Shift >= 17) && (Shift <= 31);
 /// host_tests/fixedpoint/test_bounded.cpp compares it with fx::mul.
 /// Forced inline: the caller chooses (Rounding) between this and the call
 /// below.
+/// The two parts of that rounding for magnitudes |a|, |b| <= 2^31: hh =
+/// a_hi b_hi and the middle column with the rounding half and the low
+/// product's top half, below 2^32 (the bound above). The rounded magnitude
+/// is hh 2^(32-s) + floor(column / 2^(s-16)); product_checked_by_words
+/// (flight's rover_statics.hpp) tests the same two parts against a format's
+/// limits.
+struct RoundingWords {
+  std::uint32_t hh;
+  std::uint32_t column;
+};
+
 template <std::int32_t Shift>
-SW_FX_INLINE constexpr std::int32_t product_rounded_by_words_inline(std::int32_t a, std::int32_t b) noexcept {
+SW_FX_INLINE constexpr RoundingWords rounding_words(std::uint32_t mag_a, std::uint32_t mag_b) noexcept {
   static_assert(kRoundsInWords<Shift>, "a product rounded by a right shift of 17 to 31 bits");
   constexpr std::uint32_t kHalfMask = 0xFFFFU;
-  constexpr auto kLowShift = static_cast<std::uint32_t>(Shift - 16);
   constexpr std::uint32_t kHalf = 1U << static_cast<std::uint32_t>(Shift - 17);
-  const std::uint32_t mag_a = magnitude32(a);
-  const std::uint32_t mag_b = magnitude32(b);
   const std::uint32_t a_lo = mag_a & kHalfMask;
   const std::uint32_t a_hi = mag_a >> 16U;
   const std::uint32_t b_lo = mag_b & kHalfMask;
   const std::uint32_t b_hi = mag_b >> 16U;
-  const std::uint32_t column = (((a_lo * b_hi) + (a_hi * b_lo)) + kHalf) + ((a_lo * b_lo) >> 16U);
-  const std::uint32_t bits = ((a_hi * b_hi) << (32U - static_cast<std::uint32_t>(Shift))) + (column >> kLowShift);
+  return RoundingWords{a_hi * b_hi, (((a_lo * b_hi) + (a_hi * b_lo)) + kHalf) + ((a_lo * b_lo) >> 16U)};
+}
+
+template <std::int32_t Shift>
+SW_FX_INLINE constexpr std::int32_t product_rounded_by_words_inline(std::int32_t a, std::int32_t b) noexcept {
+  constexpr auto kLowShift = static_cast<std::uint32_t>(Shift - 16);
+  const RoundingWords w = rounding_words<Shift>(magnitude32(a), magnitude32(b));
+  const std::uint32_t bits = (w.hh << (32U - static_cast<std::uint32_t>(Shift))) + (w.column >> kLowShift);
   const auto value = static_cast<std::int32_t>(bits);  // below 2^31: the caller's bound
   return ((a < 0) != (b < 0)) ? -value : value;
 }

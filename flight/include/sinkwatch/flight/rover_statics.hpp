@@ -155,23 +155,14 @@ SW_FX_INLINE constexpr WordMagnitude shifted_rounded(std::uint64_t p, std::uint3
 /// 2^32. The host tests compare it with fx::mul.
 template <std::int32_t Shift>
 constexpr std::int32_t product_checked_by_words(std::int32_t a, std::int32_t b, fx::Status& st) noexcept {
-  static_assert(fx::detail::kRoundsInWords<Shift>, "a product rounded by a right shift of 17 to 31 bits");
-  constexpr std::uint32_t kHalfMask = 0xFFFFU;
   constexpr auto kHighShift = static_cast<std::uint32_t>(32 - Shift);
   constexpr auto kLowShift = static_cast<std::uint32_t>(Shift - 16);
-  constexpr std::uint32_t kHalf = 1U << static_cast<std::uint32_t>(Shift - 17);
   const bool negative = (a < 0) != (b < 0);
-  const std::uint32_t mag_a = fx::detail::magnitude32(a);
-  const std::uint32_t mag_b = fx::detail::magnitude32(b);
-  const std::uint32_t a_lo = mag_a & kHalfMask;
-  const std::uint32_t a_hi = mag_a >> 16U;
-  const std::uint32_t b_lo = mag_b & kHalfMask;
-  const std::uint32_t b_hi = mag_b >> 16U;
-  // Below 2^32 for any two magnitudes of at most 2^31 (bounded.hpp).
-  const std::uint32_t column = (((a_lo * b_hi) + (a_hi * b_lo)) + kHalf) + ((a_lo * b_lo) >> 16U);
-  const std::uint32_t hh = a_hi * b_hi;
+  const fx::detail::RoundingWords w =
+      fx::detail::rounding_words<Shift>(fx::detail::magnitude32(a), fx::detail::magnitude32(b));
+  const std::uint32_t hh = w.hh;
   const std::uint32_t high = hh << kHighShift;
-  const std::uint32_t mag = high + (column >> kLowShift);
+  const std::uint32_t mag = high + (w.column >> kLowShift);
   // fx::detail::from_sign_magnitude's limits: 2^31 fits a negative product.
   const std::uint32_t limit = negative ? 0x80000000U : 0x7FFFFFFFU;
   if (((hh >> static_cast<std::uint32_t>(Shift)) != 0U) || (mag < high) || (mag > limit)) {
