@@ -149,8 +149,8 @@ TEST(WideMul, RoundedHighWordIsTheProductRoundedHalfUp) {
   }
   std::mt19937_64 rng(0x19u);
   for (int i = 0; i < 1000000; ++i) {
-    const auto a = static_cast<std::uint32_t>(rng() >> (32U + (static_cast<std::uint32_t>(i) % 33U)));
-    const auto b = static_cast<std::uint32_t>(rng() >> (32U + (static_cast<std::uint32_t>(i / 33) % 33U)));
+    const auto a = static_cast<std::uint32_t>((rng() >> 32U) >> (static_cast<std::uint32_t>(i) % 33U));
+    const auto b = static_cast<std::uint32_t>((rng() >> 32U) >> (static_cast<std::uint32_t>(i / 33) % 33U));
     check(a, b);
     if (b != 0U) {
       const std::uint64_t target = (builtin_product(a, b) & ~0xFFFFFFFFULL) + (1ULL << 31U);
