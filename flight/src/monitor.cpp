@@ -20,7 +20,7 @@ using n_of_m::count_bits;
 using n_of_m::shift_in;
 
 /// The current in the direction of motion: the quantity the limit bounds.
-CurrentA directional(CurrentA current_a, DriveDirection direction, fx::Status& st) noexcept {
+SW_FX_INLINE CurrentA directional(CurrentA current_a, DriveDirection direction, fx::Status& st) noexcept {
   return (direction == DriveDirection::reverse) ? CurrentA(fx::neg(current_a.q(), st)) : current_a;
 }
 
@@ -28,42 +28,87 @@ CurrentA directional(CurrentA current_a, DriveDirection direction, fx::Status& s
 /// the caution fraction in (0, 1] and the hysteresis in [0, f), so f and
 /// f - h both are): |f I_max| <= |I_max| fits, and the product is fx::mul's
 /// rounding (ties away from zero) without its saturation test.
-CurrentA fraction_of(std::int32_t fraction_raw, CurrentA limit) noexcept {
+SW_FX_INLINE CurrentA fraction_of(std::int32_t fraction_raw, CurrentA limit) noexcept {
   constexpr std::int32_t kShift = RatioQ::frac_bits;  // Q7.24 x Q11.20 -> Q11.20
   return CurrentA(CurrentQ::from_raw(fx::detail::product_rounded<kShift>(fraction_raw, limit.raw())));
 }
 
+/// A WheelInput's sample, as WheelMonitor::step_sample reads it.
+class InputSample {
+ public:
+  explicit InputSample(const WheelInput& input) noexcept : in_(input) {}
+  [[nodiscard]] SW_FX_INLINE TimeMs time() const noexcept { return in_.time; }
+  [[nodiscard]] SW_FX_INLINE bool valid() const noexcept { return in_.valid; }
+  [[nodiscard]] SW_FX_INLINE CurrentA current_a() const noexcept { return in_.current_a; }
+  [[nodiscard]] SW_FX_INLINE DriveDirection direction() const noexcept { return in_.direction; }
+  [[nodiscard]] SW_FX_INLINE WheelLoadN load_n() const noexcept { return in_.load_n; }
+  [[nodiscard]] SW_FX_INLINE DrawbarPullN drawbar_pull_n() const noexcept { return in_.drawbar_pull_n; }
+  [[nodiscard]] SW_FX_INLINE bool drawbar_assumed() const noexcept { return in_.drawbar_assumed; }
+  [[nodiscard]] SW_FX_INLINE bool sensor_fault() const noexcept { return in_.sensor_fault; }
+  [[nodiscard]] SW_FX_INLINE const CorrectionResult* corrections() const noexcept { return in_.corrections; }
+  [[nodiscard]] SW_FX_INLINE const TorqueResult& drive_torque() const noexcept { return in_.drive_torque; }
+
+ private:
+  const WheelInput& in_;
+};
+
+/// Wheel `index`'s sample of a WheelSamples, read in place: the WheelInput
+/// it stands for (monitor.hpp), field by field.
+class CycleSample {
+ public:
+  CycleSample(const WheelSamples& samples, std::uint8_t index) noexcept : s_(samples), i_(index) {}
+  [[nodiscard]] SW_FX_INLINE TimeMs time() const noexcept { return s_.time; }
+  [[nodiscard]] SW_FX_INLINE bool valid() const noexcept { return s_.valid; }
+  [[nodiscard]] SW_FX_INLINE CurrentA current_a() const noexcept { return (*s_.current_a)[i_]; }
+  [[nodiscard]] SW_FX_INLINE DriveDirection direction() const noexcept { return (*s_.direction)[i_]; }
+  [[nodiscard]] SW_FX_INLINE WheelLoadN load_n() const noexcept { return (*s_.load_n)[i_]; }
+  [[nodiscard]] SW_FX_INLINE DrawbarPullN drawbar_pull_n() const noexcept { return (*s_.drawbar_pull_n)[i_]; }
+  [[nodiscard]] SW_FX_INLINE bool drawbar_assumed() const noexcept { return s_.drawbar_assumed; }
+  [[nodiscard]] SW_FX_INLINE bool sensor_fault() const noexcept { return !(*s_.current_usable)[i_]; }
+  [[nodiscard]] SW_FX_INLINE const CorrectionResult* corrections() const noexcept {
+    return (s_.corrections != nullptr) ? &(*s_.corrections)[i_] : nullptr;
+  }
+  [[nodiscard]] SW_FX_INLINE const TorqueResult& drive_torque() const noexcept { return (*s_.drive_torque)[i_]; }
+
+ private:
+  const WheelSamples& s_;
+  std::uint8_t i_;
+};
+
 /// Is the sample usable? The checks go from the cheapest and most
 /// fundamental (the source's own flag) to the physical ranges.
-SampleStatus classify_sample(const WheelInput& input, TimeMs now, bool have_last_time, TimeMs last_time,
+template <typename Sample>
+SW_FX_INLINE SampleStatus classify_sample(Sample input, TimeMs now, bool have_last_time, TimeMs last_time,
                              const PreparedParameters& prepared) noexcept {
   const ParameterTable& table = prepared.table();
   const MonitorParams& mp = table.monitor;
   // Without a valid table there are no thresholds: the sample is unusable,
   // which the zeroed limits turn into STOP (fail-safe). RoverStep never
   // gets here with one.
-  if ((!input.valid) || (!prepared.table_valid())) {
+  if ((!input.valid()) || (!prepared.table_valid())) {
     return SampleStatus::flagged_invalid;
   }
   // A time stamp after `now` wraps to a huge age: stale as well.
-  if (elapsed_ms(input.time, now) > mp.stale_timeout_ms) {
+  if (elapsed_ms(input.time(), now) > mp.stale_timeout_ms) {
     return SampleStatus::stale;
   }
-  if (have_last_time && (input.time.ms == last_time.ms)) {
+  if (have_last_time && (input.time().ms == last_time.ms)) {
     return SampleStatus::repeated_time;
   }
-  if ((input.direction != DriveDirection::forward) && (input.direction != DriveDirection::reverse)) {
+  const DriveDirection direction = input.direction();
+  if ((direction != DriveDirection::forward) && (direction != DriveDirection::reverse)) {
     return SampleStatus::direction_invalid;
   }
-  if (input.sensor_fault) {
+  if (input.sensor_fault()) {
     return SampleStatus::sensor_fault;
   }
   fx::Status range_status;
-  const CurrentQ magnitude = fx::abs(input.current_a.q(), range_status);
+  const CurrentQ magnitude = fx::abs(input.current_a().q(), range_status);
   if ((!range_status.ok()) || (magnitude > table.motor.current_abs_max_a.q())) {
     return SampleStatus::current_out_of_range;
   }
-  if ((input.load_n < mp.load_min_n) || (input.load_n > mp.load_max_n)) {
+  const WheelLoadN load_n = input.load_n();
+  if ((load_n < mp.load_min_n) || (load_n > mp.load_max_n)) {
     return SampleStatus::load_out_of_range;
   }
   return SampleStatus::ok;
@@ -73,28 +118,30 @@ SampleStatus classify_sample(const WheelInput& input, TimeMs now, bool have_last
 /// I_max into `out`; false when one of them has no number. Out of line: the
 /// Eq. 11 and limit cores inlined here (of_valid.hpp) keep their registers
 /// to themselves, not beside WheelMonitor::step's.
-[[gnu::noinline]] bool estimate_from(const CorrectionResult& corr, const WheelInput& input,
-                                     const PreparedParameters& prepared, WheelOutput& out) noexcept {
+[[gnu::noinline]] bool estimate_from(const CorrectionResult& corr, const TorqueResult& torque, WheelLoadN load_n,
+                                     DrawbarPullN drawbar_pull_n, const PreparedParameters& prepared,
+                                     WheelOutput& out) noexcept {
   const ParameterTable& table = prepared.table();
-  // The caller's torque (WheelInput::drive_torque), the one the loads used.
-  const TorqueResult& torque = input.drive_torque;
+  // `torque` is the caller's (WheelInput::drive_torque), the one the loads used.
   out.clamp = corr.clamp;
-  // The coefficients, radius and load checked once for Eq. 11 and the limit
-  // (the corrections may be the caller's); the motor is the validated
-  // table's (of_valid.hpp).
-  const EstimateStatus inputs = (corr.status == EstimateStatus::ok)
-                                    ? detail::estimator_inputs_status(corr.coefficients, table.wheel_radius_m, input.load_n)
-                                    : corr.status;
-  if ((torque.status != EstimateStatus::ok) || (inputs != EstimateStatus::ok)) {
+  // The inputs checked once for Eq. 11 and the limit (the corrections may
+  // be the caller's); the motor is the validated table's (of_valid.hpp).
+  // Only the coefficients can fail check_estimator_inputs() here: this runs
+  // for a sample classify_sample() found usable, which needs a valid table,
+  // and validate() holds the radius in [kMinRadiusM, kMaxRadiusM] and
+  // load_min above zero, so the load, within [load_min, load_max], is
+  // positive (round 14: the radius and load tests left out, the same bits).
+  if ((torque.status != EstimateStatus::ok) || (corr.status != EstimateStatus::ok) ||
+      !detail::coefficients_in_range(corr.coefficients)) {
     return false;
   }
   // Eq. 11 and the limit in this one function (their cores are inline,
   // of_valid.hpp): no call, argument record or result record per wheel
   // between them.
-  const SinkageResult sink = detail::sinkage_of_valid(corr.coefficients, table.wheel_radius_m, input.load_n,
-                                                      torque.torque_nm, input.drawbar_pull_n);
+  const SinkageResult sink = detail::sinkage_of_valid(corr.coefficients, table.wheel_radius_m, load_n,
+                                                      torque.torque_nm, drawbar_pull_n);
   const TorqueLimitResult torque_max =
-      detail::torque_limit_of_valid(corr.coefficients, corr.dp_max_ratio, table.wheel_radius_m, input.load_n,
+      detail::torque_limit_of_valid(corr.coefficients, corr.dp_max_ratio, table.wheel_radius_m, load_n,
                                     table.monitor.allowed_sinkage_m);
   const CurrentLimitResult limit =
       detail::limit_from_torque(corr, table.motor, prepared.motor_divisors(), torque_max);
@@ -111,18 +158,20 @@ SampleStatus classify_sample(const WheelInput& input, TimeMs now, bool have_last
 
 /// Stage 2 of a usable sample. The caller's corrections (RoverStep's) are
 /// read in place, not copied (20 bytes per wheel).
-bool estimate(const WheelInput& input, const PreparedParameters& prepared, WheelOutput& out) noexcept {
-  if (input.corrections != nullptr) {
-    return estimate_from(*input.corrections, input, prepared, out);
+template <typename Sample>
+SW_FX_INLINE bool estimate(Sample input, const PreparedParameters& prepared, WheelOutput& out) noexcept {
+  const CorrectionResult* const given = input.corrections();
+  if (given != nullptr) {
+    return estimate_from(*given, input.drive_torque(), input.load_n(), input.drawbar_pull_n(), prepared, out);
   }
   const CorrectionResult own =
-      corrections_at(prepared.table().correction, prepared.correction_divisors(), input.load_n);
-  return estimate_from(own, input, prepared, out);
+      corrections_at(prepared.table().correction, prepared.correction_divisors(), input.load_n());
+  return estimate_from(own, input.drive_torque(), input.load_n(), input.drawbar_pull_n(), prepared, out);
 }
 
 /// No estimate and no limit this cycle (an unusable sample, or one whose
 /// estimate failed).
-void clear_estimate(WheelOutput& out) noexcept {
+SW_FX_INLINE void clear_estimate(WheelOutput& out) noexcept {
   out.estimate_valid = false;
   out.limit_valid = false;
   out.torque_nm = TorqueNm::zero();
@@ -139,7 +188,7 @@ struct Evidence {
   bool slip_stop{false};  ///< stop evidence from high slip alone
 };
 
-Evidence evidence_of(CurrentA directed, const WheelOutput& out, const MonitorParams& mp) noexcept {
+SW_FX_INLINE Evidence evidence_of(CurrentA directed, const WheelOutput& out, const MonitorParams& mp) noexcept {
   // The thresholds of a validated table (monitor.hpp): f - h and the
   // caution level less its hysteresis are positive and exact (h in [0, f),
   // the hysteresis in [0, caution)), so no threshold saturates.
@@ -155,10 +204,17 @@ Evidence evidence_of(CurrentA directed, const WheelOutput& out, const MonitorPar
   return e;
 }
 
+/// No thresholds: stop, fail-safe, no wheel stepped. Out of line: the
+/// default record is not built in the frame of a cycle that has a table.
+[[gnu::noinline]] void refuse_table(RoverOutput& out) noexcept {
+  out = RoverOutput{};
+  out.decision = RoverDecision::stop_and_replan;
+}
+
 /// One more sample, and one more of its status; each counter saturates.
 /// A free function with one caller (not a member), so that GCC inlines it
 /// at -Os (session 18: a call per wheel and cycle less on the Cortex-M0).
-void count_sample(WheelCounters& counters, SampleStatus status) noexcept {
+SW_FX_INLINE void count_sample(WheelCounters& counters, SampleStatus status) noexcept {
   const std::uint8_t index = static_cast<std::uint8_t>(status);
   if ((index < kSampleStatusCount) && (counters.by_status[index] < 0xFFFFFFFFU)) {
     ++counters.by_status[index];
@@ -233,16 +289,17 @@ SW_FX_INLINE void WheelMonitor::track_episode(CurrentA directed, WheelLoadN load
   return e;
 }
 
-SW_FX_INLINE void WheelMonitor::transition(StopReason sample_reason, TimeMs now,
+SW_FX_INLINE void WheelMonitor::transition(bool current_stop, bool slip_stop, TimeMs now,
                                            const PreparedParameters& prepared, WheelOutput& out) noexcept {
   const MonitorParams& mp = prepared.table().monitor;
   if (state_ == WheelState::stop) {
     return;  // STOP is latched until clear_stop()
   }
   if ((consecutive_unusable_ >= mp.invalid_to_stop) || (count_bits(stop_history_, mp.window_m) >= mp.trip_n)) {
-    const StopReason reason = (consecutive_unusable_ >= mp.invalid_to_stop)
-                                  ? StopReason::telemetry
-                                  : sample_reason;
+    // The sample's reason is named only here, on the cycle that trips.
+    const StopReason sample_reason =
+        current_stop ? StopReason::current : (slip_stop ? StopReason::slip : StopReason::sinkage);
+    const StopReason reason = (consecutive_unusable_ >= mp.invalid_to_stop) ? StopReason::telemetry : sample_reason;
     state_ = WheelState::stop;
     stop_reason_ = reason;
     out.stop_tripped = true;
@@ -262,8 +319,9 @@ SW_FX_INLINE void WheelMonitor::transition(StopReason sample_reason, TimeMs now,
   }
 }
 
-void WheelMonitor::step(const WheelInput& input, TimeMs now, const PreparedParameters& prepared,
-                        WheelOutput& out) noexcept {
+template <typename Sample>
+[[gnu::noinline]] void WheelMonitor::step_sample(Sample input, TimeMs now, const PreparedParameters& prepared,
+                                            WheelOutput& out) noexcept {
   const ParameterTable& table = prepared.table();
   // Every field of `out` is written below: state, sample_status and
   // stop_reason at the end, stop_tripped here, the estimate's fields and the
@@ -276,14 +334,14 @@ void WheelMonitor::step(const WheelInput& input, TimeMs now, const PreparedParam
   if ((status != SampleStatus::flagged_invalid) && (status != SampleStatus::stale) &&
       (status != SampleStatus::repeated_time)) {
     have_last_time_ = true;
-    last_time_ = input.time;
+    last_time_ = input.time();
   }
 
   // 2. The estimate and the limit, only from a usable sample.
   CurrentA directed = CurrentA::zero();
   if (status == SampleStatus::ok) {
     fx::Status dir_status;
-    directed = directional(input.current_a, input.direction, dir_status);
+    directed = directional(input.current_a(), input.direction(), dir_status);
     // estimate() writes the clamp and, when it succeeds, every estimate field.
     if (!estimate(input, prepared, out) || !dir_status.ok()) {
       clear_estimate(out);
@@ -309,7 +367,7 @@ void WheelMonitor::step(const WheelInput& input, TimeMs now, const PreparedParam
   } else {
     consecutive_unusable_ = 0U;
     e = evidence_of(directed, out, table.monitor);
-    if (input.drawbar_assumed) {
+    if (input.drawbar_assumed()) {
       // DP = DP_max assumed at high slip: the estimate is a lower bound and
       // the wheel makes no headway (WheelInput::drawbar_assumed).
       e.slip_stop = !e.stop;
@@ -317,61 +375,97 @@ void WheelMonitor::step(const WheelInput& input, TimeMs now, const PreparedParam
       e.caution = true;
       e.clear = false;
     }
-    track_episode(directed, input.load_n, out.sinkage_m);
+    track_episode(directed, input.load_n(), out.sinkage_m);
   }
   caution_history_ = shift_in(caution_history_, e.caution);
   stop_history_ = shift_in(stop_history_, e.stop);
   clear_history_ = shift_in(clear_history_, e.clear);
 
   // 4. Transitions (STOP is latched).
-  const StopReason sample_reason =
-      e.current_stop ? StopReason::current : (e.slip_stop ? StopReason::slip : StopReason::sinkage);
-  transition(sample_reason, now, prepared, out);
+  transition(e.current_stop, e.slip_stop, now, prepared, out);
   out.state = state_;
   out.stop_reason = stop_reason_;
+}
+
+void WheelMonitor::step(const WheelInput& input, TimeMs now, const PreparedParameters& prepared,
+                        WheelOutput& out) noexcept {
+  step_sample(InputSample(input), now, prepared, out);
 }
 
 RoverMonitor::RoverMonitor() noexcept
     : wheels_{WheelMonitor(0U), WheelMonitor(1U), WheelMonitor(2U), WheelMonitor(3U), WheelMonitor(4U),
               WheelMonitor(5U)} {}
 
-void RoverMonitor::step_all(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const PreparedParameters& prepared,
+namespace {
+
+/// RoverMonitor::step_all's wheels from six WheelInput records.
+class InputWheels {
+ public:
+  explicit InputWheels(const WheelInput (&inputs)[kMaxWheels]) noexcept : inputs_(inputs) {}
+  [[nodiscard]] InputSample sample(std::uint8_t i) const noexcept { return InputSample(inputs_[i]); }
+
+ private:
+  const WheelInput (&inputs_)[kMaxWheels];
+};
+
+/// RoverMonitor::step_all's wheels from a WheelSamples, read in place.
+class CycleWheels {
+ public:
+  explicit CycleWheels(const WheelSamples& samples) noexcept : samples_(samples) {}
+  [[nodiscard]] CycleSample sample(std::uint8_t i) const noexcept { return CycleSample(samples_, i); }
+
+ private:
+  const WheelSamples& samples_;
+};
+
+}  // namespace
+
+template <typename Wheels>
+void RoverMonitor::step_all(const Wheels& wheels, TimeMs now, const PreparedParameters& prepared,
                             RoverOutput& out) noexcept {
   const ParameterTable& table = prepared.table();
-  out.wheels_in_stop = 0U;
-  out.wheels_in_caution = 0U;
-  out.wheels_blind = 0U;
-  // Wheels beyond wheel_count are not monitored: their outputs are default.
-  for (std::uint8_t i = 0U; i < kMaxWheels; ++i) {
-    const bool monitored = i < table.monitor.wheel_count;
-    if (monitored) {
-      wheels_[i].step(inputs[i], now, prepared, out.wheels[i]);
-    } else {
-      out.wheels[i] = WheelOutput{};
-    }
-    if (monitored && (out.wheels[i].state == WheelState::stop)) {
-      ++out.wheels_in_stop;
-    } else if (monitored && (out.wheels[i].state == WheelState::caution)) {
-      ++out.wheels_in_caution;
-    } else {
-      // nominal, or not monitored
-    }
-  }
-  rover_rules(table, out);
-}
-
-void RoverMonitor::rover_rules(const ParameterTable& table, RoverOutput& out) noexcept {
   const std::uint8_t count = (table.monitor.wheel_count < kMaxWheels) ? table.monitor.wheel_count : kMaxWheels;
-  const bool embedding_seen = (out.wheels_in_stop + out.wheels_in_caution) > 0U;
+  // The tallies in locals, stored once: each wheel's step may write any
+  // memory as far as the compiler knows, so counts kept in `out` were
+  // reloaded and stored per wheel.
+  std::uint8_t in_stop = 0U;
+  std::uint8_t in_caution = 0U;
+  std::uint8_t blind = 0U;
   for (std::uint8_t i = 0U; i < count; ++i) {
     WheelOutput& w = out.wheels[i];
-    if (w.sample_status == SampleStatus::sensor_fault) {
-      ++out.wheels_blind;
+    wheels_[i].step_sample(wheels.sample(i), now, prepared, w);
+    if (w.state == WheelState::stop) {
+      ++in_stop;
+    } else if (w.state == WheelState::caution) {
+      ++in_caution;
+    } else {
+      // nominal
     }
-    if (embedding_seen && (w.sample_status != SampleStatus::ok) && (w.state == WheelState::nominal)) {
-      wheels_[i].hold_in_caution();
-      w.state = WheelState::caution;
-      ++out.wheels_in_caution;
+    if (w.sample_status == SampleStatus::sensor_fault) {
+      ++blind;
+    }
+  }
+  // Wheels beyond wheel_count are not monitored: their outputs are default.
+  for (std::uint8_t i = count; i < kMaxWheels; ++i) {
+    out.wheels[i] = WheelOutput{};
+  }
+  out.wheels_in_stop = in_stop;
+  out.wheels_in_caution = in_caution;
+  out.wheels_blind = blind;
+  rover_rules(table, count, out);
+}
+
+void RoverMonitor::rover_rules(const ParameterTable& table, std::uint8_t count, RoverOutput& out) noexcept {
+  // Without a wheel in CAUTION or STOP no wheel is held: the pass over the
+  // wheels is only made when one is.
+  if ((out.wheels_in_stop + out.wheels_in_caution) > 0U) {
+    for (std::uint8_t i = 0U; i < count; ++i) {
+      WheelOutput& w = out.wheels[i];
+      if ((w.sample_status != SampleStatus::ok) && (w.state == WheelState::nominal)) {
+        wheels_[i].hold_in_caution();
+        w.state = WheelState::caution;
+        ++out.wheels_in_caution;
+      }
     }
   }
   const std::uint8_t k = (table.monitor.rover_stop_k == 0U) ? 1U : table.monitor.rover_stop_k;
@@ -385,11 +479,18 @@ void RoverMonitor::rover_rules(const ParameterTable& table, RoverOutput& out) no
 void RoverMonitor::step(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const PreparedParameters& prepared,
                         RoverOutput& out) noexcept {
   if (prepared.table_valid()) {
-    step_all(inputs, now, prepared, out);
+    step_all(InputWheels(inputs), now, prepared, out);
   } else {
-    // No thresholds: stop, fail-safe, no wheel stepped.
-    out = RoverOutput{};
-    out.decision = RoverDecision::stop_and_replan;
+    refuse_table(out);
+  }
+}
+
+void RoverMonitor::step(const WheelSamples& samples, TimeMs now, const PreparedParameters& prepared,
+                        RoverOutput& out) noexcept {
+  if (prepared.table_valid()) {
+    step_all(CycleWheels(samples), now, prepared, out);
+  } else {
+    refuse_table(out);
   }
 }
 

@@ -56,8 +56,14 @@ inline std::int64_t with_sign(bool negative, std::uint64_t magnitude) noexcept {
 [[nodiscard]] CurrentResult current_of_valid_motor(const MotorParams& motor, const MotorDivisors& divisors,
                                                    TorqueNm torque_nm, DriveDirection direction) noexcept;
 
-/// check_estimator_inputs(), inline: the monitor checks each wheel's inputs
-/// once per cycle without a call.
+/// The coefficients' part of check_estimator_inputs(): C1 and C2 in
+/// [kMinC12, kMaxC12], C3 in [kMinC3, kMaxC3].
+SW_FX_INLINE bool coefficients_in_range(const Coefficients& c) noexcept {
+  return (c.c1 >= kMinC12) && (c.c1 <= kMaxC12) && (c.c2 >= kMinC12) && (c.c2 <= kMaxC12) && (c.c3 >= kMinC3) &&
+         (c.c3 <= kMaxC3);
+}
+
+/// check_estimator_inputs(), inline.
 SW_FX_INLINE EstimateStatus estimator_inputs_status(const Coefficients& c, LengthM radius_m,
                                                     WheelLoadN load_n) noexcept {
   if ((radius_m < kMinRadiusM) || (radius_m > kMaxRadiusM)) {
@@ -66,8 +72,7 @@ SW_FX_INLINE EstimateStatus estimator_inputs_status(const Coefficients& c, Lengt
   if (load_n <= WheelLoadN::zero()) {
     return EstimateStatus::invalid_load;
   }
-  if ((c.c1 < kMinC12) || (c.c1 > kMaxC12) || (c.c2 < kMinC12) || (c.c2 > kMaxC12) || (c.c3 < kMinC3) ||
-      (c.c3 > kMaxC3)) {
+  if (!coefficients_in_range(c)) {
     return EstimateStatus::invalid_coefficient;
   }
   return EstimateStatus::ok;

@@ -16,8 +16,15 @@ namespace {
 
 using W = WideQ;
 
-/// A wheel input's torque when the cycle has none (WheelInput's default).
+/// The monitor's samples when the cycle has no numbers: WheelInput's
+/// defaults (no load, no pull, no torque, no sensor fault).
 constexpr TorqueResult kNoDriveTorque{TorqueNm::zero(), EstimateStatus::invalid_current};
+static_assert(kWheelCount == 6U, "one default per wheel below");
+constexpr TorqueResult kNoWheelTorques[kWheelCount]{kNoDriveTorque, kNoDriveTorque, kNoDriveTorque,
+                                                    kNoDriveTorque, kNoDriveTorque, kNoDriveTorque};
+constexpr WheelLoadN kNoLoads[kWheelCount]{};
+constexpr DrawbarPullN kNoPulls[kWheelCount]{};
+constexpr bool kEveryCurrentUsable[kWheelCount]{true, true, true, true, true, true};
 
 // Constants are built at compile time: no floating point at run time.
 constexpr W kOne{fx::constant<W>(1.0)};
@@ -66,25 +73,21 @@ bool motion_in_range(const RoverTelemetry& t) noexcept {
 /// Each wheel's drive torque from its current, once per cycle: the loads
 /// and the monitor (WheelInput::drive_torque) take the same result. Stored
 /// field by field: the 5-byte record assigned whole is a memcpy call on the
-/// M0. Out of line, so that its temporary is not in compute's frame.
+/// M0. The loads' torques into `drive` in the same pass (every wheel's):
+/// usable when the health monitor passes the current and the torque exists;
+/// otherwise the statics fall back for that wheel. Out of line, so that its
+/// temporary is not in compute's frame.
 [[gnu::noinline]] void wheel_torques(const PreparedParameters& prepared, const RoverTelemetry& t,
-                   TorqueResult (&torque)[kWheelCount]) noexcept {
+                                     const SensorHealthReport& health, TorqueResult (&torque)[kWheelCount],
+                                     DriveTorques& drive) noexcept {
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     // The validated table's motor: no check_motor() per wheel (of_valid.hpp).
     const TorqueResult r = detail::torque_of_valid_motor(prepared.table().motor, t.current_a[i], t.direction[i]);
     torque[i].torque_nm = r.torque_nm;
     torque[i].status = r.status;
-  }
-}
-
-/// The loads' torques into `torques` (every wheel's): usable when the health
-/// monitor passes the current and the torque exists; otherwise the statics
-/// fall back for that wheel.
-void drive_torques(const TorqueResult (&torque)[kWheelCount], const SensorHealthReport& health,
-                   DriveTorques& torques) noexcept {
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    torques.usable[i] = health.current_usable[i] && (torque[i].status == EstimateStatus::ok);
-    torques.torque_nm[i] = torques.usable[i] ? torque[i].torque_nm : TorqueNm::zero();
+    const bool usable = health.current_usable[i] && (r.status == EstimateStatus::ok);
+    drive.usable[i] = usable;
+    drive.torque_nm[i] = usable ? r.torque_nm : TorqueNm::zero();
   }
 }
 
@@ -308,8 +311,7 @@ void RoverStep::assess(const RoverTelemetry& t, const PreparedParameters& prepar
 RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParameters& prepared,
                                    RoverStepOutput& out) noexcept {
   // 2. The drive torques (once, for the loads and the monitor), the loads.
-  wheel_torques(prepared, t, terms_.torque);
-  drive_torques(terms_.torque, out.health, terms_.drive);
+  wheel_torques(prepared, t, out.health, terms_.torque, terms_.drive);
   // Initialised from the call, not assigned: a WheelLoadResult assigned
   // through a reference is built in a temporary and copied, which put both
   // in this frame, live during the wheel loads (the deepest call of a cycle).
@@ -343,47 +345,33 @@ void RoverStep::traction_stage(const RoverTelemetry& t, const PreparedParameters
 void RoverStep::monitor_stage(const RoverTelemetry& t, TimeMs now, const PreparedParameters& prepared,
                               RoverStepOutput& out) noexcept {
   // The monitor sees every cycle: numbers when they all exist, else an
-  // invalid sample it counts (and a stale one it classifies itself).
+  // invalid sample it counts (and a stale one it classifies itself). Its
+  // samples are views of this cycle's arrays, read in place (WheelSamples):
+  // no per-wheel input records built and read again. Without numbers they
+  // are the WheelInput defaults: no load, pull, torque or corrections.
   const bool usable_sample = (out.status == RoverStepStatus::ok);
   const bool pass_as_stale = (out.status == RoverStepStatus::telemetry_stale);
-  // Every field of every wheel's input is written: the record is the
-  // previous cycle's. The stage's numbers in one loop when the sample is
-  // usable, the defaults in another when not: no choice per field and
-  // wheel, and fewer arrays live in each loop (the Cortex-M0's registers).
-  const bool valid = usable_sample || pass_as_stale;
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    WheelInput& in = inputs_[i];
-    in.time = t.time;
-    in.current_a = t.current_a[i];
-    in.direction = t.direction[i];
-    in.valid = valid;
-  }
+  WheelSamples samples{};
+  samples.time = t.time;
+  samples.valid = usable_sample || pass_as_stale;
+  samples.current_a = &t.current_a;
+  samples.direction = &t.direction;
   if (usable_sample) {
-    const bool assumed = out.drawbar_status == DrawbarStatus::saturated;
-    for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-      WheelInput& in = inputs_[i];
-      in.load_n = out.load_n[i];
-      in.drawbar_pull_n = out.drawbar_pull_n[i];
-      in.corrections = &terms_.corr[i];
-      // Field by field, as in wheel_torques.
-      in.drive_torque.torque_nm = terms_.torque[i].torque_nm;
-      in.drive_torque.status = terms_.torque[i].status;
-      in.drawbar_assumed = assumed;
-      in.sensor_fault = !out.health.current_usable[i];
-    }
+    samples.drawbar_assumed = out.drawbar_status == DrawbarStatus::saturated;
+    samples.load_n = &out.load_n;
+    samples.drawbar_pull_n = &out.drawbar_pull_n;
+    samples.current_usable = &out.health.current_usable;
+    samples.corrections = &terms_.corr;
+    samples.drive_torque = &terms_.torque;
   } else {
-    for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-      WheelInput& in = inputs_[i];
-      in.load_n = WheelLoadN::zero();
-      in.drawbar_pull_n = DrawbarPullN::zero();
-      in.corrections = nullptr;
-      in.drive_torque.torque_nm = kNoDriveTorque.torque_nm;
-      in.drive_torque.status = kNoDriveTorque.status;
-      in.drawbar_assumed = false;
-      in.sensor_fault = false;
-    }
+    samples.drawbar_assumed = false;
+    samples.load_n = &kNoLoads;
+    samples.drawbar_pull_n = &kNoPulls;
+    samples.current_usable = &kEveryCurrentUsable;
+    samples.corrections = nullptr;
+    samples.drive_torque = &kNoWheelTorques;
   }
-  monitor_.step(inputs_, now, prepared, out.monitor);
+  monitor_.step(samples, now, prepared, out.monitor);
   traction_stage(t, prepared, out);
   out.decision = out.monitor.decision;
   if ((out.status == RoverStepStatus::tip_over) || (out.traction.state == TractionState::stop)) {

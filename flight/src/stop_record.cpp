@@ -17,7 +17,12 @@ void StopRecorder::clear_stop() noexcept {
 }
 
 void StopRecorder::remember(const RoverOutput& monitor, std::uint8_t wheels) noexcept {
-  for (std::uint8_t i = 0U; (i < wheels) && (i < kMaxWheels); ++i) {
+  // The bound once, and the episode's first reason in a local stored once:
+  // the byte stores into the histories may alias any member as far as the
+  // compiler knows, so a member read in the loop is read again per wheel.
+  const std::uint32_t count = (wheels < kMaxWheels) ? wheels : kMaxWheels;
+  StopReason first = first_reason_;
+  for (std::uint32_t i = 0U; i < count; ++i) {
     const WheelOutput& w = monitor.wheels[i];
     if (w.estimate_valid) {
       recent_m_[i][next_[i]] = w.sinkage_m;
@@ -26,10 +31,11 @@ void StopRecorder::remember(const RoverOutput& monitor, std::uint8_t wheels) noe
         ++count_[i];
       }
     }
-    if ((first_reason_ == StopReason::none) && w.stop_tripped) {
-      first_reason_ = w.stop_reason;
+    if ((first == StopReason::none) && w.stop_tripped) {
+      first = w.stop_reason;
     }
   }
+  first_reason_ = first;
 }
 
 RoverStopRecord StopRecorder::record(TimeMs now, std::uint8_t wheels) const noexcept {

@@ -474,3 +474,233 @@ TEST_F(MonitorTest, CurrentOrSinkageStopKeepsItsReasonAtHighSlip) {
   EXPECT_EQ(wheel.state(), WheelState::stop);
   EXPECT_EQ(wheel.last_event().reason, StopReason::current);
 }
+
+// RoverStep hands the monitor its samples as views of the cycle's arrays
+// (WheelSamples), read in place; the monitor must give exactly what the six
+// WheelInput records they stand for give: every output field, state, event
+// record and counter, over long random runs that reach every sample status,
+// CAUTION, STOP (each reason), clear_stop and both loss policies.
+namespace {
+
+/// A small deterministic generator (xorshift64*): the same run every time.
+class Rng {
+ public:
+  explicit Rng(std::uint64_t seed) : s_(seed) {}
+  std::uint64_t next() {
+    s_ ^= s_ >> 12U;
+    s_ ^= s_ << 25U;
+    s_ ^= s_ >> 27U;
+    return s_ * 0x2545F4914F6CDD1DULL;
+  }
+  std::uint32_t below(std::uint32_t n) { return static_cast<std::uint32_t>(next() % n); }
+  double uniform(double lo, double hi) {
+    return lo + ((hi - lo) * static_cast<double>(next() >> 11U) / 9007199254740992.0);
+  }
+  bool one_in(std::uint32_t n) { return below(n) == 0U; }
+
+ private:
+  std::uint64_t s_;
+};
+
+void expect_same_wheel(const WheelOutput& a, const WheelOutput& b, int cycle, int wheel) {
+  SCOPED_TRACE(testing::Message() << "cycle " << cycle << " wheel " << wheel);
+  EXPECT_EQ(a.state, b.state);
+  EXPECT_EQ(a.sample_status, b.sample_status);
+  EXPECT_EQ(a.stop_reason, b.stop_reason);
+  EXPECT_EQ(a.stop_tripped, b.stop_tripped);
+  EXPECT_EQ(a.estimate_valid, b.estimate_valid);
+  EXPECT_EQ(a.torque_nm.raw(), b.torque_nm.raw());
+  EXPECT_EQ(a.sinkage_m.raw(), b.sinkage_m.raw());
+  EXPECT_EQ(a.limit_valid, b.limit_valid);
+  EXPECT_EQ(a.current_limit_a.raw(), b.current_limit_a.raw());
+  EXPECT_EQ(a.clamp, b.clamp);
+}
+
+void expect_same_monitor(const WheelMonitor& a, const WheelMonitor& b) {
+  EXPECT_EQ(a.state(), b.state());
+  EXPECT_EQ(a.has_event(), b.has_event());
+  const EventRecord& ea = a.last_event();
+  const EventRecord& eb = b.last_event();
+  EXPECT_EQ(ea.wheel, eb.wheel);
+  EXPECT_EQ(ea.time.ms, eb.time.ms);
+  EXPECT_EQ(ea.reason, eb.reason);
+  EXPECT_EQ(ea.peak_current_a.raw(), eb.peak_current_a.raw());
+  EXPECT_EQ(ea.load_at_peak_n.raw(), eb.load_at_peak_n.raw());
+  EXPECT_EQ(ea.peak_sinkage_valid, eb.peak_sinkage_valid);
+  EXPECT_EQ(ea.peak_sinkage_m.raw(), eb.peak_sinkage_m.raw());
+  EXPECT_EQ(ea.max_estimate_valid, eb.max_estimate_valid);
+  EXPECT_EQ(ea.max_estimated_sinkage_m.raw(), eb.max_estimated_sinkage_m.raw());
+  EXPECT_EQ(a.counters().samples, b.counters().samples);
+  for (std::uint8_t s = 0U; s < kSampleStatusCount; ++s) {
+    EXPECT_EQ(a.counters().by_status[s], b.counters().by_status[s]);
+  }
+}
+
+/// One cycle's arrays, as RoverStep holds them.
+struct CycleArrays {
+  CurrentA current_a[kMaxWheels];
+  DriveDirection direction[kMaxWheels]{};
+  WheelLoadN load_n[kMaxWheels];
+  DrawbarPullN drawbar_pull_n[kMaxWheels];
+  bool current_usable[kMaxWheels]{};
+  CorrectionResult corrections[kMaxWheels]{};
+  TorqueResult drive_torque[kMaxWheels]{};
+};
+
+/// What a run reached: the comparison means something only where it did.
+struct Reached {
+  bool status[kSampleStatusCount]{};
+  bool caution{false};
+  bool reason[6]{};  ///< index: StopReason
+  bool degraded{false};
+};
+
+Reached run_samples_against_inputs(const ParameterTable& table, std::uint64_t seed, int cycles) {
+  Reached reached{};
+  const PreparedParameters prepared = test::prepared_of(table);
+  const ref::Parameters p = ref::from_flight(default_parameter_table());
+  RoverMonitor by_inputs;
+  RoverMonitor by_samples;
+  Rng rng(seed);
+  std::uint32_t t_ms = 1000U;
+  // Wheels drift between calm and embedding, so that the windows trip.
+  double level[kMaxWheels] = {0.01, 0.01, 0.01, 0.01, 0.01, 0.01};
+  int outage = 0;
+  for (int cycle = 0; cycle < cycles; ++cycle) {
+    // The clock: usually fresh, sometimes repeated, stale or from the future.
+    const std::uint32_t kind = rng.below(40U);
+    if (kind != 0U) {
+      t_ms += 100U;
+    }
+    TimeMs now{t_ms};
+    if (kind == 1U) {
+      now = TimeMs{t_ms + 5000U};  // stale
+    } else if (kind == 2U) {
+      now = TimeMs{t_ms - 50U};  // from the future
+    }
+    CycleArrays a{};
+    WheelSamples s{};
+    s.time = TimeMs{t_ms};
+    // Outages long enough for invalid_to_stop, else a lost sample now and then.
+    s.valid = (outage == 0) && !rng.one_in(25U);
+    outage = (outage > 0) ? (outage - 1) : 0;
+    s.drawbar_assumed = rng.one_in(15U);
+    const bool with_corrections = !rng.one_in(10U);
+    for (std::uint8_t i = 0U; i < kMaxWheels; ++i) {
+      level[i] = std::clamp(level[i] + rng.uniform(-0.006, 0.0065), -0.01, 0.07);
+      const double w = rng.one_in(30U) ? rng.uniform(-5.0, 400.0) : rng.uniform(60.0, 140.0);
+      const double current = rng.one_in(30U) ? rng.uniform(-40.0, 40.0) : rng.uniform(0.2, 2.7);
+      const DriveDirection dir = rng.one_in(50U)   ? static_cast<DriveDirection>(2U + rng.below(3U))
+                                 : rng.one_in(4U) ? DriveDirection::reverse
+                                                   : DriveDirection::forward;
+      const double signed_i = (dir == DriveDirection::reverse) ? -current : current;
+      // The reference's torque for the pull only, from a current it accepts.
+      const double torque = ref::torque_nm(p.motor, std::clamp(signed_i, -2.9, 2.9), DriveDirection::forward);
+      const ref::Coefficients c = ref::corrections_at(p.correction, std::max(w, 1.0)).coefficients;
+      const double z = level[i] + rng.uniform(-0.004, 0.004);
+      const double dp = w * ((c.c1 * torque / std::max(w, 1.0) - c.c2 * z) / p.wheel_radius_m - c.c3);
+      a.current_a[i] = rng.one_in(200U) ? CurrentA(CurrentQ::from_raw(INT32_MIN)) : q<CurrentA>(signed_i);
+      a.direction[i] = dir;
+      a.load_n[i] = q<WheelLoadN>(w);
+      a.drawbar_pull_n[i] = rng.one_in(200U) ? DrawbarPullN(LoadQ::from_raw(INT32_MAX)) : q<DrawbarPullN>(dp);
+      a.current_usable[i] = !rng.one_in(20U);
+      a.corrections[i] = corrections_at(table.correction, prepared.correction_divisors(), a.load_n[i]);
+      if (rng.one_in(100U)) {
+        a.corrections[i].status = EstimateStatus::invalid_load;
+      }
+      a.drive_torque[i] = torque_from_current(table.motor, a.current_a[i], dir);
+      if (rng.one_in(100U)) {
+        a.drive_torque[i] = TorqueResult{TorqueNm::zero(), EstimateStatus::invalid_current};
+      }
+    }
+    s.current_a = &a.current_a;
+    s.direction = &a.direction;
+    s.load_n = &a.load_n;
+    s.drawbar_pull_n = &a.drawbar_pull_n;
+    s.current_usable = &a.current_usable;
+    s.corrections = with_corrections ? &a.corrections : nullptr;
+    s.drive_torque = &a.drive_torque;
+
+    WheelInput inputs[kMaxWheels];
+    for (std::uint8_t i = 0U; i < kMaxWheels; ++i) {
+      inputs[i] = WheelInput{s.time, a.current_a[i], a.load_n[i], a.drawbar_pull_n[i], a.direction[i], s.valid};
+      inputs[i].drawbar_assumed = s.drawbar_assumed;
+      inputs[i].sensor_fault = !a.current_usable[i];
+      inputs[i].corrections = with_corrections ? &a.corrections[i] : nullptr;
+      inputs[i].drive_torque = a.drive_torque[i];
+    }
+    RoverOutput out_inputs{};
+    RoverOutput out_samples{};
+    by_inputs.step(inputs, now, prepared, out_inputs);
+    by_samples.step(s, now, prepared, out_samples);
+    EXPECT_EQ(out_inputs.decision, out_samples.decision) << "cycle " << cycle;
+    EXPECT_EQ(out_inputs.wheels_in_stop, out_samples.wheels_in_stop);
+    EXPECT_EQ(out_inputs.wheels_in_caution, out_samples.wheels_in_caution);
+    EXPECT_EQ(out_inputs.wheels_blind, out_samples.wheels_blind);
+    EXPECT_EQ(out_inputs.degraded, out_samples.degraded);
+    for (std::uint8_t i = 0U; i < kMaxWheels; ++i) {
+      expect_same_wheel(out_inputs.wheels[i], out_samples.wheels[i], cycle, i);
+      expect_same_monitor(by_inputs.wheel(i), by_samples.wheel(i));
+    }
+    if (testing::Test::HasFailure()) {
+      return reached;
+    }
+    reached.degraded = reached.degraded || out_samples.degraded;
+    for (const WheelOutput& w : out_samples.wheels) {
+      reached.status[static_cast<std::uint8_t>(w.sample_status)] = true;
+      reached.caution = reached.caution || (w.state == WheelState::caution);
+      reached.reason[static_cast<std::uint8_t>(w.stop_reason)] = true;
+    }
+    if (rng.one_in(60U)) {
+      by_inputs.clear_stop();
+      by_samples.clear_stop();
+      for (double& l : level) {
+        l = 0.01;
+      }
+      outage = rng.one_in(3U) ? 12 : 0;
+    }
+  }
+  return reached;
+}
+
+void expect_reached_all(const Reached& r, bool degraded) {
+  for (std::uint8_t st = 0U; st < kSampleStatusCount; ++st) {
+    EXPECT_TRUE(r.status[st]) << "sample status " << static_cast<int>(st) << " never reached";
+  }
+  EXPECT_TRUE(r.caution);
+  EXPECT_TRUE(r.reason[static_cast<std::uint8_t>(StopReason::current)]);
+  EXPECT_TRUE(r.reason[static_cast<std::uint8_t>(StopReason::sinkage)]);
+  EXPECT_TRUE(r.reason[static_cast<std::uint8_t>(StopReason::slip)]);
+  EXPECT_TRUE(r.reason[static_cast<std::uint8_t>(StopReason::telemetry)]);
+  EXPECT_EQ(r.degraded, degraded);
+}
+
+TEST(RoverMonitorSamples, InPlaceSamplesGiveTheInputsResultBitForBit) {
+  expect_reached_all(run_samples_against_inputs(default_parameter_table(), 0x5EEDU, 20000), false);
+}
+
+TEST(RoverMonitorSamples, SameUnderContinueDegradedAndFewerWheels) {
+  ParameterTable table = default_parameter_table();
+  table.health.policy = LossPolicy::continue_degraded;
+  table.health.max_blind_wheels = 2U;
+  table.monitor.wheel_count = 4U;
+  table.monitor.rover_stop_k = 2U;
+  expect_reached_all(run_samples_against_inputs(table, 0xB1D5U, 20000), true);
+}
+
+TEST(RoverMonitorSamples, WithoutAValidTableBothStop) {
+  ParameterTable table = default_parameter_table();
+  table.monitor.window_m = 0U;  // validate() refuses it
+  const PreparedParameters prepared = test::prepared_of(table);
+  ASSERT_FALSE(prepared.table_valid());
+  RoverMonitor by_samples;
+  RoverOutput out{};
+  out.wheels_in_stop = 3U;
+  WheelSamples s{};
+  by_samples.step(s, TimeMs{100U}, prepared, out);
+  EXPECT_EQ(out.decision, RoverDecision::stop_and_replan);
+  EXPECT_EQ(out.wheels_in_stop, 0U);
+  EXPECT_EQ(by_samples.wheel(0).counters().samples, 0U);
+}
+
+}  // namespace

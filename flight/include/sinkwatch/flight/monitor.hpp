@@ -98,6 +98,28 @@ struct WheelInput {
   TorqueResult drive_torque{TorqueNm::zero(), EstimateStatus::invalid_current};
 };
 
+/// One cycle's samples of every wheel, read in place from the caller's
+/// arrays (RoverStep's telemetry, output and per-wheel terms) instead of
+/// six WheelInput records built and read again each cycle. Wheel i's sample
+/// is the WheelInput {time, (*current_a)[i], (*load_n)[i],
+/// (*drawbar_pull_n)[i], (*direction)[i], valid, drawbar_assumed,
+/// sensor_fault = !(*current_usable)[i], corrections = &(*corrections)[i]
+/// (null when `corrections` is null), drive_torque = (*drive_torque)[i]},
+/// and the monitor's result is the one that WheelInput gives, bit for bit.
+/// Every pointer is to the caller's array, which lives for the step() call.
+struct WheelSamples {
+  TimeMs time{0U};
+  bool valid{false};
+  bool drawbar_assumed{false};
+  const CurrentA (*current_a)[kMaxWheels]{nullptr};
+  const DriveDirection (*direction)[kMaxWheels]{nullptr};
+  const WheelLoadN (*load_n)[kMaxWheels]{nullptr};
+  const DrawbarPullN (*drawbar_pull_n)[kMaxWheels]{nullptr};
+  const bool (*current_usable)[kMaxWheels]{nullptr};
+  const CorrectionResult (*corrections)[kMaxWheels]{nullptr};  ///< null: the monitor evaluates C(W)
+  const TorqueResult (*drive_torque)[kMaxWheels]{nullptr};
+};
+
 /// One wheel's result for one cycle.
 struct WheelOutput {
   WheelState state{WheelState::nominal};
@@ -165,10 +187,20 @@ class WheelMonitor {
   /// The episode's peak current (and its load) and largest estimate.
   inline void track_episode(CurrentA directed, WheelLoadN load_n, SinkageM sinkage_m) noexcept;
   /// Stage 4: NOMINAL -> CAUTION -> STOP and back (STOP latched).
-  /// `sample_reason`: what the last usable sample was stop evidence of
-  /// (current, slip, else sinkage); it names a STOP the window trips.
-  inline void transition(StopReason sample_reason, TimeMs now, const PreparedParameters& prepared,
+  /// `current_stop`, `slip_stop`: what the last usable sample was stop
+  /// evidence of (current, slip, else sinkage); it names a STOP the window
+  /// trips.
+  inline void transition(bool current_stop, bool slip_stop, TimeMs now, const PreparedParameters& prepared,
                          WheelOutput& out) noexcept;
+  // RoverMonitor steps its wheels on their samples of a WheelSamples in
+  // place (step_sample), which no WheelMonitor outside it can index.
+  friend class RoverMonitor;
+
+  /// One cycle on a sample read through `Sample`'s accessors (monitor.cpp:
+  /// a WheelInput, or one wheel of a WheelSamples): the one body of
+  /// step() and of RoverMonitor's step on WheelSamples.
+  template <typename Sample>
+  void step_sample(Sample sample, TimeMs now, const PreparedParameters& prepared, WheelOutput& out) noexcept;
   /// The record written on entering STOP (out of line: its records are not
   /// in step()'s frame on the cycles without a STOP).
   [[nodiscard]] EventRecord stop_event(TimeMs now, StopReason reason,
@@ -222,6 +254,9 @@ class RoverMonitor {
   /// wheels' outputs.
   void step(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const PreparedParameters& prepared,
             RoverOutput& out) noexcept;
+  /// The same cycle on the samples of `samples` (WheelSamples), read in
+  /// place: the result of the WheelInput records they stand for.
+  void step(const WheelSamples& samples, TimeMs now, const PreparedParameters& prepared, RoverOutput& out) noexcept;
 
   /// The ground's acknowledgement after a re-plan: every wheel back to NOMINAL.
   void clear_stop() noexcept;
@@ -230,11 +265,13 @@ class RoverMonitor {
   const WheelMonitor& wheel(std::uint8_t index) const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
 
  private:
-  /// The blind-wheel and unusable-evidence rules after every wheel's step.
-  void rover_rules(const ParameterTable& table, RoverOutput& out) noexcept;
-  /// Every monitored wheel on parameters whose table is valid, into `out`.
-  void step_all(const WheelInput (&inputs)[kMaxWheels], TimeMs now, const PreparedParameters& prepared,
-                RoverOutput& out) noexcept;
+  /// The unusable-evidence rule and the decision after every wheel's step
+  /// (the first `count` wheels monitored; `out`'s tallies of them made).
+  void rover_rules(const ParameterTable& table, std::uint8_t count, RoverOutput& out) noexcept;
+  /// Every monitored wheel on parameters whose table is valid, into `out`;
+  /// `Wheels` steps wheel i (monitor.cpp: from a WheelInput or a WheelSamples).
+  template <typename Wheels>
+  void step_all(const Wheels& wheels, TimeMs now, const PreparedParameters& prepared, RoverOutput& out) noexcept;
 
   WheelMonitor wheels_[kMaxWheels];
 };

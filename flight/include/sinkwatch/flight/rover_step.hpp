@@ -170,9 +170,6 @@ class RoverStep {
               RoverStepOutput& out) noexcept;
 
   WheelTerms terms_{};
-  /// Stage 5's per-wheel inputs, rebuilt whole every cycle (in the object,
-  /// not on the step's stack).
-  WheelInput inputs_[kMaxWheels]{};
   /// Stage 6's input, rebuilt whole every cycle.
   TractionInput traction_in_{};
   RoverMonitor monitor_;
