@@ -19,6 +19,19 @@ namespace {
 using n_of_m::count_bits;
 using n_of_m::shift_in;
 
+/// count_bits(history, window) >= n. On a table validate() accepted (n >= 1:
+/// trip_n and clear_n are at least 1) an empty history, a quiet wheel's
+/// usual one, reaches no count: answered without the call. On any other
+/// table the count is taken as it is (n may be 0 there).
+template <bool kValidTable>
+SW_FX_INLINE bool window_reaches(std::uint16_t history, std::uint8_t window, std::uint8_t n) noexcept {
+  if constexpr (kValidTable) {
+    return (history != 0U) && (count_bits(history, window) >= n);
+  } else {
+    return count_bits(history, window) >= n;
+  }
+}
+
 /// The current in the direction of motion: the quantity the limit bounds.
 SW_FX_INLINE CurrentA directional(CurrentA current_a, DriveDirection direction, fx::Status& st) noexcept {
   return (direction == DriveDirection::reverse) ? CurrentA(fx::neg(current_a.q(), st)) : current_a;
@@ -36,6 +49,8 @@ SW_FX_INLINE CurrentA fraction_of(std::int32_t fraction_raw, CurrentA limit) noe
 /// A WheelInput's sample, as WheelMonitor::step_sample reads it.
 class InputSample {
  public:
+  /// WheelMonitor::step takes any parameters, a table that failed validate() too.
+  static constexpr bool kValidTable = false;
   explicit InputSample(const WheelInput& input) noexcept : in_(input) {}
   [[nodiscard]] SW_FX_INLINE TimeMs time() const noexcept { return in_.time; }
   [[nodiscard]] SW_FX_INLINE bool valid() const noexcept { return in_.valid; }
@@ -56,6 +71,8 @@ class InputSample {
 /// it stands for (monitor.hpp), field by field.
 class CycleSample {
  public:
+  /// Built only by RoverMonitor::step on WheelSamples, for a valid table.
+  static constexpr bool kValidTable = true;
   CycleSample(const WheelSamples& samples, std::uint8_t index) noexcept : s_(samples), i_(index) {}
   [[nodiscard]] SW_FX_INLINE TimeMs time() const noexcept { return s_.time; }
   [[nodiscard]] SW_FX_INLINE bool valid() const noexcept { return s_.valid; }
@@ -84,8 +101,9 @@ SW_FX_INLINE SampleStatus classify_sample(Sample input, TimeMs now, bool have_la
   const MonitorParams& mp = table.monitor;
   // Without a valid table there are no thresholds: the sample is unusable,
   // which the zeroed limits turn into STOP (fail-safe). RoverStep never
-  // gets here with one.
-  if ((!input.valid()) || (!prepared.table_valid())) {
+  // gets here with one (a Sample that is known to have a valid table is
+  // not asked again).
+  if ((!input.valid()) || (!(Sample::kValidTable || prepared.table_valid()))) {
     return SampleStatus::flagged_invalid;
   }
   // A time stamp after `now` wraps to a huge age: stale as well.
@@ -289,13 +307,14 @@ SW_FX_INLINE void WheelMonitor::track_episode(CurrentA directed, WheelLoadN load
   return e;
 }
 
+template <bool kValidTable>
 SW_FX_INLINE void WheelMonitor::transition(bool current_stop, bool slip_stop, TimeMs now,
                                            const PreparedParameters& prepared, WheelOutput& out) noexcept {
   const MonitorParams& mp = prepared.table().monitor;
   if (state_ == WheelState::stop) {
     return;  // STOP is latched until clear_stop()
   }
-  if ((consecutive_unusable_ >= mp.invalid_to_stop) || (count_bits(stop_history_, mp.window_m) >= mp.trip_n)) {
+  if ((consecutive_unusable_ >= mp.invalid_to_stop) || window_reaches<kValidTable>(stop_history_, mp.window_m, mp.trip_n)) {
     // The sample's reason is named only here, on the cycle that trips.
     const StopReason sample_reason =
         current_stop ? StopReason::current : (slip_stop ? StopReason::slip : StopReason::sinkage);
@@ -305,11 +324,11 @@ SW_FX_INLINE void WheelMonitor::transition(bool current_stop, bool slip_stop, Ti
     out.stop_tripped = true;
     event_ = stop_event(now, reason, prepared);
     has_event_ = true;
-  } else if ((state_ == WheelState::nominal) && (count_bits(caution_history_, mp.window_m) >= mp.trip_n)) {
+  } else if ((state_ == WheelState::nominal) && window_reaches<kValidTable>(caution_history_, mp.window_m, mp.trip_n)) {
     state_ = WheelState::caution;
     // Leaving CAUTION needs clear_n clear samples seen from here on.
     clear_history_ = 0U;
-  } else if ((state_ == WheelState::caution) && (count_bits(clear_history_, mp.window_m) >= mp.clear_n)) {
+  } else if ((state_ == WheelState::caution) && window_reaches<kValidTable>(clear_history_, mp.window_m, mp.clear_n)) {
     state_ = WheelState::nominal;
     caution_history_ = 0U;
     have_peak_ = false;
@@ -382,7 +401,7 @@ template <typename Sample>
   clear_history_ = shift_in(clear_history_, e.clear);
 
   // 4. Transitions (STOP is latched).
-  transition(e.current_stop, e.slip_stop, now, prepared, out);
+  transition<Sample::kValidTable>(e.current_stop, e.slip_stop, now, prepared, out);
   out.state = state_;
   out.stop_reason = stop_reason_;
 }

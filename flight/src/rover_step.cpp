@@ -349,28 +349,16 @@ void RoverStep::monitor_stage(const RoverTelemetry& t, TimeMs now, const Prepare
   // samples are views of this cycle's arrays, read in place (WheelSamples):
   // no per-wheel input records built and read again. Without numbers they
   // are the WheelInput defaults: no load, pull, torque or corrections.
+  // Built whole in each case, every field given: a zeroed record filled in
+  // afterwards is a memset per cycle.
   const bool usable_sample = (out.status == RoverStepStatus::ok);
   const bool pass_as_stale = (out.status == RoverStepStatus::telemetry_stale);
-  WheelSamples samples{};
-  samples.time = t.time;
-  samples.valid = usable_sample || pass_as_stale;
-  samples.current_a = &t.current_a;
-  samples.direction = &t.direction;
-  if (usable_sample) {
-    samples.drawbar_assumed = out.drawbar_status == DrawbarStatus::saturated;
-    samples.load_n = &out.load_n;
-    samples.drawbar_pull_n = &out.drawbar_pull_n;
-    samples.current_usable = &out.health.current_usable;
-    samples.corrections = &terms_.corr;
-    samples.drive_torque = &terms_.torque;
-  } else {
-    samples.drawbar_assumed = false;
-    samples.load_n = &kNoLoads;
-    samples.drawbar_pull_n = &kNoPulls;
-    samples.current_usable = &kEveryCurrentUsable;
-    samples.corrections = nullptr;
-    samples.drive_torque = &kNoWheelTorques;
-  }
+  const WheelSamples samples =
+      usable_sample
+          ? WheelSamples{t.time, true, out.drawbar_status == DrawbarStatus::saturated, &t.current_a, &t.direction,
+                         &out.load_n, &out.drawbar_pull_n, &out.health.current_usable, &terms_.corr, &terms_.torque}
+          : WheelSamples{t.time, pass_as_stale, false, &t.current_a, &t.direction, &kNoLoads, &kNoPulls,
+                         &kEveryCurrentUsable, nullptr, &kNoWheelTorques};
   monitor_.step(samples, now, prepared, out.monitor);
   traction_stage(t, prepared, out);
   out.decision = out.monitor.decision;

@@ -189,7 +189,8 @@ class WheelMonitor {
   /// Stage 4: NOMINAL -> CAUTION -> STOP and back (STOP latched).
   /// `current_stop`, `slip_stop`: what the last usable sample was stop
   /// evidence of (current, slip, else sinkage); it names a STOP the window
-  /// trips.
+  /// trips. `kValidTable`: the parameters passed validate() (monitor.cpp).
+  template <bool kValidTable>
   inline void transition(bool current_stop, bool slip_stop, TimeMs now, const PreparedParameters& prepared,
                          WheelOutput& out) noexcept;
   // RoverMonitor steps its wheels on their samples of a WheelSamples in
