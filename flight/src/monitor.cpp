@@ -211,14 +211,22 @@ SW_FX_INLINE Evidence evidence_of(CurrentA directed, const WheelOutput& out, con
   // caution level less its hysteresis are positive and exact (h in [0, f),
   // the hysteresis in [0, caution)), so no threshold saturates.
   const std::int32_t f = mp.current_caution_fraction.raw();
-  const CurrentA caution_current = fraction_of(f, out.current_limit_a);
   const CurrentA clear_current = fraction_of(f - mp.current_hysteresis_fraction.raw(), out.current_limit_a);
   const SinkageM clear_sinkage(LengthQ::from_raw(mp.caution_sinkage_m.raw() - mp.sinkage_hysteresis_m.raw()));
   Evidence e{};
+  e.clear = (directed < clear_current) && (out.sinkage_m < clear_sinkage);
+  if (e.clear && (out.current_limit_a >= CurrentA::zero())) {
+    // A clear sample on a limit I_max >= 0 is below every level, a quiet
+    // wheel's usual sample: (f - h) I_max <= f I_max <= I_max (0 < f - h
+    // <= f <= 1, and rounding keeps the order), and clear < caution < stop
+    // in sinkage (validate()). Neither f I_max nor a comparison more.
+    e.caution = false;
+    return e;
+  }
+  const CurrentA caution_current = fraction_of(f, out.current_limit_a);
   e.current_stop = directed >= out.current_limit_a;
   e.stop = e.current_stop || (out.sinkage_m >= mp.stop_sinkage_m);
   e.caution = e.stop || (directed >= caution_current) || (out.sinkage_m >= mp.caution_sinkage_m);
-  e.clear = (directed < clear_current) && (out.sinkage_m < clear_sinkage);
   return e;
 }
 

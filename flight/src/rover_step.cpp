@@ -85,9 +85,9 @@ bool motion_in_range(const RoverTelemetry& t) noexcept {
     const TorqueResult r = detail::torque_of_valid_motor(prepared.table().motor, t.current_a[i], t.direction[i]);
     torque[i].torque_nm = r.torque_nm;
     torque[i].status = r.status;
-    const bool usable = health.current_usable[i] && (r.status == EstimateStatus::ok);
-    drive.usable[i] = usable;
-    drive.torque_nm[i] = usable ? r.torque_nm : TorqueNm::zero();
+    const bool torque_usable = health.current_usable[i] && (r.status == EstimateStatus::ok);
+    drive.usable[i] = torque_usable;
+    drive.torque_nm[i] = torque_usable ? r.torque_nm : TorqueNm::zero();
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <vector>
 
 #include "prepared_support.hpp"
 #include "sinkwatch/fixedpoint/host_convert.hpp"
@@ -701,6 +702,148 @@ TEST(RoverMonitorSamples, WithoutAValidTableBothStop) {
   EXPECT_EQ(out.decision, RoverDecision::stop_and_replan);
   EXPECT_EQ(out.wheels_in_stop, 0U);
   EXPECT_EQ(by_samples.wheel(0).counters().samples, 0U);
+}
+
+}  // namespace
+
+// Each usable sample's evidence (monitor.hpp: STOP d*I >= I_max or z >= stop;
+// CAUTION that, or d*I >= f*I_max or z >= caution; clear d*I < (f-h)*I_max
+// and z < caution - hysteresis), seen through the states of fresh wheels fed
+// the same sample again and again, against the definition computed here from
+// the wheel's own I_max and z, over random corrections that also give
+// negative limits (where the products' order turns round) and currents at
+// the thresholds to the raw unit.
+namespace {
+
+/// fx::mul's rounding of f * L for Q7.24 f: ties away from zero.
+std::int32_t fraction_times(std::int32_t f, std::int32_t limit_raw) {
+  const std::int64_t p = static_cast<std::int64_t>(f) * limit_raw;
+  const std::int64_t m = (p < 0) ? -p : p;
+  const std::int64_t r = (m + (std::int64_t{1} << 23)) >> 24;
+  return static_cast<std::int32_t>((p < 0) ? -r : r);
+}
+
+struct SampleEvidence {
+  bool caution;
+  bool stop;
+  bool clear;
+  bool current_stop;
+};
+
+/// The states a wheel goes through on `n` samples of the same evidence,
+/// from NOMINAL (or from CAUTION entered by hold_in_caution()).
+std::vector<WheelState> expected_states(const SampleEvidence& e, const MonitorParams& mp, bool from_caution, int n) {
+  std::vector<WheelState> states;
+  WheelState state = from_caution ? WheelState::caution : WheelState::nominal;
+  std::uint32_t caution_h = 0U;
+  std::uint32_t stop_h = 0U;
+  std::uint32_t clear_h = 0U;
+  const std::uint32_t mask = (1U << mp.window_m) - 1U;
+  auto count = [&](std::uint32_t h) { return static_cast<unsigned>(__builtin_popcount(h & mask)); };
+  for (int k = 0; k < n; ++k) {
+    caution_h = ((caution_h << 1U) | (e.caution ? 1U : 0U)) & 0xFFFFU;
+    stop_h = ((stop_h << 1U) | (e.stop ? 1U : 0U)) & 0xFFFFU;
+    clear_h = ((clear_h << 1U) | (e.clear ? 1U : 0U)) & 0xFFFFU;
+    if (state != WheelState::stop) {
+      if (count(stop_h) >= mp.trip_n) {
+        state = WheelState::stop;
+      } else if ((state == WheelState::nominal) && (count(caution_h) >= mp.trip_n)) {
+        state = WheelState::caution;
+        clear_h = 0U;
+      } else if ((state == WheelState::caution) && (count(clear_h) >= mp.clear_n)) {
+        state = WheelState::nominal;
+        caution_h = 0U;
+      }
+    }
+    states.push_back(state);
+  }
+  return states;
+}
+
+TEST(MonitorEvidence, EverySampleTakesTheEvidenceOfItsDefinition) {
+  const ParameterTable table = default_parameter_table();
+  const PreparedParameters prepared = test::prepared_of(table);
+  const MonitorParams& mp = table.monitor;
+  const std::int32_t f = mp.current_caution_fraction.raw();
+  const std::int32_t f_less_h = f - mp.current_hysteresis_fraction.raw();
+  const std::int32_t clear_z = mp.caution_sinkage_m.raw() - mp.sinkage_hysteresis_m.raw();
+  Rng rng(0xE71DU);
+  int negative_limit_clear = 0;
+  int positive_limit_clear = 0;
+  int cautions = 0;
+  int stops = 0;
+  constexpr int kFeeds = 12;
+  for (int trial = 0; trial < 6000; ++trial) {
+    CorrectionResult corr{};
+    corr.coefficients.c1 = q<Ratio>(rng.uniform(0.3, 3.5));
+    corr.coefficients.c2 = q<Ratio>(rng.uniform(0.3, 3.5));
+    corr.coefficients.c3 = q<Ratio>(rng.uniform(-1.0, 1.0));
+    corr.dp_max_ratio = q<Ratio>(rng.uniform(-3.0, 1.5));
+    const WheelLoadN load = q<WheelLoadN>(rng.uniform(20.0, 300.0));
+    const DrawbarPullN pull = q<DrawbarPullN>(rng.uniform(-150.0, 150.0));
+    std::uint32_t t_ms = 1000U;
+    auto input_with = [&](CurrentA directed) {
+      t_ms += 100U;
+      WheelInput in{TimeMs{t_ms}, directed, load, pull, DriveDirection::forward, true};
+      in.corrections = &corr;
+      return test::with_drive_torque(in, table.motor);
+    };
+    // The limit does not depend on the current: a first sample gives it.
+    WheelMonitor probe{0U};
+    WheelOutput first{};
+    const WheelInput probe_in = input_with(q<CurrentA>(1.0));
+    probe.step(probe_in, probe_in.time, prepared, first);
+    if (!first.limit_valid) {
+      continue;
+    }
+    const std::int32_t limit = first.current_limit_a.raw();
+    // A current at a threshold (to the raw unit), or anywhere in the range.
+    const std::int32_t thresholds[3] = {limit, fraction_times(f, limit), fraction_times(f_less_h, limit)};
+    std::int64_t d = thresholds[rng.below(3U)] + static_cast<std::int32_t>(rng.below(3U)) - 1;
+    if (rng.one_in(3U)) {
+      d = q<CurrentA>(rng.uniform(-9.0, 9.0)).raw();
+    }
+    d = std::clamp<std::int64_t>(d, -q<CurrentA>(9.5).raw(), q<CurrentA>(9.5).raw());
+    const CurrentA directed(CurrentQ::from_raw(static_cast<std::int32_t>(d)));
+    for (int from_caution = 0; from_caution < 2; ++from_caution) {
+      WheelMonitor wheel{0U};
+      if (from_caution == 1) {
+        wheel.hold_in_caution();
+      }
+      std::vector<WheelState> seen;
+      WheelOutput o{};
+      for (int k = 0; k < kFeeds; ++k) {
+        const WheelInput in = input_with(directed);
+        wheel.step(in, in.time, prepared, o);
+        seen.push_back(o.state);
+      }
+      if (o.sample_status != SampleStatus::ok) {
+        continue;  // no number: no evidence of this kind
+      }
+      ASSERT_EQ(o.current_limit_a.raw(), limit);
+      const std::int32_t z = o.sinkage_m.raw();
+      SampleEvidence e{};
+      e.current_stop = d >= limit;
+      e.stop = e.current_stop || (z >= mp.stop_sinkage_m.raw());
+      e.caution = e.stop || (d >= fraction_times(f, limit)) || (z >= mp.caution_sinkage_m.raw());
+      e.clear = (d < fraction_times(f_less_h, limit)) && (z < clear_z);
+      ASSERT_EQ(seen, expected_states(e, mp, from_caution == 1, kFeeds))
+          << "trial " << trial << " limit " << limit << " d " << d << " z " << z;
+      if (e.clear) {
+        ++((limit < 0) ? negative_limit_clear : positive_limit_clear);
+      }
+      cautions += (e.caution && !e.stop) ? 1 : 0;
+      stops += e.stop ? 1 : 0;
+      if (e.stop) {
+        EXPECT_EQ(wheel.last_event().reason, e.current_stop ? StopReason::current : StopReason::sinkage);
+      }
+    }
+  }
+  // The run reaches each side, negative limits with clear samples included.
+  EXPECT_GT(negative_limit_clear, 50);
+  EXPECT_GT(positive_limit_clear, 50);
+  EXPECT_GT(cautions, 50);
+  EXPECT_GT(stops, 50);
 }
 
 }  // namespace

@@ -201,7 +201,7 @@ class WheelMonitor {
   /// a WheelInput, or one wheel of a WheelSamples): the one body of
   /// step() and of RoverMonitor's step on WheelSamples.
   template <typename Sample>
-  void step_sample(Sample sample, TimeMs now, const PreparedParameters& prepared, WheelOutput& out) noexcept;
+  void step_sample(Sample input, TimeMs now, const PreparedParameters& prepared, WheelOutput& out) noexcept;
   /// The record written on entering STOP (out of line: its records are not
   /// in step()'s frame on the cycles without a STOP).
   [[nodiscard]] EventRecord stop_event(TimeMs now, StopReason reason,
