@@ -40,9 +40,11 @@ struct WheelSums {
 };
 
 /// The sums in locals (registers), the record built once at the end: not a
-/// zeroed record added to in memory, wheel by wheel.
+/// zeroed record added to in memory, wheel by wheel. The pulls are summed as
+/// read and the sum turned once: a sum that is used has every wheel driving
+/// one way (otherwise `mixed`), so its directed sum is the sum, negated in
+/// reverse.
 WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels) noexcept {
-  const std::uint32_t monitored = (wheels < kWheelCount) ? wheels : kWheelCount;
   std::int64_t torque = 0;
   std::int64_t pull = 0;
   std::int64_t load = 0;
@@ -52,20 +54,20 @@ WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels) noexcept {
   // which is then in the OR and not in the AND).
   std::uint32_t any_bits = 0U;
   std::uint32_t all_bits = 0xFFU;
-  for (std::uint32_t i = 0U; i < monitored; ++i) {
-    if (in.torque_valid[i]) {
-      const DriveDirection direction = in.direction[i];
-      any_bits |= static_cast<std::uint32_t>(direction);
-      all_bits &= static_cast<std::uint32_t>(direction);
-      const std::int64_t p = in.drawbar_pull_n[i].raw();
-      // Reverse: the pull that drives the rover backwards is -DP.
-      pull += (direction == DriveDirection::reverse) ? -p : p;
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    if ((i < wheels) && in.torque_valid[i]) {
+      const auto direction = static_cast<std::uint32_t>(in.direction[i]);
+      any_bits |= direction;
+      all_bits &= direction;
+      pull += in.drawbar_pull_n[i].raw();
       torque += in.torque_nm[i].raw();
       load += in.load_n[i].raw();
       ++used;
     }
   }
-  return WheelSums{torque, pull, load, used, (used > 0U) && (any_bits != all_bits)};
+  // Reverse: the pull that drives the rover backwards is -DP.
+  const bool reverse = any_bits == static_cast<std::uint32_t>(DriveDirection::reverse);
+  return WheelSums{torque, reverse ? -pull : pull, load, used, (used > 0U) && (any_bits != all_bits)};
 }
 
 /// n / d rounded half away from zero, as a raw Q7.24 ratio (d > 0), by
