@@ -4,6 +4,7 @@
 
 #include <limits>
 
+#include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 
 namespace sinkwatch {
@@ -61,6 +62,13 @@ SensorHealth settle(HealthTrack& t, SensorHealth raw_verdict, std::uint8_t recov
   }
   t.health = t.faulted ? SensorHealth::recovering : SensorHealth::ok;
   return t.health;
+}
+
+/// settle() with its usual case, an ok sample of a channel with no fault
+/// to recover from, answered without the call.
+SW_FX_INLINE SensorHealth settled(HealthTrack& t, SensorHealth raw_verdict, std::uint8_t recover_cycles) noexcept {
+  return ((raw_verdict == SensorHealth::ok) && !t.faulted) ? SensorHealth::ok
+                                                           : settle(t, raw_verdict, recover_cycles);
 }
 
 /// A spike, and spikes in a row a noise burst.
@@ -279,10 +287,12 @@ bool steady_forward(const CurrentHistory& h, std::int32_t reading, const SteadyW
          ((static_cast<std::uint32_t>(reading) - static_cast<std::uint32_t>(w.low)) < w.width);
 }
 
-/// One more sample in a saturating counter.
-void tally(std::uint32_t& n) noexcept {
-  if (n < 0xFFFFFFFFU) {
-    ++n;
+/// One more sample in a saturating counter: a load, an add and a
+/// conditional store, inline (the call cost as much again).
+SW_FX_INLINE void tally(std::uint32_t& n) noexcept {
+  const std::uint32_t counted = n + 1U;  // 0 when saturated: wraps by design
+  if (counted != 0U) {
+    n = counted;
   }
 }
 
@@ -418,15 +428,19 @@ void SensorHealthMonitor::bridge(const HealthSample& s, const HealthParams& p, S
 void SensorHealthMonitor::update(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
                                  CurrentA current_range_a, SensorHealthReport& report) noexcept {
   currents(s, p, no_load_a, current_range_a, report);
-  report.channel[kImu] = settle(track_[kImu], imu_channel(s, p), p.recover_cycles);
-  report.channel[kJoints] = settle(track_[kJoints], joints_channel(s, p), p.recover_cycles);
+  const SensorHealth imu = settled(track_[kImu], imu_channel(s, p), p.recover_cycles);
+  const SensorHealth joints = settled(track_[kJoints], joints_channel(s, p), p.recover_cycles);
   repeated_run_ = 0U;
-  report.channel[kClock] =
-      settle(track_[kClock], s.clock_jump ? SensorHealth::spike : SensorHealth::ok, p.recover_cycles);
+  const SensorHealth clock =
+      settled(track_[kClock], s.clock_jump ? SensorHealth::spike : SensorHealth::ok, p.recover_cycles);
+  report.channel[kImu] = imu;
+  report.channel[kJoints] = joints;
+  report.channel[kClock] = clock;
   bridge(s, p, report);
-  for (std::uint8_t c = kImu; c < kSensorChannelCount; ++c) {
-    count(static_cast<SensorChannel>(c), report.channel[c]);
-  }
+  // The three channels' counts spelled out: no loop, no call per channel.
+  tally(counters_.by_health[kImu][static_cast<std::uint8_t>(imu)]);
+  tally(counters_.by_health[kJoints][static_cast<std::uint8_t>(joints)]);
+  tally(counters_.by_health[kClock][static_cast<std::uint8_t>(clock)]);
 }
 
 void SensorHealthMonitor::accept_levels() noexcept {
