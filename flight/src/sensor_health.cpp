@@ -333,12 +333,14 @@ void SensorHealthMonitor::currents(const HealthSample& s, const HealthParams& p,
   const CurrentA(&current_a)[kWheelCount] = s.current_a;
   const DriveDirection(&direction)[kWheelCount] = s.direction;
   std::uint32_t quiet = quiet_currents_;
+  std::uint32_t bit = 1U;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     CurrentHistory& h = current_history_[i];
     const std::int32_t reading = current_a[i].raw();
-    const std::uint32_t bit = 1U << i;
-    if (((quiet & bit) != 0U) && !missing[i] && (direction[i] == DriveDirection::forward) &&
-        steady_forward(h, reading, w)) {
+    // Present (false is 0) and forward (0): both tested at once.
+    const bool present_forward =
+        (static_cast<std::uint32_t>(missing[i]) | static_cast<std::uint32_t>(direction[i])) == 0U;
+    if (((quiet & bit) != 0U) && present_forward && steady_forward(h, reading, w)) {
       // What current_verdict() and settle() make of a quiet channel's steady
       // sample: its value, last and good; every run stays 0; ok.
       h.last_reading = reading;
@@ -351,6 +353,7 @@ void SensorHealthMonitor::currents(const HealthSample& s, const HealthParams& p,
     } else {
       quiet &= ~bit;
     }
+    bit <<= 1U;
   }
   quiet_currents_ = static_cast<std::uint8_t>(quiet);
 }
