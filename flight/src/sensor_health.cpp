@@ -358,7 +358,10 @@ void SensorHealthMonitor::currents(const HealthSample& s, const HealthParams& p,
   quiet_currents_ = static_cast<std::uint8_t>(quiet);
 }
 
-SensorHealth SensorHealthMonitor::imu_channel(const HealthSample& s, const HealthParams& p) noexcept {
+// The IMU, joint and bridge stages are each called once per sample: inline
+// into update() (SW_FX_INLINE), without a call and its saved registers.
+// currents() stays a call: inline, its six-wheel loop spills.
+SW_FX_INLINE SensorHealth SensorHealthMonitor::imu_channel(const HealthSample& s, const HealthParams& p) noexcept {
   HealthTrack& t = track_[kImu];
   if (s.presence.attitude_missing) {
     forget(t);
@@ -399,7 +402,7 @@ SensorHealth SensorHealthMonitor::imu_channel(const HealthSample& s, const Healt
   return (t.same_run >= trip_at(p.stuck_cycles)) ? SensorHealth::stuck : SensorHealth::ok;
 }
 
-SensorHealth SensorHealthMonitor::joints_channel(const HealthSample& s, const HealthParams& p) noexcept {
+SW_FX_INLINE SensorHealth SensorHealthMonitor::joints_channel(const HealthSample& s, const HealthParams& p) noexcept {
   HealthTrack& t = track_[kJoints];
   if (s.presence.joints_missing) {
     forget(t);
@@ -420,7 +423,7 @@ SensorHealth SensorHealthMonitor::joints_channel(const HealthSample& s, const He
   return (t.same_run >= trip_at(p.stuck_cycles)) ? SensorHealth::stuck : SensorHealth::ok;
 }
 
-void SensorHealthMonitor::bridge(const HealthSample& s, const HealthParams& p, SensorHealthReport& r) noexcept {
+SW_FX_INLINE void SensorHealthMonitor::bridge(const HealthSample& s, const HealthParams& p, SensorHealthReport& r) noexcept {
   r.attitude_usable =
       good_attitude_.take(usable(r.channel[kImu]), s.attitude, s.time, p.bridge_ms, r.attitude_bridged);
   r.attitude = good_attitude_.value;
