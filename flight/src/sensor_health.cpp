@@ -272,7 +272,8 @@ SteadyWindow steady_window(const HealthParams& p, CurrentA no_load_a, CurrentA c
   const std::int32_t range = current_range_a.raw();
   const std::int32_t low = driving ? no_load_a.raw() : std::numeric_limits<std::int32_t>::min();
   // range - low < 2^32 when low < range: exact in 32 unsigned bits.
-  const std::uint32_t width = (low < range) ? (static_cast<std::uint32_t>(range) - static_cast<std::uint32_t>(low)) : 0U;
+  const std::uint32_t width =
+      (low < range) ? (static_cast<std::uint32_t>(range) - static_cast<std::uint32_t>(low)) : 0U;
   return SteadyWindow{current_tolerance(p.current_step_a).one_way, low, width, driving};
 }
 
@@ -423,7 +424,8 @@ SW_FX_INLINE SensorHealth SensorHealthMonitor::joints_channel(const HealthSample
   return (t.same_run >= trip_at(p.stuck_cycles)) ? SensorHealth::stuck : SensorHealth::ok;
 }
 
-SW_FX_INLINE void SensorHealthMonitor::bridge(const HealthSample& s, const HealthParams& p, SensorHealthReport& r) noexcept {
+SW_FX_INLINE void SensorHealthMonitor::bridge(const HealthSample& s, const HealthParams& p,
+                                              SensorHealthReport& r) noexcept {
   r.attitude_usable =
       good_attitude_.take(usable(r.channel[kImu]), s.attitude, s.time, p.bridge_ms, r.attitude_bridged);
   r.attitude = good_attitude_.value;

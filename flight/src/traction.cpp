@@ -244,7 +244,8 @@ SW_FX_INLINE Ratio TractionMonitor::push_median(Ratio rho) noexcept {
   return sorted_[static_cast<std::uint8_t>(kept / 2U)];
 }
 
-SW_FX_INLINE void TractionMonitor::advance(const TractionInput& in, Ratio rho_med, const TractionParams& params) noexcept {
+SW_FX_INLINE void TractionMonitor::advance(const TractionInput& in, Ratio rho_med,
+                                           const TractionParams& params) noexcept {
   const std::uint32_t dt_ms = have_time_ ? elapsed_ms(last_time_, in.time) : 0U;
   have_time_ = true;
   last_time_ = in.time;
@@ -340,8 +341,8 @@ SW_FX_INLINE void TractionMonitor::transition(const MonitorParams& monitor, Trac
   }
 }
 
-SW_FX_INLINE TractionSample TractionMonitor::evaluate(const TractionInput& input, const TractionParams& params, Ratio rho,
-                                         TractionOutput& out) noexcept {
+SW_FX_INLINE TractionSample TractionMonitor::evaluate(const TractionInput& input, const TractionParams& params,
+                                                      Ratio rho, TractionOutput& out) noexcept {
   fx::Status st;
   const bool standing =
       input.speed_valid && (fx::abs(input.speed_mps.q(), st) < kTractionStandingSpeed.q());

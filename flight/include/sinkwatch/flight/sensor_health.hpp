@@ -169,9 +169,11 @@ class SensorHealthMonitor {
   [[gnu::noinline]] bool current_sample(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
                                         CurrentA current_range_a, std::uint32_t wheel,
                                         SensorHealthReport& r) noexcept;
-  SensorHealth imu_channel(const HealthSample& s, const HealthParams& p) noexcept;
-  SensorHealth joints_channel(const HealthSample& s, const HealthParams& p) noexcept;
-  void bridge(const HealthSample& s, const HealthParams& p, SensorHealthReport& r) noexcept;
+  // imu_channel, joints_channel and bridge are update()'s stages, inline
+  // (defined and used only in sensor_health.cpp, forced inline there).
+  inline SensorHealth imu_channel(const HealthSample& s, const HealthParams& p) noexcept;
+  inline SensorHealth joints_channel(const HealthSample& s, const HealthParams& p) noexcept;
+  inline void bridge(const HealthSample& s, const HealthParams& p, SensorHealthReport& r) noexcept;
 
   detail::HealthTrack track_[kSensorChannelCount]{};
   detail::CurrentHistory current_history_[kWheelCount]{};
