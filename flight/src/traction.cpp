@@ -319,7 +319,7 @@ namespace {
 /// Set bits among the newest `window` of `history`: none when the history
 /// is empty (the usual case of the stop and caution histories), without the
 /// count.
-std::uint8_t evidence(std::uint16_t history, std::uint8_t window) noexcept {
+SW_FX_INLINE std::uint8_t evidence(std::uint16_t history, std::uint8_t window) noexcept {
   return (history == 0U) ? std::uint8_t{0U} : count_bits(history, window);
 }
 
