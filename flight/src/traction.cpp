@@ -3,6 +3,7 @@
 
 #include "median.hpp"
 #include "n_of_m.hpp"
+#include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
@@ -40,9 +41,11 @@ struct WheelSums {
 };
 
 /// The sums in locals (registers), the record built once at the end: not a
-/// zeroed record added to in memory, wheel by wheel.
+/// zeroed record added to in memory, wheel by wheel. The pulls are summed as
+/// read and the sum turned once: a sum that is used has every wheel driving
+/// one way (otherwise `mixed`), so its directed sum is the sum, negated in
+/// reverse.
 WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels) noexcept {
-  const std::uint32_t monitored = (wheels < kWheelCount) ? wheels : kWheelCount;
   std::int64_t torque = 0;
   std::int64_t pull = 0;
   std::int64_t load = 0;
@@ -52,20 +55,20 @@ WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels) noexcept {
   // which is then in the OR and not in the AND).
   std::uint32_t any_bits = 0U;
   std::uint32_t all_bits = 0xFFU;
-  for (std::uint32_t i = 0U; i < monitored; ++i) {
-    if (in.torque_valid[i]) {
-      const DriveDirection direction = in.direction[i];
-      any_bits |= static_cast<std::uint32_t>(direction);
-      all_bits &= static_cast<std::uint32_t>(direction);
-      const std::int64_t p = in.drawbar_pull_n[i].raw();
-      // Reverse: the pull that drives the rover backwards is -DP.
-      pull += (direction == DriveDirection::reverse) ? -p : p;
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    if ((i < wheels) && in.torque_valid[i]) {
+      const auto direction = static_cast<std::uint32_t>(in.direction[i]);
+      any_bits |= direction;
+      all_bits &= direction;
+      pull += in.drawbar_pull_n[i].raw();
       torque += in.torque_nm[i].raw();
       load += in.load_n[i].raw();
       ++used;
     }
   }
-  return WheelSums{torque, pull, load, used, (used > 0U) && (any_bits != all_bits)};
+  // Reverse: the pull that drives the rover backwards is -DP.
+  const bool reverse = any_bits == static_cast<std::uint32_t>(DriveDirection::reverse);
+  return WheelSums{torque, reverse ? -pull : pull, load, used, (used > 0U) && (any_bits != all_bits)};
 }
 
 /// n / d rounded half away from zero, as a raw Q7.24 ratio (d > 0), by
@@ -206,7 +209,12 @@ TractionSample TractionMonitor::resistance_of(const TractionInput& in, std::uint
   return st.ok() ? TractionSample::ok : TractionSample::overflow;
 }
 
-Ratio TractionMonitor::push_median(Ratio rho) noexcept {
+// The stages of a usable sample (push_median, advance, ahead_of, evaluate)
+// and of the state (push_history, transition) are each called once per
+// cycle: inline into step() (SW_FX_INLINE), without a call, its saved
+// registers and its arguments (about 45 Cortex-M4 instructions per cycle).
+// resistance_of stays a call: inline, its six-wheel sums spill.
+SW_FX_INLINE Ratio TractionMonitor::push_median(Ratio rho) noexcept {
   // The window's values stay sorted: the oldest value leaves (any copy of
   // it: equal ratios are the same bits), the new one is inserted in order.
   // The median of the multiset is the same as that of a sorted copy
@@ -236,7 +244,8 @@ Ratio TractionMonitor::push_median(Ratio rho) noexcept {
   return sorted_[static_cast<std::uint8_t>(kept / 2U)];
 }
 
-void TractionMonitor::advance(const TractionInput& in, Ratio rho_med, const TractionParams& params) noexcept {
+SW_FX_INLINE void TractionMonitor::advance(const TractionInput& in, Ratio rho_med,
+                                           const TractionParams& params) noexcept {
   const std::uint32_t dt_ms = have_time_ ? elapsed_ms(last_time_, in.time) : 0U;
   have_time_ = true;
   last_time_ = in.time;
@@ -278,7 +287,7 @@ void TractionMonitor::advance(const TractionInput& in, Ratio rho_med, const Trac
   }
 }
 
-bool TractionMonitor::ahead_of(Ratio rho_med, const TractionParams& params, Ratio& ahead,
+SW_FX_INLINE bool TractionMonitor::ahead_of(Ratio rho_med, const TractionParams& params, Ratio& ahead,
                                bool& overflow) const noexcept {
   ahead = rho_med;
   overflow = false;
@@ -299,7 +308,7 @@ bool TractionMonitor::ahead_of(Ratio rho_med, const TractionParams& params, Rati
   return false;
 }
 
-void TractionMonitor::push_history(bool caution, bool stop, bool clear) noexcept {
+SW_FX_INLINE void TractionMonitor::push_history(bool caution, bool stop, bool clear) noexcept {
   caution_history_ = shift_in(caution_history_, caution);
   stop_history_ = shift_in(stop_history_, stop);
   clear_history_ = shift_in(clear_history_, clear);
@@ -310,13 +319,13 @@ namespace {
 /// Set bits among the newest `window` of `history`: none when the history
 /// is empty (the usual case of the stop and caution histories), without the
 /// count.
-std::uint8_t evidence(std::uint16_t history, std::uint8_t window) noexcept {
+SW_FX_INLINE std::uint8_t evidence(std::uint16_t history, std::uint8_t window) noexcept {
   return (history == 0U) ? std::uint8_t{0U} : count_bits(history, window);
 }
 
 }  // namespace
 
-void TractionMonitor::transition(const MonitorParams& monitor, TractionOutput& out) noexcept {
+SW_FX_INLINE void TractionMonitor::transition(const MonitorParams& monitor, TractionOutput& out) noexcept {
   if (state_ == TractionState::stop) {
     return;  // latched until clear_stop()
   }
@@ -332,8 +341,8 @@ void TractionMonitor::transition(const MonitorParams& monitor, TractionOutput& o
   }
 }
 
-TractionSample TractionMonitor::evaluate(const TractionInput& input, const TractionParams& params, Ratio rho,
-                                         TractionOutput& out) noexcept {
+SW_FX_INLINE TractionSample TractionMonitor::evaluate(const TractionInput& input, const TractionParams& params,
+                                                      Ratio rho, TractionOutput& out) noexcept {
   fx::Status st;
   const bool standing =
       input.speed_valid && (fx::abs(input.speed_mps.q(), st) < kTractionStandingSpeed.q());

@@ -10,7 +10,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <random>
@@ -1140,6 +1142,166 @@ TEST(SensorHealthMonitor, CountersSaturateAndCountEveryHealth) {
   constexpr std::uint32_t kClock = static_cast<std::uint32_t>(SensorChannel::clock);
   EXPECT_EQ(c.by_health[kClock][static_cast<std::uint32_t>(SensorHealth::stuck)], 4U);
   EXPECT_EQ(c.by_health[kClock][static_cast<std::uint32_t>(SensorHealth::spike)], 1U);
+}
+
+/// The current checks as written before the monitor kept a quiet channel's
+/// steady sample apart (sensor_health.cpp, currents()): each wheel through
+/// current_verdict() and settle(), field by field. The reference the fast
+/// path is compared with.
+struct ReferenceCurrent {
+  bool have_last = false;
+  std::uint32_t same_run = 0U;
+  std::uint32_t spike_run = 0U;
+  std::uint32_t bad_run = 0U;
+  std::uint32_t good_run = 0U;
+  bool faulted = false;
+  std::int64_t last = 0;  ///< along the direction, as the checks compare
+  std::int64_t good = 0;
+  std::int32_t last_raw = 0;  ///< as read, as the stuck check compares
+};
+
+std::uint32_t bump_run(std::uint32_t run) { return (run < 255U) ? run + 1U : run; }
+
+std::uint32_t trip(std::uint8_t cycles) { return (cycles > 0U) ? cycles : 0x100U; }
+
+SensorHealth reference_current(ReferenceCurrent& t, const flight::HealthSample& s, std::uint32_t wheel,
+                               const flight::HealthParams& p, std::int32_t no_load_raw, std::int32_t range_raw) {
+  SensorHealth verdict = SensorHealth::ok;
+  const auto along = [&](std::uint32_t i) {
+    const std::int64_t raw = s.current_a[i].raw();
+    return (s.direction[i] == flight::DriveDirection::reverse) ? -raw : raw;
+  };
+  const std::int64_t limit = p.current_step_a.raw();
+  const auto beyond = [&](std::int64_t a, std::int64_t b) { return (limit > 0) && (std::llabs(a - b) > limit); };
+  if (s.presence.current_missing[wheel]) {
+    t.have_last = false;
+    t.same_run = 0U;
+    t.spike_run = 0U;
+    t.bad_run = 0U;
+    verdict = SensorHealth::missing;
+  } else {
+    const std::int32_t raw = s.current_a[wheel].raw();
+    const std::int64_t d = along(wheel);
+    bool spike = false;
+    if (t.have_last) {
+      t.same_run = (raw != t.last_raw) ? 0U : (s.driving ? bump_run(t.same_run) : t.same_run);
+      spike = beyond(d, t.last) && beyond(d, t.good);
+    }
+    t.spike_run = spike ? bump_run(t.spike_run) : 0U;
+    t.have_last = true;
+    t.last = d;
+    t.last_raw = raw;
+    if (spike) {
+      verdict = (t.spike_run >= 2U) ? SensorHealth::noisy : SensorHealth::spike;
+    } else {
+      t.good = d;
+      if (t.same_run >= trip(p.stuck_cycles)) {
+        verdict = SensorHealth::stuck;
+      } else {
+        std::uint32_t drawing = 0U;
+        for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+          drawing += ((i != wheel) && !s.presence.current_missing[i] && (along(i) > 2 * std::int64_t{no_load_raw}))
+                         ? 1U
+                         : 0U;
+        }
+        const bool free_wheel = s.driving && (d < no_load_raw) && (drawing >= 3U);
+        t.bad_run = (free_wheel || (d >= range_raw)) ? bump_run(t.bad_run) : 0U;
+        verdict = (t.bad_run >= trip(p.implausible_cycles)) ? SensorHealth::implausible : SensorHealth::ok;
+      }
+    }
+  }
+  if (verdict != SensorHealth::ok) {
+    t.faulted = true;
+    t.good_run = 0U;
+    return verdict;
+  }
+  if (t.faulted) {
+    t.good_run = bump_run(t.good_run);
+    t.faulted = t.good_run < p.recover_cycles;
+  }
+  return t.faulted ? SensorHealth::recovering : SensorHealth::ok;
+}
+
+TEST(SensorHealthCurrents, EveryVerdictAndCountIsTheFieldByFieldChecksOverRandomSequences) {
+  // Few distinct levels near the no-load current and the range, so that
+  // repeats, spikes, stalls, free-wheeling wheels, dropouts, reversals,
+  // parking and the ground's acknowledgement all occur, with the checks'
+  // parameters drawn per run (0 switches a check off).
+  std::mt19937 rng(20261127U);
+  const std::int32_t no_load_raw = q<flight::CurrentA>(0.1).raw();
+  const std::int32_t range_raw = q<flight::CurrentA>(2.0).raw();
+  const std::int32_t levels[] = {0,
+                                 no_load_raw - 1,
+                                 no_load_raw,
+                                 q<flight::CurrentA>(0.25).raw(),
+                                 q<flight::CurrentA>(0.3).raw(),
+                                 q<flight::CurrentA>(0.31).raw(),
+                                 q<flight::CurrentA>(0.9).raw(),
+                                 range_raw - 1,
+                                 range_raw,
+                                 -q<flight::CurrentA>(0.3).raw(),
+                                 std::numeric_limits<std::int32_t>::min(),
+                                 std::numeric_limits<std::int32_t>::max()};
+  std::uint64_t compared = 0U;
+  std::uint64_t steady = 0U;
+  for (std::uint32_t run = 0U; run < 400U; ++run) {
+    flight::HealthParams p{};
+    p.stuck_cycles = static_cast<std::uint8_t>(rng() % 4U);
+    p.implausible_cycles = static_cast<std::uint8_t>(rng() % 4U);
+    p.recover_cycles = static_cast<std::uint8_t>(rng() % 4U);
+    p.current_step_a = flight::CurrentA::from_raw(static_cast<std::int32_t>(rng() % 3U) *
+                                                  q<flight::CurrentA>(0.2).raw() * ((rng() % 5U == 0U) ? -1 : 1));
+    const std::uint32_t rare = 4U + (rng() % 40U);  // how seldom a wheel leaves its steady drive
+    flight::SensorHealthMonitor m;
+    ReferenceCurrent ref[flight::kWheelCount]{};
+    std::uint32_t expected_counts[flight::kWheelCount][flight::kSensorHealthCount]{};
+    std::int32_t base[flight::kWheelCount]{};
+    for (std::int32_t& b : base) {
+      b = q<flight::CurrentA>(0.35).raw();
+    }
+    for (std::uint32_t k = 0U; k < 300U; ++k) {
+      flight::CurrentA current[flight::kWheelCount]{};
+      flight::DriveDirection direction[flight::kWheelCount]{};
+      flight::SensorPresence presence{};
+      for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+        // Mostly a noisy steady drive; now and then a level from the list,
+        // a dropout or a reversal.
+        base[i] += static_cast<std::int32_t>(rng() % 2001U) - 1000;
+        const std::uint32_t pick = rng() % rare;
+        current[i] = flight::CurrentA::from_raw((pick == 0U) ? levels[rng() % std::size(levels)]
+                                                             : ((pick == 1U) ? base[i] - 1000 : base[i]));
+        presence.current_missing[i] = (rng() % rare) == 0U;
+        direction[i] = ((rng() % rare) == 0U) ? flight::DriveDirection::reverse : flight::DriveDirection::forward;
+      }
+      const flight::RoverAttitude attitude{};
+      const flight::JointAnglesRad joints{};
+      flight::HealthSample s{flight::TimeMs{k * 200U}, current, direction, attitude, joints, presence};
+      s.driving = (rng() % 8U) != 0U;
+      if ((rng() % 50U) == 0U) {
+        m.accept_levels();
+        for (ReferenceCurrent& t : ref) {
+          t.have_last = false;
+        }
+      }
+      flight::SensorHealthReport report{};
+      m.update(s, p, flight::CurrentA::from_raw(no_load_raw), flight::CurrentA::from_raw(range_raw), report);
+      for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+        const SensorHealth expected = reference_current(ref[i], s, i, p, no_load_raw, range_raw);
+        ASSERT_EQ(report.channel[i], expected) << "run " << run << " sample " << k << " wheel " << i;
+        ASSERT_EQ(report.current_usable[i], flight::usable(expected));
+        ++expected_counts[i][static_cast<std::uint32_t>(expected)];
+        steady += (expected == SensorHealth::ok) ? 1U : 0U;
+        ++compared;
+      }
+    }
+    for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
+      for (std::uint32_t h = 0U; h < flight::kSensorHealthCount; ++h) {
+        ASSERT_EQ(m.counters().by_health[i][h], expected_counts[i][h]) << "run " << run;
+      }
+    }
+  }
+  EXPECT_EQ(compared, 400U * 300U * flight::kWheelCount);
+  EXPECT_GT(steady, compared / 2U);  // the steady drive, the fast path's case, dominates
 }
 
 TEST(SensorHealthNames, EveryChannelAndHealthHasItsNameAndNothingElseDoes) {

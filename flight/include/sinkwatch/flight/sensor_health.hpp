@@ -164,12 +164,22 @@ class SensorHealthMonitor {
   void count(SensorChannel c, SensorHealth h) noexcept;
   void currents(const HealthSample& s, const HealthParams& p, CurrentA no_load_a, CurrentA current_range_a,
                 SensorHealthReport& r) noexcept;
-  SensorHealth imu_channel(const HealthSample& s, const HealthParams& p) noexcept;
-  SensorHealth joints_channel(const HealthSample& s, const HealthParams& p) noexcept;
-  void bridge(const HealthSample& s, const HealthParams& p, SensorHealthReport& r) noexcept;
+  /// One wheel's current by the general checks into `r` and the counters;
+  /// whether the channel is then quiet.
+  [[gnu::noinline]] bool current_sample(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
+                                        CurrentA current_range_a, std::uint32_t wheel,
+                                        SensorHealthReport& r) noexcept;
+  // imu_channel, joints_channel and bridge are update()'s stages, inline
+  // (defined and used only in sensor_health.cpp, forced inline there).
+  inline SensorHealth imu_channel(const HealthSample& s, const HealthParams& p) noexcept;
+  inline SensorHealth joints_channel(const HealthSample& s, const HealthParams& p) noexcept;
+  inline void bridge(const HealthSample& s, const HealthParams& p, SensorHealthReport& r) noexcept;
 
   detail::HealthTrack track_[kSensorChannelCount]{};
   detail::CurrentHistory current_history_[kWheelCount]{};
+  /// Bit i: current channel i is quiet (sensor_health.cpp, quiet_after()):
+  /// its next steady forward sample only replaces its last value.
+  std::uint8_t quiet_currents_{0U};
   RoverAttitude last_attitude_{};
   RoverAttitude step_attitude_{};  ///< the last good attitude: the bias check's reference
   bool imu_after_noise_{false};     ///< a noise burst since: the reference is old

@@ -154,21 +154,24 @@ class TractionMonitor {
   /// rho of this cycle into `rho`; the sample's verdict.
   [[nodiscard]] static TractionSample resistance_of(const TractionInput& in, std::uint8_t wheels,
                                                     InverseRadius per_radius, Ratio& rho) noexcept;
+  // push_median, evaluate, advance, ahead_of, push_history and transition
+  // are step()'s stages, inline (defined and used only in traction.cpp,
+  // forced inline there): a call each per cycle less.
   /// rho_med after pushing `rho`.
-  [[nodiscard]] Ratio push_median(Ratio rho) noexcept;
+  [[nodiscard]] inline Ratio push_median(Ratio rho) noexcept;
   /// A sample with a resistance: the restart when standing, else the
   /// median, the distance and rho_ahead into `out`; the sample's verdict.
-  TractionSample evaluate(const TractionInput& input, const TractionParams& params, Ratio rho,
-                          TractionOutput& out) noexcept;
+  inline TractionSample evaluate(const TractionInput& input, const TractionParams& params, Ratio rho,
+                                 TractionOutput& out) noexcept;
   /// Empties the median and the trend's history (the rover stands).
   void restart() noexcept;
   /// Adds |v| dt to the distance and, every trend_span_m / 8 after the
   /// first trend_span_m, a mark.
-  void advance(const TractionInput& in, Ratio rho_med, const TractionParams& params) noexcept;
+  inline void advance(const TractionInput& in, Ratio rho_med, const TractionParams& params) noexcept;
   /// rho_ahead from the marks; false when the history is shorter than the span.
-  bool ahead_of(Ratio rho_med, const TractionParams& params, Ratio& ahead, bool& overflow) const noexcept;
-  void push_history(bool caution, bool stop, bool clear) noexcept;
-  void transition(const MonitorParams& monitor, TractionOutput& out) noexcept;
+  inline bool ahead_of(Ratio rho_med, const TractionParams& params, Ratio& ahead, bool& overflow) const noexcept;
+  inline void push_history(bool caution, bool stop, bool clear) noexcept;
+  inline void transition(const MonitorParams& monitor, TractionOutput& out) noexcept;
 
   TractionState state_{TractionState::nominal};
   Ratio recent_[kTractionMedianSamples];  ///< the last rho, oldest overwritten
