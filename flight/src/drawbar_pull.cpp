@@ -23,7 +23,7 @@ DrawbarResult failed(DrawbarStatus status) noexcept {
 /// Not 0 unless 0 < r <= kMaxDpMaxRatio (2^25 raw): r - 1 below 2^25 as an
 /// unsigned value, which a non-positive r wraps beyond.
 std::uint32_t ratio_out_of_range(Ratio r) noexcept {
-  static_assert(kMaxDpMaxRatio.raw() == (std::int32_t{1} << 25), "the ratio's range is (0, 2^25] raw");
+  static_assert(kMaxDpMaxRatio.raw() == std::int32_t{0x2000000}, "the ratio's range is (0, 2^25] raw");
   return (static_cast<std::uint32_t>(r.raw()) - 1U) >> 25U;
 }
 
@@ -37,28 +37,22 @@ bool motion_in_range(const RoverParams& params, const DrawbarInput& input) noexc
   return accel_ok && pitch_ok && slip_ok;
 }
 
-/// What the wheels' shares are taken from: |total| (raw Q31.32), the load
-/// sum and the total's sign (false where saturated).
-struct WheelShares {
-  std::uint64_t total_mag;
-  detail::LoadSum sum;
-  bool negative;
-};
-
 /// The six pulls into `dp_raw` and the capped wheels into `capped_mask`;
-/// not 0 when a pull overflowed. One loop for each of kSaturated's values,
-/// the test out of the loop (round 14).
+/// not 0 when a pull overflowed. The shares are taken from |total| (raw
+/// Q31.32), the load sum and the total's sign (false where saturated). One
+/// loop for each of kSaturated's values, the test out of the loop (round 14).
 template <bool kSaturated>
-std::uint32_t pulls_into(const WheelLoadResult& loads, const DrawbarInput& input, const WheelShares& shares,
-                         std::int32_t (&dp_raw)[kWheelCount], std::uint32_t& capped_mask) noexcept {
+std::uint32_t pulls_into(const WheelLoadResult& loads, const DrawbarInput& input, std::uint64_t total_mag,
+                         const detail::LoadSum& sum, bool negative, std::int32_t (&dp_raw)[kWheelCount],
+                         std::uint32_t& capped_mask) noexcept {
   std::uint32_t overflowed = 0U;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     // 0 <= load, 0 < ratio <= 2 (checked before).
     const auto load = static_cast<std::uint32_t>(loads.load_n[i].raw());
-    const std::uint64_t share = detail::share_or_all(
-        shares.total_mag, kSaturated ? 0U : detail::load_fraction(load, shares.sum), kSaturated);
+    const std::uint64_t share =
+        detail::share_or_all(total_mag, kSaturated ? 0U : detail::load_fraction(load, sum), kSaturated);
     const detail::WheelPull pull =
-        detail::wheel_pull(share, load, static_cast<std::uint32_t>(input.dp_max_ratio[i].raw()), shares.negative);
+        detail::wheel_pull(share, load, static_cast<std::uint32_t>(input.dp_max_ratio[i].raw()), negative);
     dp_raw[i] = pull.dp_raw;
     // Saturated, no share is limited: every wheel is at DP_max,i.
     if constexpr (!kSaturated) {
@@ -111,9 +105,8 @@ DrawbarResult pulls_of_valid(const RoverParams& params, const WheelLoadResult& l
   std::uint32_t capped_mask = 0U;
   // Saturated, every wheel is at +DP_max,i: the total's sign is not used.
   const std::uint32_t overflowed =
-      saturated ? pulls_into<true>(loads, input, WheelShares{0U, sum, false}, dp_raw, capped_mask)
-                : pulls_into<false>(loads, input, WheelShares{fx::detail::magnitude(total), sum, total < 0}, dp_raw,
-                                    capped_mask);
+      saturated ? pulls_into<true>(loads, input, 0U, sum, false, dp_raw, capped_mask)
+                : pulls_into<false>(loads, input, fx::detail::magnitude(total), sum, total < 0, dp_raw, capped_mask);
   if ((overflowed != 0U) || !st.ok()) {
     return failed(DrawbarStatus::overflow);
   }
