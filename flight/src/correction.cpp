@@ -77,11 +77,16 @@ CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDi
   // the first k with W < W_k+1: then W_k <= W too (k = 0, or k - 1 was not
   // taken), for any breakpoints, increasing or not; and k = last - 1 when no
   // earlier one is, since W < W_last. So there is no "no segment" outcome.
-  std::uint32_t seg = last - 1U;
-  for (std::uint32_t i = 0U; i < seg; ++i) {
-    if (load_n < table.rows[i + 1U].load_n) {
-      seg = i;
-      break;
+  // The first segment tested before the loop: a lunar rover's wheel loads
+  // (tens of newtons) lie in Table 2's first one (round 14).
+  std::uint32_t seg = 0U;
+  if (load_n >= table.rows[1].load_n) {
+    seg = last - 1U;
+    for (std::uint32_t i = 1U; i < seg; ++i) {
+      if (load_n < table.rows[i + 1U].load_n) {
+        seg = i;
+        break;
+      }
     }
   }
   const CorrectionRow& lo = table.rows[seg];
