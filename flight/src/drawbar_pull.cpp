@@ -45,7 +45,10 @@ template <bool kSaturated>
 std::uint32_t pulls_into(const WheelLoadResult& loads, const DrawbarInput& input, std::uint64_t total_mag,
                          const detail::LoadSum& sum, bool negative, std::int32_t (&dp_raw)[kWheelCount],
                          std::uint32_t& capped_mask) noexcept {
-  std::uint32_t overflowed = 0U;
+  // Bit i: wheel i capped; bits kWheelCount and up: a pull overflowed (its
+  // overflow word, below 2^17, shifted there). One accumulator, no branch
+  // per wheel.
+  std::uint32_t flags = 0U;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     // 0 <= load, 0 < ratio <= 2 (checked before).
     const auto load = static_cast<std::uint32_t>(loads.load_n[i].raw());
@@ -55,12 +58,11 @@ std::uint32_t pulls_into(const WheelLoadResult& loads, const DrawbarInput& input
         detail::wheel_pull(share, load, static_cast<std::uint32_t>(input.dp_max_ratio[i].raw()), negative);
     dp_raw[i] = pull.dp_raw;
     // Saturated, no share is limited: every wheel is at DP_max,i.
-    if constexpr (!kSaturated) {
-      capped_mask |= (pull.capped ? 1U : 0U) << i;
-    }
-    overflowed |= pull.overflow ? 1U : 0U;  // no branch per wheel
+    const bool capped = pull.capped && !kSaturated;
+    flags |= ((capped ? 1U : 0U) << i) | (pull.overflow << kWheelCount);
   }
-  return overflowed;
+  capped_mask = flags & ((1U << kWheelCount) - 1U);
+  return flags >> kWheelCount;
 }
 
 /// The pulls for usable loads and parameters that passed

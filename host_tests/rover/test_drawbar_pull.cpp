@@ -352,7 +352,7 @@ flight::detail::WheelPull wheel_pull_by_fx(std::int64_t total, std::uint64_t fra
     capped = dp != share;
   }
   const flight::LoadQ dp_n = fx::rescale<flight::LoadQ>(dp, st);
-  return flight::detail::WheelPull{dp_n.raw(), capped, !st.ok()};
+  return flight::detail::WheelPull{dp_n.raw(), capped, st.ok() ? 0U : 1U};
 }
 
 /// A value of magnitude up to 2^bits, log-uniform, or an edge of [0, 2^bits].
@@ -411,17 +411,17 @@ TEST(DrawbarArithmetic, WheelPullIsTheFixedPointChainBitForBit) {
     const flight::detail::WheelPull fast =
         flight::detail::wheel_pull(share, load, ratio, !saturated && (total < 0));
     const flight::detail::WheelPull chain = wheel_pull_by_fx(total, fraction, load, ratio, saturated);
-    ASSERT_EQ(fast.overflow, chain.overflow) << total << " " << fraction << " " << load << " " << ratio;
+    ASSERT_EQ(fast.overflow != 0U, chain.overflow != 0U) << total << " " << fraction << " " << load << " " << ratio;
     // Saturated, the chain reports no cap; an overflowing pull has no value.
     if (!saturated) {
       ASSERT_EQ(fast.capped, chain.capped) << total << " " << fraction << " " << load << " " << ratio;
     }
-    if (!fast.overflow) {
+    if (fast.overflow == 0U) {
       ASSERT_EQ(fast.dp_raw, chain.dp_raw) << total << " " << fraction << " " << load << " " << ratio;
     }
     capped += (fast.capped && !saturated) ? 1 : 0;
-    overflowed += fast.overflow ? 1 : 0;
-    negative += (!fast.overflow && (fast.dp_raw < 0)) ? 1 : 0;
+    overflowed += (fast.overflow != 0U) ? 1 : 0;
+    negative += ((fast.overflow == 0U) && (fast.dp_raw < 0)) ? 1 : 0;
   }
   // Each branch taken often.
   EXPECT_GT(capped, 100000);
@@ -445,12 +445,12 @@ TEST(DrawbarArithmetic, WheelPullOverflowsWhereTheRescaleDoes) {
         const flight::detail::WheelPull fast = flight::detail::wheel_pull(
             flight::detail::share_or_all(mag, std::uint64_t{1U} << 32U, false), load, ratio, negative);
         const flight::detail::WheelPull chain = wheel_pull_by_fx(total, std::uint64_t{1U} << 32U, load, ratio, false);
-        ASSERT_EQ(fast.overflow, chain.overflow) << total;
+        ASSERT_EQ(fast.overflow != 0U, chain.overflow != 0U) << total;
         ASSERT_FALSE(fast.capped) << total;
-        if (!fast.overflow) {
+        if (fast.overflow == 0U) {
           ASSERT_EQ(fast.dp_raw, chain.dp_raw) << total;
         }
-        overflowed += fast.overflow ? 1 : 0;
+        overflowed += (fast.overflow != 0U) ? 1 : 0;
       }
     }
   }

@@ -223,7 +223,10 @@ inline constexpr std::uint64_t kWordRemainderSum{0x55555555U};
 struct WheelPull {
   std::int32_t dp_raw;
   bool capped;
-  bool overflow;
+  /// Not 0: the pull left Q15.16. The bits above the low word of the
+  /// overflow test's sum (below), which drawbar_pulls() ORs over the wheels
+  /// as they are, without a branch or a bool per wheel.
+  std::uint32_t overflow;
 };
 
 /// The magnitude of a wheel's share of the total for wheel_pull: the share
@@ -261,7 +264,8 @@ struct WheelPull {
   const std::uint64_t scaled = (mag + (std::uint64_t{1U} << 15U)) >> 16U;  // < 2^48
   const std::uint64_t beyond = scaled + (negative ? 0x7FFFFFFFU : 0x80000000U);
   const auto value = static_cast<std::int64_t>(scaled);
-  return WheelPull{static_cast<std::int32_t>(negative ? -value : value), capped, (beyond >> 32U) != 0U};
+  return WheelPull{static_cast<std::int32_t>(negative ? -value : value), capped,
+                   static_cast<std::uint32_t>(beyond >> 32U)};  // < 2^17
 }
 
 /// m (a + g sin(pitch)) in Q31.32 (raw) from the raw mass (Q15.16, in
