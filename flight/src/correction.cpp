@@ -44,19 +44,6 @@ std::uint32_t fraction_of(std::uint32_t offset, const SegmentWidth& width) noexc
   return quotient + (round_up ? 1U : 0U);
 }
 
-/// W - W_k as an exact unsigned offset when 0 <= W - W_k < width (raw
-/// Q15.16), in `offset`; false otherwise (no segment, or a load outside it:
-/// a table validate() refuses; the segment search gives W_k <= W < W_k+1).
-/// W >= W_k makes the difference of the two 32-bit values non-negative and
-/// below 2^32, so the modular unsigned difference is exact.
-bool offset_in(WheelLoadN load_n, WheelLoadN start_n, const SegmentWidth& width, std::uint32_t& offset) noexcept {
-  if ((width.normalised == 0U) || (load_n < start_n)) {
-    return false;
-  }
-  offset = static_cast<std::uint32_t>(load_n.raw()) - static_cast<std::uint32_t>(start_n.raw());
-  return offset < (width.normalised >> width.shift);  // the width, exactly
-}
-
 CorrectionResult from_row(const CorrectionRow& row, LoadClamp clamp) noexcept {
   return CorrectionResult{Coefficients{row.c1, row.c2, row.c3}, row.dp_max_ratio, clamp, EstimateStatus::ok};
 }
@@ -71,42 +58,53 @@ CorrectionResult refused(EstimateStatus status) noexcept {
 
 CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDivisors& divisors,
                                 WheelLoadN load_n) noexcept {
-  if ((table.count == 0U) || (table.count > kMaxCorrectionRows)) {
+  // count in 1..kMaxCorrectionRows, as one unsigned comparison (0 wraps).
+  const std::uint32_t last = static_cast<std::uint32_t>(table.count) - 1U;
+  if (last >= kMaxCorrectionRows) {
     return refused(EstimateStatus::invalid_coefficient);
   }
   if (load_n <= WheelLoadN::zero()) {
     return refused(EstimateStatus::invalid_load);
   }
-  const std::uint8_t last = static_cast<std::uint8_t>(table.count - 1U);
   if (load_n < table.rows[0].load_n) {
     return from_row(table.rows[0], LoadClamp::below_first);
   }
-  if (load_n > table.rows[last].load_n) {
-    return from_row(table.rows[last], LoadClamp::above_last);
-  }
-  if (load_n == table.rows[last].load_n) {
-    return from_row(table.rows[last], LoadClamp::none);
+  const CorrectionRow& final_row = table.rows[last];
+  if (load_n >= final_row.load_n) {
+    return from_row(final_row, (load_n > final_row.load_n) ? LoadClamp::above_last : LoadClamp::none);
   }
   // Here count >= 2 and rows[0].load <= W < rows[last].load. The segment is
   // the first k with W < W_k+1: then W_k <= W too (k = 0, or k - 1 was not
   // taken), for any breakpoints, increasing or not; and k = last - 1 when no
   // earlier one is, since W < W_last. So there is no "no segment" outcome.
-  std::uint8_t seg = static_cast<std::uint8_t>(last - 1U);
-  for (std::uint8_t i = 0U; i < seg; ++i) {
-    if (load_n < table.rows[i + 1U].load_n) {
-      seg = i;
-      break;
+  // The first segment tested before the loop: a lunar rover's wheel loads
+  // (tens of newtons) lie in Table 2's first one (round 14).
+  std::uint32_t seg = 0U;
+  if (load_n >= table.rows[1].load_n) {
+    seg = last - 1U;
+    for (std::uint32_t i = 1U; i < seg; ++i) {
+      if (load_n < table.rows[i + 1U].load_n) {
+        seg = i;
+        break;
+      }
     }
   }
   const CorrectionRow& lo = table.rows[seg];
   const CorrectionRow& hi = table.rows[seg + 1U];
-  std::uint32_t offset = 0U;
-  if (!offset_in(load_n, lo.load_n, divisors.width[seg], offset)) {
+  const SegmentWidth& width = divisors.width[seg];
+  // W - W_k: W_k <= W (above) makes the modular difference of the two raw
+  // values exact. It is below the width for every segment whose width
+  // make_correction_divisors() prepared (W < W_k+1); a segment without one
+  // (not increasing, or its width overflowed: a table validate() refuses)
+  // has a zero width, so this one test refuses it (round 14: the zero width
+  // and W < W_k were tested apart, the latter never true).
+  const std::uint32_t offset = static_cast<std::uint32_t>(load_n.raw()) - static_cast<std::uint32_t>(lo.load_n.raw());
+  if (offset >= (width.normalised >> width.shift)) {
     return refused(EstimateStatus::invalid_coefficient);
   }
   // The fraction's halves once for the four coefficients (session 19: one
   // lerp call per coefficient, each splitting it, before).
-  const detail::FractionHalves f = detail::halves_of(fraction_of(offset, divisors.width[seg]));
+  const detail::FractionHalves f = detail::halves_of(fraction_of(offset, width));
   const Coefficients c{Ratio::from_raw(detail::interpolate_raw(lo.c1.raw(), hi.c1.raw(), f)),
                        Ratio::from_raw(detail::interpolate_raw(lo.c2.raw(), hi.c2.raw(), f)),
                        Ratio::from_raw(detail::interpolate_raw(lo.c3.raw(), hi.c3.raw(), f))};

@@ -31,7 +31,7 @@ bool direction_is_valid(DriveDirection d) noexcept {
 /// 2^46 + 1.
 std::uint64_t kt_times(std::int32_t kt_raw, std::int32_t effective_raw) noexcept {
   const std::uint64_t product =
-      fx::wide::mul_32x32_64(static_cast<std::uint32_t>(kt_raw), static_cast<std::uint32_t>(fx::detail::magnitude(effective_raw)));
+      fx::wide::mul_32x32_64(static_cast<std::uint32_t>(kt_raw), fx::detail::magnitude32(effective_raw));
   return (product + (std::uint64_t{1U} << 15U)) >> 16U;
 }
 
@@ -83,11 +83,13 @@ TorqueResult detail::torque_of_valid_motor(const MotorParams& motor, CurrentA cu
   if (!direction_is_valid(direction)) {
     return TorqueResult{TorqueNm::zero(), EstimateStatus::invalid_direction};
   }
-  fx::Status st;
-  const CurrentQ magnitude = fx::abs(current_a.q(), st);
-  if ((!st.ok()) || (magnitude > motor.current_abs_max_a.q())) {
+  // |I| beyond the sensor's range, as fx::abs and a comparison gave it: the
+  // magnitude 2^31 of the most negative current, where fx::abs overflowed,
+  // exceeds every range (check_motor: 0 <= I0 < current_abs_max < 2^31).
+  if (fx::detail::magnitude32(current_a.raw()) > static_cast<std::uint32_t>(motor.current_abs_max_a.raw())) {
     return TorqueResult{TorqueNm::zero(), EstimateStatus::invalid_current};
   }
+  fx::Status st;
   // I0 opposes the rotation: subtract it driving forward, add it in reverse.
   // Both operands are within +-current_abs_max < 2048 A, so this is exact.
   const CurrentQ effective = (direction == DriveDirection::forward)

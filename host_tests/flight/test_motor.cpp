@@ -176,6 +176,40 @@ TEST(Motor, MagnitudeChainGivesTheCheckedChainsBits) {
   EXPECT_GT(torques, 100000U);
 }
 
+// I -+ I0 at the ends of Q11.20 (round 14; the random motors above reach
+// them only by chance): driving forward I = INT32_MIN + I0 is the lowest
+// current whose I - I0 fits, in reverse I = INT32_MAX - I0 the highest whose
+// I + I0 does; one raw ampere further is overflow, as in the checked chain.
+// A gain of a few raw units keeps the torque itself far inside Q15.16.
+TEST(Motor, EffectiveCurrentAtTheFormatsEndsOverflowsAsTheCheckedChain) {
+  MotorParams m{};
+  m.gear_ratio = GearRatio::from_raw(1);
+  m.efficiency = Efficiency::from_raw(1 << 30);
+  m.kt_nm_per_a = TorqueConstantNmPerA::from_raw(1 << 12);
+  m.current_abs_max_a = CurrentA::from_raw(INT32_MAX);
+  std::uint32_t overflows = 0U;
+  for (const std::int32_t i0 : {0, 1, 2, 1000, 1 << 30, INT32_MAX - 1}) {
+    m.no_load_current_a = CurrentA::from_raw(i0);
+    ASSERT_EQ(check_motor(m), EstimateStatus::ok);
+    const std::int64_t low = std::int64_t{INT32_MIN} + i0;
+    const std::int64_t high = std::int64_t{INT32_MAX} - i0;
+    for (const std::int64_t raw : {low - 1, low, low + 1, high - 1, high, high + 1}) {
+      if ((raw < -std::int64_t{INT32_MAX}) || (raw > INT32_MAX)) {
+        continue;  // beyond the sensor's range: invalid_current, tested above
+      }
+      const CurrentA i = CurrentA::from_raw(static_cast<std::int32_t>(raw));
+      for (const DriveDirection dir : {DriveDirection::forward, DriveDirection::reverse}) {
+        const TorqueResult expected = torque_by_checked_chain(m, i, dir);
+        const TorqueResult got = torque_from_current(m, i, dir);
+        ASSERT_EQ(got.status, expected.status) << raw << " " << i0;
+        ASSERT_EQ(got.torque_nm.raw(), expected.torque_nm.raw()) << raw << " " << i0;
+        overflows += (expected.status == EstimateStatus::overflow) ? 1U : 0U;
+      }
+    }
+  }
+  EXPECT_GE(overflows, 8U);  // the step beyond each bound, for the non-zero I0
+}
+
 // The torque's own limits: with N = 32, eta = 1 and Kt = 1 N m/A the torque
 // is twice the current's raw value, so 2^30 raw amperes give +2^31 raw
 // newton-metres (beyond Q15.16: overflow) and -2^30 give the format's

@@ -352,7 +352,7 @@ flight::detail::WheelPull wheel_pull_by_fx(std::int64_t total, std::uint64_t fra
     capped = dp != share;
   }
   const flight::LoadQ dp_n = fx::rescale<flight::LoadQ>(dp, st);
-  return flight::detail::WheelPull{dp_n.raw(), capped, !st.ok()};
+  return flight::detail::WheelPull{dp_n.raw(), capped, st.ok() ? 0U : 1U};
 }
 
 /// A value of magnitude up to 2^bits, log-uniform, or an edge of [0, 2^bits].
@@ -404,19 +404,60 @@ TEST(DrawbarArithmetic, WheelPullIsTheFixedPointChainBitForBit) {
     const auto load = static_cast<std::uint32_t>(magnitude_up_to(rng, 31U) & 0x7FFFFFFFU);
     const auto ratio = static_cast<std::uint32_t>(1U + (magnitude_up_to(rng, 25U) % (1U << 25U)));
     const bool saturated = (rng() % 4U) == 0U;
-    const flight::detail::WheelPull fast = flight::detail::wheel_pull(total, fraction, load, ratio, saturated);
+    // As drawbar_pulls() forms them: the share's magnitude, or the largest
+    // one where saturated, and the total's sign where not.
+    const std::uint64_t share =
+        flight::detail::share_or_all(fx::detail::magnitude(total), saturated ? 0U : fraction, saturated);
+    const flight::detail::WheelPull fast =
+        flight::detail::wheel_pull(share, load, ratio, !saturated && (total < 0));
     const flight::detail::WheelPull chain = wheel_pull_by_fx(total, fraction, load, ratio, saturated);
-    ASSERT_EQ(fast.overflow, chain.overflow) << total << " " << fraction << " " << load << " " << ratio;
-    ASSERT_EQ(fast.capped, chain.capped) << total << " " << fraction << " " << load << " " << ratio;
-    ASSERT_EQ(fast.dp_raw, chain.dp_raw) << total << " " << fraction << " " << load << " " << ratio;
-    capped += fast.capped ? 1 : 0;
-    overflowed += fast.overflow ? 1 : 0;
-    negative += (fast.dp_raw < 0) ? 1 : 0;
+    ASSERT_EQ(fast.overflow != 0U, chain.overflow != 0U) << total << " " << fraction << " " << load << " " << ratio;
+    // Saturated, the chain reports no cap; an overflowing pull has no value.
+    if (!saturated) {
+      ASSERT_EQ(fast.capped, chain.capped) << total << " " << fraction << " " << load << " " << ratio;
+    }
+    if (fast.overflow == 0U) {
+      ASSERT_EQ(fast.dp_raw, chain.dp_raw) << total << " " << fraction << " " << load << " " << ratio;
+    }
+    capped += (fast.capped && !saturated) ? 1 : 0;
+    overflowed += (fast.overflow != 0U) ? 1 : 0;
+    negative += ((fast.overflow == 0U) && (fast.dp_raw < 0)) ? 1 : 0;
   }
   // Each branch taken often.
   EXPECT_GT(capped, 100000);
   EXPECT_GT(overflowed, 10000);
   EXPECT_GT(negative, 100000);
+}
+
+// wheel_pull's overflow test (round 14: m + 2^31 - 1, or m + 2^31 for a
+// positive pull, reaching 2^32, instead of a saturation) at its edges: every
+// total whose rounded magnitude is within two of 2^31, at and around the
+// rounding's ties, both signs, against the chain's rescale.
+TEST(DrawbarArithmetic, WheelPullOverflowsWhereTheRescaleDoes) {
+  const std::uint32_t load = 0x7FFFFFFFU;
+  const std::uint32_t ratio = 1U << 25U;  // the cap, about 2^48, stays above every share
+  int overflowed = 0;
+  for (std::uint64_t v = (1ULL << 31U) - 2U; v <= (1ULL << 31U) + 2U; ++v) {
+    for (const std::int64_t d : {-32769, -32768, -32767, -1, 0, 1, 32766, 32767, 32768}) {
+      const std::uint64_t mag = (v << 16U) + static_cast<std::uint64_t>(d);
+      for (const bool negative : {false, true}) {
+        const std::int64_t total = negative ? -static_cast<std::int64_t>(mag) : static_cast<std::int64_t>(mag);
+        const flight::detail::WheelPull fast = flight::detail::wheel_pull(
+            flight::detail::share_or_all(mag, std::uint64_t{1U} << 32U, false), load, ratio, negative);
+        const flight::detail::WheelPull chain = wheel_pull_by_fx(total, std::uint64_t{1U} << 32U, load, ratio, false);
+        ASSERT_EQ(fast.overflow != 0U, chain.overflow != 0U) << total;
+        ASSERT_FALSE(fast.capped) << total;
+        if (fast.overflow == 0U) {
+          ASSERT_EQ(fast.dp_raw, chain.dp_raw) << total;
+        }
+        overflowed += (fast.overflow != 0U) ? 1 : 0;
+      }
+    }
+  }
+  // Rounded magnitudes of 2^31 - 2 .. 2^31 + 2: the positive pulls overflow
+  // from 2^31 on, the negative ones from 2^31 + 1 on.
+  EXPECT_GT(overflowed, 40);
+  EXPECT_LT(overflowed, 80);
 }
 
 TEST(DrawbarArithmetic, LoadFractionIsTheDivisionsRoundedQuotient) {

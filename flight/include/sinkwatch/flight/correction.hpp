@@ -141,10 +141,18 @@ struct ProductWords {
 /// low word is in [2^31 - 2^23, 2^31 + 2^23), and there that comparison is
 /// P's high word >= |a| (session 18). |b - a| is the modular 32-bit
 /// difference: exact, as it is below 2^32.
+///
+/// b = a gives P = 0 and a step of floor(2^31 +- 2^23 / 2^32) = 0: a itself,
+/// returned without the product (round 14). The paper's Table 2 keeps C1,
+/// C2 and DP_max/W constant over the loads, so three of the four
+/// interpolations of a wheel end there; an unequal pair pays one compare.
 [[nodiscard]] SW_FX_INLINE constexpr std::int32_t interpolate_raw(std::int32_t a_raw, std::int32_t b_raw,
                                                                    FractionHalves f) noexcept {
   const auto a_bits = static_cast<std::uint32_t>(a_raw);
   const auto b_bits = static_cast<std::uint32_t>(b_raw);
+  if (b_raw == a_raw) {
+    return a_raw;
+  }
   if (b_raw < a_raw) {
     const ProductTop p = product_top(f, a_bits - b_bits);
     // Against d's sign: a > 0, |a| = a.

@@ -28,6 +28,7 @@
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/units.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
+#include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/reciprocal.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
@@ -132,22 +133,31 @@ inline constexpr std::uint64_t kWordRemainderSum{0x55555555U};
 /// and it is the low word of N - q' S, that is 0 - q'_lo S mod 2^32 (N's low
 /// word is zero): one 32-bit product, no step down, 32-bit steps up.
 /// At most 2^32 (one): L <= S.
-[[nodiscard]] constexpr std::uint64_t load_fraction(std::uint32_t load_raw, const LoadSum& sum) noexcept {
+/// load_fraction where sum.raw <= kWordRemainderSum (the caller tests it,
+/// once per cycle).
+[[nodiscard]] SW_FX_INLINE constexpr std::uint64_t load_fraction_by_word(std::uint32_t load_raw,
+                                                                         const LoadSum& sum) noexcept {
+  const auto s = static_cast<std::uint32_t>(sum.raw);
+  // S < 2^31: n <= 31 and L <= S < 2^n, so a = L 2^(32 - n) is below
+  // 2^32, and floor(a M / 2^31) = floor(L M / 2^(n - 1)) is q' with a
+  // shift by a constant (round 14: a 64-bit shift by n - 1 before).
+  std::uint64_t q = fx::wide::mul_32x32_64(load_raw << (31U - sum.shift), sum.mantissa) >> 31U;
+  std::uint32_t r = 0U - (static_cast<std::uint32_t>(q) * s);
+  for (std::uint32_t step = 0U; step < 2U; ++step) {
+    if (r >= s) {
+      ++q;
+      r -= s;
+    }
+  }
+  return (r >= (s - r)) ? (q + 1U) : q;
+}
+
+/// load_fraction where sum.raw > kWordRemainderSum.
+[[nodiscard]] constexpr std::uint64_t load_fraction_wide(std::uint32_t load_raw, const LoadSum& sum) noexcept {
   const std::uint64_t estimate = fx::wide::mul_32x32_64(load_raw, sum.mantissa);
   // By words where a 64-bit shift by a run-time count is a library call
   // (ARMv6-M, the cores without a widening multiply).
   std::uint64_t q = fx::wide::kMul32x32BySoftware ? shr_by_words(estimate, sum.shift) : (estimate >> sum.shift);
-  if (sum.raw <= kWordRemainderSum) {
-    const auto s = static_cast<std::uint32_t>(sum.raw);
-    std::uint32_t r = 0U - (static_cast<std::uint32_t>(q) * s);
-    for (std::uint32_t step = 0U; step < 2U; ++step) {
-      if (r >= s) {
-        ++q;
-        r -= s;
-      }
-    }
-    return (r >= (s - r)) ? (q + 1U) : q;
-  }
   const std::uint64_t n = static_cast<std::uint64_t>(load_raw) << 32U;
   std::uint64_t product = fx::wide::mul_64x64_low(q, sum.raw);
   for (std::uint32_t step = 0U; step < 2U; ++step) {
@@ -164,6 +174,12 @@ inline constexpr std::uint64_t kWordRemainderSum{0x55555555U};
   }
   const std::uint64_t remainder = n - product;
   return (remainder >= (sum.raw - remainder)) ? (q + 1U) : q;
+}
+
+/// W_i / sum W (above) for any sum: drawbar_pulls() picks the form once per
+/// cycle; the tests call this.
+[[nodiscard]] constexpr std::uint64_t load_fraction(std::uint32_t load_raw, const LoadSum& sum) noexcept {
+  return (sum.raw <= kWordRemainderSum) ? load_fraction_by_word(load_raw, sum) : load_fraction_wide(load_raw, sum);
 }
 
 /// a b for a < 2^16 from two 16 x 32-bit products, each below 2^32 (a
@@ -202,48 +218,54 @@ inline constexpr std::uint64_t kWordRemainderSum{0x55555555U};
 }
 
 /// One wheel's pull in Q15.16 (raw), whether its share was capped, and
-/// whether it left Q15.16 (the raw value is then saturated).
+/// whether it left Q15.16 (the raw value is then not a pull: drawbar_pulls()
+/// refuses the cycle's pulls with overflow).
 struct WheelPull {
   std::int32_t dp_raw;
   bool capped;
-  bool overflow;
+  /// Not 0: the pull left Q15.16. The bits above the low word of the
+  /// overflow test's sum (below), which drawbar_pulls() ORs over the wheels
+  /// as they are, without a branch or a bool per wheel.
+  std::uint32_t overflow;
 };
 
+/// The magnitude of a wheel's share of the total for wheel_pull: the share
+/// of |total| (< 2^63, raw Q31.32) at the fraction W_i / sum W (raw Q31.32,
+/// <= 2^32, from load_fraction), or, where the slip is at or above the
+/// high-slip level (`saturated`), the largest magnitude, which wheel_pull
+/// limits to DP_max,i itself.
+[[nodiscard]] constexpr std::uint64_t share_or_all(std::uint64_t total_mag, std::uint64_t fraction,
+                                                   bool saturated) noexcept {
+  return saturated ? ~std::uint64_t{0U} : share_magnitude(total_mag, fraction);
+}
+
 /// The pull of a wheel of raw load L (>= 0) and DP_max/W ratio r (in
-/// (0, 2^25], Q7.24): the share `total` (W_i / sum W) of the raw Q31.32 total
-/// (|total| < 2^63) at the raw Q31.32 fraction `fraction` (<= 2^32, from
-/// load_fraction), limited to +-DP_max,i; DP_max,i itself where `saturated`
-/// (`fraction` unused). Bit for bit
+/// (0, 2^25], Q7.24) from its share's magnitude `share` (share_or_all) and
+/// the total's sign (`negative`; false where saturated). Bit for bit
 ///   cap   = fx::mul<Q31.32>(r, W_i widened to Q31.32),
 ///   share = fx::mul(total, fraction),
 ///   dp    = saturated ? cap : fx::clamp(share, fx::neg(cap), cap),
-///   dp_n  = fx::rescale<Q15.16>(dp), capped when dp != share:
+///   dp_n  = fx::rescale<Q15.16>(dp), capped when dp != share
+/// wherever that rescale does not overflow (host_tests/rover/
+/// test_drawbar_pull.cpp); `capped` is not read where saturated:
 ///  * cap = r L 2^16 / 2^24 rounded half up = (r L + 2^7) / 2^8 floored
 ///    (r L < 2^56, exact in 64 bits; 2^16 divides both terms);
 ///  * the clamp takes the share's magnitude down to cap, keeping its sign
 ///    (a negative zero rescales to zero, as fx::mul's positive zero does);
-///  * the rescale rounds the magnitude half up and saturates beyond
-///    2^31 - 1 (2^31 for a negative pull), raising overflow.
-[[nodiscard]] constexpr WheelPull wheel_pull(std::int64_t total_raw, std::uint64_t fraction, std::uint32_t load_raw,
-                                             std::uint32_t ratio_raw, bool saturated) noexcept {
+///  * the rescale rounds the magnitude m half up and overflows beyond
+///    2^31 - 1 (2^31 for a negative pull): where m + 2^31 - 1, or m + 2^31
+///    for a positive pull, reaches 2^32. Nothing is saturated (round 14):
+///    an overflowing pull is never used.
+[[nodiscard]] SW_FX_INLINE constexpr WheelPull wheel_pull(std::uint64_t share, std::uint32_t load_raw, std::uint32_t ratio_raw,
+                                             bool negative) noexcept {
   const std::uint64_t cap = (fx::wide::mul_32x32_64(ratio_raw, load_raw) + 128U) >> 8U;
-  std::uint64_t mag = cap;
-  bool capped = false;
-  bool negative = false;
-  if (!saturated) {
-    const std::uint64_t share = share_magnitude(fx::detail::magnitude(total_raw), fraction);
-    capped = share > cap;
-    mag = capped ? cap : share;
-    negative = total_raw < 0;
-  }
-  const std::uint64_t scaled = (mag + (std::uint64_t{1U} << 15U)) >> 16U;
-  const std::uint64_t limit = negative ? 0x80000000U : 0x7FFFFFFFU;
-  if (scaled > limit) {
-    return WheelPull{negative ? std::numeric_limits<std::int32_t>::min() : std::numeric_limits<std::int32_t>::max(),
-                     capped, true};
-  }
+  const bool capped = share > cap;
+  const std::uint64_t mag = capped ? cap : share;
+  const std::uint64_t scaled = (mag + (std::uint64_t{1U} << 15U)) >> 16U;  // < 2^48
+  const std::uint64_t beyond = scaled + (negative ? 0x7FFFFFFFU : 0x80000000U);
   const auto value = static_cast<std::int64_t>(scaled);
-  return WheelPull{static_cast<std::int32_t>(negative ? -value : value), capped, false};
+  return WheelPull{static_cast<std::int32_t>(negative ? -value : value), capped,
+                   static_cast<std::uint32_t>(beyond >> 32U)};  // < 2^17
 }
 
 /// m (a + g sin(pitch)) in Q31.32 (raw) from the raw mass (Q15.16, in
