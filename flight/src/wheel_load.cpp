@@ -236,9 +236,36 @@ template <typename P>
 SW_FX_INLINE P times(P a, P b, fx::Status& st) noexcept {
   if constexpr (kEveryCycle<P> && fx::wide::kMul32x32BySoftware) {
     return P::from_raw(detail::product_checked_by_words<P::frac_bits>(a.raw(), b.raw(), st));
+  } else if constexpr (kEveryCycle<P>) {
+    return fx::detail::mul_word<P, P::frac_bits>(a.raw(), b.raw(), st);
   } else {
     return fx::mul(a, b, st);
   }
+}
+
+/// Whether the every-cycle quotients run in their caller
+/// (detail::quotient_inline): where the core has a widening multiply, whose
+/// quotient is about 20 instructions in place against 27 and a call's
+/// arguments (the Cortex-M4); the one function on ARMv6-M, whose
+/// quotient_raw is too large to copy.
+constexpr bool kQuotientsInline{!fx::wide::kMul32x32BySoftware};
+
+/// x / d in Out from d's reciprocal r (detail::quotient's bits and flags):
+/// in the caller in every cycle's pass where kQuotientsInline, else
+/// detail::quotient_raw's call.
+template <typename Out, bool EveryCycle, std::int32_t Fx>
+SW_FX_INLINE Out quotient_in(fx::Q<std::int32_t, Fx> x, fx::NormalisedReciprocal r, fx::Status& st) noexcept {
+  if constexpr (EveryCycle && kQuotientsInline) {
+    return detail::quotient_inline<Out>(x, r, st);
+  } else {
+    return detail::quotient<Out>(x, r, st);
+  }
+}
+
+/// x / d in the pass's format P (quotient_in).
+template <typename P>
+SW_FX_INLINE P over(P x, fx::NormalisedReciprocal r, fx::Status& st) noexcept {
+  return quotient_in<P, kEveryCycle<P>>(x, r, st);
 }
 
 /// The lever quantities of one side (sections 3.3 to 3.5 and 12), in the
@@ -390,7 +417,9 @@ template <typename P>
   if ((lever < kLeverGuard<P>) || (span < kLeverGuard<P>)) {
     return SideLevers<P>{};
   }
-  // One division per lever, its quotients as products (section 12.5).
+  // One division per lever, its quotients as products (section 12.5). Both
+  // by quotient_raw's call on every core: in place (quotient_in) they took
+  // no more than 1 instruction per side off the Cortex-M4's step.
   const fx::NormalisedReciprocal inv_span = detail::reciprocal_of(span);
   const P beta = detail::quotient<P>(fx::sub(xt_b, xt_r).q(), inv_span, st);
   const ContactHeights<P> z{contact_z(axles.front, k.wheel_radius), contact_z(axles.middle, k.wheel_radius),
@@ -427,9 +456,9 @@ GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexce
   // Built whole (no zeroed frame filled in: a memset on the Cortex-M0).
   const fx::Q1_30 normal_fraction = fx::mul(pitch_sc.cos, roll_sc.cos, st);
   const fx::NormalisedReciprocal inv_normal_fraction = detail::reciprocal_of(normal_fraction);
-  const Kx kx = fx::bound_to<kKxBound>(detail::quotient<K>(pitch_sc.sin, inv_normal_fraction, st), st);
+  const Kx kx = fx::bound_to<kKxBound>(quotient_in<K, true>(pitch_sc.sin, inv_normal_fraction, st), st);
   const Ky ky =
-      fx::bound_to<kKyBound>(detail::quotient<K>(roll_sc.sin, detail::reciprocal_of(roll_sc.cos), st), st);
+      fx::bound_to<kKyBound>(quotient_in<K, true>(roll_sc.sin, detail::reciprocal_of(roll_sc.cos), st), st);
   return GravityFrame{pitch_sc.sin, normal_fraction, inv_normal_fraction, kx, ky};
 }
 
@@ -502,7 +531,7 @@ template <typename P>
 Lateral<P> lateral_of(const SideLevers<P>& side, fx::Status& st) noexcept {
   // Y_s = (b y~_F + a y~_bog) / (a + b) = y~_bog + b Z_s: no product of two
   // lengths is formed (section 7.4), so Y_s stays within Q6.25.
-  const P z = detail::quotient<P>(minus(side.yt_front, side.yt_bogie, st), side.lever, st);
+  const P z = over(minus(side.yt_front, side.yt_bogie, st), side.lever, st);
   return Lateral<P>{z, plus(side.yt_bogie, times(side.b, z, st), st)};
 }
 
@@ -542,7 +571,7 @@ LeftTotal<P> left_side_total(const SideLevers<P> (&side)[kSideCount], const Body
       minus(minus(minus(body.com_yt, times(body.pivot_moment, plus(left.z, right.z, st), st), st), torque_terms, st),
             right.y, st);
   const bool clean_to_shares = st.ok();
-  return LeftTotal<P>{detail::quotient<P>(roll_moment, detail::reciprocal_of(lateral_span), st), false,
+  return LeftTotal<P>{over(roll_moment, detail::reciprocal_of(lateral_span), st), false,
                       clean_to_shares};
 }
 
@@ -557,7 +586,7 @@ struct SideShares {
 /// The rocker and the bogie of one side carrying `side_total`.
 template <typename P>
 SideShares<P> side_shares(const SideLevers<P>& side, const Body<P>& body, P side_total, fx::Status& st) noexcept {
-  const P front = detail::quotient<P>(
+  const P front = over(
       plus(side_moment(body, side, st), times(side.b, side_total, st), st), side.lever, st);
   const P bogie = minus(side_total, front, st);
   const P middle = minus(times(side.beta, bogie, st), side.bogie_shift, st);
@@ -600,8 +629,8 @@ P couple_of(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, c
   if (!torques.usable[i]) {
     return P::zero();
   }
-  const P per_weight = detail::quotient<P>(torques.torque_nm[i].q(), body.inv_weight, st);
-  return detail::quotient<P>(per_weight, g.inv_normal_fraction, st);
+  const P per_weight = quotient_in<P, kEveryCycle<P>>(torques.torque_nm[i].q(), body.inv_weight, st);
+  return over(per_weight, g.inv_normal_fraction, st);
 }
 
 /// The couples of the side whose first wheel is `first`, each projected from
@@ -752,7 +781,9 @@ WheelLoadResult failed_at(PassOutcome outcome) noexcept {
 WheelLoadResult loads_of_valid(const RoverStatics& constants, const CycleTrig& trig, AngleRad pitch_rad,
                                const DriveTorques& torques, bool& beyond_every_format) noexcept {
   beyond_every_format = false;
-  const WheelLoadResult fine = loads_in<Fine>(constants.fine, trig, pitch_rad, torques);
+  // Every return is of `fine`, so that it is built in the caller's result
+  // (a copy of 44 bytes per cycle on the path of every cycle before).
+  WheelLoadResult fine = loads_in<Fine>(constants.fine, trig, pitch_rad, torques);
   if (fine.status != WheelLoadStatus::overflow) {
     return fine;
   }
@@ -760,7 +791,8 @@ WheelLoadResult loads_of_valid(const RoverStatics& constants, const CycleTrig& t
   // wheel are kept (a whole result each stayed on the stack).
   const PassOutcome mid = outcome_of(loads_in<Mid>(constants.mid, trig, pitch_rad, torques));
   if ((mid.status == WheelLoadStatus::tip_over) || (mid.status == WheelLoadStatus::degenerate)) {
-    return failed_at(mid);
+    fine = failed_at(mid);
+    return fine;
   }
   // Q10.21 ok: its loads are too coarse to be taken, and fine's overflow
   // stands (the coarse pass is not run; fine's outcome is no tip-over).
@@ -768,14 +800,16 @@ WheelLoadResult loads_of_valid(const RoverStatics& constants, const CycleTrig& t
   const PassOutcome coarse =
       coarse_run ? outcome_of(loads_in<Coarse>(constants.coarse, trig, pitch_rad, torques)) : outcome_of(fine);
   if (coarse.status == WheelLoadStatus::tip_over) {
-    return failed_at(coarse);
+    fine = failed_at(coarse);
+    return fine;
   }
   if ((mid.status == WheelLoadStatus::overflow) && (mid.lifting_wheel < kWheelCount)) {
     // Q10.21 checked its lateral span with a clean status and only its side
     // totals or shares overflowed: a tip-over, whatever Q15.16's coarser
     // span said (with bogie spans of 1.8 mm it read -0.044 m where Q10.21
     // read 0.066 m; the sixth fuzz finding of session 14).
-    return failed_at(PassOutcome{WheelLoadStatus::tip_over, mid.lifting_wheel});
+    fine = failed_at(PassOutcome{WheelLoadStatus::tip_over, mid.lifting_wheel});
+    return fine;
   }
   beyond_every_format = (mid.status == WheelLoadStatus::overflow) && (coarse.status == WheelLoadStatus::overflow);
   return fine;
