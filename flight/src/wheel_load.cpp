@@ -655,10 +655,18 @@ std::uint32_t lowest_share(const Shares<P>& support) noexcept {
   return lowest;
 }
 
-/// A wheel's share times the normal weight.
+/// A wheel's share times the normal weight, for a share in [0, 1] (a clean
+/// pass's: normal_loads) and a weight of at least zero. The product is then
+/// at most the weight, within Q15.16 whatever it is: fx::mul's bits as a
+/// bounded product (fx::Bounded), with no check of the format's limits and,
+/// in every cycle's pass, no call (fx::mul<LoadQ>'s call and check were six
+/// per cycle before).
 template <typename P>
-WheelLoadN load_of(P share, LoadQ weight_normal, fx::Status& st) noexcept {
-  return WheelLoadN{fx::mul<LoadQ>(share, weight_normal, st)};
+WheelLoadN load_of(P share, LoadQ weight_normal) noexcept {
+  using Share = fx::Bounded<P, bound_in<P>(1.0)>;
+  using Weight = fx::Bounded<LoadQ, fx::kMaxBound>;
+  return WheelLoadN{
+      fx::mul<LoadQ, kRotationRounding<P>>(Share::trusted(share.raw()), Weight::trusted(weight_normal.raw())).q()};
 }
 
 /// The normal loads (each wheel's share times the normal weight): tip_over
@@ -683,9 +691,9 @@ WheelLoadResult normal_loads(const Shares<P>& support, const Body<P>& body, cons
   // overflow, and the result is built whole (a zeroed one filled in is a
   // memset).
   const LoadQ weight = body.weight_normal_n.q();
-  return WheelLoadResult{{load_of(support.share[0], weight, st), load_of(support.share[1], weight, st),
-                          load_of(support.share[2], weight, st), load_of(support.share[3], weight, st),
-                          load_of(support.share[4], weight, st), load_of(support.share[5], weight, st)},
+  return WheelLoadResult{{load_of(support.share[0], weight), load_of(support.share[1], weight),
+                          load_of(support.share[2], weight), load_of(support.share[3], weight),
+                          load_of(support.share[4], weight), load_of(support.share[5], weight)},
                          body.weight_normal_n,
                          kWheelCount,
                          pitch_rad,

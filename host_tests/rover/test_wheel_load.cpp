@@ -16,6 +16,7 @@
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/rover_statics.hpp"
+#include "sinkwatch/fixedpoint/bounded.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/reciprocal.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
@@ -833,6 +834,50 @@ TEST(StaticsArithmetic, CheckedProductByWordsIsFxMulBitForBit) {
   // (a shift of 31 leaves Q31.0 only for operands near both ends: fewer)
   EXPECT_GT((compare_checked_products<fx::Q<std::int32_t, 0>, 16, 15>(rng, 300000)), 100);
   EXPECT_GT((compare_checked_products<fx::Q<std::int32_t, 10>, 20, 20>(rng, 300000)), 3000);
+}
+
+/// A load as wheel_load.cpp's load_of forms it (fx::Bounded's product of a
+/// share in [0, 1] and any weight of at least zero, in place or called)
+/// against fx::mul<LoadQ>'s checked product of the same two values.
+template <typename Share, fx::Rounding Where>
+void expect_bounded_load_is_checked_product(std::int32_t share_raw, std::int32_t weight_raw) {
+  using ShareB = fx::Bounded<Share, flight::bound_in<Share>(1.0)>;
+  using Weight = fx::Bounded<flight::LoadQ, fx::kMaxBound>;
+  fx::Status st;
+  const flight::LoadQ checked = fx::mul<flight::LoadQ>(Share::from_raw(share_raw), flight::LoadQ::from_raw(weight_raw), st);
+  const flight::LoadQ bounded =
+      fx::mul<flight::LoadQ, Where>(ShareB::trusted(share_raw), Weight::trusted(weight_raw)).q();
+  ASSERT_TRUE(st.ok()) << share_raw << " * " << weight_raw;
+  ASSERT_EQ(bounded.raw(), checked.raw()) << share_raw << " * " << weight_raw;
+}
+
+template <typename Share>
+void compare_bounded_loads(std::mt19937_64& rng, int trials) {
+  constexpr auto kOne = static_cast<std::int32_t>(flight::bound_in<Share>(1.0));
+  const std::int32_t edges[] = {0, 1, 2, kOne / 2, kOne - 1, kOne};
+  for (int trial = 0; trial < trials; ++trial) {
+    // Shares at the ends of [0, 1] and at random; weights of every length,
+    // up to Q15.16's largest, and odd ones (ties of the rounding's half).
+    const std::int32_t share = ((trial % 3) == 0) ? edges[static_cast<std::size_t>(trial / 3) % 6U]
+                                                  : static_cast<std::int32_t>(rng() % static_cast<std::uint64_t>(kOne + 1));
+    const std::uint32_t bits = static_cast<std::uint32_t>(rng() % 32U);
+    const auto weight = static_cast<std::int32_t>((rng() & ((std::uint64_t{1U} << bits) - 1U)) | ((trial % 4) == 1 ? 1U : 0U));
+    expect_bounded_load_is_checked_product<Share, fx::Rounding::inlined>(share, weight);
+    expect_bounded_load_is_checked_product<Share, fx::Rounding::called>(share, weight);
+    expect_bounded_load_is_checked_product<Share, fx::Rounding::inlined>(share, 0x7FFFFFFF - static_cast<std::int32_t>(trial % 5));
+  }
+}
+
+TEST(StaticsArithmetic, BoundedLoadIsTheCheckedProduct) {
+  std::mt19937_64 rng(31U);
+  compare_bounded_loads<P>(rng, 300000);
+  compare_bounded_loads<flight::StaticsMidQ>(rng, 100000);
+  compare_bounded_loads<flight::StaticsCoarseQ>(rng, 100000);
+  // Ties of the rounding's half: share 2^-1 LSB multiples times odd weights.
+  for (std::int32_t w = 1; w < 5000; w += 2) {
+    expect_bounded_load_is_checked_product<P, fx::Rounding::inlined>(1 << 24, w);
+    expect_bounded_load_is_checked_product<P, fx::Rounding::inlined>(3 << 23, w);
+  }
 }
 
 TEST(StaticsArithmetic, ReciprocalOfAQIsTheNormalisedReciprocal) {
