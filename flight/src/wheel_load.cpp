@@ -113,7 +113,7 @@ StaticsConstants<P> constants_in(const RoverParams& params, fx::Status& st) noex
       link_length<P>(params.com_x_m, st),
       link_length<P>(params.com_y_m, st),
       link_length<P>(params.com_z_m, st),
-      WheelLoadN{fx::mul<LoadQ>(params.mass_kg.q(), params.gravity_mps2.q(), st)},
+      fx::bound_to<kWeightBound>(fx::mul<LoadQ>(params.mass_kg.q(), params.gravity_mps2.q(), st), st),
       fx::normalised_reciprocal(
           static_cast<std::uint64_t>(params.mass_kg.raw()) * static_cast<std::uint64_t>(params.gravity_mps2.raw()),
           kWeightFracBits)};
@@ -531,8 +531,12 @@ struct Body {
 };
 
 template <typename P>
-Body<P> body_of(const StaticsConstants<P>& k, const GravityFrame& g, fx::Status& st) noexcept {
-  const WheelLoadN weight_normal_n{fx::mul<LoadQ>(k.weight_n.q(), g.normal_fraction, st)};
+Body<P> body_of(const StaticsConstants<P>& k, const GravityFrame& g) noexcept {
+  // The weight (at most 10 kN) times any Q1.30 value fits Q15.16: fx::mul's
+  // bits as a bounded product, with no check of the format's limits.
+  using Fraction = fx::Bounded<fx::Q1_30, fx::kMaxBound>;
+  const WheelLoadN weight_normal_n{
+      product<LoadQ, kRotationRounding<P>>(k.weight_n, Fraction::trusted(g.normal_fraction.raw())).q()};
   const auto com_xt = project(k.com_x, k.com_z, g.kx);
   const auto com_yt = project(k.com_y, k.com_z, g.ky);
   constexpr auto kHalfRaw = static_cast<std::int32_t>(1U << static_cast<std::uint32_t>(P::frac_bits - 1));
@@ -649,9 +653,11 @@ std::uint8_t fallback_mask(const DriveTorques& torques) noexcept {
 /// Wheel i's couple T / (m g cos(pitch) cos(roll)) in metres; zero where its
 /// torque is not usable. Raises overflow in `st` when it leaves P (in Q6.25:
 /// more than 64 m times the normal weight).
+/// Forced inline: the caller chooses between this and couple_of's call
+/// (couple).
 template <typename P>
-P couple_of(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, const GravityFrame& g,
-            fx::Status& st) noexcept {
+SW_FX_INLINE P couple_in_place(const DriveTorques& torques, std::uint32_t i, const Body<P>& body,
+                               const GravityFrame& g, fx::Status& st) noexcept {
   if (!torques.usable[i]) {
     return P::zero();
   }
@@ -659,13 +665,33 @@ P couple_of(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, c
   return over(per_weight, g.inv_normal_fraction, st);
 }
 
+/// couple_in_place as one function per format.
+template <typename P>
+P couple_of(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, const GravityFrame& g,
+            fx::Status& st) noexcept {
+  return couple_in_place(torques, i, body, g, st);
+}
+
+/// Wheel i's couple: in place where the quotients are (kQuotientsInline, in
+/// every cycle's pass: six calls' arguments and frames less per cycle), else
+/// couple_of's call.
+template <typename P>
+SW_FX_INLINE P couple(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, const GravityFrame& g,
+                      fx::Status& st) noexcept {
+  if constexpr (kEveryCycle<P> && kQuotientsInline) {
+    return couple_in_place(torques, i, body, g, st);
+  } else {
+    return couple_of(torques, i, body, g, st);
+  }
+}
+
 /// The couples of the side whose first wheel is `first`, each projected from
 /// its axle where its torque is usable, from its contact where not.
 template <typename P>
 SideTorques<P> side_torques(const DriveTorques& torques, std::uint32_t first, const Body<P>& body,
                             const GravityFrame& g, fx::Status& st) noexcept {
-  return SideTorques<P>{{couple_of(torques, first, body, g, st), couple_of(torques, first + 1U, body, g, st),
-                         couple_of(torques, first + 2U, body, g, st)},
+  return SideTorques<P>{{couple(torques, first, body, g, st), couple(torques, first + 1U, body, g, st),
+                         couple(torques, first + 2U, body, g, st)},
                         {torques.usable[first], torques.usable[first + 1U], torques.usable[first + 2U]}};
 }
 
@@ -686,9 +712,10 @@ std::uint32_t lowest_share(const Shares<P>& support) noexcept {
 /// at most the weight, within Q15.16 whatever it is: fx::mul's bits as a
 /// bounded product (fx::Bounded), with no check of the format's limits and,
 /// in every cycle's pass, no call (fx::mul<LoadQ>'s call and check were six
-/// per cycle before).
+/// per cycle before). Forced inline: called, the six products cost the
+/// Cortex-M4 12 instructions and the Cortex-M0 39 more per step.
 template <typename P>
-WheelLoadN load_of(P share, LoadQ weight_normal) noexcept {
+SW_FX_INLINE WheelLoadN load_of(P share, LoadQ weight_normal) noexcept {
   using Share = fx::Bounded<P, bound_in<P>(1.0)>;
   using Weight = fx::Bounded<LoadQ, fx::kMaxBound>;
   return WheelLoadN{
@@ -738,7 +765,7 @@ WheelLoadResult loads_in(const StaticsConstants<P>& k, const CycleTrig& trig, An
   // The flags of the trigonometry first, as when each pass computed its own.
   fx::Status st = trig.status;
   const GravityFrame& g = trig.gravity;
-  const Body<P> body = body_of<P>(k, g, st);
+  const Body<P> body = body_of<P>(k, g);
   fx::Status couple_st;
   const SideTorques<P> tq[kSideCount] = {side_torques(torques, 0U, body, g, couple_st),
                                          side_torques(torques, 3U, body, g, couple_st)};

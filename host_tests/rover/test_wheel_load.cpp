@@ -917,6 +917,25 @@ TEST(StaticsArithmetic, BoundedLoadIsTheCheckedProduct) {
   compare_bounded_loads<P>(rng, 300000);
   compare_bounded_loads<flight::StaticsMidQ>(rng, 100000);
   compare_bounded_loads<flight::StaticsCoarseQ>(rng, 100000);
+  // The normal weight (wheel_load.cpp's body_of): a weight of at most
+  // kWeightBound times any Q1.30 value but INT32_MIN, in place and called.
+  using Weight = fx::Bounded<flight::LoadQ, flight::kWeightBound>;
+  using Fraction = fx::Bounded<fx::Q1_30, fx::kMaxBound>;
+  for (int trial = 0; trial < 300000; ++trial) {
+    const auto w = static_cast<std::int32_t>(rng() % (std::uint64_t{flight::kWeightBound} + 1U));
+    auto f = static_cast<std::int32_t>(rng()) >> static_cast<std::uint32_t>(rng() % 32U);
+    f = ((trial % 5) == 0) ? (0x7FFFFFFF - (trial % 7)) * (((trial % 2) == 0) ? 1 : -1) : f;
+    const auto weight = ((trial % 11) == 0) ? static_cast<std::int32_t>(flight::kWeightBound) : w;
+    fx::Status st;
+    const flight::LoadQ checked = fx::mul<flight::LoadQ>(flight::LoadQ::from_raw(weight), fx::Q1_30::from_raw(f), st);
+    ASSERT_TRUE(st.ok()) << weight << " * " << f;
+    ASSERT_EQ((fx::mul<flight::LoadQ, fx::Rounding::inlined>(Weight::trusted(weight), Fraction::trusted(f)).raw()),
+              checked.raw())
+        << weight << " * " << f;
+    ASSERT_EQ((fx::mul<flight::LoadQ, fx::Rounding::called>(Weight::trusted(weight), Fraction::trusted(f)).raw()),
+              checked.raw())
+        << weight << " * " << f;
+  }
   // Ties of the rounding's half: share 2^-1 LSB multiples times odd weights.
   for (std::int32_t w = 1; w < 5000; w += 2) {
     expect_bounded_load_is_checked_product<P, fx::Rounding::inlined>(1 << 24, w);

@@ -60,6 +60,9 @@ constexpr std::uint32_t bound_in(double metres) noexcept {
 /// track of at most 4 m), exact on every grid, so rounding stays within it.
 template <typename P>
 constexpr std::uint32_t kLinkBound = bound_in<P>(limits::kMaxLinkM);
+/// The weight m g: at most kMaxMassKg kMaxGravityMps2 (10 kN, exact in
+/// Q15.16), which its rounding cannot pass.
+inline constexpr std::uint32_t kWeightBound = bound_in<LoadQ>(limits::kMaxMassKg * limits::kMaxGravityMps2);
 /// The wheel radius: at most kMaxWheelRadiusM (1 m).
 template <typename P>
 constexpr std::uint32_t kRadiusBound = bound_in<P>(limits::kMaxWheelRadiusM);
@@ -82,7 +85,7 @@ struct StaticsConstants {
   StaticsLength<P> com_x;                        ///< the centre of mass, body frame
   StaticsLength<P> com_y;
   StaticsLength<P> com_z;
-  WheelLoadN weight_n;                  ///< m g, newtons (Q15.16, rounded once)
+  fx::Bounded<LoadQ, kWeightBound> weight_n;  ///< m g, newtons (Q15.16, rounded once)
   fx::NormalisedReciprocal inv_weight;  ///< 1 / (m g), from the exact product of mass and gravity
 };
 
