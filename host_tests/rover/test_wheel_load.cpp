@@ -19,6 +19,7 @@
 #include "sinkwatch/fixedpoint/bounded.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/reciprocal.hpp"
+#include "sinkwatch/fixedpoint/trig.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
 #include "sinkwatch/ground/rover_loads.hpp"
 #include "../flight/table_bytes.hpp"
@@ -940,6 +941,32 @@ TEST(StaticsArithmetic, BoundedLoadIsTheCheckedProduct) {
   for (std::int32_t w = 1; w < 5000; w += 2) {
     expect_bounded_load_is_checked_product<P, fx::Rounding::inlined>(1 << 24, w);
     expect_bounded_load_is_checked_product<P, fx::Rounding::inlined>(3 << 23, w);
+  }
+}
+
+/// Whether fx::bound_sincos would leave fx::sincos(raw) as it is: its
+/// magnitudes at most 2^30 and no flag (wheel_load.cpp's unit_sincos takes
+/// the values without the tests).
+bool sincos_within_one(std::int32_t raw) {
+  fx::Status st;
+  const fx::SinCos sc = fx::sincos(fx::Q3_28::from_raw(raw), st);
+  const fx::BoundedSinCos bounded = fx::bound_sincos(sc, st);
+  return st.ok() && (bounded.sin.raw() == sc.sin.raw()) && (bounded.cos.raw() == sc.cos.raw());
+}
+
+TEST(StaticsArithmetic, JointSinesAndCosinesAreWithinOne) {
+  // The joints' range: |rocker + bogie| <= 2 x 0.8 rad (kMaxJointLimitRad),
+  // sampled every 97 LSB, and every angle within 2^18 LSB (1 mrad) of the
+  // places where a sine or a cosine is one (0 and +-pi/2) and of the ends.
+  constexpr std::int32_t kLimit = 429496730;  // 1.6 rad in Q3.28
+  constexpr std::int32_t kHalfPi = 421657428;  // pi/2 in Q3.28, rounded
+  for (std::int32_t raw = -kLimit; raw <= kLimit; raw += 97) {
+    ASSERT_TRUE(sincos_within_one(raw)) << raw;
+  }
+  for (const std::int32_t centre : {-kLimit, -kHalfPi, 0, kHalfPi, kLimit}) {
+    for (std::int32_t d = -(1 << 18); d <= (1 << 18); ++d) {
+      ASSERT_TRUE(sincos_within_one(centre + d)) << centre + d;
+    }
   }
 }
 
