@@ -260,10 +260,12 @@ SW_FX_INLINE P minus(P a, P b, fx::Status& st) noexcept {
 /// the wider passes fx::mul's call.
 template <typename P>
 SW_FX_INLINE P times(P a, P b, fx::Status& st) noexcept {
-  if constexpr (kEveryCycle<P> && fx::wide::kMul32x32BySoftware) {
-    return P::from_raw(detail::product_checked_by_words<P::frac_bits>(a.raw(), b.raw(), st));
-  } else if constexpr (kEveryCycle<P>) {
-    return P::from_raw(detail::product_checked_accumulated<P::frac_bits>(a.raw(), b.raw(), st));
+  if constexpr (kEveryCycle<P>) {
+    if constexpr (fx::wide::kMul32x32BySoftware) {
+      return P::from_raw(detail::product_checked_by_words<P::frac_bits>(a.raw(), b.raw(), st));
+    } else {
+      return P::from_raw(detail::product_checked_accumulated<P::frac_bits>(a.raw(), b.raw(), st));
+    }
   } else {
     return fx::mul(a, b, st);
   }

@@ -184,7 +184,7 @@ constexpr std::int32_t product_checked_by_words(std::int32_t a, std::int32_t b, 
 template <std::int32_t Shift>
 SW_FX_INLINE constexpr std::int64_t rounding_addend(std::int32_t a, std::int32_t b) noexcept {
   static_assert((Shift > 0) && (Shift < 32), "a product rounded by a right shift of 1 to 31 bits");
-  const std::uint32_t signs_differ = static_cast<std::uint32_t>(a ^ b) >> 31U;
+  const std::uint32_t signs_differ = (static_cast<std::uint32_t>(a) ^ static_cast<std::uint32_t>(b)) >> 31U;
   return static_cast<std::int64_t>((std::uint32_t{1U} << static_cast<std::uint32_t>(Shift - 1)) - signs_differ);
 }
 
@@ -284,8 +284,11 @@ SW_FX_INLINE constexpr Out quotient_inline(fx::Q<std::int32_t, Fx> x, fx::Normal
 /// fx::normalised_reciprocal of a 32-bit Q value: its normalisation in
 /// 32-bit words (the general form's 64-bit one costs the Cortex-M0 a
 /// 64-bit bit count and a library shift), the same mantissa and scale.
+/// Forced inline (seven per cycle, the division itself a call): 31
+/// instructions per step fewer on the Cortex-M4, 93 and 24 B of stack fewer
+/// on the Cortex-M0 (round 14).
 template <std::int32_t F>
-[[nodiscard]] constexpr fx::NormalisedReciprocal reciprocal_of(fx::Q<std::int32_t, F> d) noexcept {
+[[nodiscard]] SW_FX_INLINE constexpr fx::NormalisedReciprocal reciprocal_of(fx::Q<std::int32_t, F> d) noexcept {
   if (d.raw() <= 0) {
     return fx::NormalisedReciprocal{};
   }
