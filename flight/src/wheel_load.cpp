@@ -113,7 +113,7 @@ StaticsConstants<P> constants_in(const RoverParams& params, fx::Status& st) noex
       link_length<P>(params.com_x_m, st),
       link_length<P>(params.com_y_m, st),
       link_length<P>(params.com_z_m, st),
-      WheelLoadN{fx::mul<LoadQ>(params.mass_kg.q(), params.gravity_mps2.q(), st)},
+      fx::bound_to<kWeightBound>(fx::mul<LoadQ>(params.mass_kg.q(), params.gravity_mps2.q(), st), st),
       fx::normalised_reciprocal(
           static_cast<std::uint64_t>(params.mass_kg.raw()) * static_cast<std::uint64_t>(params.gravity_mps2.raw()),
           kWeightFracBits)};
@@ -139,10 +139,35 @@ template <typename P>
 constexpr fx::Rounding kProjectionRounding{fx::wide::kMul32x32BySoftware ? fx::Rounding::called
                                                                           : kRotationRounding<P>};
 
+/// a b in Out as fx::mul<Out, Where> (fx::Bounded's product: the same type,
+/// bound and bits). Inlined where the core has a widening multiply by one
+/// multiply-accumulate (detail::product_rounded_accumulated: an instruction
+/// fewer per product, about 50 per cycle on the Cortex-M4).
+template <typename Out, fx::Rounding Where, typename QA, std::uint32_t A, typename QB, std::uint32_t B>
+SW_FX_INLINE auto product(fx::Bounded<QA, A> a, fx::Bounded<QB, B> b) noexcept {
+  using Result = decltype(fx::mul<Out, Where>(a, b));
+  if constexpr ((Where == fx::Rounding::inlined) && !fx::wide::kMul32x32BySoftware) {
+    constexpr std::int32_t kShift = (QA::frac_bits + QB::frac_bits) - Out::frac_bits;
+    return Result::trusted(detail::product_rounded_accumulated<kShift>(a.raw(), b.raw()));
+  } else {
+    return fx::mul<Out, Where>(a, b);
+  }
+}
+
+/// fx::rotated's point (x cos - z sin, x sin + z cos), its products as
+/// product()'s.
+template <fx::Rounding Where, typename P, std::uint32_t M>
+SW_FX_INLINE void rotate(fx::BoundedPoint<P, M> p, fx::BoundedSinCos sc,
+                         fx::BoundedPoint<P, static_cast<std::uint32_t>(fx::detail::kRotatedBound<M>)>& out) noexcept {
+  using Out = fx::Bounded<P, static_cast<std::uint32_t>(fx::detail::kRotatedBound<M>)>;
+  out.x = Out::trusted(fx::sub(product<P, Where>(p.x, sc.cos), product<P, Where>(p.z, sc.sin)).raw());
+  out.z = Out::trusted(fx::add(product<P, Where>(p.x, sc.sin), product<P, Where>(p.z, sc.cos)).raw());
+}
+
 /// v - z k: the coordinate of a point projected along gravity (section 3.2).
 template <typename P, std::uint32_t V, std::uint32_t Z, std::uint32_t KB>
 auto project(fx::Bounded<P, V> v, fx::Bounded<P, Z> z, fx::Bounded<K, KB> k) noexcept {
-  return fx::sub(v, fx::mul<P, kProjectionRounding<P>>(z, k));
+  return fx::sub(v, product<P, kProjectionRounding<P>>(z, k));
 }
 
 WheelLoadResult failed(WheelLoadStatus status) noexcept {
@@ -229,16 +254,46 @@ SW_FX_INLINE P minus(P a, P b, fx::Status& st) noexcept {
 
 /// a b, checked: fx::mul's bits and flags. In every cycle's pass on ARMv6-M
 /// by 32-bit words (detail::product_checked_by_words: the Cortex-M0 runs 106
-/// instructions fewer per step), else fx::mul's call (inlining its SMULL
-/// form in that pass took 53 instructions off the Cortex-M4's step for 388
-/// bytes of flash: not kept).
+/// instructions fewer per step), elsewhere by one multiply-accumulate in
+/// place (detail::product_checked_accumulated: 13 products, about 110
+/// instructions fewer per step on the Cortex-M4 than fx::mul's call); in
+/// the wider passes fx::mul's call.
 template <typename P>
 SW_FX_INLINE P times(P a, P b, fx::Status& st) noexcept {
-  if constexpr (kEveryCycle<P> && fx::wide::kMul32x32BySoftware) {
-    return P::from_raw(detail::product_checked_by_words<P::frac_bits>(a.raw(), b.raw(), st));
+  if constexpr (kEveryCycle<P>) {
+    if constexpr (fx::wide::kMul32x32BySoftware) {
+      return P::from_raw(detail::product_checked_by_words<P::frac_bits>(a.raw(), b.raw(), st));
+    } else {
+      return P::from_raw(detail::product_checked_accumulated<P::frac_bits>(a.raw(), b.raw(), st));
+    }
   } else {
     return fx::mul(a, b, st);
   }
+}
+
+/// Whether the every-cycle quotients run in their caller
+/// (detail::quotient_inline): where the core has a widening multiply, whose
+/// quotient is about 20 instructions in place against 27 and a call's
+/// arguments (the Cortex-M4); the one function on ARMv6-M, whose
+/// quotient_raw is too large to copy.
+constexpr bool kQuotientsInline{!fx::wide::kMul32x32BySoftware};
+
+/// x / d in Out from d's reciprocal r (detail::quotient's bits and flags):
+/// in the caller in every cycle's pass where kQuotientsInline, else
+/// detail::quotient_raw's call.
+template <typename Out, bool EveryCycle, std::int32_t Fx>
+SW_FX_INLINE Out quotient_in(fx::Q<std::int32_t, Fx> x, fx::NormalisedReciprocal r, fx::Status& st) noexcept {
+  if constexpr (EveryCycle && kQuotientsInline) {
+    return detail::quotient_inline<Out>(x, r, st);
+  } else {
+    return detail::quotient<Out>(x, r, st);
+  }
+}
+
+/// x / d in the pass's format P (quotient_in).
+template <typename P>
+SW_FX_INLINE P over(P x, fx::NormalisedReciprocal r, fx::Status& st) noexcept {
+  return quotient_in<P, kEveryCycle<P>>(x, r, st);
 }
 
 /// The lever quantities of one side (sections 3.3 to 3.5 and 12), in the
@@ -309,10 +364,10 @@ SideAxles<P> side_axles(const StaticsConstants<P>& k, const SideJoints& joints) 
   fx::BoundedPoint<P, kRotatedLink<P>> front{};
   fx::BoundedPoint<P, kRotatedLink<P>> middle{};
   fx::BoundedPoint<P, kRotatedLink<P>> rear{};
-  fx::rotated<kRotationRounding<P>>(k.rocker_bogie, rocker_sc, pivot);
-  fx::rotated<kRotationRounding<P>>(k.rocker_front, rocker_sc, front);
-  fx::rotated<kRotationRounding<P>>(k.bogie_middle, bogie_sc, middle);
-  fx::rotated<kRotationRounding<P>>(k.bogie_rear, bogie_sc, rear);
+  rotate<kRotationRounding<P>>(k.rocker_bogie, rocker_sc, pivot);
+  rotate<kRotationRounding<P>>(k.rocker_front, rocker_sc, front);
+  rotate<kRotationRounding<P>>(k.bogie_middle, bogie_sc, middle);
+  rotate<kRotationRounding<P>>(k.bogie_rear, bogie_sc, rear);
   return SideAxles<P>{pivot, front, sum(middle, pivot), sum(rear, pivot)};
 }
 
@@ -390,7 +445,9 @@ template <typename P>
   if ((lever < kLeverGuard<P>) || (span < kLeverGuard<P>)) {
     return SideLevers<P>{};
   }
-  // One division per lever, its quotients as products (section 12.5).
+  // One division per lever, its quotients as products (section 12.5). Both
+  // by quotient_raw's call on every core: in place (quotient_in) they took
+  // no more than 1 instruction per side off the Cortex-M4's step.
   const fx::NormalisedReciprocal inv_span = detail::reciprocal_of(span);
   const P beta = detail::quotient<P>(fx::sub(xt_b, xt_r).q(), inv_span, st);
   const ContactHeights<P> z{contact_z(axles.front, k.wheel_radius), contact_z(axles.middle, k.wheel_radius),
@@ -427,9 +484,9 @@ GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexce
   // Built whole (no zeroed frame filled in: a memset on the Cortex-M0).
   const fx::Q1_30 normal_fraction = fx::mul(pitch_sc.cos, roll_sc.cos, st);
   const fx::NormalisedReciprocal inv_normal_fraction = detail::reciprocal_of(normal_fraction);
-  const Kx kx = fx::bound_to<kKxBound>(detail::quotient<K>(pitch_sc.sin, inv_normal_fraction, st), st);
+  const Kx kx = fx::bound_to<kKxBound>(quotient_in<K, true>(pitch_sc.sin, inv_normal_fraction, st), st);
   const Ky ky =
-      fx::bound_to<kKyBound>(detail::quotient<K>(roll_sc.sin, detail::reciprocal_of(roll_sc.cos), st), st);
+      fx::bound_to<kKyBound>(quotient_in<K, true>(roll_sc.sin, detail::reciprocal_of(roll_sc.cos), st), st);
   return GravityFrame{pitch_sc.sin, normal_fraction, inv_normal_fraction, kx, ky};
 }
 
@@ -445,12 +502,24 @@ struct CycleTrig {
   fx::Status status;
 };
 
+/// fx::sincos's sine and cosine as the bounded values of fx::bound_sincos,
+/// without its four tests: fx::sincos gives magnitudes of at most 2^30
+/// (fx::detail::trig::signed_q1_30's contract), so the tests never fire. A
+/// run over every Q3.28 angle of the joints' range (|rocker + bogie| <= 1.6
+/// rad, 8.6 10^8 angles, round 14) found none beyond; test_wheel_load
+/// (StaticsArithmetic.JointSinesAndCosinesAreWithinOne) samples it. 64
+/// instructions per step fewer on the Cortex-M4.
+fx::BoundedSinCos unit_sincos(fx::SinCos sc) noexcept {
+  using Unit = fx::Bounded<fx::Q1_30, 0x40000000U>;
+  return fx::BoundedSinCos{Unit::trusted(sc.sin.raw()), Unit::trusted(sc.cos.raw())};
+}
+
 SideJoints side_joints(AngleRad rocker_rad, AngleRad bogie_rad, fx::Status& st) noexcept {
   const fx::Q3_28 rocker = rocker_rad.q();
   // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
   const fx::Q3_28 bogie_abs = fx::add(rocker, bogie_rad.q(), st);
   // One range reduction per angle (fx::sincos), the bits of sin and cos apart.
-  return SideJoints{fx::bound_sincos(fx::sincos(rocker, st), st), fx::bound_sincos(fx::sincos(bogie_abs, st), st)};
+  return SideJoints{unit_sincos(fx::sincos(rocker, st)), unit_sincos(fx::sincos(bogie_abs, st))};
 }
 
 /// Out of line: its sines and cosines stay off the stack of the passes.
@@ -476,13 +545,17 @@ struct Body {
 };
 
 template <typename P>
-Body<P> body_of(const StaticsConstants<P>& k, const GravityFrame& g, fx::Status& st) noexcept {
-  const WheelLoadN weight_normal_n{fx::mul<LoadQ>(k.weight_n.q(), g.normal_fraction, st)};
+Body<P> body_of(const StaticsConstants<P>& k, const GravityFrame& g) noexcept {
+  // The weight (at most 10 kN) times any Q1.30 value fits Q15.16: fx::mul's
+  // bits as a bounded product, with no check of the format's limits.
+  using Fraction = fx::Bounded<fx::Q1_30, fx::kMaxBound>;
+  const WheelLoadN weight_normal_n{
+      product<LoadQ, kRotationRounding<P>>(k.weight_n, Fraction::trusted(g.normal_fraction.raw())).q()};
   const auto com_xt = project(k.com_x, k.com_z, g.kx);
   const auto com_yt = project(k.com_y, k.com_z, g.ky);
   constexpr auto kHalfRaw = static_cast<std::int32_t>(1U << static_cast<std::uint32_t>(P::frac_bits - 1));
   return Body<P>{weight_normal_n, k.inv_weight, com_yt.q(),
-                 fx::mul<P, kProjectionRounding<P>>(fx::bounded_raw<P, kHalfRaw>(), com_xt).q()};
+                 product<P, kProjectionRounding<P>>(fx::bounded_raw<P, kHalfRaw>(), com_xt).q()};
 }
 
 /// Each side's pivot moment less its front couple, M - t_front (section 12).
@@ -498,18 +571,22 @@ struct Lateral {
   P y;
 };
 
+/// Forced inline, as plus_torque_terms: the two of them in their caller took
+/// 31 instructions off the Cortex-M4's step and 63 off the Cortex-M0's, with
+/// the same stack (side_shares inlined too: 10 fewer on the M4, 1 more on the
+/// M0 and 32 B more stack: not done).
 template <typename P>
-Lateral<P> lateral_of(const SideLevers<P>& side, fx::Status& st) noexcept {
+SW_FX_INLINE Lateral<P> lateral_of(const SideLevers<P>& side, fx::Status& st) noexcept {
   // Y_s = (b y~_F + a y~_bog) / (a + b) = y~_bog + b Z_s: no product of two
   // lengths is formed (section 7.4), so Y_s stays within Q6.25.
-  const P z = detail::quotient<P>(minus(side.yt_front, side.yt_bogie, st), side.lever, st);
+  const P z = over(minus(side.yt_front, side.yt_bogie, st), side.lever, st);
   return Lateral<P>{z, plus(side.yt_bogie, times(side.b, z, st), st)};
 }
 
 /// The torque terms so far plus side s's q_s - t_front,s Z_s, added in that
 /// order (each step saturates).
 template <typename P>
-P plus_torque_terms(P terms, const SideLevers<P>& side, P z, fx::Status& st) noexcept {
+SW_FX_INLINE P plus_torque_terms(P terms, const SideLevers<P>& side, P z, fx::Status& st) noexcept {
   const P with_shift = plus(terms, times(side.bogie_shift, side.yt_rear_minus_middle, st), st);
   return minus(with_shift, times(side.front_couple, z, st), st);
 }
@@ -542,7 +619,7 @@ LeftTotal<P> left_side_total(const SideLevers<P> (&side)[kSideCount], const Body
       minus(minus(minus(body.com_yt, times(body.pivot_moment, plus(left.z, right.z, st), st), st), torque_terms, st),
             right.y, st);
   const bool clean_to_shares = st.ok();
-  return LeftTotal<P>{detail::quotient<P>(roll_moment, detail::reciprocal_of(lateral_span), st), false,
+  return LeftTotal<P>{over(roll_moment, detail::reciprocal_of(lateral_span), st), false,
                       clean_to_shares};
 }
 
@@ -557,7 +634,7 @@ struct SideShares {
 /// The rocker and the bogie of one side carrying `side_total`.
 template <typename P>
 SideShares<P> side_shares(const SideLevers<P>& side, const Body<P>& body, P side_total, fx::Status& st) noexcept {
-  const P front = detail::quotient<P>(
+  const P front = over(
       plus(side_moment(body, side, st), times(side.b, side_total, st), st), side.lever, st);
   const P bogie = minus(side_total, front, st);
   const P middle = minus(times(side.beta, bogie, st), side.bogie_shift, st);
@@ -594,14 +671,36 @@ std::uint8_t fallback_mask(const DriveTorques& torques) noexcept {
 /// Wheel i's couple T / (m g cos(pitch) cos(roll)) in metres; zero where its
 /// torque is not usable. Raises overflow in `st` when it leaves P (in Q6.25:
 /// more than 64 m times the normal weight).
+/// Forced inline: the caller chooses between this and couple_of's call
+/// (couple).
 template <typename P>
-P couple_of(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, const GravityFrame& g,
-            fx::Status& st) noexcept {
+SW_FX_INLINE P couple_in_place(const DriveTorques& torques, std::uint32_t i, const Body<P>& body,
+                               const GravityFrame& g, fx::Status& st) noexcept {
   if (!torques.usable[i]) {
     return P::zero();
   }
-  const P per_weight = detail::quotient<P>(torques.torque_nm[i].q(), body.inv_weight, st);
-  return detail::quotient<P>(per_weight, g.inv_normal_fraction, st);
+  const P per_weight = quotient_in<P, kEveryCycle<P>>(torques.torque_nm[i].q(), body.inv_weight, st);
+  return over(per_weight, g.inv_normal_fraction, st);
+}
+
+/// couple_in_place as one function per format.
+template <typename P>
+P couple_of(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, const GravityFrame& g,
+            fx::Status& st) noexcept {
+  return couple_in_place(torques, i, body, g, st);
+}
+
+/// Wheel i's couple: in place where the quotients are (kQuotientsInline, in
+/// every cycle's pass: six calls' arguments and frames less per cycle), else
+/// couple_of's call.
+template <typename P>
+SW_FX_INLINE P couple(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, const GravityFrame& g,
+                      fx::Status& st) noexcept {
+  if constexpr (kEveryCycle<P> && kQuotientsInline) {
+    return couple_in_place(torques, i, body, g, st);
+  } else {
+    return couple_of(torques, i, body, g, st);
+  }
 }
 
 /// The couples of the side whose first wheel is `first`, each projected from
@@ -609,8 +708,8 @@ P couple_of(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, c
 template <typename P>
 SideTorques<P> side_torques(const DriveTorques& torques, std::uint32_t first, const Body<P>& body,
                             const GravityFrame& g, fx::Status& st) noexcept {
-  return SideTorques<P>{{couple_of(torques, first, body, g, st), couple_of(torques, first + 1U, body, g, st),
-                         couple_of(torques, first + 2U, body, g, st)},
+  return SideTorques<P>{{couple(torques, first, body, g, st), couple(torques, first + 1U, body, g, st),
+                         couple(torques, first + 2U, body, g, st)},
                         {torques.usable[first], torques.usable[first + 1U], torques.usable[first + 2U]}};
 }
 
@@ -626,10 +725,19 @@ std::uint32_t lowest_share(const Shares<P>& support) noexcept {
   return lowest;
 }
 
-/// A wheel's share times the normal weight.
+/// A wheel's share times the normal weight, for a share in [0, 1] (a clean
+/// pass's: normal_loads) and a weight of at least zero. The product is then
+/// at most the weight, within Q15.16 whatever it is: fx::mul's bits as a
+/// bounded product (fx::Bounded), with no check of the format's limits and,
+/// in every cycle's pass, no call (fx::mul<LoadQ>'s call and check were six
+/// per cycle before). Forced inline: called, the six products cost the
+/// Cortex-M4 12 instructions and the Cortex-M0 39 more per step.
 template <typename P>
-WheelLoadN load_of(P share, LoadQ weight_normal, fx::Status& st) noexcept {
-  return WheelLoadN{fx::mul<LoadQ>(share, weight_normal, st)};
+SW_FX_INLINE WheelLoadN load_of(P share, LoadQ weight_normal) noexcept {
+  using Share = fx::Bounded<P, bound_in<P>(1.0)>;
+  using Weight = fx::Bounded<LoadQ, fx::kMaxBound>;
+  return WheelLoadN{
+      product<LoadQ, kRotationRounding<P>>(Share::trusted(share.raw()), Weight::trusted(weight_normal.raw())).q()};
 }
 
 /// The normal loads (each wheel's share times the normal weight): tip_over
@@ -654,9 +762,9 @@ WheelLoadResult normal_loads(const Shares<P>& support, const Body<P>& body, cons
   // overflow, and the result is built whole (a zeroed one filled in is a
   // memset).
   const LoadQ weight = body.weight_normal_n.q();
-  return WheelLoadResult{{load_of(support.share[0], weight, st), load_of(support.share[1], weight, st),
-                          load_of(support.share[2], weight, st), load_of(support.share[3], weight, st),
-                          load_of(support.share[4], weight, st), load_of(support.share[5], weight, st)},
+  return WheelLoadResult{{load_of(support.share[0], weight), load_of(support.share[1], weight),
+                          load_of(support.share[2], weight), load_of(support.share[3], weight),
+                          load_of(support.share[4], weight), load_of(support.share[5], weight)},
                          body.weight_normal_n,
                          kWheelCount,
                          pitch_rad,
@@ -675,7 +783,7 @@ WheelLoadResult loads_in(const StaticsConstants<P>& k, const CycleTrig& trig, An
   // The flags of the trigonometry first, as when each pass computed its own.
   fx::Status st = trig.status;
   const GravityFrame& g = trig.gravity;
-  const Body<P> body = body_of<P>(k, g, st);
+  const Body<P> body = body_of<P>(k, g);
   fx::Status couple_st;
   const SideTorques<P> tq[kSideCount] = {side_torques(torques, 0U, body, g, couple_st),
                                          side_torques(torques, 3U, body, g, couple_st)};
@@ -752,7 +860,9 @@ WheelLoadResult failed_at(PassOutcome outcome) noexcept {
 WheelLoadResult loads_of_valid(const RoverStatics& constants, const CycleTrig& trig, AngleRad pitch_rad,
                                const DriveTorques& torques, bool& beyond_every_format) noexcept {
   beyond_every_format = false;
-  const WheelLoadResult fine = loads_in<Fine>(constants.fine, trig, pitch_rad, torques);
+  // Every return is of `fine`, so that it is built in the caller's result
+  // (a copy of 44 bytes per cycle on the path of every cycle before).
+  WheelLoadResult fine = loads_in<Fine>(constants.fine, trig, pitch_rad, torques);
   if (fine.status != WheelLoadStatus::overflow) {
     return fine;
   }
@@ -760,7 +870,8 @@ WheelLoadResult loads_of_valid(const RoverStatics& constants, const CycleTrig& t
   // wheel are kept (a whole result each stayed on the stack).
   const PassOutcome mid = outcome_of(loads_in<Mid>(constants.mid, trig, pitch_rad, torques));
   if ((mid.status == WheelLoadStatus::tip_over) || (mid.status == WheelLoadStatus::degenerate)) {
-    return failed_at(mid);
+    fine = failed_at(mid);
+    return fine;
   }
   // Q10.21 ok: its loads are too coarse to be taken, and fine's overflow
   // stands (the coarse pass is not run; fine's outcome is no tip-over).
@@ -768,14 +879,16 @@ WheelLoadResult loads_of_valid(const RoverStatics& constants, const CycleTrig& t
   const PassOutcome coarse =
       coarse_run ? outcome_of(loads_in<Coarse>(constants.coarse, trig, pitch_rad, torques)) : outcome_of(fine);
   if (coarse.status == WheelLoadStatus::tip_over) {
-    return failed_at(coarse);
+    fine = failed_at(coarse);
+    return fine;
   }
   if ((mid.status == WheelLoadStatus::overflow) && (mid.lifting_wheel < kWheelCount)) {
     // Q10.21 checked its lateral span with a clean status and only its side
     // totals or shares overflowed: a tip-over, whatever Q15.16's coarser
     // span said (with bogie spans of 1.8 mm it read -0.044 m where Q10.21
     // read 0.066 m; the sixth fuzz finding of session 14).
-    return failed_at(PassOutcome{WheelLoadStatus::tip_over, mid.lifting_wheel});
+    fine = failed_at(PassOutcome{WheelLoadStatus::tip_over, mid.lifting_wheel});
+    return fine;
   }
   beyond_every_format = (mid.status == WheelLoadStatus::overflow) && (coarse.status == WheelLoadStatus::overflow);
   return fine;

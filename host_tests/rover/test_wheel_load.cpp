@@ -16,8 +16,10 @@
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/rover_statics.hpp"
+#include "sinkwatch/fixedpoint/bounded.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/reciprocal.hpp"
+#include "sinkwatch/fixedpoint/trig.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
 #include "sinkwatch/ground/rover_loads.hpp"
 #include "../flight/table_bytes.hpp"
@@ -812,17 +814,61 @@ int compare_checked_products(std::mt19937_64& rng, int trials) {
       b = static_cast<std::int32_t>(std::min<std::uint64_t>(near, 0x7FFFFFFFU)) * (((rng() % 2U) == 0U) ? 1 : -1);
     }
     fx::Status words;
+    fx::Status accumulated;
     fx::Status general;
     const std::int32_t q = flight::detail::product_checked_by_words<kShift>(a, b, words);
+    const std::int32_t q_acc = flight::detail::product_checked_accumulated<kShift>(a, b, accumulated);
     const Out expected = fx::mul<Out>(fx::Q<std::int32_t, Fa>::from_raw(a), fx::Q<std::int32_t, Fb>::from_raw(b), general);
     EXPECT_EQ(q, expected.raw()) << a << " * " << b;
     EXPECT_EQ(words.bits(), general.bits()) << a << " * " << b;
-    if (q != expected.raw()) {
+    EXPECT_EQ(q_acc, expected.raw()) << a << " * " << b;
+    EXPECT_EQ(accumulated.bits(), general.bits()) << a << " * " << b;
+    if ((q != expected.raw()) || (q_acc != expected.raw())) {
       return -1;
     }
     saturated += general.has(fx::Flag::overflow) ? 1 : 0;
   }
   return saturated;
+}
+
+/// product_rounded_accumulated<Shift> against fx::Bounded's product
+/// (fx::detail::product_rounded_signed) for operands whose rounded product
+/// fits: of random lengths, and ties (b an odd multiple of half the
+/// result's LSB) of both signs.
+template <std::int32_t Shift>
+void compare_rounded_products(std::mt19937_64& rng, int trials) {
+  constexpr std::uint32_t kHalf = 1U << static_cast<std::uint32_t>(Shift - 1);
+  int compared = 0;
+  for (int trial = 0; trial < trials; ++trial) {
+    const auto a = static_cast<std::int32_t>(rng()) >> static_cast<std::uint32_t>(rng() % 32U);
+    auto b = static_cast<std::int32_t>(rng()) >> static_cast<std::uint32_t>(rng() % 32U);
+    if ((trial % 3) == 0) {
+      b = static_cast<std::int32_t>(kHalf * (1U + (2U * static_cast<std::uint32_t>(rng() % 2U)))) >>
+          static_cast<std::uint32_t>(rng() % 4U);
+      b = ((rng() % 2U) == 0U) ? b : -b;
+    }
+    const std::int64_t p = static_cast<std::int64_t>(a) * static_cast<std::int64_t>(b);
+    // Only products whose rounded value fits 32 bits (the bounded ones).
+    if ((p >= (std::int64_t{1} << (30 + Shift))) || (p <= -(std::int64_t{1} << (30 + Shift)))) {
+      continue;
+    }
+    ASSERT_EQ(flight::detail::product_rounded_accumulated<Shift>(a, b),
+              fx::detail::product_rounded_signed<Shift>(a, b))
+        << a << " * " << b;
+    ++compared;
+  }
+  EXPECT_GT(compared, trials / 4);
+}
+
+TEST(StaticsArithmetic, AccumulatedRoundingIsTheBoundedProducts) {
+  std::mt19937_64 rng(30U);
+  // The rotations (Q1.30 sines), the projections (Q3.28 slopes), the loads
+  // (Q6.25 shares) and the shifts' ends.
+  compare_rounded_products<30>(rng, 1000000);
+  compare_rounded_products<28>(rng, 1000000);
+  compare_rounded_products<25>(rng, 300000);
+  compare_rounded_products<1>(rng, 300000);
+  compare_rounded_products<31>(rng, 300000);
 }
 
 TEST(StaticsArithmetic, CheckedProductByWordsIsFxMulBitForBit) {
@@ -833,6 +879,95 @@ TEST(StaticsArithmetic, CheckedProductByWordsIsFxMulBitForBit) {
   // (a shift of 31 leaves Q31.0 only for operands near both ends: fewer)
   EXPECT_GT((compare_checked_products<fx::Q<std::int32_t, 0>, 16, 15>(rng, 300000)), 100);
   EXPECT_GT((compare_checked_products<fx::Q<std::int32_t, 10>, 20, 20>(rng, 300000)), 3000);
+}
+
+/// A load as wheel_load.cpp's load_of forms it (fx::Bounded's product of a
+/// share in [0, 1] and any weight of at least zero, in place or called)
+/// against fx::mul<LoadQ>'s checked product of the same two values.
+template <typename Share, fx::Rounding Where>
+void expect_bounded_load_is_checked_product(std::int32_t share_raw, std::int32_t weight_raw) {
+  using ShareB = fx::Bounded<Share, flight::bound_in<Share>(1.0)>;
+  using Weight = fx::Bounded<flight::LoadQ, fx::kMaxBound>;
+  fx::Status st;
+  const flight::LoadQ checked = fx::mul<flight::LoadQ>(Share::from_raw(share_raw), flight::LoadQ::from_raw(weight_raw), st);
+  const flight::LoadQ bounded =
+      fx::mul<flight::LoadQ, Where>(ShareB::trusted(share_raw), Weight::trusted(weight_raw)).q();
+  ASSERT_TRUE(st.ok()) << share_raw << " * " << weight_raw;
+  ASSERT_EQ(bounded.raw(), checked.raw()) << share_raw << " * " << weight_raw;
+}
+
+template <typename Share>
+void compare_bounded_loads(std::mt19937_64& rng, int trials) {
+  constexpr auto kOne = static_cast<std::int32_t>(flight::bound_in<Share>(1.0));
+  const std::int32_t edges[] = {0, 1, 2, kOne / 2, kOne - 1, kOne};
+  for (int trial = 0; trial < trials; ++trial) {
+    // Shares at the ends of [0, 1] and at random; weights of every length,
+    // up to Q15.16's largest, and odd ones (ties of the rounding's half).
+    const std::int32_t share = ((trial % 3) == 0) ? edges[static_cast<std::size_t>(trial / 3) % 6U]
+                                                  : static_cast<std::int32_t>(rng() % static_cast<std::uint64_t>(kOne + 1));
+    const std::uint32_t bits = static_cast<std::uint32_t>(rng() % 32U);
+    const auto weight = static_cast<std::int32_t>((rng() & ((std::uint64_t{1U} << bits) - 1U)) | ((trial % 4) == 1 ? 1U : 0U));
+    expect_bounded_load_is_checked_product<Share, fx::Rounding::inlined>(share, weight);
+    expect_bounded_load_is_checked_product<Share, fx::Rounding::called>(share, weight);
+    expect_bounded_load_is_checked_product<Share, fx::Rounding::inlined>(share, 0x7FFFFFFF - static_cast<std::int32_t>(trial % 5));
+  }
+}
+
+TEST(StaticsArithmetic, BoundedLoadIsTheCheckedProduct) {
+  std::mt19937_64 rng(31U);
+  compare_bounded_loads<P>(rng, 300000);
+  compare_bounded_loads<flight::StaticsMidQ>(rng, 100000);
+  compare_bounded_loads<flight::StaticsCoarseQ>(rng, 100000);
+  // The normal weight (wheel_load.cpp's body_of): a weight of at most
+  // kWeightBound times any Q1.30 value but INT32_MIN, in place and called.
+  using Weight = fx::Bounded<flight::LoadQ, flight::kWeightBound>;
+  using Fraction = fx::Bounded<fx::Q1_30, fx::kMaxBound>;
+  for (int trial = 0; trial < 300000; ++trial) {
+    const auto w = static_cast<std::int32_t>(rng() % (std::uint64_t{flight::kWeightBound} + 1U));
+    auto f = static_cast<std::int32_t>(rng()) >> static_cast<std::uint32_t>(rng() % 32U);
+    f = ((trial % 5) == 0) ? (0x7FFFFFFF - (trial % 7)) * (((trial % 2) == 0) ? 1 : -1) : f;
+    const auto weight = ((trial % 11) == 0) ? static_cast<std::int32_t>(flight::kWeightBound) : w;
+    fx::Status st;
+    const flight::LoadQ checked = fx::mul<flight::LoadQ>(flight::LoadQ::from_raw(weight), fx::Q1_30::from_raw(f), st);
+    ASSERT_TRUE(st.ok()) << weight << " * " << f;
+    ASSERT_EQ((fx::mul<flight::LoadQ, fx::Rounding::inlined>(Weight::trusted(weight), Fraction::trusted(f)).raw()),
+              checked.raw())
+        << weight << " * " << f;
+    ASSERT_EQ((fx::mul<flight::LoadQ, fx::Rounding::called>(Weight::trusted(weight), Fraction::trusted(f)).raw()),
+              checked.raw())
+        << weight << " * " << f;
+  }
+  // Ties of the rounding's half: share 2^-1 LSB multiples times odd weights.
+  for (std::int32_t w = 1; w < 5000; w += 2) {
+    expect_bounded_load_is_checked_product<P, fx::Rounding::inlined>(1 << 24, w);
+    expect_bounded_load_is_checked_product<P, fx::Rounding::inlined>(3 << 23, w);
+  }
+}
+
+/// Whether fx::bound_sincos would leave fx::sincos(raw) as it is: its
+/// magnitudes at most 2^30 and no flag (wheel_load.cpp's unit_sincos takes
+/// the values without the tests).
+bool sincos_within_one(std::int32_t raw) {
+  fx::Status st;
+  const fx::SinCos sc = fx::sincos(fx::Q3_28::from_raw(raw), st);
+  const fx::BoundedSinCos bounded = fx::bound_sincos(sc, st);
+  return st.ok() && (bounded.sin.raw() == sc.sin.raw()) && (bounded.cos.raw() == sc.cos.raw());
+}
+
+TEST(StaticsArithmetic, JointSinesAndCosinesAreWithinOne) {
+  // The joints' range: |rocker + bogie| <= 2 x 0.8 rad (kMaxJointLimitRad),
+  // sampled every 97 LSB, and every angle within 2^18 LSB (1 mrad) of the
+  // places where a sine or a cosine is one (0 and +-pi/2) and of the ends.
+  constexpr std::int32_t kLimit = 429496730;  // 1.6 rad in Q3.28
+  constexpr std::int32_t kHalfPi = 421657428;  // pi/2 in Q3.28, rounded
+  for (std::int32_t raw = -kLimit; raw <= kLimit; raw += 97) {
+    ASSERT_TRUE(sincos_within_one(raw)) << raw;
+  }
+  for (const std::int32_t centre : {-kLimit, -kHalfPi, 0, kHalfPi, kLimit}) {
+    for (std::int32_t d = -(1 << 18); d <= (1 << 18); ++d) {
+      ASSERT_TRUE(sincos_within_one(centre + d)) << centre + d;
+    }
+  }
 }
 
 TEST(StaticsArithmetic, ReciprocalOfAQIsTheNormalisedReciprocal) {
