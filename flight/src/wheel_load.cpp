@@ -139,35 +139,20 @@ template <typename P>
 constexpr fx::Rounding kProjectionRounding{fx::wide::kMul32x32BySoftware ? fx::Rounding::called
                                                                           : kRotationRounding<P>};
 
-/// a b in Out as fx::mul<Out, Where> (fx::Bounded's product: the same type,
-/// bound and bits). Inlined where the core has a widening multiply by one
-/// multiply-accumulate (detail::product_rounded_accumulated: an instruction
-/// fewer per product, about 50 per cycle on the Cortex-M4).
-template <typename Out, fx::Rounding Where, typename QA, std::uint32_t A, typename QB, std::uint32_t B>
-SW_FX_INLINE auto product(fx::Bounded<QA, A> a, fx::Bounded<QB, B> b) noexcept {
-  using Result = decltype(fx::mul<Out, Where>(a, b));
-  if constexpr ((Where == fx::Rounding::inlined) && !fx::wide::kMul32x32BySoftware) {
-    constexpr std::int32_t kShift = (QA::frac_bits + QB::frac_bits) - Out::frac_bits;
-    return Result::trusted(detail::product_rounded_accumulated<kShift>(a.raw(), b.raw()));
-  } else {
-    return fx::mul<Out, Where>(a, b);
-  }
-}
-
 /// fx::rotated's point (x cos - z sin, x sin + z cos), its products as
-/// product()'s.
+/// fx::mul<P, Where>'s.
 template <fx::Rounding Where, typename P, std::uint32_t M>
 SW_FX_INLINE void rotate(fx::BoundedPoint<P, M> p, fx::BoundedSinCos sc,
                          fx::BoundedPoint<P, static_cast<std::uint32_t>(fx::detail::kRotatedBound<M>)>& out) noexcept {
   using Out = fx::Bounded<P, static_cast<std::uint32_t>(fx::detail::kRotatedBound<M>)>;
-  out.x = Out::trusted(fx::sub(product<P, Where>(p.x, sc.cos), product<P, Where>(p.z, sc.sin)).raw());
-  out.z = Out::trusted(fx::add(product<P, Where>(p.x, sc.sin), product<P, Where>(p.z, sc.cos)).raw());
+  out.x = Out::trusted(fx::sub(fx::mul<P, Where>(p.x, sc.cos), fx::mul<P, Where>(p.z, sc.sin)).raw());
+  out.z = Out::trusted(fx::add(fx::mul<P, Where>(p.x, sc.sin), fx::mul<P, Where>(p.z, sc.cos)).raw());
 }
 
 /// v - z k: the coordinate of a point projected along gravity (section 3.2).
 template <typename P, std::uint32_t V, std::uint32_t Z, std::uint32_t KB>
 auto project(fx::Bounded<P, V> v, fx::Bounded<P, Z> z, fx::Bounded<K, KB> k) noexcept {
-  return fx::sub(v, product<P, kProjectionRounding<P>>(z, k));
+  return fx::sub(v, fx::mul<P, kProjectionRounding<P>>(z, k));
 }
 
 WheelLoadResult failed(WheelLoadStatus status) noexcept {
@@ -254,17 +239,17 @@ SW_FX_INLINE P minus(P a, P b, fx::Status& st) noexcept {
 
 /// a b, checked: fx::mul's bits and flags. In every cycle's pass on ARMv6-M
 /// by 32-bit words (detail::product_checked_by_words: the Cortex-M0 runs 106
-/// instructions fewer per step), elsewhere by one multiply-accumulate in
-/// place (detail::product_checked_accumulated: 13 products, about 110
-/// instructions fewer per step on the Cortex-M4 than fx::mul's call); in
-/// the wider passes fx::mul's call.
+/// instructions fewer per step), elsewhere by fx::mul's word product in
+/// place (fx::detail::mul_word: one multiply-accumulate and a test of its
+/// high word; 13 products, about 110 instructions fewer per step on the
+/// Cortex-M4 than fx::mul's call); in the wider passes fx::mul's call.
 template <typename P>
 SW_FX_INLINE P times(P a, P b, fx::Status& st) noexcept {
   if constexpr (kEveryCycle<P>) {
     if constexpr (fx::wide::kMul32x32BySoftware) {
       return P::from_raw(detail::product_checked_by_words<P::frac_bits>(a.raw(), b.raw(), st));
     } else {
-      return P::from_raw(detail::product_checked_accumulated<P::frac_bits>(a.raw(), b.raw(), st));
+      return fx::detail::mul_word<P, P::frac_bits>(a.raw(), b.raw(), st);
     }
   } else {
     return fx::mul(a, b, st);
@@ -550,12 +535,12 @@ Body<P> body_of(const StaticsConstants<P>& k, const GravityFrame& g) noexcept {
   // bits as a bounded product, with no check of the format's limits.
   using Fraction = fx::Bounded<fx::Q1_30, fx::kMaxBound>;
   const WheelLoadN weight_normal_n{
-      product<LoadQ, kRotationRounding<P>>(k.weight_n, Fraction::trusted(g.normal_fraction.raw())).q()};
+      fx::mul<LoadQ, kRotationRounding<P>>(k.weight_n, Fraction::trusted(g.normal_fraction.raw())).q()};
   const auto com_xt = project(k.com_x, k.com_z, g.kx);
   const auto com_yt = project(k.com_y, k.com_z, g.ky);
   constexpr auto kHalfRaw = static_cast<std::int32_t>(1U << static_cast<std::uint32_t>(P::frac_bits - 1));
   return Body<P>{weight_normal_n, k.inv_weight, com_yt.q(),
-                 product<P, kProjectionRounding<P>>(fx::bounded_raw<P, kHalfRaw>(), com_xt).q()};
+                 fx::mul<P, kProjectionRounding<P>>(fx::bounded_raw<P, kHalfRaw>(), com_xt).q()};
 }
 
 /// Each side's pivot moment less its front couple, M - t_front (section 12).
@@ -737,7 +722,7 @@ SW_FX_INLINE WheelLoadN load_of(P share, LoadQ weight_normal) noexcept {
   using Share = fx::Bounded<P, bound_in<P>(1.0)>;
   using Weight = fx::Bounded<LoadQ, fx::kMaxBound>;
   return WheelLoadN{
-      product<LoadQ, kRotationRounding<P>>(Share::trusted(share.raw()), Weight::trusted(weight_normal.raw())).q()};
+      fx::mul<LoadQ, kRotationRounding<P>>(Share::trusted(share.raw()), Weight::trusted(weight_normal.raw())).q()};
 }
 
 /// The normal loads (each wheel's share times the normal weight): tip_over

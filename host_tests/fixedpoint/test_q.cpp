@@ -476,6 +476,10 @@ TEST(FxMul, BothWordFormsGiveTheExactProductRoundedAndSaturated) {
   expect_word_products_like_the_reference<Q7_24, Q7_24, fx::Q<std::int32_t, 20>>(25U);  // f I_max
   expect_word_products_like_the_reference<Q29_2, Q7_24, Q7_24>(27U);  // shift 46: beyond 32
   expect_word_products_like_the_reference<Q15_16, Q1_30, Q1_30>(29U);  // shift 44
+  // The multiply-accumulate form's ends (round 14): shifts 1 and 31.
+  expect_word_products_like_the_reference<fx::Q<std::int32_t, 0>, fx::Q<std::int32_t, 1>, fx::Q<std::int32_t, 0>>(
+      31U);
+  expect_word_products_like_the_reference<fx::Q<std::int32_t, 0>, Q15_16, fx::Q<std::int32_t, 15>>(33U);
 }
 
 /// fx::add and fx::sub on 32-bit storage (detail::add_word, sub_word)

@@ -814,61 +814,17 @@ int compare_checked_products(std::mt19937_64& rng, int trials) {
       b = static_cast<std::int32_t>(std::min<std::uint64_t>(near, 0x7FFFFFFFU)) * (((rng() % 2U) == 0U) ? 1 : -1);
     }
     fx::Status words;
-    fx::Status accumulated;
     fx::Status general;
     const std::int32_t q = flight::detail::product_checked_by_words<kShift>(a, b, words);
-    const std::int32_t q_acc = flight::detail::product_checked_accumulated<kShift>(a, b, accumulated);
     const Out expected = fx::mul<Out>(fx::Q<std::int32_t, Fa>::from_raw(a), fx::Q<std::int32_t, Fb>::from_raw(b), general);
     EXPECT_EQ(q, expected.raw()) << a << " * " << b;
     EXPECT_EQ(words.bits(), general.bits()) << a << " * " << b;
-    EXPECT_EQ(q_acc, expected.raw()) << a << " * " << b;
-    EXPECT_EQ(accumulated.bits(), general.bits()) << a << " * " << b;
-    if ((q != expected.raw()) || (q_acc != expected.raw())) {
+    if (q != expected.raw()) {
       return -1;
     }
     saturated += general.has(fx::Flag::overflow) ? 1 : 0;
   }
   return saturated;
-}
-
-/// product_rounded_accumulated<Shift> against fx::Bounded's product
-/// (fx::detail::product_rounded_signed) for operands whose rounded product
-/// fits: of random lengths, and ties (b an odd multiple of half the
-/// result's LSB) of both signs.
-template <std::int32_t Shift>
-void compare_rounded_products(std::mt19937_64& rng, int trials) {
-  constexpr std::uint32_t kHalf = 1U << static_cast<std::uint32_t>(Shift - 1);
-  int compared = 0;
-  for (int trial = 0; trial < trials; ++trial) {
-    const auto a = static_cast<std::int32_t>(rng()) >> static_cast<std::uint32_t>(rng() % 32U);
-    auto b = static_cast<std::int32_t>(rng()) >> static_cast<std::uint32_t>(rng() % 32U);
-    if ((trial % 3) == 0) {
-      b = static_cast<std::int32_t>(kHalf * (1U + (2U * static_cast<std::uint32_t>(rng() % 2U)))) >>
-          static_cast<std::uint32_t>(rng() % 4U);
-      b = ((rng() % 2U) == 0U) ? b : -b;
-    }
-    const std::int64_t p = static_cast<std::int64_t>(a) * static_cast<std::int64_t>(b);
-    // Only products whose rounded value fits 32 bits (the bounded ones).
-    if ((p >= (std::int64_t{1} << (30 + Shift))) || (p <= -(std::int64_t{1} << (30 + Shift)))) {
-      continue;
-    }
-    ASSERT_EQ(flight::detail::product_rounded_accumulated<Shift>(a, b),
-              fx::detail::product_rounded_signed<Shift>(a, b))
-        << a << " * " << b;
-    ++compared;
-  }
-  EXPECT_GT(compared, trials / 4);
-}
-
-TEST(StaticsArithmetic, AccumulatedRoundingIsTheBoundedProducts) {
-  std::mt19937_64 rng(30U);
-  // The rotations (Q1.30 sines), the projections (Q3.28 slopes), the loads
-  // (Q6.25 shares) and the shifts' ends.
-  compare_rounded_products<30>(rng, 1000000);
-  compare_rounded_products<28>(rng, 1000000);
-  compare_rounded_products<25>(rng, 300000);
-  compare_rounded_products<1>(rng, 300000);
-  compare_rounded_products<31>(rng, 300000);
 }
 
 TEST(StaticsArithmetic, CheckedProductByWordsIsFxMulBitForBit) {

@@ -176,52 +176,6 @@ constexpr std::int32_t product_checked_by_words(std::int32_t a, std::int32_t b, 
   return static_cast<std::int32_t>(negative ? -value : value);
 }
 
-/// The rounding's half less one where a b < 0, as a 64-bit addend of the
-/// product: fx::mul rounds to nearest, ties away from zero, which is
-/// floor((a b + 2^(s-1) - [a b < 0]) / 2^s). [a b < 0] is taken from the
-/// operands' signs: where they differ and a b = 0, 2^(s-1) - 1 rounds to
-/// zero all the same.
-template <std::int32_t Shift>
-SW_FX_INLINE constexpr std::int64_t rounding_addend(std::int32_t a, std::int32_t b) noexcept {
-  static_assert((Shift > 0) && (Shift < 32), "a product rounded by a right shift of 1 to 31 bits");
-  const std::uint32_t signs_differ = (static_cast<std::uint32_t>(a) ^ static_cast<std::uint32_t>(b)) >> 31U;
-  return static_cast<std::int64_t>((std::uint32_t{1U} << static_cast<std::uint32_t>(Shift - 1)) - signs_differ);
-}
-
-/// fx::detail::product_rounded_signed's bits (fx::Bounded's product, whose
-/// rounded value the caller has bounded below 2^31) from one multiply-
-/// accumulate of a b onto rounding_addend (SMLAL on ARMv7-M): bits s to
-/// s + 31 of the sum are the result's, the same from a logical shift as
-/// from an arithmetic one. 7 instructions on the Cortex-M4 against 8 or 9
-/// (the 64-bit offset's two additions and the sign's).
-template <std::int32_t Shift>
-SW_FX_INLINE constexpr std::int32_t product_rounded_accumulated(std::int32_t a, std::int32_t b) noexcept {
-  const std::int64_t sum = rounding_addend<Shift>(a, b) + (static_cast<std::int64_t>(a) * static_cast<std::int64_t>(b));
-  return static_cast<std::int32_t>(static_cast<std::uint32_t>(static_cast<std::uint64_t>(sum) >>
-                                                              static_cast<std::uint32_t>(Shift)));
-}
-
-/// fx::mul's bits, flag and saturation for 32-bit operands and a 32-bit
-/// format whose product is rounded by a right shift of Shift (1 to 31), from
-/// the same multiply-accumulate: the rounded value floor(sum / 2^s) fits 32
-/// bits when sum lies in [-2^(31+s), 2^(31+s)), that is when its high word
-/// lies in [-2^(s-1), 2^(s-1)). Where it does not, a b is not zero and its
-/// sign is the operands'. For ARMv7-M, where fx::mul_word_signed's offsets
-/// take 13 instructions (the Q6.25 balances' products).
-template <std::int32_t Shift>
-SW_FX_INLINE constexpr std::int32_t product_checked_accumulated(std::int32_t a, std::int32_t b,
-                                                                fx::Status& st) noexcept {
-  constexpr std::uint32_t kHalf = std::uint32_t{1U} << static_cast<std::uint32_t>(Shift - 1);
-  const auto sum = static_cast<std::uint64_t>(rounding_addend<Shift>(a, b) +
-                                              (static_cast<std::int64_t>(a) * static_cast<std::int64_t>(b)));
-  const auto high = static_cast<std::uint32_t>(sum >> 32U);
-  if (((high + kHalf) >> static_cast<std::uint32_t>(Shift)) != 0U) {
-    st.raise(fx::Flag::overflow);
-    return ((a < 0) != (b < 0)) ? std::numeric_limits<std::int32_t>::min() : std::numeric_limits<std::int32_t>::max();
-  }
-  return static_cast<std::int32_t>(static_cast<std::uint32_t>(sum >> static_cast<std::uint32_t>(Shift)));
-}
-
 /// The raw bits of fx::times_reciprocal<Out>(x, r) for a 32-bit Out, given
 /// shift = F_x + r.scale - F_out: the same bits, flags and saturation, with
 /// the magnitude's limits in 32-bit words (shifted_rounded). Forced inline:
