@@ -48,6 +48,77 @@ inline std::int64_t with_sign(bool negative, std::uint64_t magnitude) noexcept {
   return negative ? -m : m;
 }
 
+/// floor(u / v) for v in [2^31, 2^32) and u < v 2^32, fx::wide::divide_64_by_32's
+/// quotient: on a core with a divide instruction its two base-2^16 digits
+/// (wide::detail::packed_by_digits) expanded here without the remainder,
+/// instead of the library's out-of-line call; else the library's form.
+SW_FX_INLINE std::uint32_t quotient_64_by_32(std::uint64_t u, std::uint32_t v) noexcept {
+  if constexpr (fx::wide::kDivideInstruction) {
+    constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+    constexpr std::uint32_t kBase = fx::wide::detail::kDigitBase;
+    const std::uint32_t v_high = (v >> 16U) | 0x8000U;  // v >= 2^31: the OR shows a non-zero divisor
+    const std::uint32_t v_low = v & 0xFFFFU;
+    const auto u_high = static_cast<std::uint32_t>(u / kWord);
+    const auto u_low = static_cast<std::uint32_t>(u);
+    const std::uint32_t q1 = fx::wide::detail::quotient_digit(u_high, v_high, v_low, u_low >> 16U);
+    const std::uint32_t partial = ((u_high * kBase) + (u_low >> 16U)) - (q1 * v);
+    const std::uint32_t q0 = fx::wide::detail::quotient_digit(partial, v_high, v_low, u_low & 0xFFFFU);
+    return (q1 * kBase) + q0;
+  } else {
+    return fx::wide::divide_64_by_32(u, v).quotient;
+  }
+}
+
+/// fx::divide_normalised<Out>(n, d, st) for a 32-bit Out and a divisor
+/// d > 0, as its raw quotient and whether st stayed ok (the return): the
+/// same leading words, the same quotient q = floor(N 2^31 / D) and the same
+/// rounding; only the parts Eq. 11 and the limit cannot reach or do not read
+/// are left out: d == 0 (C2 W and C1 are positive), the 64-bit scaling of q
+/// and the saturated value of an overflow (the callers return 0 then). The
+/// overflow decision on 32-bit words: q >= 2^30 (N >= 2^31, D < 2^32), so
+/// for an exponent e >= 1 q 2^e >= 2^31 fits only as -2^31 (e == 1, q ==
+/// 2^30); for e <= 0 the rounded magnitude is below 2^32 and is compared
+/// with 2^31 - 1 or 2^31 as from_sign_magnitude compares it. Both forms
+/// over random and edge operands: host_tests/flight/test_estimator.cpp
+/// (PositiveDivisorQuotient).
+template <std::int32_t kOutFrac>
+SW_FX_INLINE bool positive_divisor_quotient(bool negative, std::uint64_t n_magnitude, std::int32_t n_frac,
+                                            std::uint64_t d_magnitude, std::int32_t d_frac,
+                                            std::int32_t& raw) noexcept {
+  raw = 0;
+  if (n_magnitude == 0U) {
+    return true;
+  }
+  const fx::detail::LeadingBits n_leading = fx::detail::leading_bits(n_magnitude);
+  const fx::detail::LeadingBits d_leading = fx::detail::leading_bits(d_magnitude);
+  const std::uint32_t q = quotient_64_by_32(std::uint64_t{n_leading.word} << 31U, d_leading.word);
+  const std::int32_t exponent =
+      ((static_cast<std::int32_t>(n_leading.bits) - static_cast<std::int32_t>(d_leading.bits)) - 31) -
+      ((n_frac - d_frac) - kOutFrac);
+  constexpr std::uint32_t kTop = 0x80000000U;  // 2^31: -2^31's magnitude
+  if (exponent > 0) {
+    const bool minimum = negative && (exponent == 1) && (q == (kTop >> 1U));
+    raw = minimum ? std::numeric_limits<std::int32_t>::min() : 0;
+    return minimum;
+  }
+  std::uint32_t magnitude = q;
+  if (exponent < -32) {
+    magnitude = 0U;  // q 2^e < 2^32 2^-33 = 1/2
+  } else if (exponent < 0) {
+    const std::uint32_t x = q >> (static_cast<std::uint32_t>(-exponent) - 1U);
+    magnitude = (x >> 1U) + (x & 1U);
+  } else {
+    // e == 0: q itself
+  }
+  if (magnitude > (negative ? kTop : (kTop - 1U))) {
+    return false;
+  }
+  // -m for m <= 2^31 through m - 1 (which fits) keeps the conversion in range.
+  raw = (negative && (magnitude != 0U)) ? (-static_cast<std::int32_t>(magnitude - 1U) - 1)
+                                        : static_cast<std::int32_t>(magnitude);
+  return true;
+}
+
 /// torque_from_current() for a motor check_motor() accepts.
 [[nodiscard]] TorqueResult torque_of_valid_motor(const MotorParams& motor, CurrentA current_a,
                                                  DriveDirection direction) noexcept;
@@ -110,14 +181,14 @@ SW_FX_INLINE SinkageResult sinkage_of_valid(const Coefficients& c, LengthM radiu
 
   using Moment = fx::Q<std::int64_t, 40>;
   const Moment numerator = Moment::from_raw((drive - pull_moment) - offset_moment);
-  const fx::ScaledMagnitude denominator{
-      false, fx::wide::mul_32x32_64(static_cast<std::uint32_t>(c.c2.raw()), static_cast<std::uint32_t>(w)), 40};
-  fx::Status st;
-  const LengthQ z = fx::divide_normalised<LengthQ>(fx::to_scaled(numerator), denominator, st);
-  if (!st.ok()) {
+  const std::uint64_t denominator =
+      fx::wide::mul_32x32_64(static_cast<std::uint32_t>(c.c2.raw()), static_cast<std::uint32_t>(w));  // > 0
+  std::int32_t z = 0;
+  if (!positive_divisor_quotient<LengthQ::frac_bits>(numerator.raw() < 0, fx::detail::magnitude(numerator.raw()),
+                                                     Moment::frac_bits, denominator, 40, z)) {
     return SinkageResult{SinkageM::zero(), EstimateStatus::overflow};
   }
-  return SinkageResult{SinkageM(z), EstimateStatus::ok};
+  return SinkageResult{SinkageM(LengthQ::from_raw(z)), EstimateStatus::ok};
 }
 
 /// W L from L's leading 32 bits (truncated: < 2^-31 relative) times W > 0:
@@ -157,13 +228,14 @@ SW_FX_INLINE TorqueLimitResult torque_limit_of_valid(const Coefficients& c, Rati
   const std::int64_t lever =
       radius_times_ratios(radius_m.raw(), dp_max_ratio, c.c3) +
       with_sign(z < 0, fx::wide::mul_32x32_64(fx::detail::magnitude32(z), static_cast<std::uint32_t>(c.c2.raw())));
-  fx::Status st;
-  const fx::ScaledMagnitude c1{false, static_cast<std::uint32_t>(c.c1.raw()), RatioQ::frac_bits};
-  const LoadQ t_max = fx::divide_normalised<LoadQ>(load_times(fx::Q<std::int64_t, 48>::from_raw(lever), load_n), c1, st);
-  if (!st.ok()) {
+  const fx::ScaledMagnitude w_lever = load_times(fx::Q<std::int64_t, 48>::from_raw(lever), load_n);
+  std::int32_t t_max = 0;
+  if (!positive_divisor_quotient<LoadQ::frac_bits>(w_lever.negative, w_lever.magnitude, w_lever.frac_bits,
+                                                   static_cast<std::uint32_t>(c.c1.raw()), RatioQ::frac_bits,
+                                                   t_max)) {
     return TorqueLimitResult{TorqueNm::zero(), EstimateStatus::overflow};
   }
-  return TorqueLimitResult{TorqueNm(t_max), EstimateStatus::ok};
+  return TorqueLimitResult{TorqueNm(LoadQ::from_raw(t_max)), EstimateStatus::ok};
 }
 
 /// The limit from T_max: the motor model in the forward direction (a
