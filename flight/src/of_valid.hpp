@@ -251,13 +251,26 @@ SW_FX_INLINE CurrentLimitResult limit_from_torque(const CorrectionResult& corr, 
   if (t.status != EstimateStatus::ok) {
     return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, t.status};
   }
-  using WideCurrentQ = fx::Q<std::int64_t, CurrentQ::frac_bits>;
-  fx::Status st;  // div_by_zero only for a motor without a reciprocal
-  const WideCurrentQ driving = fx::times_reciprocal<WideCurrentQ>(t.torque_nm.q(), divisors.inverse_gain, st);
-  const std::int64_t total = driving.raw() + static_cast<std::int64_t>(motor.no_load_current_a.raw());
+  // fx::times_reciprocal<Q43.20>(T_max, 1/gain) taken apart: |T_max| times
+  // the mantissa (one 32 x 32-bit product, below 2^63, not T_max's 64-bit
+  // sign extension times it), rounded down by the shift, the sign put back.
+  // The quotient's 64 bits cannot overflow (the product is below 2^63), so
+  // only its refusals are kept: no reciprocal (div_by_zero) and a non-zero
+  // product that a shift <= 0 would only grow (overflow); a shift >= 64
+  // rounds to zero. The same integer and the same refusals as before.
+  const fx::NormalisedReciprocal inverse = divisors.inverse_gain;
+  const std::int32_t t_raw = t.torque_nm.raw();
+  const std::uint64_t product = fx::wide::mul_32x32_64(fx::detail::magnitude32(t_raw), inverse.mantissa);
+  const std::int32_t shift = (LoadQ::frac_bits + inverse.scale) - CurrentQ::frac_bits;
+  std::uint64_t driving = 0U;
+  if ((shift > 0) && (shift < 64)) {
+    driving = fx::detail::shift_right_rounded(product, static_cast<std::uint32_t>(shift));
+  }
+  const std::int64_t total = with_sign(t_raw < 0, driving) + static_cast<std::int64_t>(motor.no_load_current_a.raw());
   constexpr std::int64_t kMin = std::numeric_limits<std::int32_t>::min();
   constexpr std::int64_t kMax = std::numeric_limits<std::int32_t>::max();
-  if ((!st.ok()) || (total < kMin) || (total > kMax)) {
+  const bool refused = (inverse.mantissa == 0U) || ((shift <= 0) && (product != 0U));
+  if (refused || (total < kMin) || (total > kMax)) {
     return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, EstimateStatus::overflow};
   }
   const CurrentA limit(CurrentQ::from_raw(static_cast<std::int32_t>(total)));

@@ -455,6 +455,55 @@ TEST(PositiveDivisorQuotient, QuotientDigitsAreTheExactQuotient) {
   }
 }
 
+// limit_from_torque (of_valid.hpp) against the fx::times_reciprocal form it
+// replaced: the same current and the same refusals for every T_max, reciprocal
+// (none, and scales on both sides of every branch) and no-load current.
+CurrentLimitResult limit_by_times_reciprocal(const MotorParams& motor, const MotorDivisors& divisors, TorqueNm t_max) {
+  using WideCurrentQ = fx::Q<std::int64_t, CurrentQ::frac_bits>;
+  fx::Status st;
+  const WideCurrentQ driving = fx::times_reciprocal<WideCurrentQ>(t_max.q(), divisors.inverse_gain, st);
+  const std::int64_t total = driving.raw() + static_cast<std::int64_t>(motor.no_load_current_a.raw());
+  if ((!st.ok()) || (total < std::numeric_limits<std::int32_t>::min()) ||
+      (total > std::numeric_limits<std::int32_t>::max())) {
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), LoadClamp::none, EstimateStatus::overflow};
+  }
+  return CurrentLimitResult{CurrentA(CurrentQ::from_raw(static_cast<std::int32_t>(total))), t_max, LoadClamp::none,
+                            EstimateStatus::ok};
+}
+
+TEST(LimitFromTorque, MatchesTimesReciprocalOverRandomAndEdgeOperands) {
+  std::mt19937_64 rng(1415U);
+  const std::int32_t edges[] = {0, 1, -1, 2, -2, std::numeric_limits<std::int32_t>::max(),
+                                std::numeric_limits<std::int32_t>::min(), 1 << 16, -(1 << 16)};
+  const CorrectionResult corr{};
+  for (std::int32_t i = 0; i < 400000; ++i) {
+    MotorParams motor{};
+    MotorDivisors divisors{};
+    const auto pick = static_cast<std::uint32_t>(rng() % 16U);
+    auto t_raw = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()));
+    if (pick < 4U) {
+      t_raw = edges[rng() % (sizeof(edges) / sizeof(edges[0]))];
+    } else if (pick < 8U) {
+      t_raw >>= (rng() % 32U);
+    }
+    divisors.inverse_gain.mantissa = ((rng() % 50U) == 0U) ? 0U : static_cast<std::uint32_t>(rng() | 0x80000000ULL);
+    divisors.inverse_gain.scale = static_cast<std::int32_t>(rng() % 90U) - 12;  // shift -16 .. 73
+    auto i0 = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()));
+    if ((rng() % 4U) != 0U) {
+      i0 >>= (rng() % 32U);
+    }
+    motor.no_load_current_a = CurrentA(CurrentQ::from_raw(i0));
+    const TorqueLimitResult t{TorqueNm(LoadQ::from_raw(t_raw)), EstimateStatus::ok};
+    const CurrentLimitResult got = detail::limit_from_torque(corr, motor, divisors, t);
+    const CurrentLimitResult want = limit_by_times_reciprocal(motor, divisors, t.torque_nm);
+    ASSERT_EQ(got.status, want.status) << t_raw << " " << divisors.inverse_gain.mantissa << " "
+                                       << divisors.inverse_gain.scale << " " << i0;
+    ASSERT_EQ(got.current_limit_a.raw(), want.current_limit_a.raw())
+        << t_raw << " " << divisors.inverse_gain.mantissa << " " << divisors.inverse_gain.scale << " " << i0;
+    ASSERT_EQ(got.torque_limit_nm.raw(), want.torque_limit_nm.raw());
+  }
+}
+
 TEST(Reference, TwinRefusesWhatTheFlightCodeRefuses) {
   namespace ref = sinkwatch::ground::reference;
   EXPECT_THROW(ref::sinkage_m({1, 1, 0.13}, 0.0, 30, 1, 1), std::invalid_argument);
