@@ -209,8 +209,12 @@ SW_FX_INLINE fx::ScaledMagnitude load_times(fx::Q<std::int64_t, 48> lever, Wheel
 /// 64-bit product (below 2^57). r DP_max/W + r C3, the same integer, took two.
 SW_FX_INLINE std::int64_t radius_times_ratios(std::int32_t r, Ratio dp_max_ratio, Ratio c3) noexcept {
   const std::int64_t sum = static_cast<std::int64_t>(dp_max_ratio.raw()) + static_cast<std::int64_t>(c3.raw());
-  const auto sum_magnitude = static_cast<std::uint32_t>(fx::detail::magnitude(sum));  // < 2^32
-  return with_sign(sum < 0, fx::wide::mul_32x32_64(sum_magnitude, static_cast<std::uint32_t>(r)));
+  // |sum| < 2^32 is its low word taken modulo 2^32 (the wrapping 32-bit sum
+  // or its negation): no 64-bit negation.
+  const std::uint32_t low = static_cast<std::uint32_t>(dp_max_ratio.raw()) + static_cast<std::uint32_t>(c3.raw());
+  const bool negative = sum < 0;
+  const std::uint32_t sum_magnitude = negative ? (0U - low) : low;
+  return with_sign(negative, fx::wide::mul_32x32_64(sum_magnitude, static_cast<std::uint32_t>(r)));
 }
 
 /// torque_limit() for inputs check_estimator_inputs() accepts.

@@ -504,6 +504,32 @@ TEST(LimitFromTorque, MatchesTimesReciprocalOverRandomAndEdgeOperands) {
   }
 }
 
+// r (DP_max/W + C3) (of_valid.hpp, radius_times_ratios: |sum| from the
+// wrapping 32-bit sum) against the exact signed product, the sums at and
+// beyond the ends of the 32-bit range included.
+TEST(RadiusTimesRatios, IsTheExactSignedProduct) {
+  std::mt19937_64 rng(2611U);
+  const std::int32_t ratio_edges[] = {std::numeric_limits<std::int32_t>::min(),
+                                      std::numeric_limits<std::int32_t>::min() + 1, -1, 0, 1,
+                                      std::numeric_limits<std::int32_t>::max() - 1,
+                                      std::numeric_limits<std::int32_t>::max()};
+  const std::int32_t c3_edges[] = {-(1 << 24), -(1 << 24) + 1, -1, 0, 1, (1 << 24) - 1, 1 << 24};
+  for (std::int32_t i = 0; i < 200000; ++i) {
+    const std::int32_t r = static_cast<std::int32_t>(rng() % 0x7FFFFFFFU) + 1;
+    auto ratio = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()));
+    std::int32_t c3 = static_cast<std::int32_t>(rng() % ((1U << 25U) + 1U)) - (1 << 24);
+    if ((i % 3) == 0) {
+      ratio = ratio_edges[rng() % 7U];
+    }
+    if ((i % 5) == 0) {
+      c3 = c3_edges[rng() % 7U];
+    }
+    const std::int64_t expected = (static_cast<std::int64_t>(ratio) + c3) * static_cast<std::int64_t>(r);
+    ASSERT_EQ(detail::radius_times_ratios(r, Ratio::from_raw(ratio), Ratio::from_raw(c3)), expected)
+        << r << " " << ratio << " " << c3;
+  }
+}
+
 TEST(Reference, TwinRefusesWhatTheFlightCodeRefuses) {
   namespace ref = sinkwatch::ground::reference;
   EXPECT_THROW(ref::sinkage_m({1, 1, 0.13}, 0.0, 30, 1, 1), std::invalid_argument);
