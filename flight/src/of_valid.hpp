@@ -48,6 +48,77 @@ inline std::int64_t with_sign(bool negative, std::uint64_t magnitude) noexcept {
   return negative ? -m : m;
 }
 
+/// floor(u / v) for v in [2^31, 2^32) and u < v 2^32, fx::wide::divide_64_by_32's
+/// quotient: on a core with a divide instruction its two base-2^16 digits
+/// (wide::detail::packed_by_digits) expanded here without the remainder,
+/// instead of the library's out-of-line call; else the library's form.
+SW_FX_INLINE std::uint32_t quotient_64_by_32(std::uint64_t u, std::uint32_t v) noexcept {
+  if constexpr (fx::wide::kDivideInstruction) {
+    constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+    constexpr std::uint32_t kBase = fx::wide::detail::kDigitBase;
+    const std::uint32_t v_high = (v >> 16U) | 0x8000U;  // v >= 2^31: the OR shows a non-zero divisor
+    const std::uint32_t v_low = v & 0xFFFFU;
+    const auto u_high = static_cast<std::uint32_t>(u / kWord);
+    const auto u_low = static_cast<std::uint32_t>(u);
+    const std::uint32_t q1 = fx::wide::detail::quotient_digit(u_high, v_high, v_low, u_low >> 16U);
+    const std::uint32_t partial = ((u_high * kBase) + (u_low >> 16U)) - (q1 * v);
+    const std::uint32_t q0 = fx::wide::detail::quotient_digit(partial, v_high, v_low, u_low & 0xFFFFU);
+    return (q1 * kBase) + q0;
+  } else {
+    return fx::wide::divide_64_by_32(u, v).quotient;
+  }
+}
+
+/// fx::divide_normalised<Out>(n, d, st) for a 32-bit Out and a divisor
+/// d > 0, as its raw quotient and whether st stayed ok (the return): the
+/// same leading words, the same quotient q = floor(N 2^31 / D) and the same
+/// rounding; only the parts Eq. 11 and the limit cannot reach or do not read
+/// are left out: d == 0 (C2 W and C1 are positive), the 64-bit scaling of q
+/// and the saturated value of an overflow (the callers return 0 then). The
+/// overflow decision on 32-bit words: q >= 2^30 (N >= 2^31, D < 2^32), so
+/// for an exponent e >= 1 q 2^e >= 2^31 fits only as -2^31 (e == 1, q ==
+/// 2^30); for e <= 0 the rounded magnitude is below 2^32 and is compared
+/// with 2^31 - 1 or 2^31 as from_sign_magnitude compares it. Both forms
+/// over random and edge operands: host_tests/flight/test_estimator.cpp
+/// (PositiveDivisorQuotient).
+template <std::int32_t kOutFrac>
+SW_FX_INLINE bool positive_divisor_quotient(bool negative, std::uint64_t n_magnitude, std::int32_t n_frac,
+                                            std::uint64_t d_magnitude, std::int32_t d_frac,
+                                            std::int32_t& raw) noexcept {
+  raw = 0;
+  if (n_magnitude == 0U) {
+    return true;
+  }
+  const fx::detail::LeadingBits n_leading = fx::detail::leading_bits(n_magnitude);
+  const fx::detail::LeadingBits d_leading = fx::detail::leading_bits(d_magnitude);
+  const std::uint32_t q = quotient_64_by_32(std::uint64_t{n_leading.word} << 31U, d_leading.word);
+  const std::int32_t exponent =
+      ((static_cast<std::int32_t>(n_leading.bits) - static_cast<std::int32_t>(d_leading.bits)) - 31) -
+      ((n_frac - d_frac) - kOutFrac);
+  constexpr std::uint32_t kTop = 0x80000000U;  // 2^31: -2^31's magnitude
+  if (exponent > 0) {
+    const bool minimum = negative && (exponent == 1) && (q == (kTop >> 1U));
+    raw = minimum ? std::numeric_limits<std::int32_t>::min() : 0;
+    return minimum;
+  }
+  std::uint32_t magnitude = q;
+  if (exponent < -32) {
+    magnitude = 0U;  // q 2^e < 2^32 2^-33 = 1/2
+  } else if (exponent < 0) {
+    const std::uint32_t x = q >> (static_cast<std::uint32_t>(-exponent) - 1U);
+    magnitude = (x >> 1U) + (x & 1U);
+  } else {
+    // e == 0: q itself
+  }
+  if (magnitude > (negative ? kTop : (kTop - 1U))) {
+    return false;
+  }
+  // -m for m <= 2^31 through m - 1 (which fits) keeps the conversion in range.
+  raw = (negative && (magnitude != 0U)) ? (-static_cast<std::int32_t>(magnitude - 1U) - 1)
+                                        : static_cast<std::int32_t>(magnitude);
+  return true;
+}
+
 /// torque_from_current() for a motor check_motor() accepts.
 [[nodiscard]] TorqueResult torque_of_valid_motor(const MotorParams& motor, CurrentA current_a,
                                                  DriveDirection direction) noexcept;
@@ -110,14 +181,14 @@ SW_FX_INLINE SinkageResult sinkage_of_valid(const Coefficients& c, LengthM radiu
 
   using Moment = fx::Q<std::int64_t, 40>;
   const Moment numerator = Moment::from_raw((drive - pull_moment) - offset_moment);
-  const fx::ScaledMagnitude denominator{
-      false, fx::wide::mul_32x32_64(static_cast<std::uint32_t>(c.c2.raw()), static_cast<std::uint32_t>(w)), 40};
-  fx::Status st;
-  const LengthQ z = fx::divide_normalised<LengthQ>(fx::to_scaled(numerator), denominator, st);
-  if (!st.ok()) {
+  const std::uint64_t denominator =
+      fx::wide::mul_32x32_64(static_cast<std::uint32_t>(c.c2.raw()), static_cast<std::uint32_t>(w));  // > 0
+  std::int32_t z = 0;
+  if (!positive_divisor_quotient<LengthQ::frac_bits>(numerator.raw() < 0, fx::detail::magnitude(numerator.raw()),
+                                                     Moment::frac_bits, denominator, 40, z)) {
     return SinkageResult{SinkageM::zero(), EstimateStatus::overflow};
   }
-  return SinkageResult{SinkageM(z), EstimateStatus::ok};
+  return SinkageResult{SinkageM(LengthQ::from_raw(z)), EstimateStatus::ok};
 }
 
 /// W L from L's leading 32 bits (truncated: < 2^-31 relative) times W > 0:
@@ -138,8 +209,12 @@ SW_FX_INLINE fx::ScaledMagnitude load_times(fx::Q<std::int64_t, 48> lever, Wheel
 /// 64-bit product (below 2^57). r DP_max/W + r C3, the same integer, took two.
 SW_FX_INLINE std::int64_t radius_times_ratios(std::int32_t r, Ratio dp_max_ratio, Ratio c3) noexcept {
   const std::int64_t sum = static_cast<std::int64_t>(dp_max_ratio.raw()) + static_cast<std::int64_t>(c3.raw());
-  const auto sum_magnitude = static_cast<std::uint32_t>(fx::detail::magnitude(sum));  // < 2^32
-  return with_sign(sum < 0, fx::wide::mul_32x32_64(sum_magnitude, static_cast<std::uint32_t>(r)));
+  // |sum| < 2^32 is its low word taken modulo 2^32 (the wrapping 32-bit sum
+  // or its negation): no 64-bit negation.
+  const std::uint32_t low = static_cast<std::uint32_t>(dp_max_ratio.raw()) + static_cast<std::uint32_t>(c3.raw());
+  const bool negative = sum < 0;
+  const std::uint32_t sum_magnitude = negative ? (0U - low) : low;
+  return with_sign(negative, fx::wide::mul_32x32_64(sum_magnitude, static_cast<std::uint32_t>(r)));
 }
 
 /// torque_limit() for inputs check_estimator_inputs() accepts.
@@ -157,13 +232,14 @@ SW_FX_INLINE TorqueLimitResult torque_limit_of_valid(const Coefficients& c, Rati
   const std::int64_t lever =
       radius_times_ratios(radius_m.raw(), dp_max_ratio, c.c3) +
       with_sign(z < 0, fx::wide::mul_32x32_64(fx::detail::magnitude32(z), static_cast<std::uint32_t>(c.c2.raw())));
-  fx::Status st;
-  const fx::ScaledMagnitude c1{false, static_cast<std::uint32_t>(c.c1.raw()), RatioQ::frac_bits};
-  const LoadQ t_max = fx::divide_normalised<LoadQ>(load_times(fx::Q<std::int64_t, 48>::from_raw(lever), load_n), c1, st);
-  if (!st.ok()) {
+  const fx::ScaledMagnitude w_lever = load_times(fx::Q<std::int64_t, 48>::from_raw(lever), load_n);
+  std::int32_t t_max = 0;
+  if (!positive_divisor_quotient<LoadQ::frac_bits>(w_lever.negative, w_lever.magnitude, w_lever.frac_bits,
+                                                   static_cast<std::uint32_t>(c.c1.raw()), RatioQ::frac_bits,
+                                                   t_max)) {
     return TorqueLimitResult{TorqueNm::zero(), EstimateStatus::overflow};
   }
-  return TorqueLimitResult{TorqueNm(t_max), EstimateStatus::ok};
+  return TorqueLimitResult{TorqueNm(LoadQ::from_raw(t_max)), EstimateStatus::ok};
 }
 
 /// The limit from T_max: the motor model in the forward direction (a
@@ -179,13 +255,26 @@ SW_FX_INLINE CurrentLimitResult limit_from_torque(const CorrectionResult& corr, 
   if (t.status != EstimateStatus::ok) {
     return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, t.status};
   }
-  using WideCurrentQ = fx::Q<std::int64_t, CurrentQ::frac_bits>;
-  fx::Status st;  // div_by_zero only for a motor without a reciprocal
-  const WideCurrentQ driving = fx::times_reciprocal<WideCurrentQ>(t.torque_nm.q(), divisors.inverse_gain, st);
-  const std::int64_t total = driving.raw() + static_cast<std::int64_t>(motor.no_load_current_a.raw());
+  // fx::times_reciprocal<Q43.20>(T_max, 1/gain) taken apart: |T_max| times
+  // the mantissa (one 32 x 32-bit product, below 2^63, not T_max's 64-bit
+  // sign extension times it), rounded down by the shift, the sign put back.
+  // The quotient's 64 bits cannot overflow (the product is below 2^63), so
+  // only its refusals are kept: no reciprocal (div_by_zero) and a non-zero
+  // product that a shift <= 0 would only grow (overflow); a shift >= 64
+  // rounds to zero. The same integer and the same refusals as before.
+  const fx::NormalisedReciprocal inverse = divisors.inverse_gain;
+  const std::int32_t t_raw = t.torque_nm.raw();
+  const std::uint64_t product = fx::wide::mul_32x32_64(fx::detail::magnitude32(t_raw), inverse.mantissa);
+  const std::int32_t shift = (LoadQ::frac_bits + inverse.scale) - CurrentQ::frac_bits;
+  std::uint64_t driving = 0U;
+  if ((shift > 0) && (shift < 64)) {
+    driving = fx::detail::shift_right_rounded(product, static_cast<std::uint32_t>(shift));
+  }
+  const std::int64_t total = with_sign(t_raw < 0, driving) + static_cast<std::int64_t>(motor.no_load_current_a.raw());
   constexpr std::int64_t kMin = std::numeric_limits<std::int32_t>::min();
   constexpr std::int64_t kMax = std::numeric_limits<std::int32_t>::max();
-  if ((!st.ok()) || (total < kMin) || (total > kMax)) {
+  const bool refused = (inverse.mantissa == 0U) || ((shift <= 0) && (product != 0U));
+  if (refused || (total < kMin) || (total > kMax)) {
     return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, EstimateStatus::overflow};
   }
   const CurrentA limit(CurrentQ::from_raw(static_cast<std::int32_t>(total)));

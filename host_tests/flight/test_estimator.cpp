@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <string>
@@ -20,6 +21,7 @@
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/ground/reference.hpp"
+#include "of_valid.hpp"
 #include "prepared_support.hpp"
 #include "quantity_support.hpp"
 
@@ -354,6 +356,178 @@ TEST(Estimator, SinkageAndTorqueLimitGiveTheSignedProductsBits) {
   EXPECT_LT(sinkages, 490000U);
   EXPECT_GT(limits, 100000U);
   EXPECT_LT(limits, 490000U);
+}
+
+// The cores' quotient (of_valid.hpp, positive_divisor_quotient) against
+// fx::divide_normalised, which it replaced: the same raw value and the same
+// overflow decision for every sign, magnitude and scale, the exponent of q
+// drawn across every branch (e > 1, 1, 0, -1 .. -32, below -32).
+bool same_as_generic(bool negative, std::uint64_t n, std::int32_t n_frac, std::uint64_t d, std::int32_t d_frac,
+                     std::int32_t out_frac) {
+  fx::Status st;
+  const fx::ScaledMagnitude num{negative, n, n_frac};
+  const fx::ScaledMagnitude den{false, d, d_frac};
+  std::int32_t raw = 0;
+  bool fits = false;
+  std::int32_t expected = 0;
+  if (out_frac == 24) {
+    fits = detail::positive_divisor_quotient<24>(negative, n, n_frac, d, d_frac, raw);
+    expected = fx::divide_normalised<LengthQ>(num, den, st).raw();
+  } else {
+    fits = detail::positive_divisor_quotient<16>(negative, n, n_frac, d, d_frac, raw);
+    expected = fx::divide_normalised<LoadQ>(num, den, st).raw();
+  }
+  if (fits != st.ok()) {
+    return false;
+  }
+  return (!fits) || (raw == expected);
+}
+
+std::int32_t bit_length_of(std::uint64_t a) { return static_cast<std::int32_t>(fx::wide::bit_length(a)); }
+
+TEST(PositiveDivisorQuotient, MatchesDivideNormalisedOverRandomAndEdgeOperands) {
+  std::mt19937_64 rng(20261128U);
+  std::uniform_int_distribution<std::int32_t> bits_n(0, 63);
+  std::uniform_int_distribution<std::int32_t> bits_d(1, 63);
+  std::uniform_int_distribution<std::int32_t> target_exponent(-36, 4);
+  std::uniform_int_distribution<std::int32_t> d_frac_pick(0, 60);
+  std::int64_t failures = 0;
+  for (std::int32_t i = 0; i < 400000; ++i) {
+    const std::int32_t nb = bits_n(rng);
+    const std::int32_t db = bits_d(rng);
+    std::uint64_t n = (nb == 0) ? 0U : ((rng() >> (64 - nb)) | (std::uint64_t{1U} << (nb - 1)));
+    std::uint64_t d = (rng() >> (64 - db)) | (std::uint64_t{1U} << (db - 1));
+    if ((i % 5) == 1) {
+      n = (nb == 0) ? 0U : (std::uint64_t{1U} << (nb - 1));  // N = 2^31: q down to 2^30
+    }
+    if ((i % 7) == 2) {
+      d = (db < 32) ? ((std::uint64_t{1U} << db) - 1U) : (~std::uint64_t{0U} >> (64 - db));  // D = 2^32 - 1
+    }
+    const std::int32_t out_frac = ((i % 2) == 0) ? 24 : 16;
+    const std::int32_t d_frac = d_frac_pick(rng);
+    // n_frac so that q's exponent is the drawn one.
+    const std::int32_t n_frac =
+        ((bit_length_of(n) - bit_length_of(d)) - 31) + d_frac + out_frac - target_exponent(rng);
+    const bool negative = (rng() & 1U) != 0U;
+    if (!same_as_generic(negative, n, n_frac, d, d_frac, out_frac)) {
+      ++failures;
+      ADD_FAILURE() << "n " << n << " frac " << n_frac << " d " << d << " frac " << d_frac << " neg " << negative
+                    << " out " << out_frac;
+      if (failures > 5) {
+        return;
+      }
+    }
+  }
+  // -2^31 exactly (q = 2^30 at exponent 1) and its neighbours.
+  const std::uint64_t d_max = 0xFFFFFFFFULL;
+  for (std::int32_t e = -34; e <= 3; ++e) {
+    for (const std::uint64_t n : {std::uint64_t{1U} << 40U, (std::uint64_t{1U} << 41U) - 1U, std::uint64_t{1U}}) {
+      for (const std::uint64_t d : {d_max, std::uint64_t{1U} << 31U, std::uint64_t{3U}, std::uint64_t{1U}}) {
+        const std::int32_t n_frac = ((bit_length_of(n) - bit_length_of(d)) - 31) + 16 - e;
+        EXPECT_TRUE(same_as_generic(true, n, n_frac, d, 0, 16)) << n << " " << d << " " << e;
+        EXPECT_TRUE(same_as_generic(false, n, n_frac, d, 0, 16)) << n << " " << d << " " << e;
+      }
+    }
+  }
+  // 2^40 / (2^32 - 1) at exponent 1: q = 2^30, -2^31 fits, +2^31 does not.
+  std::int32_t raw = 0;
+  EXPECT_FALSE(detail::positive_divisor_quotient<16>(false, std::uint64_t{1U} << 40U, -7, d_max, 0, raw));
+  ASSERT_TRUE(detail::positive_divisor_quotient<16>(true, std::uint64_t{1U} << 40U, -7, d_max, 0, raw));
+  EXPECT_EQ(raw, std::numeric_limits<std::int32_t>::min());
+}
+
+// The quotient's 64 / 32-bit division (quotient_64_by_32) against the exact one.
+TEST(PositiveDivisorQuotient, QuotientDigitsAreTheExactQuotient) {
+  std::mt19937_64 rng(15U);
+  for (std::int32_t i = 0; i < 400000; ++i) {
+    const auto v = static_cast<std::uint32_t>(rng() | 0x80000000ULL);
+    std::uint64_t u = rng() % (std::uint64_t{v} << 32U);
+    if ((i % 3) == 0) {
+      u = (std::uint64_t{v} << 32U) - 1U - (rng() & 0xFFFFU);
+    }
+    ASSERT_EQ(detail::quotient_64_by_32(u, v), static_cast<std::uint32_t>(u / v)) << u << " / " << v;
+  }
+  for (const std::uint32_t v : {0x80000000U, 0x80000001U, 0xFFFFFFFFU, 0xFFFF0000U, 0x8000FFFFU}) {
+    for (const std::uint64_t u : {std::uint64_t{0U}, (std::uint64_t{v} << 32U) - 1U, std::uint64_t{v} << 31U,
+                                  (std::uint64_t{v} << 16U) - 1U, std::uint64_t{0xFFFFFFFFU}}) {
+      EXPECT_EQ(detail::quotient_64_by_32(u, v), static_cast<std::uint32_t>(u / v)) << u << " / " << v;
+    }
+  }
+}
+
+// limit_from_torque (of_valid.hpp) against the fx::times_reciprocal form it
+// replaced: the same current and the same refusals for every T_max, reciprocal
+// (none, and scales on both sides of every branch) and no-load current.
+CurrentLimitResult limit_by_times_reciprocal(const MotorParams& motor, const MotorDivisors& divisors, TorqueNm t_max) {
+  using WideCurrentQ = fx::Q<std::int64_t, CurrentQ::frac_bits>;
+  fx::Status st;
+  const WideCurrentQ driving = fx::times_reciprocal<WideCurrentQ>(t_max.q(), divisors.inverse_gain, st);
+  const std::int64_t total = driving.raw() + static_cast<std::int64_t>(motor.no_load_current_a.raw());
+  if ((!st.ok()) || (total < std::numeric_limits<std::int32_t>::min()) ||
+      (total > std::numeric_limits<std::int32_t>::max())) {
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), LoadClamp::none, EstimateStatus::overflow};
+  }
+  return CurrentLimitResult{CurrentA(CurrentQ::from_raw(static_cast<std::int32_t>(total))), t_max, LoadClamp::none,
+                            EstimateStatus::ok};
+}
+
+TEST(LimitFromTorque, MatchesTimesReciprocalOverRandomAndEdgeOperands) {
+  std::mt19937_64 rng(1415U);
+  const std::int32_t edges[] = {0, 1, -1, 2, -2, std::numeric_limits<std::int32_t>::max(),
+                                std::numeric_limits<std::int32_t>::min(), 1 << 16, -(1 << 16)};
+  const CorrectionResult corr{};
+  for (std::int32_t i = 0; i < 400000; ++i) {
+    MotorParams motor{};
+    MotorDivisors divisors{};
+    const auto pick = static_cast<std::uint32_t>(rng() % 16U);
+    auto t_raw = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()));
+    if (pick < 4U) {
+      t_raw = edges[rng() % (sizeof(edges) / sizeof(edges[0]))];
+    } else if (pick < 8U) {
+      t_raw >>= (rng() % 32U);
+    }
+    divisors.inverse_gain.mantissa = ((rng() % 50U) == 0U) ? 0U : static_cast<std::uint32_t>(rng() | 0x80000000ULL);
+    divisors.inverse_gain.scale = static_cast<std::int32_t>(rng() % 90U) - 12;  // shift -16 .. 73
+    auto i0 = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()));
+    if ((rng() % 4U) != 0U) {
+      i0 >>= (rng() % 32U);
+    }
+    motor.no_load_current_a = CurrentA(CurrentQ::from_raw(i0));
+    const TorqueLimitResult t{TorqueNm(LoadQ::from_raw(t_raw)), EstimateStatus::ok};
+    const CurrentLimitResult got = detail::limit_from_torque(corr, motor, divisors, t);
+    const CurrentLimitResult want = limit_by_times_reciprocal(motor, divisors, t.torque_nm);
+    ASSERT_EQ(got.status, want.status) << t_raw << " " << divisors.inverse_gain.mantissa << " "
+                                       << divisors.inverse_gain.scale << " " << i0;
+    ASSERT_EQ(got.current_limit_a.raw(), want.current_limit_a.raw())
+        << t_raw << " " << divisors.inverse_gain.mantissa << " " << divisors.inverse_gain.scale << " " << i0;
+    ASSERT_EQ(got.torque_limit_nm.raw(), want.torque_limit_nm.raw());
+  }
+}
+
+// r (DP_max/W + C3) (of_valid.hpp, radius_times_ratios: |sum| from the
+// wrapping 32-bit sum) against the exact signed product, the sums at and
+// beyond the ends of the 32-bit range included.
+TEST(RadiusTimesRatios, IsTheExactSignedProduct) {
+  std::mt19937_64 rng(2611U);
+  const std::int32_t ratio_edges[] = {std::numeric_limits<std::int32_t>::min(),
+                                      std::numeric_limits<std::int32_t>::min() + 1, -1, 0, 1,
+                                      std::numeric_limits<std::int32_t>::max() - 1,
+                                      std::numeric_limits<std::int32_t>::max()};
+  const std::int32_t c3_edges[] = {-(1 << 24), -(1 << 24) + 1, -1, 0, 1, (1 << 24) - 1, 1 << 24};
+  for (std::int32_t i = 0; i < 200000; ++i) {
+    const std::int32_t r = static_cast<std::int32_t>(rng() % 0x7FFFFFFFU) + 1;
+    auto ratio = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()));
+    std::int32_t c3 = static_cast<std::int32_t>(rng() % ((1U << 25U) + 1U)) - (1 << 24);
+    if ((i % 3) == 0) {
+      ratio = ratio_edges[rng() % 7U];
+    }
+    if ((i % 5) == 0) {
+      c3 = c3_edges[rng() % 7U];
+    }
+    const std::int64_t expected = (static_cast<std::int64_t>(ratio) + c3) * static_cast<std::int64_t>(r);
+    ASSERT_EQ(detail::radius_times_ratios(r, Ratio::from_raw(ratio), Ratio::from_raw(c3)), expected)
+        << r << " " << ratio << " " << c3;
+  }
 }
 
 TEST(Reference, TwinRefusesWhatTheFlightCodeRefuses) {
