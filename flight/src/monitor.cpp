@@ -40,10 +40,12 @@ SW_FX_INLINE CurrentA directional(CurrentA current_a, DriveDirection direction, 
 /// f * I_max, in amperes, for a fraction f in (0, 1] (validate() accepts
 /// the caution fraction in (0, 1] and the hysteresis in [0, f), so f and
 /// f - h both are): |f I_max| <= |I_max| fits, and the product is fx::mul's
-/// rounding (ties away from zero) without its saturation test.
+/// rounding (ties away from zero) without its saturation test, in place
+/// (round 14: one multiply-accumulate on the Cortex-M4, the words' form on
+/// ARMv6-M; M4 -61, M0 -75 instructions per step against the call).
 SW_FX_INLINE CurrentA fraction_of(std::int32_t fraction_raw, CurrentA limit) noexcept {
   constexpr std::int32_t kShift = RatioQ::frac_bits;  // Q7.24 x Q11.20 -> Q11.20
-  return CurrentA(CurrentQ::from_raw(fx::detail::product_rounded<kShift>(fraction_raw, limit.raw())));
+  return CurrentA(CurrentQ::from_raw(fx::detail::product_rounded_inlined<kShift>(fraction_raw, limit.raw())));
 }
 
 /// A WheelInput's sample, as WheelMonitor::step_sample reads it.
