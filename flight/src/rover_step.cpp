@@ -118,21 +118,13 @@ RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) n
 /// live below it during the wheel loads (the deepest call of a cycle).
 [[gnu::noinline]] RoverStepStatus drawbar_stage(const PreparedParameters& prepared, const WheelLoadResult& loads,
                               CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept {
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    // Field by field: the result assigned whole is a memcpy call per wheel
-    // on the Cortex-M0 (as in wheel_torques; 318 instructions per step).
-    static_assert(sizeof(CorrectionResult) == 20U, "a field added to CorrectionResult is copied here too");
-    const CorrectionResult c = corrections_at(prepared.table().correction, prepared.correction_divisors(), out.load_n[i]);
-    corr[i].coefficients.c1 = c.coefficients.c1;
-    corr[i].coefficients.c2 = c.coefficients.c2;
-    corr[i].coefficients.c3 = c.coefficients.c3;
-    corr[i].dp_max_ratio = c.dp_max_ratio;
-    corr[i].clamp = c.clamp;
-    corr[i].status = c.status;
-    if (corr[i].status != EstimateStatus::ok) {
-      out.drawbar_status = DrawbarStatus::invalid_input;
-      return RoverStepStatus::drawbar_failed;
-    }
+  // The six loads in one call, the results written in place (round 14: a
+  // call per wheel, its result record copied field by field, before). A
+  // failed wheel fails the stage; the monitor reads `corr` only when it
+  // did not.
+  if (!corrections_at(prepared.table().correction, prepared.correction_divisors(), out.load_n, corr)) {
+    out.drawbar_status = DrawbarStatus::invalid_input;
+    return RoverStepStatus::drawbar_failed;
   }
   // Built whole, every field given (a zeroed input filled in afterwards was
   // a memset per cycle on the Cortex-M0).
