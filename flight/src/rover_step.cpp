@@ -71,23 +71,21 @@ bool motion_in_range(const RoverTelemetry& t) noexcept {
 }
 
 /// Each wheel's drive torque from its current, once per cycle: the loads
-/// and the monitor (WheelInput::drive_torque) take the same result. Stored
-/// field by field: the 5-byte record assigned whole is a memcpy call on the
-/// M0. The loads' torques into `drive` in the same pass (every wheel's):
-/// usable when the health monitor passes the current and the torque exists;
-/// otherwise the statics fall back for that wheel. Out of line, so that its
-/// temporary is not in compute's frame.
+/// and the monitor (WheelInput::drive_torque) take the same result, all six
+/// computed in one call and written in place (round 14). The loads'
+/// torques into `drive` (every wheel's): usable when the health monitor
+/// passes the current and the torque exists; otherwise the statics fall
+/// back for that wheel. Out of line, so that its temporaries are not in
+/// compute's frame.
 [[gnu::noinline]] void wheel_torques(const PreparedParameters& prepared, const RoverTelemetry& t,
                                      const SensorHealthReport& health, TorqueResult (&torque)[kWheelCount],
                                      DriveTorques& drive) noexcept {
+  // The validated table's motor: no check_motor() per wheel (of_valid.hpp).
+  detail::torques_of_valid_motor(prepared.table().motor, t.current_a, t.direction, torque);
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    // The validated table's motor: no check_motor() per wheel (of_valid.hpp).
-    const TorqueResult r = detail::torque_of_valid_motor(prepared.table().motor, t.current_a[i], t.direction[i]);
-    torque[i].torque_nm = r.torque_nm;
-    torque[i].status = r.status;
-    const bool torque_usable = health.current_usable[i] && (r.status == EstimateStatus::ok);
+    const bool torque_usable = health.current_usable[i] && (torque[i].status == EstimateStatus::ok);
     drive.usable[i] = torque_usable;
-    drive.torque_nm[i] = torque_usable ? r.torque_nm : TorqueNm::zero();
+    drive.torque_nm[i] = torque_usable ? torque[i].torque_nm : TorqueNm::zero();
   }
 }
 
