@@ -156,19 +156,25 @@ RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) n
   return RoverStepStatus::ok;
 }
 
-/// Stage 6's input into `in`, every field: this cycle's loads, pulls and the
-/// wheel monitors' directed torques (when the cycle has them), and the
-/// odometry.
+/// Stage 6's input into `in`: this cycle's loads, pulls and the wheel
+/// monitors' directed torques, and the odometry. The per-wheel arrays are
+/// written only for a cycle with loads: the check reads them only then
+/// (TractionMonitor::resistance_of refuses a cycle without loads first), so
+/// a cycle without keeps the previous cycle's, unread, and torque_valid is
+/// the monitor's estimate_valid without the cycle's own flag in each wheel.
 void traction_input(const RoverTelemetry& t, const RoverStepOutput& out, TractionInput& in) noexcept {
   in.time = t.time;
   in.loads_valid = (out.status == RoverStepStatus::ok);
   in.pull_assumed = (out.drawbar_status == DrawbarStatus::saturated);
   in.speed_valid = t.speed_valid;
   in.speed_mps = t.speed_mps;
+  if (!in.loads_valid) {
+    return;
+  }
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     in.load_n[i] = out.load_n[i];
     in.drawbar_pull_n[i] = out.drawbar_pull_n[i];
-    in.torque_valid[i] = in.loads_valid && out.monitor.wheels[i].estimate_valid;
+    in.torque_valid[i] = out.monitor.wheels[i].estimate_valid;
     in.torque_nm[i] = out.monitor.wheels[i].torque_nm;
     in.direction[i] = t.direction[i];
   }
