@@ -67,11 +67,35 @@ SW_FX_INLINE EstimateStatus refused(EstimateStatus status, CorrectionResult& out
   return put(out, Ratio::zero(), Ratio::zero(), Ratio::zero(), Ratio::zero(), LoadClamp::none, status);
 }
 
+/// The load `load_n` in the segment from `lo` to `hi` of width `width`
+/// (lo.load <= W < hi.load) into `out`; its status returned.
+SW_FX_INLINE EstimateStatus interpolated(const CorrectionRow& lo, const CorrectionRow& hi, const SegmentWidth& width,
+                                         WheelLoadN load_n, CorrectionResult& out) noexcept {
+  // W - W_k: W_k <= W (above) makes the modular difference of the two raw
+  // values exact. It is below the width for every segment whose width
+  // make_correction_divisors() prepared (W < W_k+1); a segment without one
+  // (not increasing, or its width overflowed: a table validate() refuses)
+  // has a zero width, so this one test refuses it (round 14: the zero width
+  // and W < W_k were tested apart, the latter never true).
+  const std::uint32_t offset = static_cast<std::uint32_t>(load_n.raw()) - static_cast<std::uint32_t>(lo.load_n.raw());
+  if (offset >= (width.normalised >> width.shift)) {
+    return refused(EstimateStatus::invalid_coefficient, out);
+  }
+  // The fraction's halves once for the four coefficients (session 19: one
+  // lerp call per coefficient, each splitting it, before).
+  const detail::FractionHalves f = detail::halves_of(fraction_of(offset, width));
+  return put(out, Ratio::from_raw(detail::interpolate_raw(lo.c1.raw(), hi.c1.raw(), f)),
+             Ratio::from_raw(detail::interpolate_raw(lo.c2.raw(), hi.c2.raw(), f)),
+             Ratio::from_raw(detail::interpolate_raw(lo.c3.raw(), hi.c3.raw(), f)),
+             Ratio::from_raw(detail::interpolate_raw(lo.dp_max_ratio.raw(), hi.dp_max_ratio.raw(), f)),
+             LoadClamp::none, EstimateStatus::ok);
+}
+
 /// One load's corrections into `out`, for a table whose row count is in
 /// 1..kMaxCorrectionRows (`last` = count - 1, checked by the caller); its
 /// status returned.
-SW_FX_INLINE EstimateStatus correction_of(const CorrectionTable& table, const CorrectionDivisors& divisors, std::uint32_t last,
-                                WheelLoadN load_n, CorrectionResult& out) noexcept {
+SW_FX_INLINE EstimateStatus correction_of(const CorrectionTable& table, const CorrectionDivisors& divisors,
+                                          std::uint32_t last, WheelLoadN load_n, CorrectionResult& out) noexcept {
   if (load_n <= WheelLoadN::zero()) {
     return refused(EstimateStatus::invalid_load, out);
   }
@@ -87,38 +111,19 @@ SW_FX_INLINE EstimateStatus correction_of(const CorrectionTable& table, const Co
   // taken), for any breakpoints, increasing or not; and k = last - 1 when no
   // earlier one is, since W < W_last. So there is no "no segment" outcome.
   // The first segment tested before the loop: a lunar rover's wheel loads
-  // (tens of newtons) lie in Table 2's first one (round 14).
-  std::uint32_t seg = 0U;
-  if (load_n >= table.rows[1].load_n) {
-    seg = last - 1U;
-    for (std::uint32_t i = 1U; i < seg; ++i) {
-      if (load_n < table.rows[i + 1U].load_n) {
-        seg = i;
-        break;
-      }
+  // (tens of newtons) lie in Table 2's first one (round 14), and there its
+  // rows and width are at constant offsets, not computed from the index.
+  if (load_n < table.rows[1].load_n) {
+    return interpolated(table.rows[0], table.rows[1], divisors.width[0], load_n, out);
+  }
+  std::uint32_t seg = last - 1U;
+  for (std::uint32_t i = 1U; i < seg; ++i) {
+    if (load_n < table.rows[i + 1U].load_n) {
+      seg = i;
+      break;
     }
   }
-  const CorrectionRow& lo = table.rows[seg];
-  const CorrectionRow& hi = table.rows[seg + 1U];
-  const SegmentWidth& width = divisors.width[seg];
-  // W - W_k: W_k <= W (above) makes the modular difference of the two raw
-  // values exact. It is below the width for every segment whose width
-  // make_correction_divisors() prepared (W < W_k+1); a segment without one
-  // (not increasing, or its width overflowed: a table validate() refuses)
-  // has a zero width, so this one test refuses it (round 14: the zero width
-  // and W < W_k were tested apart, the latter never true).
-  const std::uint32_t offset = static_cast<std::uint32_t>(load_n.raw()) - static_cast<std::uint32_t>(lo.load_n.raw());
-  if (offset >= (width.normalised >> width.shift)) {
-    return refused(EstimateStatus::invalid_coefficient, out);
-  }
-  // The fraction's halves once for the four coefficients (session 19: one
-  // lerp call per coefficient, each splitting it, before).
-  const detail::FractionHalves f = detail::halves_of(fraction_of(offset, width));
-  return put(out, Ratio::from_raw(detail::interpolate_raw(lo.c1.raw(), hi.c1.raw(), f)),
-      Ratio::from_raw(detail::interpolate_raw(lo.c2.raw(), hi.c2.raw(), f)),
-      Ratio::from_raw(detail::interpolate_raw(lo.c3.raw(), hi.c3.raw(), f)),
-      Ratio::from_raw(detail::interpolate_raw(lo.dp_max_ratio.raw(), hi.dp_max_ratio.raw(), f)), LoadClamp::none,
-      EstimateStatus::ok);
+  return interpolated(table.rows[seg], table.rows[seg + 1U], divisors.width[seg], load_n, out);
 }
 
 }  // namespace
