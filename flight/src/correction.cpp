@@ -1,6 +1,7 @@
 // Piecewise-linear corrections over the load breakpoints (correction.hpp).
 #include "sinkwatch/flight/correction.hpp"
 
+#include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/reciprocal.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
 
@@ -20,7 +21,7 @@ namespace {
 /// three steps on the 64-bit remainder before).
 /// Then q is rounded half up, as fx::div rounds a magnitude: below 2^32,
 /// since offset < width < 2^31 raw keeps offset / width below 1 - 2^-31.
-std::uint32_t fraction_of(std::uint32_t offset, const SegmentWidth& width) noexcept {
+SW_FX_INLINE std::uint32_t fraction_of(std::uint32_t offset, const SegmentWidth& width) noexcept {
   const std::uint32_t v = width.normalised;
   const std::uint32_t a = offset << width.shift;  // < v
   // floor(a m / 2^31) (< 2^32) from the product's words.
@@ -44,54 +45,32 @@ std::uint32_t fraction_of(std::uint32_t offset, const SegmentWidth& width) noexc
   return quotient + (round_up ? 1U : 0U);
 }
 
-CorrectionResult from_row(const CorrectionRow& row, LoadClamp clamp) noexcept {
-  return CorrectionResult{Coefficients{row.c1, row.c2, row.c3}, row.dp_max_ratio, clamp, EstimateStatus::ok};
+/// Every field of `out` (assigned field by field: a result record assigned
+/// whole is a memcpy call on the Cortex-M0); `status` returned.
+SW_FX_INLINE EstimateStatus put(CorrectionResult& out, Ratio c1, Ratio c2, Ratio c3, Ratio dp_max_ratio, LoadClamp clamp,
+                      EstimateStatus status) noexcept {
+  out.coefficients.c1 = c1;
+  out.coefficients.c2 = c2;
+  out.coefficients.c3 = c3;
+  out.dp_max_ratio = dp_max_ratio;
+  out.clamp = clamp;
+  out.status = status;
+  return status;
+}
+
+SW_FX_INLINE EstimateStatus from_row(const CorrectionRow& row, LoadClamp clamp, CorrectionResult& out) noexcept {
+  return put(out, row.c1, row.c2, row.c3, row.dp_max_ratio, clamp, EstimateStatus::ok);
 }
 
 /// No number: `status` says why.
-CorrectionResult refused(EstimateStatus status) noexcept {
-  return CorrectionResult{Coefficients{Ratio::zero(), Ratio::zero(), Ratio::zero()}, Ratio::zero(), LoadClamp::none,
-                          status};
+SW_FX_INLINE EstimateStatus refused(EstimateStatus status, CorrectionResult& out) noexcept {
+  return put(out, Ratio::zero(), Ratio::zero(), Ratio::zero(), Ratio::zero(), LoadClamp::none, status);
 }
 
-}  // namespace
-
-CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDivisors& divisors,
-                                WheelLoadN load_n) noexcept {
-  // count in 1..kMaxCorrectionRows, as one unsigned comparison (0 wraps).
-  const std::uint32_t last = static_cast<std::uint32_t>(table.count) - 1U;
-  if (last >= kMaxCorrectionRows) {
-    return refused(EstimateStatus::invalid_coefficient);
-  }
-  if (load_n <= WheelLoadN::zero()) {
-    return refused(EstimateStatus::invalid_load);
-  }
-  if (load_n < table.rows[0].load_n) {
-    return from_row(table.rows[0], LoadClamp::below_first);
-  }
-  const CorrectionRow& final_row = table.rows[last];
-  if (load_n >= final_row.load_n) {
-    return from_row(final_row, (load_n > final_row.load_n) ? LoadClamp::above_last : LoadClamp::none);
-  }
-  // Here count >= 2 and rows[0].load <= W < rows[last].load. The segment is
-  // the first k with W < W_k+1: then W_k <= W too (k = 0, or k - 1 was not
-  // taken), for any breakpoints, increasing or not; and k = last - 1 when no
-  // earlier one is, since W < W_last. So there is no "no segment" outcome.
-  // The first segment tested before the loop: a lunar rover's wheel loads
-  // (tens of newtons) lie in Table 2's first one (round 14).
-  std::uint32_t seg = 0U;
-  if (load_n >= table.rows[1].load_n) {
-    seg = last - 1U;
-    for (std::uint32_t i = 1U; i < seg; ++i) {
-      if (load_n < table.rows[i + 1U].load_n) {
-        seg = i;
-        break;
-      }
-    }
-  }
-  const CorrectionRow& lo = table.rows[seg];
-  const CorrectionRow& hi = table.rows[seg + 1U];
-  const SegmentWidth& width = divisors.width[seg];
+/// The load `load_n` in the segment from `lo` to `hi` of width `width`
+/// (lo.load <= W < hi.load) into `out`; its status returned.
+SW_FX_INLINE EstimateStatus interpolated(const CorrectionRow& lo, const CorrectionRow& hi, const SegmentWidth& width,
+                                         WheelLoadN load_n, CorrectionResult& out) noexcept {
   // W - W_k: W_k <= W (above) makes the modular difference of the two raw
   // values exact. It is below the width for every segment whose width
   // make_correction_divisors() prepared (W < W_k+1); a segment without one
@@ -100,17 +79,80 @@ CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDi
   // and W < W_k were tested apart, the latter never true).
   const std::uint32_t offset = static_cast<std::uint32_t>(load_n.raw()) - static_cast<std::uint32_t>(lo.load_n.raw());
   if (offset >= (width.normalised >> width.shift)) {
-    return refused(EstimateStatus::invalid_coefficient);
+    return refused(EstimateStatus::invalid_coefficient, out);
   }
   // The fraction's halves once for the four coefficients (session 19: one
   // lerp call per coefficient, each splitting it, before).
   const detail::FractionHalves f = detail::halves_of(fraction_of(offset, width));
-  const Coefficients c{Ratio::from_raw(detail::interpolate_raw(lo.c1.raw(), hi.c1.raw(), f)),
-                       Ratio::from_raw(detail::interpolate_raw(lo.c2.raw(), hi.c2.raw(), f)),
-                       Ratio::from_raw(detail::interpolate_raw(lo.c3.raw(), hi.c3.raw(), f))};
-  return CorrectionResult{c, Ratio::from_raw(detail::interpolate_raw(lo.dp_max_ratio.raw(), hi.dp_max_ratio.raw(), f)),
-                          LoadClamp::none, EstimateStatus::ok};
+  return put(out, Ratio::from_raw(detail::interpolate_raw(lo.c1.raw(), hi.c1.raw(), f)),
+             Ratio::from_raw(detail::interpolate_raw(lo.c2.raw(), hi.c2.raw(), f)),
+             Ratio::from_raw(detail::interpolate_raw(lo.c3.raw(), hi.c3.raw(), f)),
+             Ratio::from_raw(detail::interpolate_raw(lo.dp_max_ratio.raw(), hi.dp_max_ratio.raw(), f)),
+             LoadClamp::none, EstimateStatus::ok);
 }
+
+/// One load's corrections into `out`, for a table whose row count is in
+/// 1..kMaxCorrectionRows (`last` = count - 1, checked by the caller); its
+/// status returned.
+SW_FX_INLINE EstimateStatus correction_of(const CorrectionTable& table, const CorrectionDivisors& divisors,
+                                          std::uint32_t last, WheelLoadN load_n, CorrectionResult& out) noexcept {
+  if (load_n <= WheelLoadN::zero()) {
+    return refused(EstimateStatus::invalid_load, out);
+  }
+  if (load_n < table.rows[0].load_n) {
+    return from_row(table.rows[0], LoadClamp::below_first, out);
+  }
+  const CorrectionRow& final_row = table.rows[last];
+  if (load_n >= final_row.load_n) {
+    return from_row(final_row, (load_n > final_row.load_n) ? LoadClamp::above_last : LoadClamp::none, out);
+  }
+  // Here count >= 2 and rows[0].load <= W < rows[last].load. The segment is
+  // the first k with W < W_k+1: then W_k <= W too (k = 0, or k - 1 was not
+  // taken), for any breakpoints, increasing or not; and k = last - 1 when no
+  // earlier one is, since W < W_last. So there is no "no segment" outcome.
+  // The first segment tested before the loop: a lunar rover's wheel loads
+  // (tens of newtons) lie in Table 2's first one (round 14), and there its
+  // rows and width are at constant offsets, not computed from the index.
+  if (load_n < table.rows[1].load_n) {
+    return interpolated(table.rows[0], table.rows[1], divisors.width[0], load_n, out);
+  }
+  std::uint32_t seg = last - 1U;
+  for (std::uint32_t i = 1U; i < seg; ++i) {
+    if (load_n < table.rows[i + 1U].load_n) {
+      seg = i;
+      break;
+    }
+  }
+  return interpolated(table.rows[seg], table.rows[seg + 1U], divisors.width[seg], load_n, out);
+}
+
+}  // namespace
+
+template <std::uint32_t N>
+bool corrections_at(const CorrectionTable& table, const CorrectionDivisors& divisors, const WheelLoadN (&load_n)[N],
+                    CorrectionResult (&out)[N]) noexcept {
+  // count in 1..kMaxCorrectionRows, as one unsigned comparison (0 wraps).
+  const std::uint32_t last = static_cast<std::uint32_t>(table.count) - 1U;
+  if (last >= kMaxCorrectionRows) {
+    for (std::uint32_t i = 0U; i < N; ++i) {
+      static_cast<void>(refused(EstimateStatus::invalid_coefficient, out[i]));
+    }
+    return false;
+  }
+  // The statuses ORed: ok is 0, so the OR is 0 when every one is ok.
+  static_assert(static_cast<std::uint32_t>(EstimateStatus::ok) == 0U, "ok must be the OR's identity");
+  std::uint32_t failures = 0U;
+  for (std::uint32_t i = 0U; i < N; ++i) {
+    failures |= static_cast<std::uint32_t>(correction_of(table, divisors, last, load_n[i], out[i]));
+  }
+  return failures == 0U;
+}
+
+template bool corrections_at<1U>(const CorrectionTable& table, const CorrectionDivisors& divisors,
+                                 const WheelLoadN (&load_n)[1U], CorrectionResult (&out)[1U]) noexcept;
+template bool corrections_at<limits::kWheelCount>(const CorrectionTable& table, const CorrectionDivisors& divisors,
+                                                  const WheelLoadN (&load_n)[limits::kWheelCount],
+                                                  CorrectionResult (&out)[limits::kWheelCount]) noexcept;
 
 CorrectionDivisors make_correction_divisors(const CorrectionTable& table) noexcept {
   CorrectionDivisors d{};

@@ -4,6 +4,7 @@
 // normalised reciprocal, whose error is relative (docs/flight.md bounds both).
 #include "sinkwatch/flight/motor.hpp"
 
+#include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
 
 #include "of_valid.hpp"
@@ -58,6 +59,53 @@ std::uint64_t gear_times(std::int32_t gear_raw, std::uint64_t x) noexcept {
   return times_wide_rounded<0U>(x, static_cast<std::uint32_t>(gear_raw));
 }
 
+/// Both fields of `out` (a record assigned whole is a memcpy call on the M0).
+SW_FX_INLINE void put(TorqueResult& out, TorqueNm torque_nm, EstimateStatus status) noexcept {
+  out.torque_nm = torque_nm;
+  out.status = status;
+}
+
+/// One wheel's torque (torque_from_current() for a valid motor) into `out`,
+/// inline into the loop of torques_of_valid_motor: each outcome stored
+/// where it is known, not merged into a record first.
+SW_FX_INLINE void torque_into(const MotorParams& motor, CurrentA current_a, DriveDirection direction,
+                              TorqueResult& out) noexcept {
+  if (!direction_is_valid(direction)) {
+    put(out, TorqueNm::zero(), EstimateStatus::invalid_direction);
+    return;
+  }
+  // |I| beyond the sensor's range, as fx::abs and a comparison gave it: the
+  // magnitude 2^31 of the most negative current, where fx::abs overflowed,
+  // exceeds every range (check_motor: 0 <= I0 < current_abs_max < 2^31).
+  if (fx::detail::magnitude32(current_a.raw()) > static_cast<std::uint32_t>(motor.current_abs_max_a.raw())) {
+    put(out, TorqueNm::zero(), EstimateStatus::invalid_current);
+    return;
+  }
+  fx::Status st;
+  // I0 opposes the rotation: subtract it driving forward, add it in reverse.
+  // Both operands are within +-current_abs_max < 2048 A, so this is exact.
+  const CurrentQ effective = (direction == DriveDirection::forward)
+                                 ? fx::sub(current_a.q(), motor.no_load_current_a.q(), st)
+                                 : fx::add(current_a.q(), motor.no_load_current_a.q(), st);
+  if (!st.ok()) {
+    put(out, TorqueNm::zero(), EstimateStatus::overflow);
+    return;
+  }
+  // Kt, eta and N are positive (check_motor), so the chain works on |I - I0|
+  // and puts the sign back at the end, as fx::mul does (ties away from zero).
+  const std::uint64_t wheel_torque = gear_times(
+      motor.gear_ratio.raw(), efficiency_times(motor.efficiency.raw(),
+                                               kt_times(motor.kt_nm_per_a.raw(), effective.raw())));
+  const bool negative = effective.raw() < 0;
+  constexpr std::uint64_t kMaxPositive = 0x7FFFFFFFU;
+  if (wheel_torque > (kMaxPositive + (negative ? 1U : 0U))) {
+    put(out, TorqueNm::zero(), EstimateStatus::overflow);
+    return;
+  }
+  const auto t = static_cast<std::int64_t>(wheel_torque);  // <= 2^31
+  put(out, TorqueNm(LoadQ::from_raw(static_cast<std::int32_t>(negative ? -t : t))), EstimateStatus::ok);
+}
+
 }  // namespace
 
 EstimateStatus check_motor(const MotorParams& motor) noexcept {
@@ -78,38 +126,31 @@ TorqueResult torque_from_current(const MotorParams& motor, CurrentA current_a, D
   return detail::torque_of_valid_motor(motor, current_a, direction);
 }
 
+template <std::uint32_t N>
+void detail::torques_of_valid_motor(const MotorParams& motor, const CurrentA (&current_a)[N],
+                                    const DriveDirection (&direction)[N], TorqueResult (&torque)[N]) noexcept {
+  // A copy: the stores into `torque` could otherwise alias the parameters,
+  // which would be read again for every wheel.
+  const MotorParams m = motor;
+  for (std::uint32_t i = 0U; i < N; ++i) {
+    torque_into(m, current_a[i], direction[i], torque[i]);
+  }
+}
+
+template void detail::torques_of_valid_motor<1U>(const MotorParams& motor, const CurrentA (&current_a)[1U],
+                                                 const DriveDirection (&direction)[1U],
+                                                 TorqueResult (&torque)[1U]) noexcept;
+template void detail::torques_of_valid_motor<limits::kWheelCount>(
+    const MotorParams& motor, const CurrentA (&current_a)[limits::kWheelCount],
+    const DriveDirection (&direction)[limits::kWheelCount], TorqueResult (&torque)[limits::kWheelCount]) noexcept;
+
 TorqueResult detail::torque_of_valid_motor(const MotorParams& motor, CurrentA current_a,
                                            DriveDirection direction) noexcept {
-  if (!direction_is_valid(direction)) {
-    return TorqueResult{TorqueNm::zero(), EstimateStatus::invalid_direction};
-  }
-  // |I| beyond the sensor's range, as fx::abs and a comparison gave it: the
-  // magnitude 2^31 of the most negative current, where fx::abs overflowed,
-  // exceeds every range (check_motor: 0 <= I0 < current_abs_max < 2^31).
-  if (fx::detail::magnitude32(current_a.raw()) > static_cast<std::uint32_t>(motor.current_abs_max_a.raw())) {
-    return TorqueResult{TorqueNm::zero(), EstimateStatus::invalid_current};
-  }
-  fx::Status st;
-  // I0 opposes the rotation: subtract it driving forward, add it in reverse.
-  // Both operands are within +-current_abs_max < 2048 A, so this is exact.
-  const CurrentQ effective = (direction == DriveDirection::forward)
-                                 ? fx::sub(current_a.q(), motor.no_load_current_a.q(), st)
-                                 : fx::add(current_a.q(), motor.no_load_current_a.q(), st);
-  if (!st.ok()) {
-    return TorqueResult{TorqueNm::zero(), EstimateStatus::overflow};
-  }
-  // Kt, eta and N are positive (check_motor), so the chain works on |I - I0|
-  // and puts the sign back at the end, as fx::mul does (ties away from zero).
-  const std::uint64_t wheel_torque = gear_times(
-      motor.gear_ratio.raw(), efficiency_times(motor.efficiency.raw(),
-                                               kt_times(motor.kt_nm_per_a.raw(), effective.raw())));
-  const bool negative = effective.raw() < 0;
-  constexpr std::uint64_t kMaxPositive = 0x7FFFFFFFU;
-  if (wheel_torque > (kMaxPositive + (negative ? 1U : 0U))) {
-    return TorqueResult{TorqueNm::zero(), EstimateStatus::overflow};
-  }
-  const auto t = static_cast<std::int64_t>(wheel_torque);  // <= 2^31
-  return TorqueResult{TorqueNm(LoadQ::from_raw(static_cast<std::int32_t>(negative ? -t : t))), EstimateStatus::ok};
+  const CurrentA currents[1U]{current_a};
+  const DriveDirection directions[1U]{direction};
+  TorqueResult torque[1U]{};
+  torques_of_valid_motor<1U>(motor, currents, directions, torque);
+  return torque[0U];
 }
 
 CurrentResult current_from_torque(const MotorParams& motor, const MotorDivisors& divisors, TorqueNm torque_nm,

@@ -70,24 +70,36 @@ bool motion_in_range(const RoverTelemetry& t) noexcept {
          (!t.rim_speed_valid || within(t.rim_speed_mps, kMaxAbsSpeed));
 }
 
+/// The six values of `from` into `to`, one by one: GCC turns a copy loop
+/// into a memcpy call (on the Cortex-M0, about 65 instructions for 24
+/// bytes), and the Cortex-M4 copies the loop in three two-word steps.
+template <typename T>
+void copy_six(const T (&from)[kWheelCount], T (&to)[kWheelCount]) noexcept {
+  static_assert(kWheelCount == 6U, "one assignment per wheel below");
+  to[0] = from[0];
+  to[1] = from[1];
+  to[2] = from[2];
+  to[3] = from[3];
+  to[4] = from[4];
+  to[5] = from[5];
+}
+
 /// Each wheel's drive torque from its current, once per cycle: the loads
-/// and the monitor (WheelInput::drive_torque) take the same result. Stored
-/// field by field: the 5-byte record assigned whole is a memcpy call on the
-/// M0. The loads' torques into `drive` in the same pass (every wheel's):
-/// usable when the health monitor passes the current and the torque exists;
-/// otherwise the statics fall back for that wheel. Out of line, so that its
-/// temporary is not in compute's frame.
+/// and the monitor (WheelInput::drive_torque) take the same result, all six
+/// computed in one call and written in place (round 14). The loads'
+/// torques into `drive` (every wheel's): usable when the health monitor
+/// passes the current and the torque exists; otherwise the statics fall
+/// back for that wheel. Out of line, so that its temporaries are not in
+/// compute's frame.
 [[gnu::noinline]] void wheel_torques(const PreparedParameters& prepared, const RoverTelemetry& t,
                                      const SensorHealthReport& health, TorqueResult (&torque)[kWheelCount],
                                      DriveTorques& drive) noexcept {
+  // The validated table's motor: no check_motor() per wheel (of_valid.hpp).
+  detail::torques_of_valid_motor(prepared.table().motor, t.current_a, t.direction, torque);
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    // The validated table's motor: no check_motor() per wheel (of_valid.hpp).
-    const TorqueResult r = detail::torque_of_valid_motor(prepared.table().motor, t.current_a[i], t.direction[i]);
-    torque[i].torque_nm = r.torque_nm;
-    torque[i].status = r.status;
-    const bool torque_usable = health.current_usable[i] && (r.status == EstimateStatus::ok);
+    const bool torque_usable = health.current_usable[i] && (torque[i].status == EstimateStatus::ok);
     drive.usable[i] = torque_usable;
-    drive.torque_nm[i] = torque_usable ? r.torque_nm : TorqueNm::zero();
+    drive.torque_nm[i] = torque_usable ? torque[i].torque_nm : TorqueNm::zero();
   }
 }
 
@@ -104,9 +116,7 @@ RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) n
     return RoverStepStatus::loads_failed;
   }
   out.loads_valid = true;
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    out.load_n[i] = loads.load_n[i];
-  }
+  copy_six(loads.load_n, out.load_n);
   return RoverStepStatus::ok;
 }
 
@@ -118,21 +128,13 @@ RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) n
 /// live below it during the wheel loads (the deepest call of a cycle).
 [[gnu::noinline]] RoverStepStatus drawbar_stage(const PreparedParameters& prepared, const WheelLoadResult& loads,
                               CorrectionResult (&corr)[kWheelCount], RoverStepOutput& out) noexcept {
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    // Field by field: the result assigned whole is a memcpy call per wheel
-    // on the Cortex-M0 (as in wheel_torques; 318 instructions per step).
-    static_assert(sizeof(CorrectionResult) == 20U, "a field added to CorrectionResult is copied here too");
-    const CorrectionResult c = corrections_at(prepared.table().correction, prepared.correction_divisors(), out.load_n[i]);
-    corr[i].coefficients.c1 = c.coefficients.c1;
-    corr[i].coefficients.c2 = c.coefficients.c2;
-    corr[i].coefficients.c3 = c.coefficients.c3;
-    corr[i].dp_max_ratio = c.dp_max_ratio;
-    corr[i].clamp = c.clamp;
-    corr[i].status = c.status;
-    if (corr[i].status != EstimateStatus::ok) {
-      out.drawbar_status = DrawbarStatus::invalid_input;
-      return RoverStepStatus::drawbar_failed;
-    }
+  // The six loads in one call, the results written in place (round 14: a
+  // call per wheel, its result record copied field by field, before). A
+  // failed wheel fails the stage; the monitor reads `corr` only when it
+  // did not.
+  if (!corrections_at(prepared.table().correction, prepared.correction_divisors(), out.load_n, corr)) {
+    out.drawbar_status = DrawbarStatus::invalid_input;
+    return RoverStepStatus::drawbar_failed;
   }
   // Built whole, every field given (a zeroed input filled in afterwards was
   // a memset per cycle on the Cortex-M0).
@@ -150,25 +152,29 @@ RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) n
     return RoverStepStatus::drawbar_failed;  // GCOVR_EXCL_LINE
   }
   out.drawbar_valid = true;
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    out.drawbar_pull_n[i] = dp.dp_n[i];
-  }
+  copy_six(dp.dp_n, out.drawbar_pull_n);
   return RoverStepStatus::ok;
 }
 
-/// Stage 6's input into `in`, every field: this cycle's loads, pulls and the
-/// wheel monitors' directed torques (when the cycle has them), and the
-/// odometry.
+/// Stage 6's input into `in`: this cycle's loads, pulls and the wheel
+/// monitors' directed torques, and the odometry. The per-wheel arrays are
+/// written only for a cycle with loads: the check reads them only then
+/// (TractionMonitor::resistance_of refuses a cycle without loads first), so
+/// a cycle without keeps the previous cycle's, unread, and torque_valid is
+/// the monitor's estimate_valid without the cycle's own flag in each wheel.
 void traction_input(const RoverTelemetry& t, const RoverStepOutput& out, TractionInput& in) noexcept {
   in.time = t.time;
   in.loads_valid = (out.status == RoverStepStatus::ok);
   in.pull_assumed = (out.drawbar_status == DrawbarStatus::saturated);
   in.speed_valid = t.speed_valid;
   in.speed_mps = t.speed_mps;
+  if (!in.loads_valid) {
+    return;
+  }
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     in.load_n[i] = out.load_n[i];
     in.drawbar_pull_n[i] = out.drawbar_pull_n[i];
-    in.torque_valid[i] = in.loads_valid && out.monitor.wheels[i].estimate_valid;
+    in.torque_valid[i] = out.monitor.wheels[i].estimate_valid;
     in.torque_nm[i] = out.monitor.wheels[i].torque_nm;
     in.direction[i] = t.direction[i];
   }

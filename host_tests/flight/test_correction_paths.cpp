@@ -6,6 +6,8 @@
 // step.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <climits>
 #include <cstdint>
 #include <random>
 
@@ -242,6 +244,56 @@ TEST(CorrectionPaths, InterpolationIsTheWideFormAndTheExactChain) {
       }
     }
   }
+}
+
+
+// The six-load form the step calls (round 14): every wheel's result, clamp
+// included, is the oracle's for its load, whatever the others are (a
+// refused load among them, loads below, inside and above the table, a row
+// count the table cannot have), and it returns true exactly when all six
+// are ok.
+TEST(CorrectionPaths, SixLoadsInOneCallAreEachLoadsOwnResult) {
+  std::mt19937_64 rng(59U);
+  int failed_batches = 0;
+  int ok_batches = 0;
+  for (int k = 0; k < 20000; ++k) {
+    CorrectionTable t{};
+    const std::uint64_t shape = rng() % 16U;
+    t.count = static_cast<std::uint8_t>((shape == 0U) ? 0U : ((shape == 1U) ? 9U : (1U + (rng() % 8U))));
+    std::int32_t load = static_cast<std::int32_t>(rng() % (1U << 20U)) + 1;
+    for (std::uint8_t i = 0U; i < flight::kMaxCorrectionRows; ++i) {
+      t.rows[i].load_n = WheelLoadN::from_raw(load);
+      // Mostly increasing; now and then a step back (a table validate() refuses).
+      const std::int32_t step = static_cast<std::int32_t>((rng() >> (37U + (rng() % 27U))) + 1U);
+      load += ((rng() % 32U) == 0U) ? -step : step;
+      t.rows[i].c1 = Ratio::from_raw(static_cast<std::int32_t>(rng()));
+      t.rows[i].c2 = Ratio::from_raw(static_cast<std::int32_t>(rng() >> (rng() % 32U)));
+      t.rows[i].c3 = Ratio::from_raw(-static_cast<std::int32_t>(rng() >> (33U + (rng() % 31U))));
+      t.rows[i].dp_max_ratio = Ratio::from_raw(static_cast<std::int32_t>(rng() >> 40U));
+    }
+    const flight::CorrectionDivisors divisors = flight::make_correction_divisors(t);
+    const std::int64_t first = t.rows[0].load_n.raw();
+    WheelLoadN loads[flight::limits::kWheelCount]{};
+    for (WheelLoadN& w : loads) {
+      const std::uint64_t pick = rng() % 64U;
+      const std::int64_t raw = (pick == 0U) ? -static_cast<std::int64_t>(rng() % 1000U)  // not positive
+                                            : (first - 4096 + static_cast<std::int64_t>(rng() % (1U << 28U)));
+      w = WheelLoadN::from_raw(static_cast<std::int32_t>(std::max<std::int64_t>(raw, INT32_MIN)));
+    }
+    CorrectionResult out[flight::limits::kWheelCount]{};
+    const bool all_ok = flight::corrections_at(t, divisors, loads, out);
+    bool every_ok = true;
+    for (std::uint32_t i = 0U; i < flight::limits::kWheelCount; ++i) {
+      const CorrectionResult expected = oracle::corrections_at(t, loads[i]);
+      expect_same(out[i], expected);
+      ASSERT_EQ(out[i].clamp, expected.clamp);
+      every_ok = every_ok && (expected.status == flight::EstimateStatus::ok);
+    }
+    ASSERT_EQ(all_ok, every_ok);
+    (every_ok ? ok_batches : failed_batches) += 1;
+  }
+  EXPECT_GT(ok_batches, 1000);
+  EXPECT_GT(failed_batches, 1000);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <climits>
 #include <cstdint>
 #include <random>
 
@@ -174,6 +175,49 @@ TEST(Motor, MagnitudeChainGivesTheCheckedChainsBits) {
   }
   EXPECT_GT(overflows, 10000U);  // both outcomes well represented
   EXPECT_GT(torques, 100000U);
+}
+
+// The six wheels' torques in one call (detail::torques_of_valid_motor, the
+// per-cycle step's form, round 14): each wheel's result is the checked
+// chain's for its own current and direction, whatever the other wheels'
+// are (an invalid direction, a current beyond the range, an overflow among
+// them), and every field of every result is written.
+TEST(Motor, SixWheelsInOneCallAreEachWheelsCheckedChain) {
+  std::mt19937_64 rng(20261128U);  // NOLINT(cert-msc32-c,cert-msc51-cpp): reproducible samples
+  std::uint32_t outcomes[8] = {};
+  for (int k = 0; k < 20000; ++k) {
+    MotorParams m{};
+    m.gear_ratio = GearRatio::from_raw(random_raw(rng, 1U + static_cast<std::uint32_t>(rng() % 31U)));
+    m.efficiency = Efficiency::from_raw(
+        ((k % 7) == 0) ? 0x40000000 : std::max(1, static_cast<std::int32_t>(rng() % 0x40000000U)));
+    m.kt_nm_per_a = TorqueConstantNmPerA::from_raw(random_raw(rng, 1U + static_cast<std::uint32_t>(rng() % 31U)));
+    m.current_abs_max_a = CurrentA::from_raw(std::max(1, random_raw(rng, 1U + static_cast<std::uint32_t>(rng() % 31U))));
+    const std::int32_t range = m.current_abs_max_a.raw();
+    m.no_load_current_a = CurrentA::from_raw(((k % 5) == 0) ? 0 : static_cast<std::int32_t>(rng() % static_cast<std::uint64_t>(range)));
+    CurrentA currents[limits::kWheelCount]{};
+    DriveDirection directions[limits::kWheelCount]{};
+    TorqueResult torques[limits::kWheelCount]{};
+    for (std::uint32_t w = 0U; w < limits::kWheelCount; ++w) {
+      // A draw in [0, 2 range + 2] less the range + 1: one raw ampere beyond either end included.
+      const std::int64_t offset = static_cast<std::int64_t>(rng() % ((2U * static_cast<std::uint64_t>(range)) + 3U));
+      currents[w] = CurrentA::from_raw(static_cast<std::int32_t>(std::max<std::int64_t>(offset - range - 1, INT32_MIN)));
+      const std::uint64_t d = rng() % 16U;
+      directions[w] = (d == 0U) ? static_cast<DriveDirection>(2U) : ((d < 8U) ? DriveDirection::forward : DriveDirection::reverse);
+      // A stale result in the output: every field must be overwritten.
+      torques[w] = TorqueResult{TorqueNm::from_raw(0x5A5A5A5A), EstimateStatus::invalid_motor};
+    }
+    detail::torques_of_valid_motor(m, currents, directions, torques);
+    for (std::uint32_t w = 0U; w < limits::kWheelCount; ++w) {
+      const TorqueResult expected = torque_by_checked_chain(m, currents[w], directions[w]);
+      ASSERT_EQ(torques[w].status, expected.status) << k << " " << w;
+      ASSERT_EQ(torques[w].torque_nm.raw(), expected.torque_nm.raw()) << k << " " << w;
+      ++outcomes[static_cast<std::uint32_t>(expected.status) % 8U];
+    }
+  }
+  EXPECT_GT(outcomes[static_cast<std::uint32_t>(EstimateStatus::ok)], 10000U);
+  EXPECT_GT(outcomes[static_cast<std::uint32_t>(EstimateStatus::overflow) % 8U], 1000U);
+  EXPECT_GT(outcomes[static_cast<std::uint32_t>(EstimateStatus::invalid_direction) % 8U], 1000U);
+  EXPECT_GT(outcomes[static_cast<std::uint32_t>(EstimateStatus::invalid_current) % 8U], 100U);
 }
 
 // I -+ I0 at the ends of Q11.20 (round 14; the random motors above reach

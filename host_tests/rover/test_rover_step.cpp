@@ -17,6 +17,7 @@
 #include "sinkwatch/flight/motor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/rover_step.hpp"
+#include "sinkwatch/flight/traction.hpp"
 #include "sinkwatch/flight/wheel_load.hpp"
 
 namespace sinkwatch {
@@ -413,6 +414,57 @@ TEST_F(RoverStepTest, HighCurrentTripsStopThroughTheMonitor) {
   flight::RoverStepOutput after{};
   step.step(telemetry(11000U), flight::TimeMs{11000U}, test::prepared_of(table, rover), after);
   EXPECT_EQ(after.monitor.wheels[2].state, flight::WheelState::nominal);
+}
+
+// Stage 6 sees this cycle's loads, pulls and the wheel monitors' torques:
+// the step's traction output is that of a TractionMonitor fed, cycle by
+// cycle, the input built from the step's own output (a torque only where the
+// cycle has loads and the wheel's estimate is valid), whatever the cycles
+// (usable with uneven currents, a wheel beyond the sensor's range, flagged
+// invalid between them, round 14: the arrays are written only with loads).
+TEST_F(RoverStepTest, TractionCheckSeesTheCyclesLoadsPullsAndTorques) {
+  const flight::PreparedParameters prepared = test::prepared_of(table, rover);
+  flight::TractionMonitor twin;
+  std::mt19937_64 rng(1414U);
+  flight::RoverStepOutput out{};
+  int with_rho = 0;
+  for (std::uint32_t k = 0U; k < 120U; ++k) {
+    flight::RoverTelemetry t = speed_sample(20000U + 100U * k, 0.05);
+    t.accel_valid = true;
+    t.valid = (k % 9U) != 4U;
+    for (std::size_t i = 0; i < flight::kWheelCount; ++i) {
+      t.current_a[i] = q<flight::CurrentA>(0.2 + 0.05 * static_cast<double>(rng() % 8U));
+    }
+    if ((k % 5U) == 2U) {
+      t.current_a[rng() % flight::kWheelCount] = q<flight::CurrentA>(50.0);  // beyond the sensor's range
+    }
+    step.step(t, t.time, prepared, out);
+    flight::TractionInput in{};
+    in.time = t.time;
+    in.loads_valid = out.status == RoverStepStatus::ok;
+    in.pull_assumed = out.drawbar_status == flight::DrawbarStatus::saturated;
+    in.speed_valid = t.speed_valid;
+    in.speed_mps = t.speed_mps;
+    for (std::size_t i = 0; i < flight::kWheelCount; ++i) {
+      in.load_n[i] = out.load_n[i];
+      in.drawbar_pull_n[i] = out.drawbar_pull_n[i];
+      in.torque_valid[i] = in.loads_valid && out.monitor.wheels[i].estimate_valid;
+      in.torque_nm[i] = out.monitor.wheels[i].torque_nm;
+      in.direction[i] = t.direction[i];
+    }
+    flight::TractionOutput expected{};
+    twin.step(in, table.traction, table.monitor, prepared.traction_inverse_radius(), expected);
+    ASSERT_EQ(out.traction.sample, expected.sample) << k;
+    ASSERT_EQ(out.traction.state, expected.state) << k;
+    ASSERT_EQ(out.traction.stop_tripped, expected.stop_tripped) << k;
+    ASSERT_EQ(out.traction.rho_valid, expected.rho_valid) << k;
+    ASSERT_EQ(out.traction.resistance.raw(), expected.resistance.raw()) << k;
+    ASSERT_EQ(out.traction.resistance_median.raw(), expected.resistance_median.raw()) << k;
+    ASSERT_EQ(out.traction.trend_known, expected.trend_known) << k;
+    ASSERT_EQ(out.traction.resistance_ahead.raw(), expected.resistance_ahead.raw()) << k;
+    with_rho += expected.rho_valid ? 1 : 0;
+  }
+  EXPECT_GT(with_rho, 60);
 }
 
 /// Every field the step reports, a against b (the monitor's wheel records

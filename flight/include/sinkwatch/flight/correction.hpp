@@ -17,6 +17,7 @@
 #include <cstdint>
 
 #include "sinkwatch/flight/estimator.hpp"
+#include "sinkwatch/flight/rover_limits.hpp"
 #include "sinkwatch/flight/units.hpp"
 #include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
@@ -172,15 +173,36 @@ struct ProductWords {
 /// never a number.
 [[nodiscard]] CorrectionDivisors make_correction_divisors(const CorrectionTable& table) noexcept;
 
-/// C1..C3 and DP_max/W at the load `load_n`, the interpolation fraction's
-/// division by the segment width done with `divisors` (made from this
-/// table). A table that passed validate() never gives a status other than ok
-/// or invalid_load. The per-cycle step is the only user; its parameters come
-/// prepared (prepared_params.hpp). host_tests/flight/dividing_oracle.hpp keeps
-/// the same function with a plain fx::div as the oracle it is checked
-/// against bit for bit.
-[[nodiscard]] CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDivisors& divisors,
-                                              WheelLoadN load_n) noexcept;
+/// C1..C3 and DP_max/W at each load `load_n[i]` into `out[i]`, the
+/// interpolation fraction's division by the segment width done with
+/// `divisors` (made from this table); true when every `out[i].status` is ok.
+/// A table that passed validate() never gives a status other than ok or
+/// invalid_load. The per-cycle step passes its six loads in one call and
+/// reads the results in place: the table's row count, first and last
+/// breakpoints are read once per call, and no result record is returned
+/// and copied per wheel (round 14). Defined for N = 1 (the single-load form
+/// below) and N = limits::kWheelCount. host_tests/flight/dividing_oracle.hpp
+/// keeps the same function with a plain fx::div as the oracle it is
+/// checked against bit for bit.
+template <std::uint32_t N>
+[[nodiscard]] bool corrections_at(const CorrectionTable& table, const CorrectionDivisors& divisors,
+                                  const WheelLoadN (&load_n)[N], CorrectionResult (&out)[N]) noexcept;
+
+extern template bool corrections_at<1U>(const CorrectionTable& table, const CorrectionDivisors& divisors,
+                                          const WheelLoadN (&load_n)[1U], CorrectionResult (&out)[1U]) noexcept;
+extern template bool corrections_at<limits::kWheelCount>(
+    const CorrectionTable& table, const CorrectionDivisors& divisors, const WheelLoadN (&load_n)[limits::kWheelCount],
+    CorrectionResult (&out)[limits::kWheelCount]) noexcept;
+
+/// C1..C3 and DP_max/W at the one load `load_n`: the batch form's
+/// one-element case (the monitor's own evaluation, the table's checks).
+[[nodiscard]] inline CorrectionResult corrections_at(const CorrectionTable& table, const CorrectionDivisors& divisors,
+                                                     WheelLoadN load_n) noexcept {
+  const WheelLoadN loads[1U]{load_n};
+  CorrectionResult result[1U]{};
+  static_cast<void>(corrections_at<1U>(table, divisors, loads, result));  // the status is in the result
+  return result[0U];
+}
 
 }  // namespace flight
 }  // namespace sinkwatch

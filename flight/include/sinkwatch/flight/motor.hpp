@@ -18,6 +18,9 @@
 #ifndef SINKWATCH_FLIGHT_MOTOR_HPP
 #define SINKWATCH_FLIGHT_MOTOR_HPP
 
+#include <cstdint>
+
+#include "sinkwatch/flight/rover_limits.hpp"
 #include "sinkwatch/flight/units.hpp"
 #include "sinkwatch/fixedpoint/reciprocal.hpp"
 
@@ -46,6 +49,27 @@ struct CurrentResult {
 /// The wheel torque for the measured current and the commanded direction.
 [[nodiscard]] TorqueResult torque_from_current(const MotorParams& motor, CurrentA current_a,
                                                DriveDirection direction) noexcept;
+
+namespace detail {
+
+/// torque_from_current() of each wheel, current_a[i] and direction[i] into
+/// torque[i], for a motor check_motor() accepts (the validated table's: no
+/// check per wheel). The per-cycle step computes its six torques in one
+/// call, written in place: no result record returned through memory and
+/// copied per wheel (round 14). Defined for N = 1 (torque_of_valid_motor,
+/// of_valid.hpp, is its one-element case) and N = limits::kWheelCount.
+template <std::uint32_t N>
+void torques_of_valid_motor(const MotorParams& motor, const CurrentA (&current_a)[N],
+                            const DriveDirection (&direction)[N], TorqueResult (&torque)[N]) noexcept;
+
+extern template void torques_of_valid_motor<1U>(const MotorParams& motor, const CurrentA (&current_a)[1U],
+                                                const DriveDirection (&direction)[1U],
+                                                TorqueResult (&torque)[1U]) noexcept;
+extern template void torques_of_valid_motor<limits::kWheelCount>(
+    const MotorParams& motor, const CurrentA (&current_a)[limits::kWheelCount],
+    const DriveDirection (&direction)[limits::kWheelCount], TorqueResult (&torque)[limits::kWheelCount]) noexcept;
+
+}  // namespace detail
 
 /// The motor's gain N eta Kt prepared once per parameter load as its
 /// normalised reciprocal (fixedpoint/reciprocal.hpp): current_from_torque is
