@@ -48,27 +48,6 @@ inline std::int64_t with_sign(bool negative, std::uint64_t magnitude) noexcept {
   return negative ? -m : m;
 }
 
-/// floor(u / v) for v in [2^31, 2^32) and u < v 2^32, fx::wide::divide_64_by_32's
-/// quotient: on a core with a divide instruction its two base-2^16 digits
-/// (wide::detail::packed_by_digits) expanded here without the remainder,
-/// instead of the library's out-of-line call; else the library's form.
-SW_FX_INLINE std::uint32_t quotient_64_by_32(std::uint64_t u, std::uint32_t v) noexcept {
-  if constexpr (fx::wide::kDivideInstruction) {
-    constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
-    constexpr std::uint32_t kBase = fx::wide::detail::kDigitBase;
-    const std::uint32_t v_high = (v >> 16U) | 0x8000U;  // v >= 2^31: the OR shows a non-zero divisor
-    const std::uint32_t v_low = v & 0xFFFFU;
-    const auto u_high = static_cast<std::uint32_t>(u / kWord);
-    const auto u_low = static_cast<std::uint32_t>(u);
-    const std::uint32_t q1 = fx::wide::detail::quotient_digit(u_high, v_high, v_low, u_low >> 16U);
-    const std::uint32_t partial = ((u_high * kBase) + (u_low >> 16U)) - (q1 * v);
-    const std::uint32_t q0 = fx::wide::detail::quotient_digit(partial, v_high, v_low, u_low & 0xFFFFU);
-    return (q1 * kBase) + q0;
-  } else {
-    return fx::wide::divide_64_by_32(u, v).quotient;
-  }
-}
-
 /// fx::divide_normalised<Out>(n, d, st) for a 32-bit Out and a divisor
 /// d > 0, as its raw quotient and whether st stayed ok (the return): the
 /// same leading words, the same quotient q = floor(N 2^31 / D) and the same
@@ -91,7 +70,7 @@ SW_FX_INLINE bool positive_divisor_quotient(bool negative, std::uint64_t n_magni
   }
   const fx::detail::LeadingBits n_leading = fx::detail::leading_bits(n_magnitude);
   const fx::detail::LeadingBits d_leading = fx::detail::leading_bits(d_magnitude);
-  const std::uint32_t q = quotient_64_by_32(std::uint64_t{n_leading.word} << 31U, d_leading.word);
+  const std::uint32_t q = fx::wide::quotient_64_by_32(std::uint64_t{n_leading.word} << 31U, d_leading.word);
   const std::int32_t exponent =
       ((static_cast<std::int32_t>(n_leading.bits) - static_cast<std::int32_t>(d_leading.bits)) - 31) -
       ((n_frac - d_frac) - kOutFrac);

@@ -50,7 +50,8 @@ void expect_within_bound(fx::ScaledMagnitude n, fx::ScaledMagnitude d) {
 }
 
 /// Both forms of the 64 / 32-bit long division (wide.hpp), and the one this
-/// core takes, give the built-in division's quotient and remainder.
+/// core takes, give the built-in division's quotient and remainder; the
+/// quotient-only form (quotient_64_by_32) its quotient.
 void expect_long_division_exact(std::uint64_t u, std::uint32_t v) {
   const std::uint64_t quotient = u / v;
   const std::uint64_t remainder = u % v;
@@ -63,6 +64,7 @@ void expect_long_division_exact(std::uint64_t u, std::uint32_t v) {
   ASSERT_EQ(by_reciprocal.remainder, remainder) << u << " / " << v;
   ASSERT_EQ(selected.quotient, quotient) << u << " / " << v;
   ASSERT_EQ(selected.remainder, remainder) << u << " / " << v;
+  ASSERT_EQ(fx::wide::quotient_64_by_32(u, v), quotient) << u << " / " << v;
 }
 
 /// Dividends for the divisor v that stress the digits' corrections: the

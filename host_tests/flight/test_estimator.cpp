@@ -436,25 +436,6 @@ TEST(PositiveDivisorQuotient, MatchesDivideNormalisedOverRandomAndEdgeOperands) 
   EXPECT_EQ(raw, std::numeric_limits<std::int32_t>::min());
 }
 
-// The quotient's 64 / 32-bit division (quotient_64_by_32) against the exact one.
-TEST(PositiveDivisorQuotient, QuotientDigitsAreTheExactQuotient) {
-  std::mt19937_64 rng(15U);
-  for (std::int32_t i = 0; i < 400000; ++i) {
-    const auto v = static_cast<std::uint32_t>(rng() | 0x80000000ULL);
-    std::uint64_t u = rng() % (std::uint64_t{v} << 32U);
-    if ((i % 3) == 0) {
-      u = (std::uint64_t{v} << 32U) - 1U - (rng() & 0xFFFFU);
-    }
-    ASSERT_EQ(detail::quotient_64_by_32(u, v), static_cast<std::uint32_t>(u / v)) << u << " / " << v;
-  }
-  for (const std::uint32_t v : {0x80000000U, 0x80000001U, 0xFFFFFFFFU, 0xFFFF0000U, 0x8000FFFFU}) {
-    for (const std::uint64_t u : {std::uint64_t{0U}, (std::uint64_t{v} << 32U) - 1U, std::uint64_t{v} << 31U,
-                                  (std::uint64_t{v} << 16U) - 1U, std::uint64_t{0xFFFFFFFFU}}) {
-      EXPECT_EQ(detail::quotient_64_by_32(u, v), static_cast<std::uint32_t>(u / v)) << u << " / " << v;
-    }
-  }
-}
-
 // limit_from_torque (of_valid.hpp) against the fx::times_reciprocal form it
 // replaced: the same current and the same refusals for every T_max, reciprocal
 // (none, and scales on both sides of every branch) and no-load current.

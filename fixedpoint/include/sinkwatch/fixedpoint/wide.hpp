@@ -480,10 +480,17 @@ SW_FX_INLINE constexpr DigitStep digit_by_reciprocal(std::uint32_t partial, std:
 }  // namespace detail
 
 namespace detail {
-/// divide_64_by_32_by_digits's quotient (low word) and remainder (high
-/// word), packed as packed_by_reciprocal's below (two registers, no frame
-/// for the result).
-constexpr std::uint64_t packed_by_digits(std::uint64_t u, std::uint32_t v) noexcept {
+/// The two base-2^16 digits of floor(u / v) (v in [2^31, 2^32), u < v
+/// 2^32) and the partial remainder between them, written once for the
+/// division with its remainder (packed_by_digits) and for the quotient alone
+/// (quotient_64_by_32).
+struct QuotientDigits {
+  std::uint32_t high;
+  std::uint32_t partial;  ///< (u div 2^16) - high v, below v
+  std::uint32_t low;
+};
+
+SW_FX_INLINE constexpr QuotientDigits quotient_digits(std::uint64_t u, std::uint32_t v) noexcept {
   constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
   // v >= 2^31, so the high digit is at least 2^15: the OR changes nothing
   // but shows the static analyser a divisor that cannot be zero.
@@ -492,12 +499,20 @@ constexpr std::uint64_t packed_by_digits(std::uint64_t u, std::uint32_t v) noexc
   const auto u_high = static_cast<std::uint32_t>(u / kWord);  // u >> 32 without a library shift
   const auto u_low = static_cast<std::uint32_t>(u);
   const std::uint32_t u_high_digit = u_low >> 16U;
-  const std::uint32_t u_low_digit = u_low & 0xFFFFU;
   const std::uint32_t q1 = quotient_digit(u_high, v_high, v_low, u_high_digit);
   const std::uint32_t partial = ((u_high * kDigitBase) + u_high_digit) - (q1 * v);
-  const std::uint32_t q0 = quotient_digit(partial, v_high, v_low, u_low_digit);
-  const std::uint32_t remainder = ((partial * kDigitBase) + u_low_digit) - (q0 * v);
-  return (static_cast<std::uint64_t>(remainder) << 32U) | ((q1 * kDigitBase) + q0);
+  const std::uint32_t q0 = quotient_digit(partial, v_high, v_low, u_low & 0xFFFFU);
+  return QuotientDigits{q1, partial, q0};
+}
+
+/// divide_64_by_32_by_digits's quotient (low word) and remainder (high
+/// word), packed as packed_by_reciprocal's below (two registers, no frame
+/// for the result).
+constexpr std::uint64_t packed_by_digits(std::uint64_t u, std::uint32_t v) noexcept {
+  const QuotientDigits d = quotient_digits(u, v);
+  const std::uint32_t u_low_digit = static_cast<std::uint32_t>(u) & 0xFFFFU;
+  const std::uint32_t remainder = ((d.partial * kDigitBase) + u_low_digit) - (d.low * v);
+  return (static_cast<std::uint64_t>(remainder) << 32U) | ((d.high * kDigitBase) + d.low);
 }
 }  // namespace detail
 
@@ -546,6 +561,21 @@ constexpr DivMod<std::uint32_t> divide_64_by_32(std::uint64_t u, std::uint32_t v
     return divide_64_by_32_by_digits(u, v);
   } else {
     return divide_64_by_32_by_reciprocal(u, v);
+  }
+}
+
+/// floor(u / v) alone, for v in [2^31, 2^32) and u < v * 2^32, forced
+/// inline: on a core with a divide instruction the two digits without the
+/// remainder (no call and no packed result), else the reciprocal form's
+/// quotient. For a caller that divides in its own code (Eq. 11 and the
+/// limit, flight/src/of_valid.hpp: round 14 took the twelve calls per step
+/// of packed_by_digits off the Cortex-M4).
+SW_FX_INLINE constexpr std::uint32_t quotient_64_by_32(std::uint64_t u, std::uint32_t v) noexcept {
+  if constexpr (kDivideInstruction) {
+    const detail::QuotientDigits d = detail::quotient_digits(u, v);
+    return (d.high * detail::kDigitBase) + d.low;
+  } else {
+    return divide_64_by_32_by_reciprocal(u, v).quotient;
   }
 }
 
