@@ -443,9 +443,15 @@ CurrentLimitResult limit_by_times_reciprocal(const MotorParams& motor, const Mot
   using WideCurrentQ = fx::Q<std::int64_t, CurrentQ::frac_bits>;
   fx::Status st;
   const WideCurrentQ driving = fx::times_reciprocal<WideCurrentQ>(t_max.q(), divisors.inverse_gain, st);
+  // A refused quotient is refused whatever the sum: tested first, so that a
+  // saturated quotient (INT64_MAX) is never added to I0 (the form replaced
+  // summed first; the sanitizer build found the overflow at the shifts <= 0
+  // this test reaches, which a validated motor's reciprocal does not).
+  if (!st.ok()) {
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), LoadClamp::none, EstimateStatus::overflow};
+  }
   const std::int64_t total = driving.raw() + static_cast<std::int64_t>(motor.no_load_current_a.raw());
-  if ((!st.ok()) || (total < std::numeric_limits<std::int32_t>::min()) ||
-      (total > std::numeric_limits<std::int32_t>::max())) {
+  if ((total < std::numeric_limits<std::int32_t>::min()) || (total > std::numeric_limits<std::int32_t>::max())) {
     return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), LoadClamp::none, EstimateStatus::overflow};
   }
   return CurrentLimitResult{CurrentA(CurrentQ::from_raw(static_cast<std::int32_t>(total))), t_max, LoadClamp::none,
