@@ -137,6 +137,23 @@ std::int32_t random_raw(std::mt19937_64& rng, std::uint32_t bits) {
   return static_cast<std::int32_t>((rng() >> (64U - bits)) | (std::uint64_t{1U} << (bits - 1U)));
 }
 
+// A motor check_motor() accepts, of every magnitude: gear, Kt and the
+// sensor range of 1 to 31 bits, eta in (0, 1] (1 for every seventh k), I0
+// below the range (0 for every fifth k). The draws in a fixed order, so a
+// seed gives the same motors.
+MotorParams random_valid_motor(std::mt19937_64& rng, int k) {
+  MotorParams m{};
+  m.gear_ratio = GearRatio::from_raw(random_raw(rng, 1U + static_cast<std::uint32_t>(rng() % 31U)));
+  m.efficiency = Efficiency::from_raw(
+      ((k % 7) == 0) ? 0x40000000 : std::max(1, static_cast<std::int32_t>(rng() % 0x40000000U)));
+  m.kt_nm_per_a = TorqueConstantNmPerA::from_raw(random_raw(rng, 1U + static_cast<std::uint32_t>(rng() % 31U)));
+  m.current_abs_max_a = CurrentA::from_raw(std::max(1, random_raw(rng, 1U + static_cast<std::uint32_t>(rng() % 31U))));
+  const std::int32_t range = m.current_abs_max_a.raw();
+  m.no_load_current_a =
+      CurrentA::from_raw(((k % 5) == 0) ? 0 : static_cast<std::int32_t>(rng() % static_cast<std::uint64_t>(range)));
+  return m;
+}
+
 // The magnitude chain of torque_from_current (motor.cpp, session 18) against
 // the checked chain it replaced, bit for bit and status for status: random
 // motors of every magnitude (gear, Kt and the sensor range of 1 to 31 bits,
@@ -148,14 +165,8 @@ TEST(Motor, MagnitudeChainGivesTheCheckedChainsBits) {
   std::uint32_t overflows = 0U;
   std::uint32_t torques = 0U;
   for (int k = 0; k < 20000; ++k) {
-    MotorParams m{};
-    m.gear_ratio = GearRatio::from_raw(random_raw(rng, 1U + static_cast<std::uint32_t>(rng() % 31U)));
-    m.efficiency = Efficiency::from_raw(
-        ((k % 7) == 0) ? 0x40000000 : std::max(1, static_cast<std::int32_t>(rng() % 0x40000000U)));
-    m.kt_nm_per_a = TorqueConstantNmPerA::from_raw(random_raw(rng, 1U + static_cast<std::uint32_t>(rng() % 31U)));
-    m.current_abs_max_a = CurrentA::from_raw(std::max(1, random_raw(rng, 1U + static_cast<std::uint32_t>(rng() % 31U))));
+    const MotorParams m = random_valid_motor(rng, k);
     const std::int32_t range = m.current_abs_max_a.raw();
-    m.no_load_current_a = CurrentA::from_raw(((k % 5) == 0) ? 0 : static_cast<std::int32_t>(rng() % static_cast<std::uint64_t>(range)));
     ASSERT_EQ(check_motor(m), EstimateStatus::ok);
     const std::int32_t ends[] = {range, -range, 0, 1, -1, range - 1, -(range - 1)};
     for (int j = 0; j < 27; ++j) {
@@ -186,14 +197,8 @@ TEST(Motor, SixWheelsInOneCallAreEachWheelsCheckedChain) {
   std::mt19937_64 rng(20261128U);  // NOLINT(cert-msc32-c,cert-msc51-cpp): reproducible samples
   std::uint32_t outcomes[8] = {};
   for (int k = 0; k < 20000; ++k) {
-    MotorParams m{};
-    m.gear_ratio = GearRatio::from_raw(random_raw(rng, 1U + static_cast<std::uint32_t>(rng() % 31U)));
-    m.efficiency = Efficiency::from_raw(
-        ((k % 7) == 0) ? 0x40000000 : std::max(1, static_cast<std::int32_t>(rng() % 0x40000000U)));
-    m.kt_nm_per_a = TorqueConstantNmPerA::from_raw(random_raw(rng, 1U + static_cast<std::uint32_t>(rng() % 31U)));
-    m.current_abs_max_a = CurrentA::from_raw(std::max(1, random_raw(rng, 1U + static_cast<std::uint32_t>(rng() % 31U))));
+    const MotorParams m = random_valid_motor(rng, k);
     const std::int32_t range = m.current_abs_max_a.raw();
-    m.no_load_current_a = CurrentA::from_raw(((k % 5) == 0) ? 0 : static_cast<std::int32_t>(rng() % static_cast<std::uint64_t>(range)));
     CurrentA currents[limits::kWheelCount]{};
     DriveDirection directions[limits::kWheelCount]{};
     TorqueResult torques[limits::kWheelCount]{};
