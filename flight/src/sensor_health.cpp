@@ -314,10 +314,7 @@ bool SensorHealthMonitor::current_sample(const HealthSample& s, const HealthPara
   HealthTrack& t = track_[wheel];
   CurrentHistory& h = current_history_[wheel];
   const SensorHealth verdict = current_verdict(t, h, s, wheel, k);
-  // settle() of an ok sample of a channel with no fault to recover from,
-  // without the call.
-  const bool steady = (verdict == SensorHealth::ok) && !t.faulted;
-  const SensorHealth health = steady ? SensorHealth::ok : settle(t, verdict, p.recover_cycles);
+  const SensorHealth health = settled(t, verdict, p.recover_cycles);
   t.health = health;
   r.channel[wheel] = health;
   r.current_usable[wheel] = usable(health);
