@@ -54,8 +54,18 @@ class InputSample {
   /// WheelMonitor::step takes any parameters, a table that failed validate() too.
   static constexpr bool kValidTable = false;
   explicit InputSample(const WheelInput& input) noexcept : in_(input) {}
+  /// flagged_invalid, stale or ok: the sample's flag and age, asked per wheel.
+  [[nodiscard]] SW_FX_INLINE SampleStatus fresh_status(TimeMs now, const PreparedParameters& prepared) const noexcept {
+    // Without a valid table there are no thresholds: the sample is
+    // unusable, which the zeroed limits turn into STOP (fail-safe).
+    if ((!in_.valid) || (!prepared.table_valid())) {
+      return SampleStatus::flagged_invalid;
+    }
+    // A time stamp after `now` wraps to a huge age: stale as well.
+    return (elapsed_ms(in_.time, now) > prepared.table().monitor.stale_timeout_ms) ? SampleStatus::stale
+                                                                                    : SampleStatus::ok;
+  }
   [[nodiscard]] SW_FX_INLINE TimeMs time() const noexcept { return in_.time; }
-  [[nodiscard]] SW_FX_INLINE bool valid() const noexcept { return in_.valid; }
   [[nodiscard]] SW_FX_INLINE CurrentA current_a() const noexcept { return in_.current_a; }
   [[nodiscard]] SW_FX_INLINE DriveDirection direction() const noexcept { return in_.direction; }
   [[nodiscard]] SW_FX_INLINE WheelLoadN load_n() const noexcept { return in_.load_n; }
@@ -69,15 +79,33 @@ class InputSample {
   const WheelInput& in_;
 };
 
+/// The flag and age of a WheelSamples' cycle: flagged_invalid, stale or ok.
+/// Every wheel shares the cycle's flag and time stamp, so RoverMonitor asks
+/// once per cycle what InputSample::fresh_status asks per wheel (the same
+/// tests in the same order, on a table known valid).
+SW_FX_INLINE SampleStatus cycle_fresh_status(const WheelSamples& samples, TimeMs now,
+                                             const MonitorParams& mp) noexcept {
+  if (!samples.valid) {
+    return SampleStatus::flagged_invalid;
+  }
+  // A time stamp after `now` wraps to a huge age: stale as well.
+  return (elapsed_ms(samples.time, now) > mp.stale_timeout_ms) ? SampleStatus::stale : SampleStatus::ok;
+}
+
 /// Wheel `index`'s sample of a WheelSamples, read in place: the WheelInput
 /// it stands for (monitor.hpp), field by field.
 class CycleSample {
  public:
-  /// Built only by RoverMonitor::step on WheelSamples, for a valid table.
+  /// Built only by RoverMonitor::step on WheelSamples, for a valid table,
+  /// and only on a cycle whose cycle_fresh_status is ok (the other cycles'
+  /// wheels take WheelMonitor::step_unfresh).
   static constexpr bool kValidTable = true;
   CycleSample(const WheelSamples& samples, std::uint8_t index) noexcept : s_(samples), i_(index) {}
+  [[nodiscard]] SW_FX_INLINE SampleStatus fresh_status(TimeMs /*now*/,
+                                                       const PreparedParameters& /*prepared*/) const noexcept {
+    return SampleStatus::ok;
+  }
   [[nodiscard]] SW_FX_INLINE TimeMs time() const noexcept { return s_.time; }
-  [[nodiscard]] SW_FX_INLINE bool valid() const noexcept { return s_.valid; }
   [[nodiscard]] SW_FX_INLINE CurrentA current_a() const noexcept { return (*s_.current_a)[i_]; }
   [[nodiscard]] SW_FX_INLINE DriveDirection direction() const noexcept { return (*s_.direction)[i_]; }
   [[nodiscard]] SW_FX_INLINE WheelLoadN load_n() const noexcept { return (*s_.load_n)[i_]; }
@@ -101,16 +129,11 @@ SW_FX_INLINE SampleStatus classify_sample(Sample input, TimeMs now, bool have_la
                              const PreparedParameters& prepared) noexcept {
   const ParameterTable& table = prepared.table();
   const MonitorParams& mp = table.monitor;
-  // Without a valid table there are no thresholds: the sample is unusable,
-  // which the zeroed limits turn into STOP (fail-safe). RoverStep never
-  // gets here with one (a Sample that is known to have a valid table is
-  // not asked again).
-  if ((!input.valid()) || (!(Sample::kValidTable || prepared.table_valid()))) {
-    return SampleStatus::flagged_invalid;
-  }
-  // A time stamp after `now` wraps to a huge age: stale as well.
-  if (elapsed_ms(input.time(), now) > mp.stale_timeout_ms) {
-    return SampleStatus::stale;
+  // The flag, the table and the age first (CycleSample: the cycle's,
+  // asked once for every wheel).
+  const SampleStatus fresh = input.fresh_status(now, prepared);
+  if (fresh != SampleStatus::ok) {
+    return fresh;
   }
   if (have_last_time && (input.time().ms == last_time.ms)) {
     return SampleStatus::repeated_time;
@@ -437,7 +460,26 @@ class InputWheels {
   const WheelInput (&inputs_)[kMaxWheels];
 };
 
-/// RoverMonitor::step_all's wheels from a WheelSamples, read in place.
+/// RoverMonitor::step_all's wheels on a cycle of a WheelSamples whose flag
+/// or age is not ok: each wheel's sample is the WheelInput of the cycle's
+/// flag and time stamp, which classify_sample() refuses before it reads
+/// anything else (flagged_invalid or stale), so the rest is never read.
+/// Through the WheelInput body: no third copy of a wheel's step for the
+/// rare cycle.
+class UnfreshWheels {
+ public:
+  explicit UnfreshWheels(const WheelSamples& samples) noexcept {
+    input_.time = samples.time;
+    input_.valid = samples.valid;
+  }
+  [[nodiscard]] InputSample sample(std::uint8_t /*i*/) const noexcept { return InputSample(input_); }
+
+ private:
+  WheelInput input_{};
+};
+
+/// RoverMonitor::step_all's wheels from a WheelSamples, read in place, on
+/// a cycle whose flag and age are ok (cycle_fresh_status).
 class CycleWheels {
  public:
   explicit CycleWheels(const WheelSamples& samples) noexcept : samples_(samples) {}
@@ -517,10 +559,21 @@ void RoverMonitor::step(const WheelInput (&inputs)[kMaxWheels], TimeMs now, cons
 void RoverMonitor::step(const WheelSamples& samples, TimeMs now, const PreparedParameters& prepared,
                         RoverOutput& out) noexcept {
   if (prepared.table_valid()) {
-    step_all(CycleWheels(samples), now, prepared, out);
+    // The cycle's flag and age once, not per wheel: they are every wheel's.
+    const SampleStatus fresh = cycle_fresh_status(samples, now, prepared.table().monitor);
+    if (fresh == SampleStatus::ok) {
+      step_all(CycleWheels(samples), now, prepared, out);
+    } else {
+      step_unfresh(samples, now, prepared, out);
+    }
   } else {
     refuse_table(out);
   }
+}
+
+[[gnu::noinline]] void RoverMonitor::step_unfresh(const WheelSamples& samples, TimeMs now,
+                                                  const PreparedParameters& prepared, RoverOutput& out) noexcept {
+  step_all(UnfreshWheels(samples), now, prepared, out);
 }
 
 void RoverMonitor::clear_stop() noexcept {

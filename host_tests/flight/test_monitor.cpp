@@ -578,6 +578,10 @@ Reached run_samples_against_inputs(const ParameterTable& table, std::uint64_t se
       now = TimeMs{t_ms + 5000U};  // stale
     } else if (kind == 2U) {
       now = TimeMs{t_ms - 50U};  // from the future
+    } else if (kind == 3U) {
+      now = TimeMs{t_ms + table.monitor.stale_timeout_ms};  // the oldest fresh age
+    } else if (kind == 4U) {
+      now = TimeMs{t_ms + table.monitor.stale_timeout_ms + 1U};  // the youngest stale age
     }
     CycleArrays a{};
     WheelSamples s{};

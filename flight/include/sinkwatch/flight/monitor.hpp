@@ -198,7 +198,8 @@ class WheelMonitor {
   friend class RoverMonitor;
 
   /// One cycle on a sample read through `Sample`'s accessors (monitor.cpp:
-  /// a WheelInput, or one wheel of a WheelSamples): the one body of
+  /// a WheelInput, or one wheel of a WheelSamples whose cycle's flag and
+  /// age RoverMonitor found ok, asked once per cycle): the one body of
   /// step() and of RoverMonitor's step on WheelSamples.
   template <typename Sample>
   void step_sample(Sample input, TimeMs now, const PreparedParameters& prepared, WheelOutput& out) noexcept;
@@ -273,6 +274,10 @@ class RoverMonitor {
   /// `Wheels` steps wheel i (monitor.cpp: from a WheelInput or a WheelSamples).
   template <typename Wheels>
   void step_all(const Wheels& wheels, TimeMs now, const PreparedParameters& prepared, RoverOutput& out) noexcept;
+  /// step_all on a WheelSamples cycle whose flag or age is not ok (out of
+  /// line: the rare cycle's records stay out of the usual cycle's frame).
+  void step_unfresh(const WheelSamples& samples, TimeMs now, const PreparedParameters& prepared,
+                    RoverOutput& out) noexcept;
 
   WheelMonitor wheels_[kMaxWheels];
 };
