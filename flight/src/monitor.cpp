@@ -17,14 +17,13 @@ namespace flight {
 namespace {
 
 using n_of_m::count_bits;
-using n_of_m::shift_in;
 
 /// count_bits(history, window) >= n. On a table validate() accepted (n >= 1:
 /// trip_n and clear_n are at least 1) an empty history, a quiet wheel's
 /// usual one, reaches no count: answered without the call. On any other
 /// table the count is taken as it is (n may be 0 there).
 template <bool kValidTable>
-SW_FX_INLINE bool window_reaches(std::uint16_t history, std::uint8_t window, std::uint8_t n) noexcept {
+SW_FX_INLINE bool window_reaches(std::uint32_t history, std::uint8_t window, std::uint8_t n) noexcept {
   if constexpr (kValidTable) {
     return (history != 0U) && (count_bits(history, window) >= n);
   } else {
@@ -122,6 +121,18 @@ class CycleSample {
   std::uint8_t i_;
 };
 
+/// |I| > I_max, the sensor range (fx::abs's |I|, and its refusal of
+/// INT32_MIN, whose magnitude has no number: out of range as well), for the
+/// I_max > 0 of a table validate() accepted (above the no-load current,
+/// itself at least zero). As one unsigned comparison: I + I_max, taken
+/// modulo 2^32, maps [-I_max, I_max] onto [0, 2 I_max] (2 I_max < 2^32) and,
+/// one to one, every other I above it (round 15: no magnitude, no test of
+/// its sign or of INT32_MIN per wheel).
+SW_FX_INLINE bool beyond_magnitude(CurrentA current_a, CurrentA abs_max_a) noexcept {
+  const auto max_word = static_cast<std::uint32_t>(abs_max_a.raw());
+  return (static_cast<std::uint32_t>(current_a.raw()) + max_word) > (max_word << 1U);
+}
+
 /// Is the sample usable? The checks go from the cheapest and most
 /// fundamental (the source's own flag) to the physical ranges.
 template <typename Sample>
@@ -145,9 +156,7 @@ SW_FX_INLINE SampleStatus classify_sample(Sample input, TimeMs now, bool have_la
   if (input.sensor_fault()) {
     return SampleStatus::sensor_fault;
   }
-  fx::Status range_status;
-  const CurrentQ magnitude = fx::abs(input.current_a().q(), range_status);
-  if ((!range_status.ok()) || (magnitude > table.motor.current_abs_max_a.q())) {
+  if (beyond_magnitude(input.current_a(), table.motor.current_abs_max_a)) {
     return SampleStatus::current_out_of_range;
   }
   const WheelLoadN load_n = input.load_n();
@@ -341,13 +350,13 @@ SW_FX_INLINE void WheelMonitor::track_episode(CurrentA directed, WheelLoadN load
 }
 
 template <bool kValidTable>
-SW_FX_INLINE void WheelMonitor::transition(bool current_stop, bool slip_stop, TimeMs now,
+SW_FX_INLINE void WheelMonitor::transition(bool current_stop, bool slip_stop, const Histories& h, TimeMs now,
                                            const PreparedParameters& prepared, WheelOutput& out) noexcept {
   const MonitorParams& mp = prepared.table().monitor;
   if (state_ == WheelState::stop) {
     return;  // STOP is latched until clear_stop()
   }
-  if ((consecutive_unusable_ >= mp.invalid_to_stop) || window_reaches<kValidTable>(stop_history_, mp.window_m, mp.trip_n)) {
+  if ((consecutive_unusable_ >= mp.invalid_to_stop) || window_reaches<kValidTable>(h.stop, mp.window_m, mp.trip_n)) {
     // The sample's reason is named only here, on the cycle that trips.
     const StopReason sample_reason =
         current_stop ? StopReason::current : (slip_stop ? StopReason::slip : StopReason::sinkage);
@@ -357,11 +366,11 @@ SW_FX_INLINE void WheelMonitor::transition(bool current_stop, bool slip_stop, Ti
     out.stop_tripped = true;
     event_ = stop_event(now, reason, prepared);
     has_event_ = true;
-  } else if ((state_ == WheelState::nominal) && window_reaches<kValidTable>(caution_history_, mp.window_m, mp.trip_n)) {
+  } else if ((state_ == WheelState::nominal) && window_reaches<kValidTable>(h.caution, mp.window_m, mp.trip_n)) {
     state_ = WheelState::caution;
     // Leaving CAUTION needs clear_n clear samples seen from here on.
     clear_history_ = 0U;
-  } else if ((state_ == WheelState::caution) && window_reaches<kValidTable>(clear_history_, mp.window_m, mp.clear_n)) {
+  } else if ((state_ == WheelState::caution) && window_reaches<kValidTable>(h.clear, mp.window_m, mp.clear_n)) {
     state_ = WheelState::nominal;
     caution_history_ = 0U;
     have_peak_ = false;
@@ -429,12 +438,16 @@ template <typename Sample>
     }
     track_episode(directed, input.load_n(), out.sinkage_m);
   }
-  caution_history_ = shift_in(caution_history_, e.caution);
-  stop_history_ = shift_in(stop_history_, e.stop);
-  clear_history_ = shift_in(clear_history_, e.clear);
+  // The new histories as words (bit 16: the dropped sample, which the
+  // windows' count ignores) for the transitions, cut to 16 bits by the store.
+  const Histories h{n_of_m::shifted_in(caution_history_, e.caution), n_of_m::shifted_in(stop_history_, e.stop),
+                    n_of_m::shifted_in(clear_history_, e.clear)};
+  caution_history_ = static_cast<std::uint16_t>(h.caution);
+  stop_history_ = static_cast<std::uint16_t>(h.stop);
+  clear_history_ = static_cast<std::uint16_t>(h.clear);
 
   // 4. Transitions (STOP is latched).
-  transition<Sample::kValidTable>(e.current_stop, e.slip_stop, now, prepared, out);
+  transition<Sample::kValidTable>(e.current_stop, e.slip_stop, h, now, prepared, out);
   out.state = state_;
   out.stop_reason = stop_reason_;
 }

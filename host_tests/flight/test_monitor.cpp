@@ -280,6 +280,56 @@ TEST_F(MonitorTest, EverySampleStatus) {
   }
 }
 
+// The sensor range is |I| > I_abs_max as fx::abs defines it (INT32_MIN has
+// no magnitude: out of range); the monitor tests it as one unsigned
+// comparison (monitor.cpp, beyond_magnitude). Every current within a few raw
+// units of -I_max, 0 and I_max, the format's ends, and random currents, on
+// tables whose I_max spans the range validate() accepts, must be classified
+// as that definition says.
+TEST_F(MonitorTest, CurrentRangeIsTheMagnitudeTestAtEveryEdge) {
+  std::vector<std::int32_t> maxima{table.motor.current_abs_max_a.raw(), q<CurrentA>(2.0).raw(),
+                                   q<CurrentA>(8.0).raw(), q<CurrentA>(50.0).raw(), q<CurrentA>(2047.0).raw()};
+  std::uint64_t s = 0x9E3779B97F4A7C15ULL;
+  int tables = 0;
+  for (int k = 0; k < 3; ++k) {
+    s ^= s << 13U;
+    s ^= s >> 7U;
+    s ^= s << 17U;
+    maxima.push_back(table.motor.no_load_current_a.raw() + 1 +
+                     static_cast<std::int32_t>(s % static_cast<std::uint64_t>(q<CurrentA>(49.0).raw())));
+  }
+  for (const std::int32_t max_raw : maxima) {
+    table.motor.current_abs_max_a = CurrentA::from_raw(max_raw);
+    if (!test::prepared_of(table).table_valid()) {
+      continue;  // a range validate() refuses: the monitor never classifies on it
+    }
+    ++tables;
+    std::vector<std::int64_t> currents{INT32_MIN, INT32_MIN + 1, INT32_MAX, INT32_MAX - 1};
+    for (const std::int64_t centre : {-static_cast<std::int64_t>(max_raw), std::int64_t{0},
+                                      static_cast<std::int64_t>(max_raw)}) {
+      for (std::int64_t d = -3; d <= 3; ++d) {
+        currents.push_back(centre + d);
+      }
+    }
+    for (int k = 0; k < 200; ++k) {
+      s ^= s << 13U;
+      s ^= s >> 7U;
+      s ^= s << 17U;
+      currents.push_back(static_cast<std::int32_t>(static_cast<std::uint32_t>(s)));
+    }
+    for (const std::int64_t raw : currents) {
+      WheelInput in = sample(1.0, 0.01);
+      in.current_a = CurrentA::from_raw(static_cast<std::int32_t>(raw));
+      fx::Status st;
+      const CurrentQ magnitude = fx::abs(in.current_a.q(), st);
+      const bool beyond = !st.ok() || (magnitude > table.motor.current_abs_max_a.q());
+      const SampleStatus status = feed(in).sample_status;
+      EXPECT_EQ(status == SampleStatus::current_out_of_range, beyond) << max_raw << " " << raw;
+    }
+  }
+  EXPECT_GE(tables, 3);
+}
+
 // step() writes its result into the caller's record field by field (no
 // whole-struct reset, which cost the Cortex-M0 a memcpy per wheel): a record
 // left over from another cycle must not leak into this one, for a usable

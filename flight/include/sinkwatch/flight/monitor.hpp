@@ -186,13 +186,21 @@ class WheelMonitor {
   // and cycle less (round 13: M0 -141, M4 -109 instructions per step).
   /// The episode's peak current (and its load) and largest estimate.
   inline void track_episode(CurrentA directed, WheelLoadN load_n, SinkageM sinkage_m) noexcept;
-  /// Stage 4: NOMINAL -> CAUTION -> STOP and back (STOP latched).
+  /// This cycle's N-of-M histories as words: the members before their cut
+  /// to 16 bits (n_of_m::shifted_in in monitor.cpp; the windows count the same).
+  struct Histories {
+    std::uint32_t caution;
+    std::uint32_t stop;
+    std::uint32_t clear;
+  };
+  /// Stage 4: NOMINAL -> CAUTION -> STOP and back (STOP latched), on the
+  /// cycle's histories `h`.
   /// `current_stop`, `slip_stop`: what the last usable sample was stop
   /// evidence of (current, slip, else sinkage); it names a STOP the window
   /// trips. `kValidTable`: the parameters passed validate() (monitor.cpp).
   template <bool kValidTable>
-  inline void transition(bool current_stop, bool slip_stop, TimeMs now, const PreparedParameters& prepared,
-                         WheelOutput& out) noexcept;
+  inline void transition(bool current_stop, bool slip_stop, const Histories& h, TimeMs now,
+                         const PreparedParameters& prepared, WheelOutput& out) noexcept;
   // RoverMonitor steps its wheels on their samples of a WheelSamples in
   // place (step_sample), which no WheelMonitor outside it can index.
   friend class RoverMonitor;
