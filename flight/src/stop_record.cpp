@@ -6,6 +6,16 @@
 namespace sinkwatch {
 namespace flight {
 
+namespace {
+
+/// The samples in wheel i's median: the window once it has filled, else
+/// the slots used.
+std::uint8_t samples_of(std::uint8_t next, std::uint8_t full, std::uint8_t i) noexcept {
+  return (((static_cast<std::uint32_t>(full) >> i) & 1U) != 0U) ? kStopRecordSamples : next;
+}
+
+}  // namespace
+
 StopRecorder::StopRecorder() noexcept = default;
 
 void StopRecorder::clear_stop() noexcept {
@@ -17,25 +27,32 @@ void StopRecorder::clear_stop() noexcept {
 }
 
 void StopRecorder::remember(const RoverOutput& monitor, std::uint8_t wheels) noexcept {
-  // The bound once, and the episode's first reason in a local stored once:
+  // The bound once, and the episode's first reason and the filled windows
+  // in locals stored once:
   // the byte stores into the histories may alias any member as far as the
   // compiler knows, so a member read in the loop is read again per wheel.
   const std::uint32_t count = (wheels < kMaxWheels) ? wheels : kMaxWheels;
   StopReason first = first_reason_;
+  std::uint32_t full = full_;
   for (std::uint32_t i = 0U; i < count; ++i) {
     const WheelOutput& w = monitor.wheels[i];
     if (w.estimate_valid) {
-      recent_m_[i][next_[i]] = w.sinkage_m;
-      next_[i] = detail::next_slot<kStopRecordSamples>(next_[i]);
-      if (count_[i] < kStopRecordSamples) {
-        ++count_[i];
+      std::uint32_t slot = next_[i];
+      recent_m_[i][slot] = w.sinkage_m;
+      ++slot;
+      if (slot >= kStopRecordSamples) {
+        // The window has filled: from here on the next slot is the oldest's.
+        slot = 0U;
+        full |= 1U << i;
       }
+      next_[i] = static_cast<std::uint8_t>(slot);
     }
     if ((first == StopReason::none) && w.stop_tripped) {
       first = w.stop_reason;
     }
   }
   first_reason_ = first;
+  full_ = static_cast<std::uint8_t>(full);
 }
 
 RoverStopRecord StopRecorder::record(TimeMs now, std::uint8_t wheels) const noexcept {
@@ -43,12 +60,13 @@ RoverStopRecord StopRecorder::record(TimeMs now, std::uint8_t wheels) const noex
   r.time = now;
   r.reason = first_reason_;
   for (std::uint8_t i = 0U; (i < wheels) && (i < kMaxWheels); ++i) {
-    if (count_[i] > 0U) {
-      const SinkageM z = detail::median_of(recent_m_[i], count_[i]);
+    const std::uint8_t count = samples_of(next_[i], full_, i);
+    if (count > 0U) {
+      const SinkageM z = detail::median_of(recent_m_[i], count);
       if (!r.sinkage_valid || (r.recent_sinkage_m < z)) {
         r.sinkage_valid = true;
         r.deepest_wheel = i;
-        r.samples = count_[i];
+        r.samples = count;
         r.recent_sinkage_m = z;
       }
     }

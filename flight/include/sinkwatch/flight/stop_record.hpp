@@ -76,8 +76,11 @@ class StopRecorder {
   [[nodiscard]] RoverStopRecord record(TimeMs now, std::uint8_t wheels) const noexcept;
 
   SinkageM recent_m_[kMaxWheels][kStopRecordSamples]{};
-  std::uint8_t count_[kMaxWheels]{};
-  std::uint8_t next_[kMaxWheels]{};
+  std::uint8_t next_[kMaxWheels]{};  ///< per wheel, the ring's next slot
+  /// Bit i: wheel i's window has filled (its median takes every slot). Set
+  /// once per episode, where a count per wheel was read and written per
+  /// estimate; the count is only needed for a record.
+  std::uint8_t full_{0U};
   StopReason first_reason_{StopReason::none};
   bool stopped_{false};  ///< the last observed decision was stop_and_replan
   bool has_record_{false};
