@@ -509,33 +509,31 @@ void RoverMonitor::step_all(const Wheels& wheels, TimeMs now, const PreparedPara
                             RoverOutput& out) noexcept {
   const ParameterTable& table = prepared.table();
   const std::uint8_t count = (table.monitor.wheel_count < kMaxWheels) ? table.monitor.wheel_count : kMaxWheels;
-  // The tallies in locals, stored once: each wheel's step may write any
-  // memory as far as the compiler knows, so counts kept in `out` were
-  // reloaded and stored per wheel.
-  std::uint8_t in_stop = 0U;
-  std::uint8_t in_caution = 0U;
-  std::uint8_t blind = 0U;
+  // The tallies in one local word, stored once: each wheel's step may write
+  // any memory as far as the compiler knows, so counts kept in `out` were
+  // reloaded and stored per wheel. Byte s counts the wheels in state s
+  // (WheelState: 0 nominal, unused, 1 caution, 2 stop), byte 3 the blind
+  // ones: a shift and an add per wheel, no branch per state; at most
+  // kMaxWheels per byte, so no byte carries into the next.
+  constexpr std::uint32_t kBlindShift = 24U;
+  static_assert(static_cast<std::uint32_t>(WheelState::stop) < 3U, "the states' bytes lie below the blind byte");
+  std::uint32_t tally = 0U;
   for (std::uint8_t i = 0U; i < count; ++i) {
     WheelOutput& w = out.wheels[i];
     wheels_[i].step_sample(wheels.sample(i), now, prepared, w);
-    if (w.state == WheelState::stop) {
-      ++in_stop;
-    } else if (w.state == WheelState::caution) {
-      ++in_caution;
-    } else {
-      // nominal
-    }
+    tally += 1U << (8U * static_cast<std::uint32_t>(w.state));
     if (w.sample_status == SampleStatus::sensor_fault) {
-      ++blind;
+      tally += 1U << kBlindShift;
     }
   }
   // Wheels beyond wheel_count are not monitored: their outputs are default.
   for (std::uint8_t i = count; i < kMaxWheels; ++i) {
     out.wheels[i] = WheelOutput{};
   }
-  out.wheels_in_stop = in_stop;
-  out.wheels_in_caution = in_caution;
-  out.wheels_blind = blind;
+  out.wheels_in_stop = static_cast<std::uint8_t>(tally >> (8U * static_cast<std::uint32_t>(WheelState::stop)));
+  out.wheels_in_caution =
+      static_cast<std::uint8_t>(tally >> (8U * static_cast<std::uint32_t>(WheelState::caution)));
+  out.wheels_blind = static_cast<std::uint8_t>(tally >> kBlindShift);
   rover_rules(table, count, out);
 }
 

@@ -693,6 +693,19 @@ Reached run_samples_against_inputs(const ParameterTable& table, std::uint64_t se
     EXPECT_EQ(out_inputs.wheels_in_caution, out_samples.wheels_in_caution);
     EXPECT_EQ(out_inputs.wheels_blind, out_samples.wheels_blind);
     EXPECT_EQ(out_inputs.degraded, out_samples.degraded);
+    // The tallies (kept as the bytes of one word in step_all) against the
+    // wheels' own outputs, counted one by one.
+    int in_stop = 0;
+    int in_caution = 0;
+    int blind = 0;
+    for (std::uint8_t i = 0U; i < table.monitor.wheel_count; ++i) {
+      in_stop += (out_samples.wheels[i].state == WheelState::stop) ? 1 : 0;
+      in_caution += (out_samples.wheels[i].state == WheelState::caution) ? 1 : 0;
+      blind += (out_samples.wheels[i].sample_status == SampleStatus::sensor_fault) ? 1 : 0;
+    }
+    EXPECT_EQ(static_cast<int>(out_samples.wheels_in_stop), in_stop) << "cycle " << cycle;
+    EXPECT_EQ(static_cast<int>(out_samples.wheels_in_caution), in_caution) << "cycle " << cycle;
+    EXPECT_EQ(static_cast<int>(out_samples.wheels_blind), blind) << "cycle " << cycle;
     for (std::uint8_t i = 0U; i < kMaxWheels; ++i) {
       expect_same_wheel(out_inputs.wheels[i], out_samples.wheels[i], cycle, i);
       expect_same_monitor(by_inputs.wheel(i), by_samples.wheel(i));
