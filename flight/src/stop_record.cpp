@@ -3,6 +3,8 @@
 
 #include "median.hpp"
 
+#include "sinkwatch/fixedpoint/inline.hpp"
+
 namespace sinkwatch {
 namespace flight {
 
@@ -26,7 +28,7 @@ void StopRecorder::clear_stop() noexcept {
   record_ = kept;
 }
 
-void StopRecorder::remember(const RoverOutput& monitor, std::uint8_t wheels) noexcept {
+SW_FX_INLINE void StopRecorder::remember(const RoverOutput& monitor, std::uint8_t wheels) noexcept {
   // The bound once, and the episode's first reason and the filled windows
   // in locals stored once:
   // the byte stores into the histories may alias any member as far as the

@@ -72,7 +72,9 @@ class StopRecorder {
   const RoverStopRecord& last_record() const&& = delete;  // MISRA C++:2023 6.8.4: no reference into a temporary
 
  private:
-  void remember(const RoverOutput& monitor, std::uint8_t wheels) noexcept;
+  // observe()'s first stage, inline (defined and used only in
+  // stop_record.cpp, forced inline there): no call per cycle.
+  inline void remember(const RoverOutput& monitor, std::uint8_t wheels) noexcept;
   [[nodiscard]] RoverStopRecord record(TimeMs now, std::uint8_t wheels) const noexcept;
 
   SinkageM recent_m_[kMaxWheels][kStopRecordSamples]{};
