@@ -90,17 +90,21 @@ SW_FX_INLINE bool positive_divisor_quotient(bool negative, std::uint64_t n_magni
       ((static_cast<std::int32_t>(n_leading.bits) - static_cast<std::int32_t>(d_leading.bits)) - 31) -
       ((n_frac - d_frac) - kOutFrac);
   constexpr std::uint32_t kTop = 0x80000000U;  // 2^31: -2^31's magnitude
-  if (exponent > 0) {
+  // e in [-32, -1] (the quotients that fit, but for the largest at e == 0)
+  // is tested first, in one unsigned comparison of -e - 1 (a negative value
+  // wraps beyond 31): q 2^e rounded half up on the word as
+  // floor(q / 2^(-e - 1)) halved plus its last bit, at most 2^31.
+  const auto shift_less_one = static_cast<std::uint32_t>(-1 - exponent);
+  std::uint32_t magnitude = q;  // e == 0: q itself
+  if (shift_less_one < 32U) {
+    const std::uint32_t x = q >> shift_less_one;
+    magnitude = (x >> 1U) + (x & 1U);
+  } else if (exponent > 0) {
     const bool minimum = negative && (exponent == 1) && (q == (kTop >> 1U));
     raw = minimum ? std::numeric_limits<std::int32_t>::min() : 0;
     return minimum;
-  }
-  std::uint32_t magnitude = q;
-  if (exponent < -32) {
-    magnitude = 0U;  // q 2^e < 2^32 2^-33 = 1/2
   } else if (exponent < 0) {
-    const std::uint32_t x = q >> (static_cast<std::uint32_t>(-exponent) - 1U);
-    magnitude = (x >> 1U) + (x & 1U);
+    magnitude = 0U;  // e < -32: q 2^e < 2^32 2^-33 = 1/2
   } else {
     // e == 0: q itself
   }
