@@ -210,14 +210,30 @@ SW_FX_INLINE fx::ScaledMagnitude load_times(fx::Q<std::int64_t, 48> lever, Wheel
 /// accepts: r > 0 and |C3| <= 1 (2^24 raw), so the sum of the two ratios is
 /// below 2^31 + 2^24 < 2^32 in magnitude and r times it is one 32 x 32 ->
 /// 64-bit product (below 2^57). r DP_max/W + r C3, the same integer, took two.
-SW_FX_INLINE std::int64_t radius_times_ratios(std::int32_t r, Ratio dp_max_ratio, Ratio c3) noexcept {
-  const std::int64_t sum = static_cast<std::int64_t>(dp_max_ratio.raw()) + static_cast<std::int64_t>(c3.raw());
+/// The form for ARMv6-M, where a 64-bit product is four 16-bit ones.
+SW_FX_INLINE std::int64_t radius_times_ratios_by_magnitude(std::int32_t r, Ratio dp_max_ratio, Ratio c3) noexcept {
   // |sum| < 2^32 is its low word taken modulo 2^32 (the wrapping 32-bit sum
-  // or its negation): no 64-bit negation.
+  // or its negation): no 64-bit negation. The sum is negative exactly when
+  // DP_max/W < -C3 (-C3 fits: |C3| <= 2^24 raw).
   const std::uint32_t low = static_cast<std::uint32_t>(dp_max_ratio.raw()) + static_cast<std::uint32_t>(c3.raw());
-  const bool negative = sum < 0;
+  const bool negative = dp_max_ratio.raw() < -c3.raw();
   const std::uint32_t sum_magnitude = negative ? (0U - low) : low;
   return with_sign(negative, fx::wide::mul_32x32_64(sum_magnitude, static_cast<std::uint32_t>(r)));
+}
+
+/// The same integer on every target: where the core has a 32 x 32 -> 64-bit
+/// signed product, r DP_max/W + r C3 as one product and one multiply-
+/// accumulate (SMULL, SMLAL: both terms and their sum below 2^62), with no
+/// sign to take off and put back (round 15); else the magnitude form above.
+/// host_tests/flight/test_estimator.cpp (RadiusTimesRatios) checks both
+/// against the exact product.
+SW_FX_INLINE std::int64_t radius_times_ratios(std::int32_t r, Ratio dp_max_ratio, Ratio c3) noexcept {
+  if constexpr (fx::wide::kMul32x32BySoftware) {
+    return radius_times_ratios_by_magnitude(r, dp_max_ratio, c3);
+  } else {
+    return (static_cast<std::int64_t>(dp_max_ratio.raw()) * static_cast<std::int64_t>(r)) +
+           (static_cast<std::int64_t>(c3.raw()) * static_cast<std::int64_t>(r));
+  }
 }
 
 /// torque_limit()'s raw T_max (Q?.16) for inputs check_estimator_inputs()

@@ -522,7 +522,8 @@ TEST(TimesPositive, IsTheExactProductInBothForms) {
   }
 }
 
-// r (DP_max/W + C3) (of_valid.hpp, radius_times_ratios: |sum| from the
+// r (DP_max/W + C3) (of_valid.hpp: radius_times_ratios, the core's own
+// form, and radius_times_ratios_by_magnitude, ARMv6-M's, |sum| from the
 // wrapping 32-bit sum) against the exact signed product, the sums at and
 // beyond the ends of the 32-bit range included.
 TEST(RadiusTimesRatios, IsTheExactSignedProduct) {
@@ -544,6 +545,8 @@ TEST(RadiusTimesRatios, IsTheExactSignedProduct) {
     }
     const std::int64_t expected = (static_cast<std::int64_t>(ratio) + c3) * static_cast<std::int64_t>(r);
     ASSERT_EQ(detail::radius_times_ratios(r, Ratio::from_raw(ratio), Ratio::from_raw(c3)), expected)
+        << r << " " << ratio << " " << c3;
+    ASSERT_EQ(detail::radius_times_ratios_by_magnitude(r, Ratio::from_raw(ratio), Ratio::from_raw(c3)), expected)
         << r << " " << ratio << " " << c3;
   }
 }
