@@ -63,6 +63,19 @@ SW_FX_INLINE std::int64_t times_positive(std::int32_t a, std::int32_t b_positive
   }
 }
 
+/// a b for two factors the caller has checked non-negative: the unsigned
+/// product's bits on every target. Where the core has SMULL, the signed
+/// product (GCC turned the unsigned one of a value it knew non-negative
+/// from a range check into a 64 x 32-bit product, two instructions more);
+/// on ARMv6-M the unsigned 16-bit products, as before.
+SW_FX_INLINE std::uint64_t product_of_non_negative(std::int32_t a, std::int32_t b) noexcept {
+  if constexpr (fx::wide::kMul32x32BySoftware) {
+    return fx::wide::mul_32x32_64(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
+  } else {
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(a) * static_cast<std::int64_t>(b));
+  }
+}
+
 /// fx::divide_normalised<Out>(n, d, st) for a 32-bit Out and a divisor
 /// d > 0, as its raw quotient and whether st stayed ok (the return): the
 /// same leading words, the same quotient q = floor(N 2^31 / D) and the same
@@ -176,8 +189,7 @@ SW_FX_INLINE bool sinkage_raw_of_valid(const Coefficients& c, LengthM radius_m, 
 
   using Moment = fx::Q<std::int64_t, 40>;
   const Moment numerator = Moment::from_raw((drive - pull_moment) - offset_moment);
-  const std::uint64_t denominator =
-      fx::wide::mul_32x32_64(static_cast<std::uint32_t>(c.c2.raw()), static_cast<std::uint32_t>(w));  // > 0
+  const std::uint64_t denominator = product_of_non_negative(c.c2.raw(), w);  // > 0
   return positive_divisor_quotient<LengthQ::frac_bits>(numerator.raw() < 0, fx::detail::magnitude(numerator.raw()),
                                                        Moment::frac_bits, denominator, 40, z_raw);
 }

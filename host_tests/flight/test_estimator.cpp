@@ -522,6 +522,29 @@ TEST(TimesPositive, IsTheExactProductInBothForms) {
   }
 }
 
+// product_of_non_negative (of_valid.hpp, Eq. 11's C2 W): the signed product
+// where the core has one and the unsigned 16-bit products on ARMv6-M, both
+// the exact product of two non-negative 32-bit values, the largest included.
+TEST(ProductOfNonNegative, IsTheExactProductInBothForms) {
+  std::mt19937_64 rng(1516U);
+  const std::int32_t edges[] = {0, 1, 2, 1 << 22, 1 << 26, std::numeric_limits<std::int32_t>::max() - 1,
+                                std::numeric_limits<std::int32_t>::max()};
+  for (std::int32_t i = 0; i < 400000; ++i) {
+    auto a = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()) >> (1U + (rng() % 31U)));
+    auto b = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()) >> (1U + (rng() % 31U)));
+    if ((i % 3) == 0) {
+      a = edges[rng() % (sizeof(edges) / sizeof(edges[0]))];
+    }
+    if ((i % 5) == 0) {
+      b = edges[rng() % (sizeof(edges) / sizeof(edges[0]))];
+    }
+    const std::uint64_t exact = static_cast<std::uint64_t>(a) * static_cast<std::uint64_t>(b);
+    ASSERT_EQ(detail::product_of_non_negative(a, b), exact) << a << " " << b;
+    ASSERT_EQ(fx::wide::mul_32x32_64_halves(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b)), exact)
+        << a << " " << b;
+  }
+}
+
 // r (DP_max/W + C3) (of_valid.hpp: radius_times_ratios, the core's own
 // form, and radius_times_ratios_by_magnitude, ARMv6-M's, |sum| from the
 // wrapping 32-bit sum) against the exact signed product, the sums at and
