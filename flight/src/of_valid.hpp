@@ -93,10 +93,10 @@ SW_FX_INLINE bool positive_divisor_quotient(bool negative, std::uint64_t n_magni
                                             std::uint64_t d_magnitude, std::int32_t d_frac,
                                             std::int32_t& raw) noexcept {
   raw = 0;
-  if (n_magnitude == 0U) {
-    return true;
-  }
   const fx::detail::LeadingBits n_leading = fx::detail::leading_bits(n_magnitude);
+  if (n_leading.word == 0U) {
+    return true;  // n == 0: its leading word is 0, every other one has its top bit set
+  }
   const fx::detail::LeadingBits d_leading = fx::detail::leading_bits(d_magnitude);
   const std::uint32_t q = fx::wide::quotient_64_by_32(std::uint64_t{n_leading.word} << 31U, d_leading.word);
   const std::int32_t exponent =
