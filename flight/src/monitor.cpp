@@ -189,22 +189,28 @@ SW_FX_INLINE SampleStatus classify_sample(Sample input, TimeMs now, bool have_la
   }
   // Eq. 11 and the limit in this one function (their cores are inline,
   // of_valid.hpp): no call, argument record or result record per wheel
-  // between them.
-  const SinkageResult sink = detail::sinkage_of_valid(corr.coefficients, table.wheel_radius_m, load_n,
-                                                      torque.torque_nm, drawbar_pull_n);
-  const TorqueLimitResult torque_max =
-      detail::torque_limit_of_valid(corr.coefficients, corr.dp_max_ratio, table.wheel_radius_m, load_n,
-                                    table.monitor.allowed_sinkage_m);
-  const CurrentLimitResult limit =
-      detail::limit_from_torque(corr, table.motor, prepared.motor_divisors(), torque_max);
-  if ((sink.status != EstimateStatus::ok) || (limit.status != EstimateStatus::ok)) {
+  // between them. A false return makes the caller clear every estimate
+  // field (WheelMonitor::step_sample), so the torque and the sinkage are
+  // written as soon as they are known and a refusal returns at once: the
+  // limit is not computed for a sinkage that overflowed, and the sinkage
+  // is not kept in a register across the limit (round 15).
+  std::int32_t z_raw = 0;
+  if (!detail::sinkage_raw_of_valid(corr.coefficients, table.wheel_radius_m, load_n, torque.torque_nm,
+                                    drawbar_pull_n, z_raw)) {
+    return false;
+  }
+  out.torque_nm = torque.torque_nm;
+  out.sinkage_m = SinkageM(LengthQ::from_raw(z_raw));
+  std::int32_t t_max_raw = 0;
+  std::int32_t current_raw = 0;
+  if ((!detail::torque_limit_raw_of_valid(corr.coefficients, corr.dp_max_ratio, table.wheel_radius_m, load_n,
+                                          table.monitor.allowed_sinkage_m, t_max_raw)) ||
+      (!detail::current_raw_from_torque(table.motor, prepared.motor_divisors(), t_max_raw, current_raw))) {
     return false;
   }
   out.estimate_valid = true;
-  out.torque_nm = torque.torque_nm;
-  out.sinkage_m = sink.sinkage_m;
   out.limit_valid = true;
-  out.current_limit_a = limit.current_limit_a;
+  out.current_limit_a = CurrentA(CurrentQ::from_raw(current_raw));
   return true;
 }
 

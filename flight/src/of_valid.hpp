@@ -48,6 +48,34 @@ inline std::int64_t with_sign(bool negative, std::uint64_t magnitude) noexcept {
   return negative ? -m : m;
 }
 
+/// a b exactly for any a and a b the caller has checked positive (so |a b|
+/// < 2^62): with_sign(a < 0, |a| b)'s integer. Where the core has a 32 x 32
+/// -> 64-bit signed product (SMULL) it is that one instruction, with no
+/// branch on a's sign (round 15); on ARMv6-M, where every 64-bit product is
+/// built from 16-bit ones, the magnitudes' product with the sign put back
+/// (no __aeabi_lmul), as before. host_tests/flight/test_estimator.cpp
+/// (TimesPositive) checks both forms against the exact product.
+SW_FX_INLINE std::int64_t times_positive(std::int32_t a, std::int32_t b_positive) noexcept {
+  if constexpr (fx::wide::kMul32x32BySoftware) {
+    return with_sign(a < 0, fx::wide::mul_32x32_64(fx::detail::magnitude32(a), static_cast<std::uint32_t>(b_positive)));
+  } else {
+    return static_cast<std::int64_t>(a) * static_cast<std::int64_t>(b_positive);
+  }
+}
+
+/// a b for two factors the caller has checked non-negative: the unsigned
+/// product's bits on every target. Where the core has SMULL, the signed
+/// product (GCC turned the unsigned one of a value it knew non-negative
+/// from a range check into a 64 x 32-bit product, two instructions more);
+/// on ARMv6-M the unsigned 16-bit products, as before.
+SW_FX_INLINE std::uint64_t product_of_non_negative(std::int32_t a, std::int32_t b) noexcept {
+  if constexpr (fx::wide::kMul32x32BySoftware) {
+    return fx::wide::mul_32x32_64(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b));
+  } else {
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(a) * static_cast<std::int64_t>(b));
+  }
+}
+
 /// fx::divide_normalised<Out>(n, d, st) for a 32-bit Out and a divisor
 /// d > 0, as its raw quotient and whether st stayed ok (the return): the
 /// same leading words, the same quotient q = floor(N 2^31 / D) and the same
@@ -65,27 +93,31 @@ SW_FX_INLINE bool positive_divisor_quotient(bool negative, std::uint64_t n_magni
                                             std::uint64_t d_magnitude, std::int32_t d_frac,
                                             std::int32_t& raw) noexcept {
   raw = 0;
-  if (n_magnitude == 0U) {
-    return true;
-  }
   const fx::detail::LeadingBits n_leading = fx::detail::leading_bits(n_magnitude);
+  if (n_leading.word == 0U) {
+    return true;  // n == 0: its leading word is 0, every other one has its top bit set
+  }
   const fx::detail::LeadingBits d_leading = fx::detail::leading_bits(d_magnitude);
   const std::uint32_t q = fx::wide::quotient_64_by_32(std::uint64_t{n_leading.word} << 31U, d_leading.word);
   const std::int32_t exponent =
       ((static_cast<std::int32_t>(n_leading.bits) - static_cast<std::int32_t>(d_leading.bits)) - 31) -
       ((n_frac - d_frac) - kOutFrac);
   constexpr std::uint32_t kTop = 0x80000000U;  // 2^31: -2^31's magnitude
-  if (exponent > 0) {
+  // e in [-32, -1] (the quotients that fit, but for the largest at e == 0)
+  // is tested first, in one unsigned comparison of -e - 1 (a negative value
+  // wraps beyond 31): q 2^e rounded half up on the word as
+  // floor(q / 2^(-e - 1)) halved plus its last bit, at most 2^31.
+  const auto shift_less_one = static_cast<std::uint32_t>(-1 - exponent);
+  std::uint32_t magnitude = q;  // e == 0: q itself
+  if (shift_less_one < 32U) {
+    const std::uint32_t x = q >> shift_less_one;
+    magnitude = (x >> 1U) + (x & 1U);
+  } else if (exponent > 0) {
     const bool minimum = negative && (exponent == 1) && (q == (kTop >> 1U));
     raw = minimum ? std::numeric_limits<std::int32_t>::min() : 0;
     return minimum;
-  }
-  std::uint32_t magnitude = q;
-  if (exponent < -32) {
-    magnitude = 0U;  // q 2^e < 2^32 2^-33 = 1/2
   } else if (exponent < 0) {
-    const std::uint32_t x = q >> (static_cast<std::uint32_t>(-exponent) - 1U);
-    magnitude = (x >> 1U) + (x & 1U);
+    magnitude = 0U;  // e < -32: q 2^e < 2^32 2^-33 = 1/2
   } else {
     // e == 0: q itself
   }
@@ -128,9 +160,11 @@ SW_FX_INLINE EstimateStatus estimator_inputs_status(const Coefficients& c, Lengt
   return EstimateStatus::ok;
 }
 
-/// sinkage_from_pull() for inputs check_estimator_inputs() accepts.
-SW_FX_INLINE SinkageResult sinkage_of_valid(const Coefficients& c, LengthM radius_m, WheelLoadN load_n,
-                                             TorqueNm torque_nm, DrawbarPullN drawbar_pull_n) noexcept {
+/// sinkage_from_pull()'s raw sinkage (Q?.24) for inputs
+/// check_estimator_inputs() accepts, into `z_raw`; false (z_raw 0) where it
+/// overflows.
+SW_FX_INLINE bool sinkage_raw_of_valid(const Coefficients& c, LengthM radius_m, WheelLoadN load_n,
+                                       TorqueNm torque_nm, DrawbarPullN drawbar_pull_n, std::int32_t& z_raw) noexcept {
   // z = (C1 T - r C3 W - r DP) / (C2 W): one division, its operands in
   // Q23.40 on 64 bits (docs/flight.md, "Sinkage"). C1 T, r DP and C2 W are
   // exact products; r C3 is rounded to Q2.29 before it meets W, so r C3 W is
@@ -141,17 +175,12 @@ SW_FX_INLINE SinkageResult sinkage_of_valid(const Coefficients& c, LengthM radiu
   // overflow, so the sum is plain 64-bit arithmetic without saturation
   // tests, and each product is fx::mul's rounding of the exact product
   // (ties away from zero), bit for bit the checked chain it replaced. r, W,
-  // C1 and C2 are positive, so only T, DP and C3 have a sign to take off and
-  // put back (r |C3| and its product with W as magnitudes, C3's sign put
-  // back once).
+  // C1 and C2 are positive, so only T, DP and C3 have a sign (r |C3| and
+  // its product with W as magnitudes, C3's sign put back once).
   const std::int32_t r = radius_m.raw();
   const std::int32_t w = load_n.raw();
-  const std::int64_t drive = with_sign(
-      torque_nm.raw() < 0,
-      fx::wide::mul_32x32_64(fx::detail::magnitude32(torque_nm.raw()), static_cast<std::uint32_t>(c.c1.raw())));
-  const std::int64_t pull_moment = with_sign(
-      drawbar_pull_n.raw() < 0,
-      fx::wide::mul_32x32_64(fx::detail::magnitude32(drawbar_pull_n.raw()), static_cast<std::uint32_t>(r)));
+  const std::int64_t drive = times_positive(torque_nm.raw(), c.c1.raw());
+  const std::int64_t pull_moment = times_positive(drawbar_pull_n.raw(), r);
   const auto r_c3 = static_cast<std::uint32_t>(fx::detail::round_shift_const<(2 * LengthQ::frac_bits) - 29>(
       fx::wide::mul_32x32_64(static_cast<std::uint32_t>(r), fx::detail::magnitude32(c.c3.raw()))));  // <= 2^30
   const std::int64_t offset_moment =
@@ -160,11 +189,16 @@ SW_FX_INLINE SinkageResult sinkage_of_valid(const Coefficients& c, LengthM radiu
 
   using Moment = fx::Q<std::int64_t, 40>;
   const Moment numerator = Moment::from_raw((drive - pull_moment) - offset_moment);
-  const std::uint64_t denominator =
-      fx::wide::mul_32x32_64(static_cast<std::uint32_t>(c.c2.raw()), static_cast<std::uint32_t>(w));  // > 0
+  const std::uint64_t denominator = product_of_non_negative(c.c2.raw(), w);  // > 0
+  return positive_divisor_quotient<LengthQ::frac_bits>(numerator.raw() < 0, fx::detail::magnitude(numerator.raw()),
+                                                       Moment::frac_bits, denominator, 40, z_raw);
+}
+
+/// sinkage_from_pull() for inputs check_estimator_inputs() accepts.
+SW_FX_INLINE SinkageResult sinkage_of_valid(const Coefficients& c, LengthM radius_m, WheelLoadN load_n,
+                                             TorqueNm torque_nm, DrawbarPullN drawbar_pull_n) noexcept {
   std::int32_t z = 0;
-  if (!positive_divisor_quotient<LengthQ::frac_bits>(numerator.raw() < 0, fx::detail::magnitude(numerator.raw()),
-                                                     Moment::frac_bits, denominator, 40, z)) {
+  if (!sinkage_raw_of_valid(c, radius_m, load_n, torque_nm, drawbar_pull_n, z)) {
     return SinkageResult{SinkageM::zero(), EstimateStatus::overflow};
   }
   return SinkageResult{SinkageM(LengthQ::from_raw(z)), EstimateStatus::ok};
@@ -172,33 +206,53 @@ SW_FX_INLINE SinkageResult sinkage_of_valid(const Coefficients& c, LengthM radiu
 
 /// W L from L's leading 32 bits (truncated: < 2^-31 relative) times W > 0:
 /// one 32 x 32 -> 64-bit product whose scale is known only at run time.
+/// The leading word and bit length in one pass (fx::detail::leading_bits,
+/// the quotient's own normalisation: the same integers as wide::bit_length
+/// and wide::leading_word for L != 0; L == 0 gives the product 0, a zero
+/// numerator whatever its scale).
 SW_FX_INLINE fx::ScaledMagnitude load_times(fx::Q<std::int64_t, 48> lever, WheelLoadN load_n) noexcept {
-  const std::uint64_t magnitude = fx::detail::magnitude(lever.raw());
-  const std::uint32_t bits = fx::wide::bit_length(magnitude);
-  const std::uint32_t leading = fx::wide::leading_word(magnitude, bits);  // magnitude 2^(32 - bits)
+  const fx::detail::LeadingBits leading = fx::detail::leading_bits(fx::detail::magnitude(lever.raw()));
   const std::uint64_t product =
-      fx::wide::mul_32x32_64(leading, static_cast<std::uint32_t>(load_n.raw()));  // < 2^63
+      fx::wide::mul_32x32_64(leading.word, static_cast<std::uint32_t>(load_n.raw()));  // < 2^63
   return fx::ScaledMagnitude{lever.raw() < 0, product,
-                             ((16 + 48) + 32) - static_cast<std::int32_t>(bits)};
+                             ((16 + 48) + 32) - static_cast<std::int32_t>(leading.bits)};
 }
 
 /// r (DP_max/W + C3) exactly (Q15.48 raw) for inputs check_estimator_inputs()
 /// accepts: r > 0 and |C3| <= 1 (2^24 raw), so the sum of the two ratios is
 /// below 2^31 + 2^24 < 2^32 in magnitude and r times it is one 32 x 32 ->
 /// 64-bit product (below 2^57). r DP_max/W + r C3, the same integer, took two.
-SW_FX_INLINE std::int64_t radius_times_ratios(std::int32_t r, Ratio dp_max_ratio, Ratio c3) noexcept {
-  const std::int64_t sum = static_cast<std::int64_t>(dp_max_ratio.raw()) + static_cast<std::int64_t>(c3.raw());
+/// The form for ARMv6-M, where a 64-bit product is four 16-bit ones.
+SW_FX_INLINE std::int64_t radius_times_ratios_by_magnitude(std::int32_t r, Ratio dp_max_ratio, Ratio c3) noexcept {
   // |sum| < 2^32 is its low word taken modulo 2^32 (the wrapping 32-bit sum
-  // or its negation): no 64-bit negation.
+  // or its negation): no 64-bit negation. The sum is negative exactly when
+  // DP_max/W < -C3 (-C3 fits: |C3| <= 2^24 raw).
   const std::uint32_t low = static_cast<std::uint32_t>(dp_max_ratio.raw()) + static_cast<std::uint32_t>(c3.raw());
-  const bool negative = sum < 0;
+  const bool negative = dp_max_ratio.raw() < -c3.raw();
   const std::uint32_t sum_magnitude = negative ? (0U - low) : low;
   return with_sign(negative, fx::wide::mul_32x32_64(sum_magnitude, static_cast<std::uint32_t>(r)));
 }
 
-/// torque_limit() for inputs check_estimator_inputs() accepts.
-SW_FX_INLINE TorqueLimitResult torque_limit_of_valid(const Coefficients& c, Ratio dp_max_ratio, LengthM radius_m,
-                                        WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
+/// The same integer on every target: where the core has a 32 x 32 -> 64-bit
+/// signed product, r DP_max/W + r C3 as one product and one multiply-
+/// accumulate (SMULL, SMLAL: both terms and their sum below 2^62), with no
+/// sign to take off and put back (round 15); else the magnitude form above.
+/// host_tests/flight/test_estimator.cpp (RadiusTimesRatios) checks both
+/// against the exact product.
+SW_FX_INLINE std::int64_t radius_times_ratios(std::int32_t r, Ratio dp_max_ratio, Ratio c3) noexcept {
+  if constexpr (fx::wide::kMul32x32BySoftware) {
+    return radius_times_ratios_by_magnitude(r, dp_max_ratio, c3);
+  } else {
+    return (static_cast<std::int64_t>(dp_max_ratio.raw()) * static_cast<std::int64_t>(r)) +
+           (static_cast<std::int64_t>(c3.raw()) * static_cast<std::int64_t>(r));
+  }
+}
+
+/// torque_limit()'s raw T_max (Q?.16) for inputs check_estimator_inputs()
+/// accepts, into `t_max_raw`; false (t_max_raw 0) where it overflows.
+SW_FX_INLINE bool torque_limit_raw_of_valid(const Coefficients& c, Ratio dp_max_ratio, LengthM radius_m,
+                                            WheelLoadN load_n, SinkageM allowed_sinkage_m,
+                                            std::int32_t& t_max_raw) noexcept {
   // T_max = W L / C1 with the lever L = r (DP_max/W + C3) + C2 z_max, one
   // division (docs/flight.md, "Current limit"). L is exact in Q15.48: for
   // accepted inputs (0 < r <= 2 m, 0 < C1, C2 <= 4, |C3| <= 1, W > 0) and
@@ -206,34 +260,34 @@ SW_FX_INLINE TorqueLimitResult torque_limit_of_valid(const Coefficients& c, Rati
   // sum below 2^32) and at most 2^57 raw and their sum below 2^58, so the sum
   // is plain 64-bit arithmetic: the bits of the saturating sum it replaced,
   // which could not saturate either. r, C1 and C2 are positive: only the
-  // other factors have a sign to take off and put back.
-  const std::int32_t z = allowed_sinkage_m.raw();
-  const std::int64_t lever =
-      radius_times_ratios(radius_m.raw(), dp_max_ratio, c.c3) +
-      with_sign(z < 0, fx::wide::mul_32x32_64(fx::detail::magnitude32(z), static_cast<std::uint32_t>(c.c2.raw())));
+  // other factors have a sign.
+  const std::int64_t lever = radius_times_ratios(radius_m.raw(), dp_max_ratio, c.c3) +
+                             times_positive(allowed_sinkage_m.raw(), c.c2.raw());
   const fx::ScaledMagnitude w_lever = load_times(fx::Q<std::int64_t, 48>::from_raw(lever), load_n);
+  return positive_divisor_quotient<LoadQ::frac_bits>(w_lever.negative, w_lever.magnitude, w_lever.frac_bits,
+                                                     static_cast<std::uint32_t>(c.c1.raw()), RatioQ::frac_bits,
+                                                     t_max_raw);
+}
+
+/// torque_limit() for inputs check_estimator_inputs() accepts.
+SW_FX_INLINE TorqueLimitResult torque_limit_of_valid(const Coefficients& c, Ratio dp_max_ratio, LengthM radius_m,
+                                                     WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
   std::int32_t t_max = 0;
-  if (!positive_divisor_quotient<LoadQ::frac_bits>(w_lever.negative, w_lever.magnitude, w_lever.frac_bits,
-                                                   static_cast<std::uint32_t>(c.c1.raw()), RatioQ::frac_bits,
-                                                   t_max)) {
+  if (!torque_limit_raw_of_valid(c, dp_max_ratio, radius_m, load_n, allowed_sinkage_m, t_max)) {
     return TorqueLimitResult{TorqueNm::zero(), EstimateStatus::overflow};
   }
   return TorqueLimitResult{TorqueNm(LoadQ::from_raw(t_max)), EstimateStatus::ok};
 }
 
-/// The limit from T_max: the motor model in the forward direction (a
-/// magnitude in the direction of motion: I0 adds), current_from_torque()'s
-/// bits for a motor check_motor() accepts. T_max times the prepared
-/// reciprocal of the gain is below 2^62 raw (a 32 x 32-bit product shifted
-/// right), I0 below 2^31, so their sum is exact in 64 bits; only a current
-/// beyond Q11.20 is refused, as rescaling the sum would refuse it.
-SW_FX_INLINE CurrentLimitResult limit_from_torque(const CorrectionResult& corr, const MotorParams& motor,
-                                     const MotorDivisors& divisors, const TorqueLimitResult& t) noexcept {
-  // Each return builds the whole result (no zeroed result overwritten
-  // field by field: the Cortex-M0 build cleared it with a memset per wheel).
-  if (t.status != EstimateStatus::ok) {
-    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, t.status};
-  }
+/// The limit's raw current (Q?.20) from a raw T_max (Q?.16) into
+/// `current_raw`: the motor model in the forward direction (a magnitude in
+/// the direction of motion: I0 adds), current_from_torque()'s bits for a
+/// motor check_motor() accepts; false where it is refused. T_max times the
+/// prepared reciprocal of the gain is below 2^62 raw (a 32 x 32-bit product
+/// shifted right), I0 below 2^31, so their sum is exact in 64 bits; only a
+/// current beyond Q11.20 is refused, as rescaling the sum would refuse it.
+SW_FX_INLINE bool current_raw_from_torque(const MotorParams& motor, const MotorDivisors& divisors,
+                                          std::int32_t t_max_raw, std::int32_t& current_raw) noexcept {
   // fx::times_reciprocal<Q43.20>(T_max, 1/gain) taken apart: |T_max| times
   // the mantissa (one 32 x 32-bit product, below 2^63, not T_max's 64-bit
   // sign extension times it), rounded down by the shift, the sign put back.
@@ -242,22 +296,39 @@ SW_FX_INLINE CurrentLimitResult limit_from_torque(const CorrectionResult& corr, 
   // product that a shift <= 0 would only grow (overflow); a shift >= 64
   // rounds to zero. The same integer and the same refusals as before.
   const fx::NormalisedReciprocal inverse = divisors.inverse_gain;
-  const std::int32_t t_raw = t.torque_nm.raw();
-  const std::uint64_t product = fx::wide::mul_32x32_64(fx::detail::magnitude32(t_raw), inverse.mantissa);
+  const std::uint64_t product = fx::wide::mul_32x32_64(fx::detail::magnitude32(t_max_raw), inverse.mantissa);
   const std::int32_t shift = (LoadQ::frac_bits + inverse.scale) - CurrentQ::frac_bits;
   std::uint64_t driving = 0U;
   if ((shift > 0) && (shift < 64)) {
     driving = fx::detail::shift_right_rounded(product, static_cast<std::uint32_t>(shift));
   }
-  const std::int64_t total = with_sign(t_raw < 0, driving) + static_cast<std::int64_t>(motor.no_load_current_a.raw());
+  const std::int64_t total =
+      with_sign(t_max_raw < 0, driving) + static_cast<std::int64_t>(motor.no_load_current_a.raw());
   constexpr std::int64_t kMin = std::numeric_limits<std::int32_t>::min();
   constexpr std::int64_t kMax = std::numeric_limits<std::int32_t>::max();
   const bool refused = (inverse.mantissa == 0U) || ((shift <= 0) && (product != 0U));
   if (refused || (total < kMin) || (total > kMax)) {
+    current_raw = 0;
+    return false;
+  }
+  current_raw = static_cast<std::int32_t>(total);
+  return true;
+}
+
+/// The limit from T_max (current_raw_from_torque) as current_limit()'s
+/// result, for a motor check_motor() accepts.
+SW_FX_INLINE CurrentLimitResult limit_from_torque(const CorrectionResult& corr, const MotorParams& motor,
+                                                  const MotorDivisors& divisors, const TorqueLimitResult& t) noexcept {
+  // Each return builds the whole result (no zeroed result overwritten
+  // field by field: the Cortex-M0 build cleared it with a memset per wheel).
+  if (t.status != EstimateStatus::ok) {
+    return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, t.status};
+  }
+  std::int32_t current = 0;
+  if (!current_raw_from_torque(motor, divisors, t.torque_nm.raw(), current)) {
     return CurrentLimitResult{CurrentA::zero(), TorqueNm::zero(), corr.clamp, EstimateStatus::overflow};
   }
-  const CurrentA limit(CurrentQ::from_raw(static_cast<std::int32_t>(total)));
-  return CurrentLimitResult{limit, t.torque_nm, corr.clamp, EstimateStatus::ok};
+  return CurrentLimitResult{CurrentA(CurrentQ::from_raw(current)), t.torque_nm, corr.clamp, EstimateStatus::ok};
 }
 
 }  // namespace detail

@@ -248,17 +248,34 @@ void expect_leading_bits(std::uint64_t a) {
   const std::uint32_t bits = fx::wide::bit_length(a);
   const std::uint32_t word = fx::wide::leading_word(a, bits);
   const fx::detail::LeadingBits by_halves = fx::detail::leading_bits_by_halves(a);
+  const fx::detail::LeadingBits by_clz = fx::detail::leading_bits_by_clz(a);
   const fx::detail::LeadingBits selected = fx::detail::leading_bits(a);
   ASSERT_EQ(by_halves.bits, bits) << a;
   ASSERT_EQ(by_halves.word, word) << a;
+  ASSERT_EQ(by_clz.bits, bits) << a;
+  ASSERT_EQ(by_clz.word, word) << a;
   ASSERT_EQ(selected.bits, bits) << a;
   ASSERT_EQ(selected.word, word) << a;
 }
 
-// The halving normalisation (the Cortex-M0's) and the core's own give the
-// bit length and leading word of every length: each power of two, its
-// neighbours, all ones below it, and 10^6 random values of every length.
+// The halving normalisation (the Cortex-M0's), the count of leading zeros
+// (the other cores') and the core's own give the bit length and leading word
+// of every length: each power of two, its neighbours, all ones below it,
+// every shift of a high word with a full low word below it, and 10^6 random
+// values of every length; zero gives both forms' word 0 and bit length 1.
 TEST(NormalisedQuotient, LeadingBitsAreTheBitLengthAndTheLeadingWord) {
+  const fx::detail::LeadingBits zero_by_halves = fx::detail::leading_bits_by_halves(0U);
+  const fx::detail::LeadingBits zero_by_clz = fx::detail::leading_bits_by_clz(0U);
+  EXPECT_EQ(zero_by_halves.word, 0U);
+  EXPECT_EQ(zero_by_clz.word, 0U);
+  EXPECT_EQ(zero_by_halves.bits, 1U);
+  EXPECT_EQ(zero_by_clz.bits, 1U);
+  for (std::uint32_t k = 32U; k < 64U; ++k) {
+    const std::uint64_t top = std::uint64_t{1U} << k;
+    for (const std::uint64_t low : {std::uint64_t{0xFFFFFFFFU}, std::uint64_t{0x80000000U}, std::uint64_t{1U}}) {
+      expect_leading_bits(top | low);
+    }
+  }
   for (std::uint32_t k = 0U; k < 64U; ++k) {
     const std::uint64_t power = std::uint64_t{1U} << k;
     for (const std::uint64_t a : {power, power + 1U, power | (power - 1U), power | (power >> 1U)}) {

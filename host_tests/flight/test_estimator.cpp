@@ -491,7 +491,62 @@ TEST(LimitFromTorque, MatchesTimesReciprocalOverRandomAndEdgeOperands) {
   }
 }
 
-// r (DP_max/W + C3) (of_valid.hpp, radius_times_ratios: |sum| from the
+// times_positive (of_valid.hpp): the signed product where the core has one
+// and the magnitudes' product with the sign put back on ARMv6-M, both the
+// exact product of any 32-bit a and a positive b, at the ends of both ranges
+// and at random values of every length.
+TEST(TimesPositive, IsTheExactProductInBothForms) {
+  std::mt19937_64 rng(1515U);
+  const std::int32_t a_edges[] = {std::numeric_limits<std::int32_t>::min(),
+                                  std::numeric_limits<std::int32_t>::min() + 1, -2, -1, 0, 1, 2,
+                                  std::numeric_limits<std::int32_t>::max() - 1,
+                                  std::numeric_limits<std::int32_t>::max()};
+  const std::int32_t b_edges[] = {1, 2, 1 << 22, 1 << 26, std::numeric_limits<std::int32_t>::max() - 1,
+                                  std::numeric_limits<std::int32_t>::max()};
+  for (std::int32_t i = 0; i < 400000; ++i) {
+    auto a = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()));
+    a >>= (rng() % 32U);
+    auto b = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()) >> (1U + (rng() % 31U)));
+    b = (b == 0) ? 1 : b;
+    if ((i % 3) == 0) {
+      a = a_edges[rng() % (sizeof(a_edges) / sizeof(a_edges[0]))];
+    }
+    if ((i % 5) == 0) {
+      b = b_edges[rng() % (sizeof(b_edges) / sizeof(b_edges[0]))];
+    }
+    const std::int64_t exact = static_cast<std::int64_t>(a) * static_cast<std::int64_t>(b);
+    ASSERT_EQ(detail::times_positive(a, b), exact) << a << " " << b;
+    const std::int64_t by_magnitudes = detail::with_sign(
+        a < 0, fx::wide::mul_32x32_64_halves(fx::detail::magnitude32(a), static_cast<std::uint32_t>(b)));
+    ASSERT_EQ(by_magnitudes, exact) << a << " " << b;
+  }
+}
+
+// product_of_non_negative (of_valid.hpp, Eq. 11's C2 W): the signed product
+// where the core has one and the unsigned 16-bit products on ARMv6-M, both
+// the exact product of two non-negative 32-bit values, the largest included.
+TEST(ProductOfNonNegative, IsTheExactProductInBothForms) {
+  std::mt19937_64 rng(1516U);
+  const std::int32_t edges[] = {0, 1, 2, 1 << 22, 1 << 26, std::numeric_limits<std::int32_t>::max() - 1,
+                                std::numeric_limits<std::int32_t>::max()};
+  for (std::int32_t i = 0; i < 400000; ++i) {
+    auto a = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()) >> (1U + (rng() % 31U)));
+    auto b = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()) >> (1U + (rng() % 31U)));
+    if ((i % 3) == 0) {
+      a = edges[rng() % (sizeof(edges) / sizeof(edges[0]))];
+    }
+    if ((i % 5) == 0) {
+      b = edges[rng() % (sizeof(edges) / sizeof(edges[0]))];
+    }
+    const std::uint64_t exact = static_cast<std::uint64_t>(a) * static_cast<std::uint64_t>(b);
+    ASSERT_EQ(detail::product_of_non_negative(a, b), exact) << a << " " << b;
+    ASSERT_EQ(fx::wide::mul_32x32_64_halves(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b)), exact)
+        << a << " " << b;
+  }
+}
+
+// r (DP_max/W + C3) (of_valid.hpp: radius_times_ratios, the core's own
+// form, and radius_times_ratios_by_magnitude, ARMv6-M's, |sum| from the
 // wrapping 32-bit sum) against the exact signed product, the sums at and
 // beyond the ends of the 32-bit range included.
 TEST(RadiusTimesRatios, IsTheExactSignedProduct) {
@@ -513,6 +568,8 @@ TEST(RadiusTimesRatios, IsTheExactSignedProduct) {
     }
     const std::int64_t expected = (static_cast<std::int64_t>(ratio) + c3) * static_cast<std::int64_t>(r);
     ASSERT_EQ(detail::radius_times_ratios(r, Ratio::from_raw(ratio), Ratio::from_raw(c3)), expected)
+        << r << " " << ratio << " " << c3;
+    ASSERT_EQ(detail::radius_times_ratios_by_magnitude(r, Ratio::from_raw(ratio), Ratio::from_raw(c3)), expected)
         << r << " " << ratio << " " << c3;
   }
 }

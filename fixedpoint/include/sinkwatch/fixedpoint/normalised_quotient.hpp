@@ -125,15 +125,37 @@ SW_FX_INLINE constexpr LeadingBits leading_bits_by_halves(std::uint64_t a) noexc
   return LeadingBits{word, bits};
 }
 
+/// For a > 0: the same two integers from one count of leading zeros of the
+/// word that holds a's leading one, without a branch on the count. A high
+/// word shifted left by s (0 to 31) takes the low word's top s bits as
+/// (low >> 1) >> (31 - s): the shift by 32 - s, which is 32 (no C++ shift)
+/// at s == 0, split so that neither part reaches 32. The count of `low | 1`
+/// is low's for low != 0, and keeps __builtin_clz away from 0 (undefined)
+/// at a == 0, where it gives the halving form's word 0 and bit length 1.
+/// Only where the core counts leading zeros in one instruction (round 15:
+/// the two-helper form branched on the high word's count and again on a
+/// count of 0). The host tests call it directly against the halving form
+/// and the two helpers (test_normalised_quotient).
+SW_FX_INLINE constexpr LeadingBits leading_bits_by_clz(std::uint64_t a) noexcept {
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  const auto high = static_cast<std::uint32_t>(a / kWord);
+  const auto low = static_cast<std::uint32_t>(a);
+  if (high != 0U) {
+    const auto s = static_cast<std::uint32_t>(__builtin_clz(high));
+    return LeadingBits{(high << s) | ((low >> 1U) >> (31U - s)), 64U - s};
+  }
+  const auto s = static_cast<std::uint32_t>(__builtin_clz(low | 1U));
+  return LeadingBits{low << s, 32U - s};
+}
+
 /// For a > 0, a's leading 32 bits and bit length in the core's cheaper form:
 /// a count of leading zeros where the core has one (wide::kClzInstruction),
 /// else the halving steps above. The same two integers either way. For
-/// a == 0 the word is 0 and the bit length has no meaning (0 or 1): a zero
+/// a == 0 the word is 0 and the bit length has no meaning (1): a zero
 /// operand is answered before its scale is looked at.
 SW_FX_INLINE constexpr LeadingBits leading_bits(std::uint64_t a) noexcept {
   if constexpr (wide::kClzInstruction) {
-    const std::uint32_t bits = wide::bit_length(a);
-    return LeadingBits{wide::leading_word(a, bits), bits};
+    return leading_bits_by_clz(a);
   } else {
     return leading_bits_by_halves(a);
   }
