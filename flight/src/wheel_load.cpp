@@ -275,10 +275,28 @@ SW_FX_INLINE Out quotient_in(fx::Q<std::int32_t, Fx> x, fx::NormalisedReciprocal
   }
 }
 
-/// x / d in the pass's format P (quotient_in).
+/// quotient_in for a divisor the statics guard: a lever, a bogie span or
+/// the lateral span of at least 1 mm in every cycle's pass (side_levers,
+/// left_side_total), the normal fraction cos(pitch) cos(roll) >= 0.24 or
+/// cos(roll) >= 0.49 (attitudes within 1.05 rad). Its reciprocal exists and
+/// the shift F_x + scale - F_out is within 1 to 63: 22 to 37 for a length in
+/// Q6.25 over Q6.25 (a raw divisor of 2^15 to 2^31), 29 to 34 for the
+/// cosines, so in every cycle's pass in place the quotient goes without
+/// testing either (detail::quotient_raw_in_range, the same bits and flags).
+template <typename Out, bool EveryCycle, std::int32_t Fx>
+SW_FX_INLINE Out guarded_quotient_in(fx::Q<std::int32_t, Fx> x, fx::NormalisedReciprocal r, fx::Status& st) noexcept {
+  if constexpr (EveryCycle && kQuotientsInline) {
+    const std::int32_t shift = (Fx + r.scale) - Out::frac_bits;
+    return Out::from_raw(detail::quotient_raw_in_range(x.raw(), r.mantissa, static_cast<std::uint32_t>(shift), st));
+  } else {
+    return detail::quotient<Out>(x, r, st);
+  }
+}
+
+/// x / d in the pass's format P for a guarded divisor (guarded_quotient_in).
 template <typename P>
 SW_FX_INLINE P over(P x, fx::NormalisedReciprocal r, fx::Status& st) noexcept {
-  return quotient_in<P, kEveryCycle<P>>(x, r, st);
+  return guarded_quotient_in<P, kEveryCycle<P>>(x, r, st);
 }
 
 /// The lever quantities of one side (sections 3.3 to 3.5 and 12), in the
@@ -430,11 +448,13 @@ template <typename P>
   if ((lever < kLeverGuard<P>) || (span < kLeverGuard<P>)) {
     return SideLevers<P>{};
   }
-  // One division per lever, its quotients as products (section 12.5). Both
-  // by quotient_raw's call on every core: in place (quotient_in) they took
-  // no more than 1 instruction per side off the Cortex-M4's step.
+  // One division per lever, its quotients as products (section 12.5). The
+  // span is at least the guard: in every cycle's pass on the Cortex-M4 both
+  // in place without the reciprocal's and the shift's tests (over; with
+  // them, in place took no more than 1 instruction per side off the step,
+  // without them 25), elsewhere quotient_raw's call.
   const fx::NormalisedReciprocal inv_span = detail::reciprocal_of(span);
-  const P beta = detail::quotient<P>(fx::sub(xt_b, xt_r).q(), inv_span, st);
+  const P beta = over(fx::sub(xt_b, xt_r).q(), inv_span, st);
   const ContactHeights<P> z{contact_z(axles.front, k.wheel_radius), contact_z(axles.middle, k.wheel_radius),
                             contact_z(axles.rear, k.wheel_radius)};
   const SideLateral<P> lateral = side_lateral(z, y_side, g.ky, beta, st);
@@ -444,7 +464,7 @@ template <typename P>
                        lateral.yt_front,
                        lateral.yt_bogie,
                        tq.couple[0],
-                       detail::quotient<P>(plus(tq.couple[1], tq.couple[2], st), inv_span, st),
+                       over(plus(tq.couple[1], tq.couple[2], st), inv_span, st),
                        lateral.yt_rear_minus_middle};
 }
 
@@ -469,9 +489,9 @@ GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexce
   // Built whole (no zeroed frame filled in: a memset on the Cortex-M0).
   const fx::Q1_30 normal_fraction = fx::mul(pitch_sc.cos, roll_sc.cos, st);
   const fx::NormalisedReciprocal inv_normal_fraction = detail::reciprocal_of(normal_fraction);
-  const Kx kx = fx::bound_to<kKxBound>(quotient_in<K, true>(pitch_sc.sin, inv_normal_fraction, st), st);
+  const Kx kx = fx::bound_to<kKxBound>(guarded_quotient_in<K, true>(pitch_sc.sin, inv_normal_fraction, st), st);
   const Ky ky =
-      fx::bound_to<kKyBound>(quotient_in<K, true>(roll_sc.sin, detail::reciprocal_of(roll_sc.cos), st), st);
+      fx::bound_to<kKyBound>(guarded_quotient_in<K, true>(roll_sc.sin, detail::reciprocal_of(roll_sc.cos), st), st);
   return GravityFrame{pitch_sc.sin, normal_fraction, inv_normal_fraction, kx, ky};
 }
 
@@ -655,12 +675,11 @@ std::uint8_t fallback_mask(const DriveTorques& torques) noexcept {
 
 /// Wheel i's couple T / (m g cos(pitch) cos(roll)) in metres; zero where its
 /// torque is not usable. Raises overflow in `st` when it leaves P (in Q6.25:
-/// more than 64 m times the normal weight).
-/// Forced inline: the caller chooses between this and couple_of's call
-/// (couple).
+/// more than 64 m times the normal weight). One function per format: every
+/// cycle's pass takes it only where couples_of cannot take couple_in_range.
 template <typename P>
-SW_FX_INLINE P couple_in_place(const DriveTorques& torques, std::uint32_t i, const Body<P>& body,
-                               const GravityFrame& g, fx::Status& st) noexcept {
+P couple_of(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, const GravityFrame& g,
+            fx::Status& st) noexcept {
   if (!torques.usable[i]) {
     return P::zero();
   }
@@ -668,34 +687,78 @@ SW_FX_INLINE P couple_in_place(const DriveTorques& torques, std::uint32_t i, con
   return over(per_weight, g.inv_normal_fraction, st);
 }
 
-/// couple_in_place as one function per format.
-template <typename P>
-P couple_of(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, const GravityFrame& g,
-            fx::Status& st) noexcept {
-  return couple_in_place(torques, i, body, g, st);
-}
-
-/// Wheel i's couple: in place where the quotients are (kQuotientsInline, in
-/// every cycle's pass: six calls' arguments and frames less per cycle), else
-/// couple_of's call.
-template <typename P>
-SW_FX_INLINE P couple(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, const GravityFrame& g,
-                      fx::Status& st) noexcept {
-  if constexpr (kEveryCycle<P> && kQuotientsInline) {
-    return couple_in_place(torques, i, body, g, st);
-  } else {
-    return couple_of(torques, i, body, g, st);
-  }
-}
-
 /// The couples of the side whose first wheel is `first`, each projected from
 /// its axle where its torque is usable, from its contact where not.
 template <typename P>
 SideTorques<P> side_torques(const DriveTorques& torques, std::uint32_t first, const Body<P>& body,
                             const GravityFrame& g, fx::Status& st) noexcept {
-  return SideTorques<P>{{couple(torques, first, body, g, st), couple(torques, first + 1U, body, g, st),
-                         couple(torques, first + 2U, body, g, st)},
+  return SideTorques<P>{{couple_of(torques, first, body, g, st), couple_of(torques, first + 1U, body, g, st),
+                         couple_of(torques, first + 2U, body, g, st)},
                         {torques.usable[first], torques.usable[first + 1U], torques.usable[first + 2U]}};
+}
+
+/// Both sides' couples (side_torques), the left side's first.
+template <typename P>
+struct Couples {
+  SideTorques<P> side[kSideCount];
+};
+
+/// The couples' two reciprocals, 1 / (m g) and 1 / (cos(pitch) cos(roll)),
+/// as the mantissas and shifts of detail::quotient_raw_in_range, tested once
+/// per cycle.
+struct CoupleDivisors {
+  std::uint32_t weight_mantissa;
+  std::uint32_t weight_shift;
+  std::uint32_t normal_mantissa;
+  std::uint32_t normal_shift;
+};
+
+/// couple_of with its two quotients' reciprocals and shifts tested by the
+/// caller (couples_of): the same bits and flags.
+template <typename P>
+SW_FX_INLINE P couple_in_range(const DriveTorques& torques, std::uint32_t i, const CoupleDivisors& d,
+                               fx::Status& st) noexcept {
+  if (!torques.usable[i]) {
+    return P::zero();
+  }
+  const std::int32_t per_weight =
+      detail::quotient_raw_in_range(torques.torque_nm[i].raw(), d.weight_mantissa, d.weight_shift, st);
+  return P::from_raw(detail::quotient_raw_in_range(per_weight, d.normal_mantissa, d.normal_shift, st));
+}
+
+/// side_torques from couple_in_range. Called (twice per cycle): in place,
+/// the twelve quotients cost 1.1 KiB of flash for 25 instructions per step.
+template <typename P>
+SideTorques<P> side_torques_in_range(const DriveTorques& torques, std::uint32_t first, const CoupleDivisors& d,
+                                     fx::Status& st) noexcept {
+  return SideTorques<P>{{couple_in_range<P>(torques, first, d, st), couple_in_range<P>(torques, first + 1U, d, st),
+                         couple_in_range<P>(torques, first + 2U, d, st)},
+                        {torques.usable[first], torques.usable[first + 1U], torques.usable[first + 2U]}};
+}
+
+/// Both sides' couples. In every cycle's pass where the quotients are in
+/// place, whether 1 / (m g) and 1 / (cos(pitch) cos(roll)) exist and their
+/// shifts are within 1 to 63 is tested once for the six wheels, not in each
+/// of the twelve quotients: they are for every valid rover (m g > 0; the
+/// normal fraction is at least cos^2(1.05) > 0.24, its shift 30 to 32; the
+/// weight's shift leaves the range only for a weight below about 2^-7 N or
+/// above 2^33 N), and elsewhere side_torques decides each quotient as
+/// before.
+template <typename P>
+Couples<P> couples_of(const DriveTorques& torques, const Body<P>& body, const GravityFrame& g,
+                      fx::Status& st) noexcept {
+  if constexpr (kEveryCycle<P> && kQuotientsInline) {
+    constexpr std::int32_t kTorqueFracBits = TorqueNm::q_type::frac_bits;
+    const std::int32_t weight_shift = (kTorqueFracBits + body.inv_weight.scale) - P::frac_bits;
+    const std::int32_t normal_shift = (P::frac_bits + g.inv_normal_fraction.scale) - P::frac_bits;
+    if ((body.inv_weight.mantissa != 0U) && (g.inv_normal_fraction.mantissa != 0U) &&
+        detail::shift_in_range(weight_shift) && detail::shift_in_range(normal_shift)) {
+      const CoupleDivisors d{body.inv_weight.mantissa, static_cast<std::uint32_t>(weight_shift),
+                             g.inv_normal_fraction.mantissa, static_cast<std::uint32_t>(normal_shift)};
+      return Couples<P>{{side_torques_in_range<P>(torques, 0U, d, st), side_torques_in_range<P>(torques, 3U, d, st)}};
+    }
+  }
+  return Couples<P>{{side_torques(torques, 0U, body, g, st), side_torques(torques, 3U, body, g, st)}};
 }
 
 /// The wheel of the smallest share (the first of equal ones).
@@ -770,12 +833,11 @@ WheelLoadResult loads_in(const StaticsConstants<P>& k, const CycleTrig& trig, An
   const GravityFrame& g = trig.gravity;
   const Body<P> body = body_of<P>(k, g);
   fx::Status couple_st;
-  const SideTorques<P> tq[kSideCount] = {side_torques(torques, 0U, body, g, couple_st),
-                                         side_torques(torques, 3U, body, g, couple_st)};
+  const Couples<P> tq = couples_of(torques, body, g, couple_st);
   // The left side's contacts lie half a track to the left (+y), the right
   // side's to the right.
-  const SideLevers<P> side[kSideCount] = {side_levers(k, trig.side[0], k.half_track, g, tq[0], st),
-                                          side_levers(k, trig.side[1], fx::neg(k.half_track), g, tq[1], st)};
+  const SideLevers<P> side[kSideCount] = {side_levers(k, trig.side[0], k.half_track, g, tq.side[0], st),
+                                          side_levers(k, trig.side[1], fx::neg(k.half_track), g, tq.side[1], st)};
   // The levers come from positions, which never leave P: a collapsed one is
   // degenerate whatever else overflowed, the couples included (they only
   // move the levers' loads, not the levers). The lateral span comes after

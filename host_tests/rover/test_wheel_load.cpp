@@ -766,6 +766,60 @@ TEST(StaticsArithmetic, QuotientIsTimesReciprocalBitForBit) {
   EXPECT_GT((compare_quotients<fx::Q3_28, 30>(rng, 300000)), 3000);
 }
 
+/// detail::quotient_raw_in_range (the couples' quotients, their reciprocal
+/// and shift tested once per cycle) against fx::times_reciprocal for Out
+/// from Fx, over reciprocals that exist and shifts of 1 to 63: random
+/// mantissas and the reciprocals of random divisors, shifts weighted to
+/// those of the couples (about 30 to 40) and both ends.
+template <typename Out, std::int32_t Fx>
+int compare_quotients_in_range(std::mt19937_64& rng, int trials) {
+  int saturated = 0;
+  for (int trial = 0; trial < trials; ++trial) {
+    const std::int32_t x = raw32(rng);
+    const auto shift = static_cast<std::int32_t>(
+        ((trial % 3) == 0) ? (1U + (rng() % 63U)) : (((trial % 3) == 1) ? (28U + (rng() % 14U)) : (1U + (rng() % 4U))));
+    fx::NormalisedReciprocal r{};
+    if ((trial % 2) == 0) {
+      const std::int32_t d = raw32(rng);
+      r = fx::normalised_reciprocal(P::from_raw((d == INT32_MIN) ? 1 : ((d <= 0) ? (1 - d) : d)));
+    } else {
+      r.mantissa = 0x80000000U | static_cast<std::uint32_t>(rng() & 0x7FFFFFFFU);
+    }
+    r.scale = (shift - Fx) + Out::frac_bits;
+    fx::Status fast;
+    fx::Status chain;
+    const std::int32_t q = flight::detail::quotient_raw_in_range(x, r.mantissa, static_cast<std::uint32_t>(shift), fast);
+    const Out expected = fx::times_reciprocal<Out>(fx::Q<std::int32_t, Fx>::from_raw(x), r, chain);
+    EXPECT_EQ(q, expected.raw()) << x << " " << r.mantissa << " " << shift;
+    EXPECT_EQ(fast.bits(), chain.bits()) << x << " " << r.mantissa << " " << shift;
+    if ((q != expected.raw()) || (fast.bits() != chain.bits())) {
+      return -1;
+    }
+    saturated += chain.has(fx::Flag::overflow) ? 1 : 0;
+  }
+  return saturated;
+}
+
+TEST(StaticsArithmetic, QuotientInRangeIsTimesReciprocalBitForBit) {
+  std::mt19937_64 rng(15U);
+  EXPECT_GT((compare_quotients_in_range<P, 16>(rng, 600000)), 10000);  // T / (m g)
+  EXPECT_GT((compare_quotients_in_range<P, 25>(rng, 600000)), 10000);  // per weight / normal fraction
+  // The ends of the shift and of x, each against each.
+  for (const std::int32_t x : {INT32_MIN, INT32_MIN + 1, -1, 0, 1, INT32_MAX}) {
+    for (const std::uint32_t mantissa : {0x80000000U, 0x80000001U, 0xFFFFFFFFU}) {
+      for (std::int32_t shift = 1; shift < 64; ++shift) {
+        fx::Status fast;
+        fx::Status chain;
+        const fx::NormalisedReciprocal r{mantissa, shift};
+        const std::int32_t q = flight::detail::quotient_raw_in_range(x, mantissa, static_cast<std::uint32_t>(shift), fast);
+        EXPECT_EQ(q, (fx::times_reciprocal<fx::Q<std::int32_t, 0>>(fx::Q<std::int32_t, 0>::from_raw(x), r, chain).raw()))
+            << x << " " << mantissa << " " << shift;
+        EXPECT_EQ(fast.bits(), chain.bits()) << x << " " << mantissa << " " << shift;
+      }
+    }
+  }
+}
+
 // Both forms of the rounded shift (by words for ARMv6-M, by 64-bit shifts
 // elsewhere) against fx::times_reciprocal's formula, for every shift: the
 // host runs the words' form only here.
