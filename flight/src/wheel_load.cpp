@@ -941,22 +941,29 @@ WheelLoadResult loads_of_valid(const RoverStatics& constants, const CycleTrig& t
   return fine;
 }
 
+/// The result for parameters that are not valid (invalid_params) or for an
+/// attitude or joint angle beyond its limit. Out of line: built in place,
+/// its 48 bytes stayed in the caller's frame, which is on the step's deepest
+/// stack path (docs/performance.md, session 13). A call, not a named result
+/// of its own in loads_with_torques, so that that function's every other
+/// return is of its one named result, built in the caller's (a 44-byte copy
+/// per cycle less).
+[[gnu::noinline]] WheelLoadResult refused_loads(WheelLoadStatus status, const DriveTorques& torques) noexcept {
+  WheelLoadResult r = failed(status);
+  r.torque_fallback_mask = fallback_mask(torques);
+  return r;
+}
+
 /// The loads with the torques; when the torques alone would lift a wheel,
 /// or their balance is beyond every format (shares summing to one, a share
 /// beyond +-32,768 normal weights lifts another wheel), the loads without
 /// them, flagged (section 12.4). An overflow the Q15.16 pass took for a
 /// collapsed span stays an overflow, as the twin's degenerate. At most two
-/// evaluations of loads_of_valid, on one evaluation of the trigonometry;
-/// attitude and joint angles beyond their limits are refused first.
-WheelLoadResult loads_with_torques(const RoverParams& params, const RoverStatics& constants,
-                                   const RoverAttitude& attitude, const JointAnglesRad& joints,
-                                   const DriveTorques& torques) noexcept {
-  const WheelLoadStatus input_status = check_inputs(params, attitude, joints);
-  if (input_status != WheelLoadStatus::ok) {
-    WheelLoadResult refused = failed(input_status);
-    refused.torque_fallback_mask = fallback_mask(torques);
-    return refused;
-  }
+/// evaluations of loads_of_valid, on one evaluation of the trigonometry, for
+/// attitude and joint angles within their limits. Its one return is of `r`,
+/// so that it is built in the caller's result.
+WheelLoadResult loads_within_limits(const RoverStatics& constants, const RoverAttitude& attitude,
+                                    const JointAnglesRad& joints, const DriveTorques& torques) noexcept {
   const CycleTrig trig = cycle_trig(attitude, joints);
   bool beyond_every_format = false;
   WheelLoadResult r = loads_of_valid(constants, trig, attitude.pitch_rad, torques, beyond_every_format);
@@ -970,13 +977,16 @@ WheelLoadResult loads_with_torques(const RoverParams& params, const RoverStatics
   return r;
 }
 
-/// The result for parameters that are not valid. Out of line: built in
-/// place, its 48 bytes stayed in the caller's frame, which is on the step's
-/// deepest stack path (docs/performance.md, session 13).
-[[gnu::noinline]] WheelLoadResult refused_loads(const DriveTorques& torques) noexcept {
-  WheelLoadResult r = failed(WheelLoadStatus::invalid_params);
-  r.torque_fallback_mask = fallback_mask(torques);
-  return r;
+/// loads_within_limits, attitude and joint angles beyond their limits
+/// refused first.
+WheelLoadResult loads_with_torques(const RoverParams& params, const RoverStatics& constants,
+                                   const RoverAttitude& attitude, const JointAnglesRad& joints,
+                                   const DriveTorques& torques) noexcept {
+  const WheelLoadStatus input_status = check_inputs(params, attitude, joints);
+  if (input_status != WheelLoadStatus::ok) {
+    return refused_loads(input_status, torques);
+  }
+  return loads_within_limits(constants, attitude, joints, torques);
 }
 
 }  // namespace
@@ -995,7 +1005,7 @@ RoverParamStatus validate_rover_params(const RoverParams& p) noexcept {
 WheelLoadResult wheel_loads(const PreparedParameters& prepared, const RoverAttitude& attitude,
                             const JointAnglesRad& joints, const DriveTorques& torques) noexcept {
   if (!prepared.ready()) {
-    return refused_loads(torques);
+    return refused_loads(WheelLoadStatus::invalid_params, torques);
   }
   return loads_with_torques(prepared.rover(), prepared.rover_statics(), attitude, joints, torques);
 }

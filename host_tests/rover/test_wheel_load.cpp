@@ -369,6 +369,41 @@ TEST(RoverWheelLoad, UnusableTorqueFallsBackToTheStaticsAndSaysSo) {
   }
 }
 
+// The fallback mask names exactly the wheels whose torque is not usable, for
+// each of the 64 combinations, on every path that sets it: loads computed,
+// angles refused, parameters not prepared (a refused result is otherwise
+// failed(status): no loads, no lifting wheel).
+TEST(RoverWheelLoad, FallbackMaskNamesEachUnusableTorqueOnEveryPath) {
+  const RoverParams p = earth();
+  const flight::PreparedParameters prepared = test::prepared_rover(p);
+  const flight::PreparedParameters unprepared{};
+  const flight::RoverAttitude att = rover_test::attitude(0.15, -0.05);
+  const flight::RoverAttitude steep = rover_test::attitude(1.01, 0);
+  const flight::JointAnglesRad j = rover_test::joints(0.05, -0.05, 0.1, -0.1);
+  const flight::JointAnglesRad bent = rover_test::joints(0.36, 0, 0, 0);
+  for (std::uint32_t usable_bits = 0U; usable_bits < 64U; ++usable_bits) {
+    flight::DriveTorques torques{};
+    for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) torques.usable[i] = ((usable_bits >> i) & 1U) != 0U;
+    const std::uint32_t expected = (~usable_bits) & 0x3FU;
+    const flight::WheelLoadResult ok = flight::wheel_loads(prepared, att, j, torques);
+    EXPECT_EQ(ok.status, WheelLoadStatus::ok) << usable_bits;
+    EXPECT_EQ(ok.torque_fallback_mask, expected) << usable_bits;
+    const struct {
+      flight::WheelLoadResult r;
+      WheelLoadStatus status;
+    } refused[] = {{flight::wheel_loads(prepared, steep, j, torques), WheelLoadStatus::attitude_out_of_range},
+                   {flight::wheel_loads(prepared, att, bent, torques), WheelLoadStatus::joint_out_of_range},
+                   {flight::wheel_loads(unprepared, att, j, torques), WheelLoadStatus::invalid_params}};
+    for (const auto& c : refused) {
+      EXPECT_EQ(c.r.status, c.status) << usable_bits;
+      EXPECT_EQ(c.r.torque_fallback_mask, expected) << usable_bits;
+      EXPECT_EQ(c.r.lifting_wheel, flight::kWheelCount) << usable_bits;
+      EXPECT_FALSE(c.r.torque_overload) << usable_bits;
+      for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) EXPECT_EQ(c.r.load_n[i].raw(), 0) << usable_bits;
+    }
+  }
+}
+
 TEST(RoverWheelLoad, TorquesThatWouldLiftAWheelFallBackToTheWeightAlone) {
   // 100 N m forward on 229 N wheels (r W = 34 N m: far beyond traction)
   // would lift the middle wheels (229 - 3.33 x 100 N < 0, section 12.3): the loads are those without torques, flagged;
