@@ -662,15 +662,17 @@ Shares<P> support_forces(const SideLevers<P> (&side)[kSideCount], const Body<P>&
   return Shares<P>{{left.front, left.middle, left.rear, right.front, right.middle, right.rear}};
 }
 
-/// The wheels whose torque is not usable (bit i: wheel i).
+/// Bit i of fallback_mask: set when wheel i's torque is not usable.
+constexpr std::uint32_t fallback_bit(const DriveTorques& torques, std::uint32_t i) noexcept {
+  return torques.usable[i] ? 0U : (1U << i);
+}
+
+/// The wheels whose torque is not usable (bit i: wheel i). The six bits as
+/// one expression, not a loop that tests and branches per wheel.
 std::uint8_t fallback_mask(const DriveTorques& torques) noexcept {
-  std::uint32_t mask = 0U;
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    if (!torques.usable[i]) {
-      mask |= (1U << i);
-    }
-  }
-  return static_cast<std::uint8_t>(mask);
+  static_assert(kWheelCount == 6U, "one bit per wheel");
+  return static_cast<std::uint8_t>(fallback_bit(torques, 0U) | fallback_bit(torques, 1U) | fallback_bit(torques, 2U) |
+                                   fallback_bit(torques, 3U) | fallback_bit(torques, 4U) | fallback_bit(torques, 5U));
 }
 
 /// Wheel i's couple T / (m g cos(pitch) cos(roll)) in metres; zero where its
