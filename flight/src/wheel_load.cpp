@@ -352,16 +352,31 @@ fx::BoundedPoint<P, A + B> sum(fx::BoundedPoint<P, A> a, fx::BoundedPoint<P, B> 
 }
 
 /// One side's joints as the sines and cosines of the rocker's angle and of
-/// the bogie's angle to the body (rocker + bogie).
+/// the bogie's angle to the body (rocker + bogie), as fx::sincos gives them
+/// (side_joints: each written where fx::sincos returns it, not copied
+/// there from a bounded pair; side_axles bounds them, unit_sincos).
 struct SideJoints {
-  fx::BoundedSinCos rocker;
-  fx::BoundedSinCos bogie;
+  fx::SinCos rocker;
+  fx::SinCos bogie;
 };
+
+/// fx::sincos's sine and cosine as the bounded values of fx::bound_sincos,
+/// without its four tests: fx::sincos gives magnitudes of at most 2^30
+/// (fx::detail::trig::signed_q1_30's contract), so the tests never fire. A
+/// run over every Q3.28 angle of the joints' range (|rocker + bogie| <= 1.6
+/// rad, 8.6 10^8 angles, round 14) found none beyond; test_wheel_load
+/// (StaticsArithmetic.JointSinesAndCosinesAreWithinOne) samples it. 64
+/// instructions per step fewer on the Cortex-M4.
+fx::BoundedSinCos unit_sincos(fx::SinCos sc) noexcept {
+  using Unit = fx::Bounded<fx::Q1_30, 0x40000000U>;
+  return fx::BoundedSinCos{Unit::trusted(sc.sin.raw()), Unit::trusted(sc.cos.raw())};
+}
+
 
 template <typename P>
 SideAxles<P> side_axles(const StaticsConstants<P>& k, const SideJoints& joints) noexcept {
-  const fx::BoundedSinCos& rocker_sc = joints.rocker;
-  const fx::BoundedSinCos& bogie_sc = joints.bogie;
+  const fx::BoundedSinCos rocker_sc = unit_sincos(joints.rocker);
+  const fx::BoundedSinCos bogie_sc = unit_sincos(joints.bogie);
   // Built whole from its points (a zeroed record filled in is a memset).
   fx::BoundedPoint<P, kRotatedLink<P>> pivot{};
   fx::BoundedPoint<P, kRotatedLink<P>> front{};
@@ -507,24 +522,15 @@ struct CycleTrig {
   fx::Status status;
 };
 
-/// fx::sincos's sine and cosine as the bounded values of fx::bound_sincos,
-/// without its four tests: fx::sincos gives magnitudes of at most 2^30
-/// (fx::detail::trig::signed_q1_30's contract), so the tests never fire. A
-/// run over every Q3.28 angle of the joints' range (|rocker + bogie| <= 1.6
-/// rad, 8.6 10^8 angles, round 14) found none beyond; test_wheel_load
-/// (StaticsArithmetic.JointSinesAndCosinesAreWithinOne) samples it. 64
-/// instructions per step fewer on the Cortex-M4.
-fx::BoundedSinCos unit_sincos(fx::SinCos sc) noexcept {
-  using Unit = fx::Bounded<fx::Q1_30, 0x40000000U>;
-  return fx::BoundedSinCos{Unit::trusted(sc.sin.raw()), Unit::trusted(sc.cos.raw())};
-}
-
 SideJoints side_joints(AngleRad rocker_rad, AngleRad bogie_rad, fx::Status& st) noexcept {
-  const fx::Q3_28 rocker = rocker_rad.q();
-  // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
-  const fx::Q3_28 bogie_abs = fx::add(rocker, bogie_rad.q(), st);
+  // Both angles are within their limits (check_inputs), at most 0.8 rad
+  // (kMaxJointLimit): the sum is within 1.6 rad, far inside Q3.28's 8 rad,
+  // so fx::add's overflow test (which never raised) is left out.
+  using Joint = fx::Bounded<fx::Q3_28, static_cast<std::uint32_t>(fx::constant<fx::Q3_28>(limits::kMaxJointLimitRad).raw())>;
+  const Joint rocker = Joint::trusted(rocker_rad.raw());
+  const fx::Q3_28 bogie_abs = fx::add(rocker, Joint::trusted(bogie_rad.raw())).q();
   // One range reduction per angle (fx::sincos), the bits of sin and cos apart.
-  return SideJoints{unit_sincos(fx::sincos(rocker, st)), unit_sincos(fx::sincos(bogie_abs, st))};
+  return SideJoints{fx::sincos(rocker.q(), st), fx::sincos(bogie_abs, st)};
 }
 
 /// Out of line: its sines and cosines stay off the stack of the passes.
