@@ -781,6 +781,21 @@ std::uint32_t lowest_share(const Shares<P>& support) noexcept {
   return lowest;
 }
 
+/// Whether a share is negative (then the lowest is): the sign bit of the
+/// six shares' bitwise OR, one test where lowest_share's search costs about
+/// 50 instructions per cycle; the search runs only for a tip-over.
+template <typename P>
+constexpr std::uint32_t share_bits(const Shares<P>& support, std::uint32_t i) noexcept {
+  return static_cast<std::uint32_t>(support.share[i].raw());
+}
+template <typename P>
+bool any_negative(const Shares<P>& support) noexcept {
+  static_assert(kWheelCount == 6U, "six shares");
+  const std::uint32_t ored = share_bits(support, 0U) | share_bits(support, 1U) | share_bits(support, 2U) |
+                             share_bits(support, 3U) | share_bits(support, 4U) | share_bits(support, 5U);
+  return (ored >> 31U) != 0U;
+}
+
 /// A wheel's share times the normal weight, for a share in [0, 1] (a clean
 /// pass's: normal_loads) and a weight of at least zero. The product is then
 /// at most the weight, within Q15.16 whatever it is: fx::mul's bits as a
@@ -801,10 +816,9 @@ SW_FX_INLINE WheelLoadN load_of(P share, LoadQ weight_normal) noexcept {
 template <typename P>
 WheelLoadResult normal_loads(const Shares<P>& support, const Body<P>& body, const GravityFrame& g,
                              AngleRad pitch_rad, fx::Status& st) noexcept {
-  const std::uint32_t lowest = lowest_share(support);
-  if (support.share[lowest].raw() < 0) {
+  if (any_negative(support)) {
     WheelLoadResult r = failed(WheelLoadStatus::tip_over);
-    r.lifting_wheel = lowest;
+    r.lifting_wheel = lowest_share(support);
     return r;
   }
   if (!st.ok()) {
