@@ -36,7 +36,9 @@ using Coarse = StaticsCoarseQ;
 using K = fx::Q<std::int32_t, 28>;
 /// |tan(pitch) / cos(roll)| <= sin(1.05) / cos^2(1.05) = 3.5034 and
 /// |tan(roll)| <= tan(1.05) = 1.7433 within kMaxAttitudeLimitRad; the
-/// bounds leave room for their rounding (gravity_frame checks them).
+/// bounds leave room for their rounding (about 10^-8), so gravity_frame
+/// takes the slopes as bounded without a test (StaticsArithmetic.
+/// GravitySlopesAreWithinTheirBounds samples the limit's corners).
 constexpr std::uint32_t kKxBound = static_cast<std::uint32_t>(fx::constant<K>(3.51).raw());
 constexpr std::uint32_t kKyBound = static_cast<std::uint32_t>(fx::constant<K>(1.75).raw());
 using Kx = fx::Bounded<K, kKxBound>;
@@ -502,11 +504,15 @@ GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexce
   const fx::SinCos roll_sc = fx::sincos(attitude.roll_rad.q(), st);
   // cos(pitch) cos(roll) >= cos^2(1.05 rad) > 0.24: the reciprocals exist.
   // Built whole (no zeroed frame filled in: a memset on the Cortex-M0).
-  const fx::Q1_30 normal_fraction = fx::mul(pitch_sc.cos, roll_sc.cos, st);
+  // Two cosines of magnitude at most one (unit_sincos): their product is
+  // at most one, fx::mul's bits as a bounded product without its check.
+  const fx::Q1_30 normal_fraction =
+      fx::mul<fx::Q1_30, kProjectionRounding<Fine>>(unit_sincos(pitch_sc).cos, unit_sincos(roll_sc).cos).q();
   const fx::NormalisedReciprocal inv_normal_fraction = detail::reciprocal_of(normal_fraction);
-  const Kx kx = fx::bound_to<kKxBound>(guarded_quotient_in<K, true>(pitch_sc.sin, inv_normal_fraction, st), st);
-  const Ky ky =
-      fx::bound_to<kKyBound>(guarded_quotient_in<K, true>(roll_sc.sin, detail::reciprocal_of(roll_sc.cos), st), st);
+  // Within kKxBound and kKyBound (their comment) for attitudes within the
+  // validated limit, rounding included: trusted, not tested per cycle.
+  const Kx kx = Kx::trusted(guarded_quotient_in<K, true>(pitch_sc.sin, inv_normal_fraction, st).raw());
+  const Ky ky = Ky::trusted(guarded_quotient_in<K, true>(roll_sc.sin, detail::reciprocal_of(roll_sc.cos), st).raw());
   return GravityFrame{pitch_sc.sin, normal_fraction, inv_normal_fraction, kx, ky};
 }
 

@@ -999,6 +999,51 @@ bool sincos_within_one(std::int32_t raw) {
   return st.ok() && (bounded.sin.raw() == sc.sin.raw()) && (bounded.cos.raw() == sc.cos.raw());
 }
 
+/// The gravity frame's slopes as gravity_frame forms them (wheel_load.cpp:
+/// the normal fraction fx::mul's bits, each slope a quotient by a
+/// normalised reciprocal), for pitch and roll in raw Q3.28; false where a
+/// flag was raised or a slope leaves the bound wheel_load.cpp trusts it to
+/// keep (kKxBound 3.51 and kKyBound 1.75 in Q3.28).
+bool slopes_within_bounds(std::int32_t pitch_raw, std::int32_t roll_raw, std::int32_t kx_bound, std::int32_t ky_bound) {
+  fx::Status st;
+  const fx::SinCos pitch = fx::sincos(fx::Q3_28::from_raw(pitch_raw), st);
+  const fx::SinCos roll = fx::sincos(fx::Q3_28::from_raw(roll_raw), st);
+  const fx::Q1_30 normal_fraction = fx::mul(pitch.cos, roll.cos, st);
+  const fx::Q3_28 kx = fx::times_reciprocal<fx::Q3_28>(pitch.sin, fx::normalised_reciprocal(normal_fraction), st);
+  const fx::Q3_28 ky = fx::times_reciprocal<fx::Q3_28>(roll.sin, fx::normalised_reciprocal(roll.cos), st);
+  return st.ok() && (normal_fraction.raw() <= 0x40000000) && (normal_fraction.raw() > 0) &&
+         (std::abs(kx.raw()) <= kx_bound) && (std::abs(ky.raw()) <= ky_bound);
+}
+
+// gravity_frame takes the slopes tan(pitch) / cos(roll) and tan(roll) as
+// bounded values without testing them (Kx::trusted, Ky::trusted): within the
+// attitude limit (1.05 rad) they are at most 3.5037 and 1.7433, rounding
+// included. Every pair of the last 2^12 LSB below the limit at both signs,
+// and random pairs within it.
+TEST(StaticsArithmetic, GravitySlopesAreWithinTheirBounds) {
+  constexpr std::int32_t kLimit = 281857229;  // kMaxAttitudeLimitRad in Q3.28
+  const std::int32_t kx_bound = fx::constant<fx::Q3_28>(3.51).raw();
+  const std::int32_t ky_bound = fx::constant<fx::Q3_28>(1.75).raw();
+  for (std::int32_t dp = 0; dp < 4096; dp += 7) {
+    for (std::int32_t dr = 0; dr < 4096; dr += 5) {
+      for (const std::int32_t sp : {-1, 1}) {
+        for (const std::int32_t sr : {-1, 1}) {
+          ASSERT_TRUE(slopes_within_bounds(sp * (kLimit - dp), sr * (kLimit - dr), kx_bound, ky_bound)) << dp << " " << dr;
+        }
+      }
+    }
+  }
+  std::mt19937_64 rng(15U);
+  for (int trial = 0; trial < 200000; ++trial) {
+    const auto pitch = static_cast<std::int32_t>(rng() % (2U * kLimit + 1U)) - kLimit;
+    const auto roll = static_cast<std::int32_t>(rng() % (2U * kLimit + 1U)) - kLimit;
+    ASSERT_TRUE(slopes_within_bounds(pitch, roll, kx_bound, ky_bound)) << pitch << " " << roll;
+  }
+  // The bounds are tight enough to matter: 3.50 does not hold at the limit.
+  EXPECT_FALSE(slopes_within_bounds(kLimit, kLimit, fx::constant<fx::Q3_28>(3.50).raw(), ky_bound));
+  EXPECT_FALSE(slopes_within_bounds(kLimit, kLimit, kx_bound, fx::constant<fx::Q3_28>(1.74).raw()));
+}
+
 TEST(StaticsArithmetic, JointSinesAndCosinesAreWithinOne) {
   // The joints' range: |rocker + bogie| <= 2 x 0.8 rad (kMaxJointLimitRad),
   // sampled every 97 LSB, and every angle within 2^18 LSB (1 mrad) of the
