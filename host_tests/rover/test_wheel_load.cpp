@@ -816,7 +816,8 @@ int compare_quotients_in_range(std::mt19937_64& rng, int trials) {
     fx::NormalisedReciprocal r{};
     if ((trial % 2) == 0) {
       const std::int32_t d = raw32(rng);
-      r = fx::normalised_reciprocal(P::from_raw((d == INT32_MIN) ? 1 : ((d <= 0) ? (1 - d) : d)));
+      // A positive divisor: d, or -d, or 1 for zero and INT32_MIN.
+      r = fx::normalised_reciprocal(P::from_raw((d > 0) ? d : ((d > INT32_MIN) ? std::max(1, -d) : 1)));
     } else {
       r.mantissa = 0x80000000U | static_cast<std::uint32_t>(rng() & 0x7FFFFFFFU);
     }
@@ -1022,8 +1023,10 @@ bool slopes_within_bounds(std::int32_t pitch_raw, std::int32_t roll_raw, std::in
 // and random pairs within it.
 TEST(StaticsArithmetic, GravitySlopesAreWithinTheirBounds) {
   constexpr std::int32_t kLimit = 281857229;  // kMaxAttitudeLimitRad in Q3.28
-  const std::int32_t kx_bound = fx::constant<fx::Q3_28>(3.51).raw();
-  const std::int32_t ky_bound = fx::constant<fx::Q3_28>(1.75).raw();
+  constexpr std::int32_t kx_bound = fx::constant<fx::Q3_28>(3.51).raw();
+  constexpr std::int32_t ky_bound = fx::constant<fx::Q3_28>(1.75).raw();
+  constexpr std::int32_t kx_too_tight = fx::constant<fx::Q3_28>(3.50).raw();
+  constexpr std::int32_t ky_too_tight = fx::constant<fx::Q3_28>(1.74).raw();
   for (std::int32_t dp = 0; dp < 4096; dp += 7) {
     for (std::int32_t dr = 0; dr < 4096; dr += 5) {
       for (const std::int32_t sp : {-1, 1}) {
@@ -1040,8 +1043,8 @@ TEST(StaticsArithmetic, GravitySlopesAreWithinTheirBounds) {
     ASSERT_TRUE(slopes_within_bounds(pitch, roll, kx_bound, ky_bound)) << pitch << " " << roll;
   }
   // The bounds are tight enough to matter: 3.50 does not hold at the limit.
-  EXPECT_FALSE(slopes_within_bounds(kLimit, kLimit, fx::constant<fx::Q3_28>(3.50).raw(), ky_bound));
-  EXPECT_FALSE(slopes_within_bounds(kLimit, kLimit, kx_bound, fx::constant<fx::Q3_28>(1.74).raw()));
+  EXPECT_FALSE(slopes_within_bounds(kLimit, kLimit, kx_too_tight, ky_bound));
+  EXPECT_FALSE(slopes_within_bounds(kLimit, kLimit, kx_bound, ky_too_tight));
 }
 
 TEST(StaticsArithmetic, JointSinesAndCosinesAreWithinOne) {
