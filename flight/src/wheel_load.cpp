@@ -84,7 +84,6 @@ constexpr P kOne{fx::constant<P>(1.0)};
 constexpr Ratio kMaxHighSlip{fx::constant<RatioQ>(limits::kMaxHighSlip)};
 
 bool within(LengthM v, LengthM limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
-bool within(AngleRad v, AngleRad limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
 bool positive_at_most(AngleRad v, AngleRad limit) noexcept { return (v.raw() > 0) && (v <= limit); }
 
 template <typename P>
@@ -485,14 +484,25 @@ template <typename P>
                        lateral.yt_rear_minus_middle};
 }
 
+/// Whether |v| <= limit for a validated limit (0 < limit <= 1.05 rad, so
+/// 2 limit < 2^31): v + limit in [0, 2 limit] as a wrapping 32-bit sum, one
+/// comparison (a v beyond either end wraps above 2 limit). within()'s
+/// verdict.
+bool within_limit(AngleRad v, AngleRad limit) noexcept {
+  const auto l = static_cast<std::uint32_t>(limit.raw());
+  return (static_cast<std::uint32_t>(v.raw()) + l) <= (2U * l);
+}
+
 /// The attitude and joint angles against the (already validated) limits.
 WheelLoadStatus check_inputs(const RoverParams& params, const RoverAttitude& attitude,
                              const JointAnglesRad& joints) noexcept {
-  if (!within(attitude.pitch_rad, params.attitude_limit_rad) || !within(attitude.roll_rad, params.attitude_limit_rad)) {
+  if (!within_limit(attitude.pitch_rad, params.attitude_limit_rad) ||
+      !within_limit(attitude.roll_rad, params.attitude_limit_rad)) {
     return WheelLoadStatus::attitude_out_of_range;
   }
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    if (!within(joints.rocker_rad[s], params.rocker_limit_rad) || !within(joints.bogie_rad[s], params.bogie_limit_rad)) {
+    if (!within_limit(joints.rocker_rad[s], params.rocker_limit_rad) ||
+        !within_limit(joints.bogie_rad[s], params.bogie_limit_rad)) {
       return WheelLoadStatus::joint_out_of_range;
     }
   }

@@ -256,6 +256,45 @@ TEST(RoverWheelLoad, AttitudeAndJointsBeyondLimitsAreRejected) {
   EXPECT_EQ(flight::wheel_loads(test::prepared_rover(p), level, rover_test::joints(0.35, -0.35, 0.5, -0.5), flight::kNoDriveTorques).status, WheelLoadStatus::ok);
 }
 
+// Each angle against its limit to the last bit (check_inputs' one-comparison
+// test): the limit itself and its negation are inside, one LSB beyond either
+// and the ends of the format outside.
+TEST(RoverWheelLoad, AnglesAreCheckedAgainstTheirLimitsToTheLastBit) {
+  const RoverParams p = earth();
+  const flight::PreparedParameters prepared = test::prepared_rover(p);
+  const flight::JointAnglesRad zero = rover_test::joints(0, 0, 0, 0);
+  const flight::RoverAttitude level = rover_test::attitude(0, 0);
+  const auto angle = [](std::int64_t raw) { return flight::AngleRad::from_raw(static_cast<std::int32_t>(raw)); };
+  const auto verdict = [](std::int64_t raw, std::int64_t limit) {
+    return ((raw <= limit) && (raw >= -limit)) ? WheelLoadStatus::ok : WheelLoadStatus::attitude_out_of_range;
+  };
+  const std::int64_t limits[] = {p.attitude_limit_rad.raw(), p.rocker_limit_rad.raw(), p.bogie_limit_rad.raw()};
+  for (int which = 0; which < 7; ++which) {
+    const std::int64_t limit = (which < 2) ? limits[0] : ((which % 2 == 0) ? limits[1] : limits[2]);
+    for (const std::int64_t raw : {-limit - 1, -limit, -limit + 1, std::int64_t{0}, limit - 1, limit, limit + 1,
+                                   std::int64_t{INT32_MIN}, std::int64_t{INT32_MIN} + 1, std::int64_t{INT32_MAX}}) {
+      flight::RoverAttitude att = level;
+      flight::JointAnglesRad j = zero;
+      WheelLoadStatus expected = verdict(raw, limit);
+      if (which == 0) att.pitch_rad = angle(raw);
+      if (which == 1) att.roll_rad = angle(raw);
+      if (which >= 2) {
+        expected = (expected == WheelLoadStatus::ok) ? WheelLoadStatus::ok : WheelLoadStatus::joint_out_of_range;
+        const std::uint32_t side = (which >= 4) ? 1U : 0U;
+        if (which % 2 == 0) j.rocker_rad[side] = angle(raw);
+        else j.bogie_rad[side] = angle(raw);
+      }
+      const flight::WheelLoadResult r = flight::wheel_loads(prepared, att, j, flight::kNoDriveTorques);
+      if (expected == WheelLoadStatus::ok) {
+        EXPECT_NE(r.status, WheelLoadStatus::attitude_out_of_range) << which << " " << raw;
+        EXPECT_NE(r.status, WheelLoadStatus::joint_out_of_range) << which << " " << raw;
+      } else {
+        EXPECT_EQ(r.status, expected) << which << " " << raw;
+      }
+    }
+  }
+}
+
 TEST(RoverWheelLoad, EveryParameterRuleHasItsReason) {
   using S = flight::RoverParamStatus;
   const RoverParams good = earth();
