@@ -36,7 +36,9 @@ using Coarse = StaticsCoarseQ;
 using K = fx::Q<std::int32_t, 28>;
 /// |tan(pitch) / cos(roll)| <= sin(1.05) / cos^2(1.05) = 3.5034 and
 /// |tan(roll)| <= tan(1.05) = 1.7433 within kMaxAttitudeLimitRad; the
-/// bounds leave room for their rounding (gravity_frame checks them).
+/// bounds leave room for their rounding (about 10^-8), so gravity_frame
+/// takes the slopes as bounded without a test (StaticsArithmetic.
+/// GravitySlopesAreWithinTheirBounds samples the limit's corners).
 constexpr std::uint32_t kKxBound = static_cast<std::uint32_t>(fx::constant<K>(3.51).raw());
 constexpr std::uint32_t kKyBound = static_cast<std::uint32_t>(fx::constant<K>(1.75).raw());
 using Kx = fx::Bounded<K, kKxBound>;
@@ -82,7 +84,6 @@ constexpr P kOne{fx::constant<P>(1.0)};
 constexpr Ratio kMaxHighSlip{fx::constant<RatioQ>(limits::kMaxHighSlip)};
 
 bool within(LengthM v, LengthM limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
-bool within(AngleRad v, AngleRad limit) noexcept { return (v <= limit) && (v.raw() >= -limit.raw()); }
 bool positive_at_most(AngleRad v, AngleRad limit) noexcept { return (v.raw() > 0) && (v <= limit); }
 
 template <typename P>
@@ -275,10 +276,28 @@ SW_FX_INLINE Out quotient_in(fx::Q<std::int32_t, Fx> x, fx::NormalisedReciprocal
   }
 }
 
-/// x / d in the pass's format P (quotient_in).
+/// quotient_in for a divisor the statics guard: a lever, a bogie span or
+/// the lateral span of at least 1 mm in every cycle's pass (side_levers,
+/// left_side_total), the normal fraction cos(pitch) cos(roll) >= 0.24 or
+/// cos(roll) >= 0.49 (attitudes within 1.05 rad). Its reciprocal exists and
+/// the shift F_x + scale - F_out is within 1 to 63: 22 to 37 for a length in
+/// Q6.25 over Q6.25 (a raw divisor of 2^15 to 2^31), 29 to 34 for the
+/// cosines, so in every cycle's pass in place the quotient goes without
+/// testing either (detail::quotient_raw_in_range, the same bits and flags).
+template <typename Out, bool EveryCycle, std::int32_t Fx>
+SW_FX_INLINE Out guarded_quotient_in(fx::Q<std::int32_t, Fx> x, fx::NormalisedReciprocal r, fx::Status& st) noexcept {
+  if constexpr (EveryCycle && kQuotientsInline) {
+    const std::int32_t shift = (Fx + r.scale) - Out::frac_bits;
+    return Out::from_raw(detail::quotient_raw_in_range(x.raw(), r.mantissa, static_cast<std::uint32_t>(shift), st));
+  } else {
+    return detail::quotient<Out>(x, r, st);
+  }
+}
+
+/// x / d in the pass's format P for a guarded divisor (guarded_quotient_in).
 template <typename P>
 SW_FX_INLINE P over(P x, fx::NormalisedReciprocal r, fx::Status& st) noexcept {
-  return quotient_in<P, kEveryCycle<P>>(x, r, st);
+  return guarded_quotient_in<P, kEveryCycle<P>>(x, r, st);
 }
 
 /// The lever quantities of one side (sections 3.3 to 3.5 and 12), in the
@@ -334,16 +353,31 @@ fx::BoundedPoint<P, A + B> sum(fx::BoundedPoint<P, A> a, fx::BoundedPoint<P, B> 
 }
 
 /// One side's joints as the sines and cosines of the rocker's angle and of
-/// the bogie's angle to the body (rocker + bogie).
+/// the bogie's angle to the body (rocker + bogie), as fx::sincos gives them
+/// (side_joints: each written where fx::sincos returns it, not copied
+/// there from a bounded pair; side_axles bounds them, unit_sincos).
 struct SideJoints {
-  fx::BoundedSinCos rocker;
-  fx::BoundedSinCos bogie;
+  fx::SinCos rocker;
+  fx::SinCos bogie;
 };
+
+/// fx::sincos's sine and cosine as the bounded values of fx::bound_sincos,
+/// without its four tests: fx::sincos gives magnitudes of at most 2^30
+/// (fx::detail::trig::signed_q1_30's contract), so the tests never fire. A
+/// run over every Q3.28 angle of the joints' range (|rocker + bogie| <= 1.6
+/// rad, 8.6 10^8 angles, round 14) found none beyond; test_wheel_load
+/// (StaticsArithmetic.JointSinesAndCosinesAreWithinOne) samples it. 64
+/// instructions per step fewer on the Cortex-M4.
+fx::BoundedSinCos unit_sincos(fx::SinCos sc) noexcept {
+  using Unit = fx::Bounded<fx::Q1_30, 0x40000000U>;
+  return fx::BoundedSinCos{Unit::trusted(sc.sin.raw()), Unit::trusted(sc.cos.raw())};
+}
+
 
 template <typename P>
 SideAxles<P> side_axles(const StaticsConstants<P>& k, const SideJoints& joints) noexcept {
-  const fx::BoundedSinCos& rocker_sc = joints.rocker;
-  const fx::BoundedSinCos& bogie_sc = joints.bogie;
+  const fx::BoundedSinCos rocker_sc = unit_sincos(joints.rocker);
+  const fx::BoundedSinCos bogie_sc = unit_sincos(joints.bogie);
   // Built whole from its points (a zeroed record filled in is a memset).
   fx::BoundedPoint<P, kRotatedLink<P>> pivot{};
   fx::BoundedPoint<P, kRotatedLink<P>> front{};
@@ -430,11 +464,13 @@ template <typename P>
   if ((lever < kLeverGuard<P>) || (span < kLeverGuard<P>)) {
     return SideLevers<P>{};
   }
-  // One division per lever, its quotients as products (section 12.5). Both
-  // by quotient_raw's call on every core: in place (quotient_in) they took
-  // no more than 1 instruction per side off the Cortex-M4's step.
+  // One division per lever, its quotients as products (section 12.5). The
+  // span is at least the guard: in every cycle's pass on the Cortex-M4 both
+  // in place without the reciprocal's and the shift's tests (over; with
+  // them, in place took no more than 1 instruction per side off the step,
+  // without them 25), elsewhere quotient_raw's call.
   const fx::NormalisedReciprocal inv_span = detail::reciprocal_of(span);
-  const P beta = detail::quotient<P>(fx::sub(xt_b, xt_r).q(), inv_span, st);
+  const P beta = over(fx::sub(xt_b, xt_r).q(), inv_span, st);
   const ContactHeights<P> z{contact_z(axles.front, k.wheel_radius), contact_z(axles.middle, k.wheel_radius),
                             contact_z(axles.rear, k.wheel_radius)};
   const SideLateral<P> lateral = side_lateral(z, y_side, g.ky, beta, st);
@@ -444,18 +480,29 @@ template <typename P>
                        lateral.yt_front,
                        lateral.yt_bogie,
                        tq.couple[0],
-                       detail::quotient<P>(plus(tq.couple[1], tq.couple[2], st), inv_span, st),
+                       over(plus(tq.couple[1], tq.couple[2], st), inv_span, st),
                        lateral.yt_rear_minus_middle};
+}
+
+/// Whether |v| <= limit for a validated limit (0 < limit <= 1.05 rad, so
+/// 2 limit < 2^31): v + limit in [0, 2 limit] as a wrapping 32-bit sum, one
+/// comparison (a v beyond either end wraps above 2 limit). within()'s
+/// verdict.
+bool within_limit(AngleRad v, AngleRad limit) noexcept {
+  const auto l = static_cast<std::uint32_t>(limit.raw());
+  return (static_cast<std::uint32_t>(v.raw()) + l) <= (2U * l);
 }
 
 /// The attitude and joint angles against the (already validated) limits.
 WheelLoadStatus check_inputs(const RoverParams& params, const RoverAttitude& attitude,
                              const JointAnglesRad& joints) noexcept {
-  if (!within(attitude.pitch_rad, params.attitude_limit_rad) || !within(attitude.roll_rad, params.attitude_limit_rad)) {
+  if (!within_limit(attitude.pitch_rad, params.attitude_limit_rad) ||
+      !within_limit(attitude.roll_rad, params.attitude_limit_rad)) {
     return WheelLoadStatus::attitude_out_of_range;
   }
   for (std::uint32_t s = 0U; s < kSideCount; ++s) {
-    if (!within(joints.rocker_rad[s], params.rocker_limit_rad) || !within(joints.bogie_rad[s], params.bogie_limit_rad)) {
+    if (!within_limit(joints.rocker_rad[s], params.rocker_limit_rad) ||
+        !within_limit(joints.bogie_rad[s], params.bogie_limit_rad)) {
       return WheelLoadStatus::joint_out_of_range;
     }
   }
@@ -467,11 +514,15 @@ GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexce
   const fx::SinCos roll_sc = fx::sincos(attitude.roll_rad.q(), st);
   // cos(pitch) cos(roll) >= cos^2(1.05 rad) > 0.24: the reciprocals exist.
   // Built whole (no zeroed frame filled in: a memset on the Cortex-M0).
-  const fx::Q1_30 normal_fraction = fx::mul(pitch_sc.cos, roll_sc.cos, st);
+  // Two cosines of magnitude at most one (unit_sincos): their product is
+  // at most one, fx::mul's bits as a bounded product without its check.
+  const fx::Q1_30 normal_fraction =
+      fx::mul<fx::Q1_30, kProjectionRounding<Fine>>(unit_sincos(pitch_sc).cos, unit_sincos(roll_sc).cos).q();
   const fx::NormalisedReciprocal inv_normal_fraction = detail::reciprocal_of(normal_fraction);
-  const Kx kx = fx::bound_to<kKxBound>(quotient_in<K, true>(pitch_sc.sin, inv_normal_fraction, st), st);
-  const Ky ky =
-      fx::bound_to<kKyBound>(quotient_in<K, true>(roll_sc.sin, detail::reciprocal_of(roll_sc.cos), st), st);
+  // Within kKxBound and kKyBound (their comment) for attitudes within the
+  // validated limit, rounding included: trusted, not tested per cycle.
+  const Kx kx = Kx::trusted(guarded_quotient_in<K, true>(pitch_sc.sin, inv_normal_fraction, st).raw());
+  const Ky ky = Ky::trusted(guarded_quotient_in<K, true>(roll_sc.sin, detail::reciprocal_of(roll_sc.cos), st).raw());
   return GravityFrame{pitch_sc.sin, normal_fraction, inv_normal_fraction, kx, ky};
 }
 
@@ -487,24 +538,15 @@ struct CycleTrig {
   fx::Status status;
 };
 
-/// fx::sincos's sine and cosine as the bounded values of fx::bound_sincos,
-/// without its four tests: fx::sincos gives magnitudes of at most 2^30
-/// (fx::detail::trig::signed_q1_30's contract), so the tests never fire. A
-/// run over every Q3.28 angle of the joints' range (|rocker + bogie| <= 1.6
-/// rad, 8.6 10^8 angles, round 14) found none beyond; test_wheel_load
-/// (StaticsArithmetic.JointSinesAndCosinesAreWithinOne) samples it. 64
-/// instructions per step fewer on the Cortex-M4.
-fx::BoundedSinCos unit_sincos(fx::SinCos sc) noexcept {
-  using Unit = fx::Bounded<fx::Q1_30, 0x40000000U>;
-  return fx::BoundedSinCos{Unit::trusted(sc.sin.raw()), Unit::trusted(sc.cos.raw())};
-}
-
 SideJoints side_joints(AngleRad rocker_rad, AngleRad bogie_rad, fx::Status& st) noexcept {
-  const fx::Q3_28 rocker = rocker_rad.q();
-  // Both angles are within 0.8 rad: the sum cannot overflow Q3.28.
-  const fx::Q3_28 bogie_abs = fx::add(rocker, bogie_rad.q(), st);
+  // Both angles are within their limits (check_inputs), at most 0.8 rad
+  // (kMaxJointLimit): the sum is within 1.6 rad, far inside Q3.28's 8 rad,
+  // so fx::add's overflow test (which never raised) is left out.
+  using Joint = fx::Bounded<fx::Q3_28, static_cast<std::uint32_t>(fx::constant<fx::Q3_28>(limits::kMaxJointLimitRad).raw())>;
+  const Joint rocker = Joint::trusted(rocker_rad.raw());
+  const fx::Q3_28 bogie_abs = fx::add(rocker, Joint::trusted(bogie_rad.raw())).q();
   // One range reduction per angle (fx::sincos), the bits of sin and cos apart.
-  return SideJoints{unit_sincos(fx::sincos(rocker, st)), unit_sincos(fx::sincos(bogie_abs, st))};
+  return SideJoints{fx::sincos(rocker.q(), st), fx::sincos(bogie_abs, st)};
 }
 
 /// Out of line: its sines and cosines stay off the stack of the passes.
@@ -642,25 +684,26 @@ Shares<P> support_forces(const SideLevers<P> (&side)[kSideCount], const Body<P>&
   return Shares<P>{{left.front, left.middle, left.rear, right.front, right.middle, right.rear}};
 }
 
-/// The wheels whose torque is not usable (bit i: wheel i).
+/// Bit i of fallback_mask: set when wheel i's torque is not usable.
+constexpr std::uint32_t fallback_bit(const DriveTorques& torques, std::uint32_t i) noexcept {
+  return torques.usable[i] ? 0U : (1U << i);
+}
+
+/// The wheels whose torque is not usable (bit i: wheel i). The six bits as
+/// one expression, not a loop that tests and branches per wheel.
 std::uint8_t fallback_mask(const DriveTorques& torques) noexcept {
-  std::uint32_t mask = 0U;
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    if (!torques.usable[i]) {
-      mask |= (1U << i);
-    }
-  }
-  return static_cast<std::uint8_t>(mask);
+  static_assert(kWheelCount == 6U, "one bit per wheel");
+  return static_cast<std::uint8_t>(fallback_bit(torques, 0U) | fallback_bit(torques, 1U) | fallback_bit(torques, 2U) |
+                                   fallback_bit(torques, 3U) | fallback_bit(torques, 4U) | fallback_bit(torques, 5U));
 }
 
 /// Wheel i's couple T / (m g cos(pitch) cos(roll)) in metres; zero where its
 /// torque is not usable. Raises overflow in `st` when it leaves P (in Q6.25:
-/// more than 64 m times the normal weight).
-/// Forced inline: the caller chooses between this and couple_of's call
-/// (couple).
+/// more than 64 m times the normal weight). One function per format: every
+/// cycle's pass takes it only where couples_of cannot take couple_in_range.
 template <typename P>
-SW_FX_INLINE P couple_in_place(const DriveTorques& torques, std::uint32_t i, const Body<P>& body,
-                               const GravityFrame& g, fx::Status& st) noexcept {
+P couple_of(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, const GravityFrame& g,
+            fx::Status& st) noexcept {
   if (!torques.usable[i]) {
     return P::zero();
   }
@@ -668,34 +711,78 @@ SW_FX_INLINE P couple_in_place(const DriveTorques& torques, std::uint32_t i, con
   return over(per_weight, g.inv_normal_fraction, st);
 }
 
-/// couple_in_place as one function per format.
-template <typename P>
-P couple_of(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, const GravityFrame& g,
-            fx::Status& st) noexcept {
-  return couple_in_place(torques, i, body, g, st);
-}
-
-/// Wheel i's couple: in place where the quotients are (kQuotientsInline, in
-/// every cycle's pass: six calls' arguments and frames less per cycle), else
-/// couple_of's call.
-template <typename P>
-SW_FX_INLINE P couple(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, const GravityFrame& g,
-                      fx::Status& st) noexcept {
-  if constexpr (kEveryCycle<P> && kQuotientsInline) {
-    return couple_in_place(torques, i, body, g, st);
-  } else {
-    return couple_of(torques, i, body, g, st);
-  }
-}
-
 /// The couples of the side whose first wheel is `first`, each projected from
 /// its axle where its torque is usable, from its contact where not.
 template <typename P>
 SideTorques<P> side_torques(const DriveTorques& torques, std::uint32_t first, const Body<P>& body,
                             const GravityFrame& g, fx::Status& st) noexcept {
-  return SideTorques<P>{{couple(torques, first, body, g, st), couple(torques, first + 1U, body, g, st),
-                         couple(torques, first + 2U, body, g, st)},
+  return SideTorques<P>{{couple_of(torques, first, body, g, st), couple_of(torques, first + 1U, body, g, st),
+                         couple_of(torques, first + 2U, body, g, st)},
                         {torques.usable[first], torques.usable[first + 1U], torques.usable[first + 2U]}};
+}
+
+/// Both sides' couples (side_torques), the left side's first.
+template <typename P>
+struct Couples {
+  SideTorques<P> side[kSideCount];
+};
+
+/// The couples' two reciprocals, 1 / (m g) and 1 / (cos(pitch) cos(roll)),
+/// as the mantissas and shifts of detail::quotient_raw_in_range, tested once
+/// per cycle.
+struct CoupleDivisors {
+  std::uint32_t weight_mantissa;
+  std::uint32_t weight_shift;
+  std::uint32_t normal_mantissa;
+  std::uint32_t normal_shift;
+};
+
+/// couple_of with its two quotients' reciprocals and shifts tested by the
+/// caller (couples_of): the same bits and flags.
+template <typename P>
+SW_FX_INLINE P couple_in_range(const DriveTorques& torques, std::uint32_t i, const CoupleDivisors& d,
+                               fx::Status& st) noexcept {
+  if (!torques.usable[i]) {
+    return P::zero();
+  }
+  const std::int32_t per_weight =
+      detail::quotient_raw_in_range(torques.torque_nm[i].raw(), d.weight_mantissa, d.weight_shift, st);
+  return P::from_raw(detail::quotient_raw_in_range(per_weight, d.normal_mantissa, d.normal_shift, st));
+}
+
+/// side_torques from couple_in_range. Called (twice per cycle): in place,
+/// the twelve quotients cost 1.1 KiB of flash for 25 instructions per step.
+template <typename P>
+SideTorques<P> side_torques_in_range(const DriveTorques& torques, std::uint32_t first, const CoupleDivisors& d,
+                                     fx::Status& st) noexcept {
+  return SideTorques<P>{{couple_in_range<P>(torques, first, d, st), couple_in_range<P>(torques, first + 1U, d, st),
+                         couple_in_range<P>(torques, first + 2U, d, st)},
+                        {torques.usable[first], torques.usable[first + 1U], torques.usable[first + 2U]}};
+}
+
+/// Both sides' couples. In every cycle's pass where the quotients are in
+/// place, whether 1 / (m g) and 1 / (cos(pitch) cos(roll)) exist and their
+/// shifts are within 1 to 63 is tested once for the six wheels, not in each
+/// of the twelve quotients: they are for every valid rover (m g > 0; the
+/// normal fraction is at least cos^2(1.05) > 0.24, its shift 30 to 32; the
+/// weight's shift leaves the range only for a weight below about 2^-7 N or
+/// above 2^33 N), and elsewhere side_torques decides each quotient as
+/// before.
+template <typename P>
+Couples<P> couples_of(const DriveTorques& torques, const Body<P>& body, const GravityFrame& g,
+                      fx::Status& st) noexcept {
+  if constexpr (kEveryCycle<P> && kQuotientsInline) {
+    constexpr std::int32_t kTorqueFracBits = TorqueNm::q_type::frac_bits;
+    const std::int32_t weight_shift = (kTorqueFracBits + body.inv_weight.scale) - P::frac_bits;
+    const std::int32_t normal_shift = (P::frac_bits + g.inv_normal_fraction.scale) - P::frac_bits;
+    if ((body.inv_weight.mantissa != 0U) && (g.inv_normal_fraction.mantissa != 0U) &&
+        detail::shift_in_range(weight_shift) && detail::shift_in_range(normal_shift)) {
+      const CoupleDivisors d{body.inv_weight.mantissa, static_cast<std::uint32_t>(weight_shift),
+                             g.inv_normal_fraction.mantissa, static_cast<std::uint32_t>(normal_shift)};
+      return Couples<P>{{side_torques_in_range<P>(torques, 0U, d, st), side_torques_in_range<P>(torques, 3U, d, st)}};
+    }
+  }
+  return Couples<P>{{side_torques(torques, 0U, body, g, st), side_torques(torques, 3U, body, g, st)}};
 }
 
 /// The wheel of the smallest share (the first of equal ones).
@@ -708,6 +795,21 @@ std::uint32_t lowest_share(const Shares<P>& support) noexcept {
     }
   }
   return lowest;
+}
+
+/// Whether a share is negative (then the lowest is): the sign bit of the
+/// six shares' bitwise OR, one test where lowest_share's search costs about
+/// 50 instructions per cycle; the search runs only for a tip-over.
+template <typename P>
+constexpr std::uint32_t share_bits(const Shares<P>& support, std::uint32_t i) noexcept {
+  return static_cast<std::uint32_t>(support.share[i].raw());
+}
+template <typename P>
+bool any_negative(const Shares<P>& support) noexcept {
+  static_assert(kWheelCount == 6U, "six shares");
+  const std::uint32_t ored = share_bits(support, 0U) | share_bits(support, 1U) | share_bits(support, 2U) |
+                             share_bits(support, 3U) | share_bits(support, 4U) | share_bits(support, 5U);
+  return (ored >> 31U) != 0U;
 }
 
 /// A wheel's share times the normal weight, for a share in [0, 1] (a clean
@@ -730,10 +832,9 @@ SW_FX_INLINE WheelLoadN load_of(P share, LoadQ weight_normal) noexcept {
 template <typename P>
 WheelLoadResult normal_loads(const Shares<P>& support, const Body<P>& body, const GravityFrame& g,
                              AngleRad pitch_rad, fx::Status& st) noexcept {
-  const std::uint32_t lowest = lowest_share(support);
-  if (support.share[lowest].raw() < 0) {
+  if (any_negative(support)) {
     WheelLoadResult r = failed(WheelLoadStatus::tip_over);
-    r.lifting_wheel = lowest;
+    r.lifting_wheel = lowest_share(support);
     return r;
   }
   if (!st.ok()) {
@@ -770,12 +871,11 @@ WheelLoadResult loads_in(const StaticsConstants<P>& k, const CycleTrig& trig, An
   const GravityFrame& g = trig.gravity;
   const Body<P> body = body_of<P>(k, g);
   fx::Status couple_st;
-  const SideTorques<P> tq[kSideCount] = {side_torques(torques, 0U, body, g, couple_st),
-                                         side_torques(torques, 3U, body, g, couple_st)};
+  const Couples<P> tq = couples_of(torques, body, g, couple_st);
   // The left side's contacts lie half a track to the left (+y), the right
   // side's to the right.
-  const SideLevers<P> side[kSideCount] = {side_levers(k, trig.side[0], k.half_track, g, tq[0], st),
-                                          side_levers(k, trig.side[1], fx::neg(k.half_track), g, tq[1], st)};
+  const SideLevers<P> side[kSideCount] = {side_levers(k, trig.side[0], k.half_track, g, tq.side[0], st),
+                                          side_levers(k, trig.side[1], fx::neg(k.half_track), g, tq.side[1], st)};
   // The levers come from positions, which never leave P: a collapsed one is
   // degenerate whatever else overflowed, the couples included (they only
   // move the levers' loads, not the levers). The lateral span comes after
@@ -879,22 +979,29 @@ WheelLoadResult loads_of_valid(const RoverStatics& constants, const CycleTrig& t
   return fine;
 }
 
+/// The result for parameters that are not valid (invalid_params) or for an
+/// attitude or joint angle beyond its limit. Out of line: built in place,
+/// its 48 bytes stayed in the caller's frame, which is on the step's deepest
+/// stack path (docs/performance.md, session 13). A call, not a named result
+/// of its own in loads_with_torques, so that that function's every other
+/// return is of its one named result, built in the caller's (a 44-byte copy
+/// per cycle less).
+[[gnu::noinline]] WheelLoadResult refused_loads(WheelLoadStatus status, const DriveTorques& torques) noexcept {
+  WheelLoadResult r = failed(status);
+  r.torque_fallback_mask = fallback_mask(torques);
+  return r;
+}
+
 /// The loads with the torques; when the torques alone would lift a wheel,
 /// or their balance is beyond every format (shares summing to one, a share
 /// beyond +-32,768 normal weights lifts another wheel), the loads without
 /// them, flagged (section 12.4). An overflow the Q15.16 pass took for a
 /// collapsed span stays an overflow, as the twin's degenerate. At most two
-/// evaluations of loads_of_valid, on one evaluation of the trigonometry;
-/// attitude and joint angles beyond their limits are refused first.
-WheelLoadResult loads_with_torques(const RoverParams& params, const RoverStatics& constants,
-                                   const RoverAttitude& attitude, const JointAnglesRad& joints,
-                                   const DriveTorques& torques) noexcept {
-  const WheelLoadStatus input_status = check_inputs(params, attitude, joints);
-  if (input_status != WheelLoadStatus::ok) {
-    WheelLoadResult refused = failed(input_status);
-    refused.torque_fallback_mask = fallback_mask(torques);
-    return refused;
-  }
+/// evaluations of loads_of_valid, on one evaluation of the trigonometry, for
+/// attitude and joint angles within their limits. Its one return is of `r`,
+/// so that it is built in the caller's result.
+WheelLoadResult loads_within_limits(const RoverStatics& constants, const RoverAttitude& attitude,
+                                    const JointAnglesRad& joints, const DriveTorques& torques) noexcept {
   const CycleTrig trig = cycle_trig(attitude, joints);
   bool beyond_every_format = false;
   WheelLoadResult r = loads_of_valid(constants, trig, attitude.pitch_rad, torques, beyond_every_format);
@@ -908,13 +1015,16 @@ WheelLoadResult loads_with_torques(const RoverParams& params, const RoverStatics
   return r;
 }
 
-/// The result for parameters that are not valid. Out of line: built in
-/// place, its 48 bytes stayed in the caller's frame, which is on the step's
-/// deepest stack path (docs/performance.md, session 13).
-[[gnu::noinline]] WheelLoadResult refused_loads(const DriveTorques& torques) noexcept {
-  WheelLoadResult r = failed(WheelLoadStatus::invalid_params);
-  r.torque_fallback_mask = fallback_mask(torques);
-  return r;
+/// loads_within_limits, attitude and joint angles beyond their limits
+/// refused first.
+WheelLoadResult loads_with_torques(const RoverParams& params, const RoverStatics& constants,
+                                   const RoverAttitude& attitude, const JointAnglesRad& joints,
+                                   const DriveTorques& torques) noexcept {
+  const WheelLoadStatus input_status = check_inputs(params, attitude, joints);
+  if (input_status != WheelLoadStatus::ok) {
+    return refused_loads(input_status, torques);
+  }
+  return loads_within_limits(constants, attitude, joints, torques);
 }
 
 }  // namespace
@@ -933,7 +1043,7 @@ RoverParamStatus validate_rover_params(const RoverParams& p) noexcept {
 WheelLoadResult wheel_loads(const PreparedParameters& prepared, const RoverAttitude& attitude,
                             const JointAnglesRad& joints, const DriveTorques& torques) noexcept {
   if (!prepared.ready()) {
-    return refused_loads(torques);
+    return refused_loads(WheelLoadStatus::invalid_params, torques);
   }
   return loads_with_torques(prepared.rover(), prepared.rover_statics(), attitude, joints, torques);
 }

@@ -256,6 +256,45 @@ TEST(RoverWheelLoad, AttitudeAndJointsBeyondLimitsAreRejected) {
   EXPECT_EQ(flight::wheel_loads(test::prepared_rover(p), level, rover_test::joints(0.35, -0.35, 0.5, -0.5), flight::kNoDriveTorques).status, WheelLoadStatus::ok);
 }
 
+// Each angle against its limit to the last bit (check_inputs' one-comparison
+// test): the limit itself and its negation are inside, one LSB beyond either
+// and the ends of the format outside.
+TEST(RoverWheelLoad, AnglesAreCheckedAgainstTheirLimitsToTheLastBit) {
+  const RoverParams p = earth();
+  const flight::PreparedParameters prepared = test::prepared_rover(p);
+  const flight::JointAnglesRad zero = rover_test::joints(0, 0, 0, 0);
+  const flight::RoverAttitude level = rover_test::attitude(0, 0);
+  const auto angle = [](std::int64_t raw) { return flight::AngleRad::from_raw(static_cast<std::int32_t>(raw)); };
+  const auto verdict = [](std::int64_t raw, std::int64_t limit) {
+    return ((raw <= limit) && (raw >= -limit)) ? WheelLoadStatus::ok : WheelLoadStatus::attitude_out_of_range;
+  };
+  const std::int64_t limits[] = {p.attitude_limit_rad.raw(), p.rocker_limit_rad.raw(), p.bogie_limit_rad.raw()};
+  for (int which = 0; which < 7; ++which) {
+    const std::int64_t limit = (which < 2) ? limits[0] : ((which % 2 == 0) ? limits[1] : limits[2]);
+    for (const std::int64_t raw : {-limit - 1, -limit, -limit + 1, std::int64_t{0}, limit - 1, limit, limit + 1,
+                                   std::int64_t{INT32_MIN}, std::int64_t{INT32_MIN} + 1, std::int64_t{INT32_MAX}}) {
+      flight::RoverAttitude att = level;
+      flight::JointAnglesRad j = zero;
+      WheelLoadStatus expected = verdict(raw, limit);
+      if (which == 0) att.pitch_rad = angle(raw);
+      if (which == 1) att.roll_rad = angle(raw);
+      if (which >= 2) {
+        expected = (expected == WheelLoadStatus::ok) ? WheelLoadStatus::ok : WheelLoadStatus::joint_out_of_range;
+        const std::uint32_t side = (which >= 4) ? 1U : 0U;
+        if (which % 2 == 0) j.rocker_rad[side] = angle(raw);
+        else j.bogie_rad[side] = angle(raw);
+      }
+      const flight::WheelLoadResult r = flight::wheel_loads(prepared, att, j, flight::kNoDriveTorques);
+      if (expected == WheelLoadStatus::ok) {
+        EXPECT_NE(r.status, WheelLoadStatus::attitude_out_of_range) << which << " " << raw;
+        EXPECT_NE(r.status, WheelLoadStatus::joint_out_of_range) << which << " " << raw;
+      } else {
+        EXPECT_EQ(r.status, expected) << which << " " << raw;
+      }
+    }
+  }
+}
+
 TEST(RoverWheelLoad, EveryParameterRuleHasItsReason) {
   using S = flight::RoverParamStatus;
   const RoverParams good = earth();
@@ -366,6 +405,41 @@ TEST(RoverWheelLoad, UnusableTorqueFallsBackToTheStaticsAndSaysSo) {
       ground::wheel_loads(rover_test::to_ground(p), rover_test::to_ground(att), rover_test::to_ground(j), gt);
   for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) {
     EXPECT_NEAR(d(one.load_n[i]), ref.load_n[i], rover_test::load_bound_with_torques_n(weight(p), 60.0)) << i;
+  }
+}
+
+// The fallback mask names exactly the wheels whose torque is not usable, for
+// each of the 64 combinations, on every path that sets it: loads computed,
+// angles refused, parameters not prepared (a refused result is otherwise
+// failed(status): no loads, no lifting wheel).
+TEST(RoverWheelLoad, FallbackMaskNamesEachUnusableTorqueOnEveryPath) {
+  const RoverParams p = earth();
+  const flight::PreparedParameters prepared = test::prepared_rover(p);
+  const flight::PreparedParameters unprepared{};
+  const flight::RoverAttitude att = rover_test::attitude(0.15, -0.05);
+  const flight::RoverAttitude steep = rover_test::attitude(1.01, 0);
+  const flight::JointAnglesRad j = rover_test::joints(0.05, -0.05, 0.1, -0.1);
+  const flight::JointAnglesRad bent = rover_test::joints(0.36, 0, 0, 0);
+  for (std::uint32_t usable_bits = 0U; usable_bits < 64U; ++usable_bits) {
+    flight::DriveTorques torques{};
+    for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) torques.usable[i] = ((usable_bits >> i) & 1U) != 0U;
+    const std::uint32_t expected = (~usable_bits) & 0x3FU;
+    const flight::WheelLoadResult ok = flight::wheel_loads(prepared, att, j, torques);
+    EXPECT_EQ(ok.status, WheelLoadStatus::ok) << usable_bits;
+    EXPECT_EQ(ok.torque_fallback_mask, expected) << usable_bits;
+    const struct {
+      flight::WheelLoadResult r;
+      WheelLoadStatus status;
+    } refused[] = {{flight::wheel_loads(prepared, steep, j, torques), WheelLoadStatus::attitude_out_of_range},
+                   {flight::wheel_loads(prepared, att, bent, torques), WheelLoadStatus::joint_out_of_range},
+                   {flight::wheel_loads(unprepared, att, j, torques), WheelLoadStatus::invalid_params}};
+    for (const auto& c : refused) {
+      EXPECT_EQ(c.r.status, c.status) << usable_bits;
+      EXPECT_EQ(c.r.torque_fallback_mask, expected) << usable_bits;
+      EXPECT_EQ(c.r.lifting_wheel, flight::kWheelCount) << usable_bits;
+      EXPECT_FALSE(c.r.torque_overload) << usable_bits;
+      for (std::uint32_t i = 0U; i < flight::kWheelCount; ++i) EXPECT_EQ(c.r.load_n[i].raw(), 0) << usable_bits;
+    }
   }
 }
 
@@ -766,6 +840,61 @@ TEST(StaticsArithmetic, QuotientIsTimesReciprocalBitForBit) {
   EXPECT_GT((compare_quotients<fx::Q3_28, 30>(rng, 300000)), 3000);
 }
 
+/// detail::quotient_raw_in_range (the couples' quotients, their reciprocal
+/// and shift tested once per cycle) against fx::times_reciprocal for Out
+/// from Fx, over reciprocals that exist and shifts of 1 to 63: random
+/// mantissas and the reciprocals of random divisors, shifts weighted to
+/// those of the couples (about 30 to 40) and both ends.
+template <typename Out, std::int32_t Fx>
+int compare_quotients_in_range(std::mt19937_64& rng, int trials) {
+  int saturated = 0;
+  for (int trial = 0; trial < trials; ++trial) {
+    const std::int32_t x = raw32(rng);
+    const auto shift = static_cast<std::int32_t>(
+        ((trial % 3) == 0) ? (1U + (rng() % 63U)) : (((trial % 3) == 1) ? (28U + (rng() % 14U)) : (1U + (rng() % 4U))));
+    fx::NormalisedReciprocal r{};
+    if ((trial % 2) == 0) {
+      const std::int32_t d = raw32(rng);
+      // A positive divisor: d, or -d, or 1 for zero and INT32_MIN.
+      r = fx::normalised_reciprocal(P::from_raw((d > 0) ? d : ((d > INT32_MIN) ? std::max(1, -d) : 1)));
+    } else {
+      r.mantissa = 0x80000000U | static_cast<std::uint32_t>(rng() & 0x7FFFFFFFU);
+    }
+    r.scale = (shift - Fx) + Out::frac_bits;
+    fx::Status fast;
+    fx::Status chain;
+    const std::int32_t q = flight::detail::quotient_raw_in_range(x, r.mantissa, static_cast<std::uint32_t>(shift), fast);
+    const Out expected = fx::times_reciprocal<Out>(fx::Q<std::int32_t, Fx>::from_raw(x), r, chain);
+    EXPECT_EQ(q, expected.raw()) << x << " " << r.mantissa << " " << shift;
+    EXPECT_EQ(fast.bits(), chain.bits()) << x << " " << r.mantissa << " " << shift;
+    if ((q != expected.raw()) || (fast.bits() != chain.bits())) {
+      return -1;
+    }
+    saturated += chain.has(fx::Flag::overflow) ? 1 : 0;
+  }
+  return saturated;
+}
+
+TEST(StaticsArithmetic, QuotientInRangeIsTimesReciprocalBitForBit) {
+  std::mt19937_64 rng(15U);
+  EXPECT_GT((compare_quotients_in_range<P, 16>(rng, 600000)), 10000);  // T / (m g)
+  EXPECT_GT((compare_quotients_in_range<P, 25>(rng, 600000)), 10000);  // per weight / normal fraction
+  // The ends of the shift and of x, each against each.
+  for (const std::int32_t x : {INT32_MIN, INT32_MIN + 1, -1, 0, 1, INT32_MAX}) {
+    for (const std::uint32_t mantissa : {0x80000000U, 0x80000001U, 0xFFFFFFFFU}) {
+      for (std::int32_t shift = 1; shift < 64; ++shift) {
+        fx::Status fast;
+        fx::Status chain;
+        const fx::NormalisedReciprocal r{mantissa, shift};
+        const std::int32_t q = flight::detail::quotient_raw_in_range(x, mantissa, static_cast<std::uint32_t>(shift), fast);
+        EXPECT_EQ(q, (fx::times_reciprocal<fx::Q<std::int32_t, 0>>(fx::Q<std::int32_t, 0>::from_raw(x), r, chain).raw()))
+            << x << " " << mantissa << " " << shift;
+        EXPECT_EQ(fast.bits(), chain.bits()) << x << " " << mantissa << " " << shift;
+      }
+    }
+  }
+}
+
 // Both forms of the rounded shift (by words for ARMv6-M, by 64-bit shifts
 // elsewhere) against fx::times_reciprocal's formula, for every shift: the
 // host runs the words' form only here.
@@ -908,6 +1037,53 @@ bool sincos_within_one(std::int32_t raw) {
   const fx::SinCos sc = fx::sincos(fx::Q3_28::from_raw(raw), st);
   const fx::BoundedSinCos bounded = fx::bound_sincos(sc, st);
   return st.ok() && (bounded.sin.raw() == sc.sin.raw()) && (bounded.cos.raw() == sc.cos.raw());
+}
+
+/// The gravity frame's slopes as gravity_frame forms them (wheel_load.cpp:
+/// the normal fraction fx::mul's bits, each slope a quotient by a
+/// normalised reciprocal), for pitch and roll in raw Q3.28; false where a
+/// flag was raised or a slope leaves the bound wheel_load.cpp trusts it to
+/// keep (kKxBound 3.51 and kKyBound 1.75 in Q3.28).
+bool slopes_within_bounds(std::int32_t pitch_raw, std::int32_t roll_raw, std::int32_t kx_bound, std::int32_t ky_bound) {
+  fx::Status st;
+  const fx::SinCos pitch = fx::sincos(fx::Q3_28::from_raw(pitch_raw), st);
+  const fx::SinCos roll = fx::sincos(fx::Q3_28::from_raw(roll_raw), st);
+  const fx::Q1_30 normal_fraction = fx::mul(pitch.cos, roll.cos, st);
+  const fx::Q3_28 kx = fx::times_reciprocal<fx::Q3_28>(pitch.sin, fx::normalised_reciprocal(normal_fraction), st);
+  const fx::Q3_28 ky = fx::times_reciprocal<fx::Q3_28>(roll.sin, fx::normalised_reciprocal(roll.cos), st);
+  return st.ok() && (normal_fraction.raw() <= 0x40000000) && (normal_fraction.raw() > 0) &&
+         (std::abs(kx.raw()) <= kx_bound) && (std::abs(ky.raw()) <= ky_bound);
+}
+
+// gravity_frame takes the slopes tan(pitch) / cos(roll) and tan(roll) as
+// bounded values without testing them (Kx::trusted, Ky::trusted): within the
+// attitude limit (1.05 rad) they are at most 3.5037 and 1.7433, rounding
+// included. Every pair of the last 2^12 LSB below the limit at both signs,
+// and random pairs within it.
+TEST(StaticsArithmetic, GravitySlopesAreWithinTheirBounds) {
+  constexpr std::int32_t kLimit = 281857229;  // kMaxAttitudeLimitRad in Q3.28
+  constexpr std::int32_t kx_bound = fx::constant<fx::Q3_28>(3.51).raw();
+  constexpr std::int32_t ky_bound = fx::constant<fx::Q3_28>(1.75).raw();
+  constexpr std::int32_t kx_too_tight = fx::constant<fx::Q3_28>(3.50).raw();
+  constexpr std::int32_t ky_too_tight = fx::constant<fx::Q3_28>(1.74).raw();
+  for (std::int32_t dp = 0; dp < 4096; dp += 7) {
+    for (std::int32_t dr = 0; dr < 4096; dr += 5) {
+      for (const std::int32_t sp : {-1, 1}) {
+        for (const std::int32_t sr : {-1, 1}) {
+          ASSERT_TRUE(slopes_within_bounds(sp * (kLimit - dp), sr * (kLimit - dr), kx_bound, ky_bound)) << dp << " " << dr;
+        }
+      }
+    }
+  }
+  std::mt19937_64 rng(15U);
+  for (int trial = 0; trial < 200000; ++trial) {
+    const auto pitch = static_cast<std::int32_t>(rng() % (2U * kLimit + 1U)) - kLimit;
+    const auto roll = static_cast<std::int32_t>(rng() % (2U * kLimit + 1U)) - kLimit;
+    ASSERT_TRUE(slopes_within_bounds(pitch, roll, kx_bound, ky_bound)) << pitch << " " << roll;
+  }
+  // The bounds are tight enough to matter: 3.50 does not hold at the limit.
+  EXPECT_FALSE(slopes_within_bounds(kLimit, kLimit, kx_too_tight, ky_bound));
+  EXPECT_FALSE(slopes_within_bounds(kLimit, kLimit, kx_bound, ky_too_tight));
 }
 
 TEST(StaticsArithmetic, JointSinesAndCosinesAreWithinOne) {
