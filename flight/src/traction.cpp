@@ -72,10 +72,16 @@ WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels) noexcept {
 }
 
 /// n / d rounded half away from zero, as a raw Q7.24 ratio (d > 0), by
-/// detail::rounded_quotient. Beyond Q7.24 it saturates and raises overflow.
+/// detail::rounded_quotient_one_word or detail::rounded_quotient. Beyond Q7.24 it saturates and raises overflow.
 Ratio rounded_ratio(std::int64_t n, std::uint64_t d, fx::Status& st) noexcept {
   const bool negative = n < 0;
-  const std::uint64_t quotient = detail::rounded_quotient(fx::detail::magnitude(n), d);
+  const std::uint64_t magnitude = fx::detail::magnitude(n);
+  // The usual quotient in the check's own code on a core that divides
+  // words (round 15 of issue 15); otherwise, and for the rest, the call.
+  const std::uint64_t quotient =
+      (fx::wide::kDivideInstruction && detail::one_word_quotient(magnitude, d))
+          ? detail::rounded_quotient_one_word(magnitude, d)
+          : detail::rounded_quotient(magnitude, d);
   return Ratio::from_raw(
       fx::detail::from_sign_magnitude<RatioQ::storage_type>(negative && (quotient != 0U), quotient, st));
 }
