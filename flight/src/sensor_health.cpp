@@ -329,7 +329,12 @@ void SensorHealthMonitor::currents(const HealthSample& s, const HealthParams& p,
   const bool(&missing)[kWheelCount] = s.presence.current_missing;
   const CurrentA(&current_a)[kWheelCount] = s.current_a;
   const DriveDirection(&direction)[kWheelCount] = s.direction;
-  std::uint32_t quiet = quiet_currents_;
+  // The steady samples first, in a loop without a call (its values stay in
+  // registers); the others after, each by the general checks. A wheel's
+  // checks read its own state and the sample only, so the order of the
+  // wheels changes nothing.
+  const std::uint32_t quiet = quiet_currents_;
+  std::uint32_t general = 0U;  ///< bit i: wheel i is not steady
   std::uint32_t bit = 1U;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     CurrentHistory& h = current_history_[i];
@@ -345,14 +350,28 @@ void SensorHealthMonitor::currents(const HealthSample& s, const HealthParams& p,
       r.channel[i] = SensorHealth::ok;
       r.current_usable[i] = true;
       tally(counters_.by_health[i][static_cast<std::uint8_t>(SensorHealth::ok)]);
-    } else if (current_sample(s, p, no_load_a, current_range_a, i, r)) {
-      quiet |= bit;
     } else {
-      quiet &= ~bit;
+      general |= bit;
     }
     bit <<= 1U;
   }
-  quiet_currents_ = static_cast<std::uint8_t>(quiet);
+  if (general != 0U) {
+    // A steady wheel stays quiet; the others are quiet as current_sample()
+    // leaves them.
+    std::uint32_t next_quiet = quiet;
+    bit = 1U;
+    for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+      if ((general & bit) != 0U) {
+        if (current_sample(s, p, no_load_a, current_range_a, i, r)) {
+          next_quiet |= bit;
+        } else {
+          next_quiet &= ~bit;
+        }
+      }
+      bit <<= 1U;
+    }
+    quiet_currents_ = static_cast<std::uint8_t>(next_quiet);
+  }
 }
 
 // The IMU, joint and bridge stages are each called once per sample: inline
