@@ -448,11 +448,62 @@ SW_FX_INLINE void SensorHealthMonitor::bridge(const HealthSample& s, const Healt
   r.joints = good_joints_.value;
 }
 
+// A quiet IMU or joint channel (ok, so not faulted, its last sample no
+// spike and its last good value that sample; no repeat run) whose next
+// sample is present and within the step limit of its last one, and while
+// driving not a repeat, is what imu_channel() or joints_channel() and
+// settle() find ok with nothing changed but the last and last good values:
+// no distance to the last good value (it is the last one) and no run.
+SW_FX_INLINE SensorHealth SensorHealthMonitor::imu_health(const HealthSample& s, const HealthParams& p) noexcept {
+  if (quiet_imu_ && !s.presence.attitude_missing) {
+    const std::uint32_t tolerance = angle_tolerance(p.attitude_step_rad);
+    const std::uint32_t pitch_step = distance(s.attitude.pitch_rad.raw(), last_attitude_.pitch_rad.raw());
+    const std::uint32_t roll_step = distance(s.attitude.roll_rad.raw(), last_attitude_.roll_rad.raw());
+    // The attitude repeats when both angles do.
+    if ((pitch_step <= tolerance) && (roll_step <= tolerance) && (((pitch_step | roll_step) != 0U) || !s.driving)) {
+      last_attitude_ = s.attitude;
+      step_attitude_ = s.attitude;
+      return SensorHealth::ok;
+    }
+  }
+  const SensorHealth health = settled(track_[kImu], imu_channel(s, p), p.recover_cycles);
+  quiet_imu_ = (health == SensorHealth::ok) && (track_[kImu].same_run == 0U);
+  return health;
+}
+
+/// A joint's step from its last sample within `tolerance` and at least
+/// `at_least` (1 while driving: a frozen encoder repeats; else 0), in one
+/// comparison: step - at_least wraps to 2^32 - 1 for a repeat while
+/// driving, and tolerance >= 1 (angle_tolerance()).
+bool steady_joint(AngleRad a, AngleRad last, std::uint32_t at_least, std::uint32_t tolerance) noexcept {
+  return (distance(a.raw(), last.raw()) - at_least) <= (tolerance - at_least);
+}
+
+SW_FX_INLINE SensorHealth SensorHealthMonitor::joints_health(const HealthSample& s, const HealthParams& p) noexcept {
+  if (quiet_joints_ && !s.presence.joints_missing) {
+    const std::uint32_t tolerance = angle_tolerance(p.joint_step_rad);
+    const std::uint32_t at_least = s.driving ? 1U : 0U;
+    bool steady = true;
+    for (std::uint32_t side = 0U; side < kSideCount; ++side) {
+      steady = steady && steady_joint(s.joints.rocker_rad[side], last_joints_.rocker_rad[side], at_least, tolerance) &&
+               steady_joint(s.joints.bogie_rad[side], last_joints_.bogie_rad[side], at_least, tolerance);
+    }
+    if (steady) {
+      last_joints_ = s.joints;
+      step_joints_ = s.joints;
+      return SensorHealth::ok;
+    }
+  }
+  const SensorHealth health = settled(track_[kJoints], joints_channel(s, p), p.recover_cycles);
+  quiet_joints_ = (health == SensorHealth::ok) && (track_[kJoints].same_run == 0U);
+  return health;
+}
+
 void SensorHealthMonitor::update(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
                                  CurrentA current_range_a, SensorHealthReport& report) noexcept {
   currents(s, p, no_load_a, current_range_a, report);
-  const SensorHealth imu = settled(track_[kImu], imu_channel(s, p), p.recover_cycles);
-  const SensorHealth joints = settled(track_[kJoints], joints_channel(s, p), p.recover_cycles);
+  const SensorHealth imu = imu_health(s, p);
+  const SensorHealth joints = joints_health(s, p);
   repeated_run_ = 0U;
   const SensorHealth clock =
       settled(track_[kClock], s.clock_jump ? SensorHealth::spike : SensorHealth::ok, p.recover_cycles);
@@ -473,6 +524,8 @@ void SensorHealthMonitor::accept_levels() noexcept {
     t.have_last = false;
   }
   quiet_currents_ = 0U;
+  quiet_imu_ = false;
+  quiet_joints_ = false;
   imu_after_noise_ = false;
 }
 

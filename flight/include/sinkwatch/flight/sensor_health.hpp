@@ -174,12 +174,22 @@ class SensorHealthMonitor {
   inline SensorHealth imu_channel(const HealthSample& s, const HealthParams& p) noexcept;
   inline SensorHealth joints_channel(const HealthSample& s, const HealthParams& p) noexcept;
   inline void bridge(const HealthSample& s, const HealthParams& p, SensorHealthReport& r) noexcept;
+  /// The IMU's and the joints' health this sample: a quiet channel's steady
+  /// sample without the general checks, else imu_channel() or
+  /// joints_channel() settled (inline into update() too).
+  inline SensorHealth imu_health(const HealthSample& s, const HealthParams& p) noexcept;
+  inline SensorHealth joints_health(const HealthSample& s, const HealthParams& p) noexcept;
 
   detail::HealthTrack track_[kSensorChannelCount]{};
   detail::CurrentHistory current_history_[kWheelCount]{};
   /// Bit i: current channel i is quiet (sensor_health.cpp, quiet_after()):
   /// its next steady forward sample only replaces its last value.
   std::uint8_t quiet_currents_{0U};
+  /// The IMU and the joints are quiet (sensor_health.cpp, imu_health() and
+  /// joints_health()): ok with no repeat run, so that a steady sample only
+  /// replaces their last values.
+  bool quiet_imu_{false};
+  bool quiet_joints_{false};
   RoverAttitude last_attitude_{};
   RoverAttitude step_attitude_{};  ///< the last good attitude: the bias check's reference
   bool imu_after_noise_{false};     ///< a noise burst since: the reference is old
