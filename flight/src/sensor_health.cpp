@@ -439,13 +439,11 @@ SW_FX_INLINE SensorHealth SensorHealthMonitor::joints_channel(const HealthSample
   return (t.same_run >= trip_at(p.stuck_cycles)) ? SensorHealth::stuck : SensorHealth::ok;
 }
 
-SW_FX_INLINE void SensorHealthMonitor::bridge(const HealthSample& s, const HealthParams& p,
-                                              SensorHealthReport& r) noexcept {
+SW_FX_INLINE void SensorHealthMonitor::bridge(const HealthSample& s, const HealthParams& p, SensorHealth imu,
+                                              SensorHealth joints, SensorHealthReport& r) noexcept {
   r.attitude_usable =
-      good_attitude_.take(usable(r.channel[kImu]), s.attitude, s.time, p.bridge_ms, r.attitude_bridged);
-  r.attitude = good_attitude_.value;
-  r.joints_usable = good_joints_.take(usable(r.channel[kJoints]), s.joints, s.time, p.bridge_ms, r.joints_bridged);
-  r.joints = good_joints_.value;
+      good_attitude_.take(usable(imu), s.attitude, s.time, p.bridge_ms, r.attitude_bridged, r.attitude);
+  r.joints_usable = good_joints_.take(usable(joints), s.joints, s.time, p.bridge_ms, r.joints_bridged, r.joints);
 }
 
 // A quiet IMU or joint channel (ok, so not faulted, its last sample no
@@ -461,8 +459,9 @@ SW_FX_INLINE SensorHealth SensorHealthMonitor::imu_health(const HealthSample& s,
     const std::uint32_t roll_step = distance(s.attitude.roll_rad.raw(), last_attitude_.roll_rad.raw());
     // The attitude repeats when both angles do.
     if ((pitch_step <= tolerance) && (roll_step <= tolerance) && (((pitch_step | roll_step) != 0U) || !s.driving)) {
-      last_attitude_ = s.attitude;
-      step_attitude_ = s.attitude;
+      const RoverAttitude sample = s.attitude;
+      last_attitude_ = sample;
+      step_attitude_ = sample;
       return SensorHealth::ok;
     }
   }
@@ -475,7 +474,7 @@ SW_FX_INLINE SensorHealth SensorHealthMonitor::imu_health(const HealthSample& s,
 /// `at_least` (1 while driving: a frozen encoder repeats; else 0), in one
 /// comparison: step - at_least wraps to 2^32 - 1 for a repeat while
 /// driving, and tolerance >= 1 (angle_tolerance()).
-bool steady_joint(AngleRad a, AngleRad last, std::uint32_t at_least, std::uint32_t tolerance) noexcept {
+SW_FX_INLINE bool steady_joint(AngleRad a, AngleRad last, std::uint32_t at_least, std::uint32_t tolerance) noexcept {
   return (distance(a.raw(), last.raw()) - at_least) <= (tolerance - at_least);
 }
 
@@ -483,14 +482,17 @@ SW_FX_INLINE SensorHealth SensorHealthMonitor::joints_health(const HealthSample&
   if (quiet_joints_ && !s.presence.joints_missing) {
     const std::uint32_t tolerance = angle_tolerance(p.joint_step_rad);
     const std::uint32_t at_least = s.driving ? 1U : 0U;
-    bool steady = true;
-    for (std::uint32_t side = 0U; side < kSideCount; ++side) {
-      steady = steady && steady_joint(s.joints.rocker_rad[side], last_joints_.rocker_rad[side], at_least, tolerance) &&
-               steady_joint(s.joints.bogie_rad[side], last_joints_.bogie_rad[side], at_least, tolerance);
-    }
+    static_assert(kSideCount == 2U, "two sides: a rocker and a bogie each");
+    const JointAnglesRad& j = s.joints;
+    const bool steady = steady_joint(j.rocker_rad[0], last_joints_.rocker_rad[0], at_least, tolerance) &&
+                        steady_joint(j.rocker_rad[1], last_joints_.rocker_rad[1], at_least, tolerance) &&
+                        steady_joint(j.bogie_rad[0], last_joints_.bogie_rad[0], at_least, tolerance) &&
+                        steady_joint(j.bogie_rad[1], last_joints_.bogie_rad[1], at_least, tolerance);
     if (steady) {
-      last_joints_ = s.joints;
-      step_joints_ = s.joints;
+      // One read of the sample for both stores.
+      const JointAnglesRad sample = j;
+      last_joints_ = sample;
+      step_joints_ = sample;
       return SensorHealth::ok;
     }
   }
@@ -510,7 +512,7 @@ void SensorHealthMonitor::update(const HealthSample& s, const HealthParams& p, C
   report.channel[kImu] = imu;
   report.channel[kJoints] = joints;
   report.channel[kClock] = clock;
-  bridge(s, p, report);
+  bridge(s, p, imu, joints, report);
   // The three channels' counts spelled out: no loop, no call per channel.
   tally(counters_.by_health[kImu][static_cast<std::uint8_t>(imu)]);
   tally(counters_.by_health[kJoints][static_cast<std::uint8_t>(joints)]);

@@ -173,7 +173,8 @@ class SensorHealthMonitor {
   // (defined and used only in sensor_health.cpp, forced inline there).
   inline SensorHealth imu_channel(const HealthSample& s, const HealthParams& p) noexcept;
   inline SensorHealth joints_channel(const HealthSample& s, const HealthParams& p) noexcept;
-  inline void bridge(const HealthSample& s, const HealthParams& p, SensorHealthReport& r) noexcept;
+  inline void bridge(const HealthSample& s, const HealthParams& p, SensorHealth imu, SensorHealth joints,
+                     SensorHealthReport& r) noexcept;
   /// The IMU's and the joints' health this sample: a quiet channel's steady
   /// sample without the general checks, else imu_channel() or
   /// joints_channel() settled (inline into update() too).
@@ -205,15 +206,20 @@ class SensorHealthMonitor {
 
     /// Keeps `sample` when it is usable; otherwise the last good value may
     /// stand in while at most `bridge_ms` old (`bridged` is then set; it is
-    /// cleared otherwise). Returns whether `value` may be used now.
-    bool take(bool usable_now, const Value& sample, TimeMs now, std::uint32_t bridge_ms, bool& bridged) noexcept {
+    /// cleared otherwise). `out` gets `value` (the sample read once for
+    /// both stores). Returns whether `value` may be used now.
+    bool take(bool usable_now, const Value& sample, TimeMs now, std::uint32_t bridge_ms, bool& bridged,
+              Value& out) noexcept {
       if (usable_now) {
+        const Value kept = sample;
         have = true;
         time = now;
-        value = sample;
+        value = kept;
+        out = kept;
         bridged = false;
         return true;
       }
+      out = value;
       bridged = have && (elapsed_ms(time, now) <= bridge_ms);
       return bridged;
     }
