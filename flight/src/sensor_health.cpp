@@ -362,11 +362,8 @@ void SensorHealthMonitor::currents(const HealthSample& s, const HealthParams& p,
     bit = 1U;
     for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
       if ((general & bit) != 0U) {
-        if (current_sample(s, p, no_load_a, current_range_a, i, r)) {
-          next_quiet |= bit;
-        } else {
-          next_quiet &= ~bit;
-        }
+        const bool quiet_now = current_sample(s, p, no_load_a, current_range_a, i, r);
+        next_quiet = quiet_now ? (next_quiet | bit) : (next_quiet & ~bit);
       }
       bit <<= 1U;
     }
