@@ -396,14 +396,16 @@ void TractionMonitor::step(const TractionInput& input, const TractionParams& par
     return;
   }
   Ratio rho{};
-  out.sample = resistance_of(input, monitor.wheel_count, per_radius, rho);
-  if (out.sample == TractionSample::ok) {
-    out.sample = evaluate(input, params, rho, out);
+  // The sample's verdict in a local, stored once.
+  TractionSample sample = resistance_of(input, monitor.wheel_count, per_radius, rho);
+  if (sample == TractionSample::ok) {
+    sample = evaluate(input, params, rho, out);
   }
+  out.sample = sample;
   bool caution = false;
   bool stop = false;
   bool clear = false;
-  if (out.sample == TractionSample::ok) {
+  if (sample == TractionSample::ok) {
     fx::Status st;
     stop = out.resistance_ahead >= params.stop_coefficient;
     caution = out.resistance_ahead >= params.caution_coefficient;
