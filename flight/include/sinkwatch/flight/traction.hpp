@@ -119,8 +119,8 @@ constexpr std::uint64_t kTwoTo32 = std::uint64_t{1U} << 32U;
   const fx::wide::detail::QuotientDigits q =
       fx::wide::detail::quotient_digits((std::uint64_t{u_high} * kTwoTo32) | u_low, v);
   const std::uint32_t remainder = ((q.partial * fx::wide::detail::kDigitBase) + (u_low & 0xFFFFU)) - (q.low * v);
-  const std::uint32_t quotient = (q.high * fx::wide::detail::kDigitBase) + q.low;
-  return std::uint64_t{quotient} + ((remainder >= (v - remainder)) ? 1U : 0U);
+  const std::uint32_t round_up = (remainder >= (v - remainder)) ? 1U : 0U;
+  return static_cast<std::uint64_t>((q.high * fx::wide::detail::kDigitBase) + q.low) + round_up;
 }
 
 /// |v| dt / 1000 rounded half up, in raw LengthM units (2^-24 m), for a
