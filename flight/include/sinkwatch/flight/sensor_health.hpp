@@ -31,9 +31,10 @@
 // LossPolicy (param_table.hpp, section 7): stop, or continue on the wheels
 // that still have evidence while at most max_blind_wheels are blind.
 //
-// Bounded per call: one loop over the six wheels (and, for a wheel below
-// the no-load current while driving, one over the other five), two over the
-// two sides' joints; no allocation, no division.
+// Bounded per call: one loop over the six wheels' steady samples and one
+// over those that are not (and, for a wheel below the no-load current while
+// driving, one over the other five), two over the two sides' joints; no
+// allocation, no division.
 #ifndef SINKWATCH_FLIGHT_SENSOR_HEALTH_HPP
 #define SINKWATCH_FLIGHT_SENSOR_HEALTH_HPP
 
