@@ -329,7 +329,12 @@ void SensorHealthMonitor::currents(const HealthSample& s, const HealthParams& p,
   const bool(&missing)[kWheelCount] = s.presence.current_missing;
   const CurrentA(&current_a)[kWheelCount] = s.current_a;
   const DriveDirection(&direction)[kWheelCount] = s.direction;
-  std::uint32_t quiet = quiet_currents_;
+  // The steady samples first, in a loop without a call (its values stay in
+  // registers); the others after, each by the general checks. A wheel's
+  // checks read its own state and the sample only, so the order of the
+  // wheels changes nothing.
+  const std::uint32_t quiet = quiet_currents_;
+  std::uint32_t general = 0U;  ///< bit i: wheel i is not steady
   std::uint32_t bit = 1U;
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     CurrentHistory& h = current_history_[i];
@@ -345,14 +350,25 @@ void SensorHealthMonitor::currents(const HealthSample& s, const HealthParams& p,
       r.channel[i] = SensorHealth::ok;
       r.current_usable[i] = true;
       tally(counters_.by_health[i][static_cast<std::uint8_t>(SensorHealth::ok)]);
-    } else if (current_sample(s, p, no_load_a, current_range_a, i, r)) {
-      quiet |= bit;
     } else {
-      quiet &= ~bit;
+      general |= bit;
     }
     bit <<= 1U;
   }
-  quiet_currents_ = static_cast<std::uint8_t>(quiet);
+  if (general != 0U) {
+    // A steady wheel stays quiet; the others are quiet as current_sample()
+    // leaves them.
+    std::uint32_t next_quiet = quiet;
+    bit = 1U;
+    for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+      if ((general & bit) != 0U) {
+        const bool quiet_now = current_sample(s, p, no_load_a, current_range_a, i, r);
+        next_quiet = quiet_now ? (next_quiet | bit) : (next_quiet & ~bit);
+      }
+      bit <<= 1U;
+    }
+    quiet_currents_ = static_cast<std::uint8_t>(next_quiet);
+  }
 }
 
 // The IMU, joint and bridge stages are each called once per sample: inline
@@ -420,27 +436,80 @@ SW_FX_INLINE SensorHealth SensorHealthMonitor::joints_channel(const HealthSample
   return (t.same_run >= trip_at(p.stuck_cycles)) ? SensorHealth::stuck : SensorHealth::ok;
 }
 
-SW_FX_INLINE void SensorHealthMonitor::bridge(const HealthSample& s, const HealthParams& p,
-                                              SensorHealthReport& r) noexcept {
+SW_FX_INLINE void SensorHealthMonitor::bridge(const HealthSample& s, const HealthParams& p, SensorHealth imu,
+                                              SensorHealth joints, SensorHealthReport& r) noexcept {
   r.attitude_usable =
-      good_attitude_.take(usable(r.channel[kImu]), s.attitude, s.time, p.bridge_ms, r.attitude_bridged);
-  r.attitude = good_attitude_.value;
-  r.joints_usable = good_joints_.take(usable(r.channel[kJoints]), s.joints, s.time, p.bridge_ms, r.joints_bridged);
-  r.joints = good_joints_.value;
+      good_attitude_.take(usable(imu), s.attitude, s.time, p.bridge_ms, r.attitude_bridged, r.attitude);
+  r.joints_usable = good_joints_.take(usable(joints), s.joints, s.time, p.bridge_ms, r.joints_bridged, r.joints);
+}
+
+// A quiet IMU or joint channel (ok, so not faulted, its last sample no
+// spike and its last good value that sample; no repeat run) whose next
+// sample is present and within the step limit of its last one, and while
+// driving not a repeat, is what imu_channel() or joints_channel() and
+// settle() find ok with nothing changed but the last and last good values:
+// no distance to the last good value (it is the last one) and no run.
+SW_FX_INLINE SensorHealth SensorHealthMonitor::imu_health(const HealthSample& s, const HealthParams& p) noexcept {
+  if (quiet_imu_ && !s.presence.attitude_missing) {
+    const std::uint32_t tolerance = angle_tolerance(p.attitude_step_rad);
+    const std::uint32_t pitch_step = distance(s.attitude.pitch_rad.raw(), last_attitude_.pitch_rad.raw());
+    const std::uint32_t roll_step = distance(s.attitude.roll_rad.raw(), last_attitude_.roll_rad.raw());
+    // The attitude repeats when both angles do.
+    if ((pitch_step <= tolerance) && (roll_step <= tolerance) && (((pitch_step | roll_step) != 0U) || !s.driving)) {
+      const RoverAttitude sample = s.attitude;
+      last_attitude_ = sample;
+      step_attitude_ = sample;
+      return SensorHealth::ok;
+    }
+  }
+  const SensorHealth health = settled(track_[kImu], imu_channel(s, p), p.recover_cycles);
+  quiet_imu_ = (health == SensorHealth::ok) && (track_[kImu].same_run == 0U);
+  return health;
+}
+
+/// A joint's step from its last sample within `tolerance` and at least
+/// `at_least` (1 while driving: a frozen encoder repeats; else 0), in one
+/// comparison: step - at_least wraps to 2^32 - 1 for a repeat while
+/// driving, and tolerance >= 1 (angle_tolerance()).
+SW_FX_INLINE bool steady_joint(AngleRad a, AngleRad last, std::uint32_t at_least, std::uint32_t tolerance) noexcept {
+  return (distance(a.raw(), last.raw()) - at_least) <= (tolerance - at_least);
+}
+
+SW_FX_INLINE SensorHealth SensorHealthMonitor::joints_health(const HealthSample& s, const HealthParams& p) noexcept {
+  if (quiet_joints_ && !s.presence.joints_missing) {
+    const std::uint32_t tolerance = angle_tolerance(p.joint_step_rad);
+    const std::uint32_t at_least = s.driving ? 1U : 0U;
+    static_assert(kSideCount == 2U, "two sides: a rocker and a bogie each");
+    const JointAnglesRad& j = s.joints;
+    const bool steady = steady_joint(j.rocker_rad[0], last_joints_.rocker_rad[0], at_least, tolerance) &&
+                        steady_joint(j.rocker_rad[1], last_joints_.rocker_rad[1], at_least, tolerance) &&
+                        steady_joint(j.bogie_rad[0], last_joints_.bogie_rad[0], at_least, tolerance) &&
+                        steady_joint(j.bogie_rad[1], last_joints_.bogie_rad[1], at_least, tolerance);
+    if (steady) {
+      // One read of the sample for both stores.
+      const JointAnglesRad sample = j;
+      last_joints_ = sample;
+      step_joints_ = sample;
+      return SensorHealth::ok;
+    }
+  }
+  const SensorHealth health = settled(track_[kJoints], joints_channel(s, p), p.recover_cycles);
+  quiet_joints_ = (health == SensorHealth::ok) && (track_[kJoints].same_run == 0U);
+  return health;
 }
 
 void SensorHealthMonitor::update(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
                                  CurrentA current_range_a, SensorHealthReport& report) noexcept {
   currents(s, p, no_load_a, current_range_a, report);
-  const SensorHealth imu = settled(track_[kImu], imu_channel(s, p), p.recover_cycles);
-  const SensorHealth joints = settled(track_[kJoints], joints_channel(s, p), p.recover_cycles);
+  const SensorHealth imu = imu_health(s, p);
+  const SensorHealth joints = joints_health(s, p);
   repeated_run_ = 0U;
   const SensorHealth clock =
       settled(track_[kClock], s.clock_jump ? SensorHealth::spike : SensorHealth::ok, p.recover_cycles);
   report.channel[kImu] = imu;
   report.channel[kJoints] = joints;
   report.channel[kClock] = clock;
-  bridge(s, p, report);
+  bridge(s, p, imu, joints, report);
   // The three channels' counts spelled out: no loop, no call per channel.
   tally(counters_.by_health[kImu][static_cast<std::uint8_t>(imu)]);
   tally(counters_.by_health[kJoints][static_cast<std::uint8_t>(joints)]);
@@ -454,6 +523,8 @@ void SensorHealthMonitor::accept_levels() noexcept {
     t.have_last = false;
   }
   quiet_currents_ = 0U;
+  quiet_imu_ = false;
+  quiet_joints_ = false;
   imu_after_noise_ = false;
 }
 

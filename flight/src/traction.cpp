@@ -72,10 +72,16 @@ WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels) noexcept {
 }
 
 /// n / d rounded half away from zero, as a raw Q7.24 ratio (d > 0), by
-/// detail::rounded_quotient. Beyond Q7.24 it saturates and raises overflow.
+/// detail::rounded_quotient_one_word or detail::rounded_quotient. Beyond Q7.24 it saturates and raises overflow.
 Ratio rounded_ratio(std::int64_t n, std::uint64_t d, fx::Status& st) noexcept {
   const bool negative = n < 0;
-  const std::uint64_t quotient = detail::rounded_quotient(fx::detail::magnitude(n), d);
+  const std::uint64_t magnitude = fx::detail::magnitude(n);
+  // The usual quotient in the check's own code on a core that divides
+  // words (round 15 of issue 15); otherwise, and for the rest, the call.
+  const std::uint64_t quotient =
+      (fx::wide::kDivideInstruction && detail::one_word_quotient(magnitude, d))
+          ? detail::rounded_quotient_one_word(magnitude, d)
+          : detail::rounded_quotient(magnitude, d);
   return Ratio::from_raw(
       fx::detail::from_sign_magnitude<RatioQ::storage_type>(negative && (quotient != 0U), quotient, st));
 }
@@ -95,6 +101,17 @@ std::uint32_t thousandths(std::uint32_t x) noexcept {
   return static_cast<std::uint32_t>(mul_32x32_64(x, kPerThousand) >> kPerThousandShift);
 }
 
+/// detail::travelled_q24, forced inline into advance() (its one use in the
+/// check: the call cost a third of its instructions).
+SW_FX_INLINE std::uint64_t travelled_inline(std::uint32_t speed_q24, std::uint32_t dt_ms) noexcept {
+  // |v| = 1000 a + b: |v| dt + 500 = 1000 a dt + (b dt + 500), so the
+  // quotient by 1000 is a dt plus that of b dt + 500 (< 2^21), exactly.
+  // a <= 2^31 / 1000, so a dt <= 2,147,483 * 2000 < 2^32.
+  const std::uint32_t a = thousandths(speed_q24);
+  const std::uint32_t b = speed_q24 - (a * 1000U);
+  return static_cast<std::uint64_t>(a * dt_ms) + thousandths((b * dt_ms) + 500U);
+}
+
 }  // namespace
 
 namespace detail {
@@ -108,12 +125,7 @@ std::uint64_t rounded_quotient(std::uint64_t n, std::uint64_t d) noexcept {
 }
 
 std::uint64_t travelled_q24(std::uint32_t speed_q24, std::uint32_t dt_ms) noexcept {
-  // |v| = 1000 a + b: |v| dt + 500 = 1000 a dt + (b dt + 500), so the
-  // quotient by 1000 is a dt plus that of b dt + 500 (< 2^21), exactly.
-  // a <= 2^31 / 1000, so a dt <= 2,147,483 * 2000 < 2^32.
-  const std::uint32_t a = thousandths(speed_q24);
-  const std::uint32_t b = speed_q24 - (a * 1000U);
-  return static_cast<std::uint64_t>(a * dt_ms) + thousandths((b * dt_ms) + 500U);
+  return travelled_inline(speed_q24, dt_ms);
 }
 
 }  // namespace detail
@@ -255,7 +267,7 @@ SW_FX_INLINE void TractionMonitor::advance(const TractionInput& in, Ratio rho_me
   // |v| dt / 1000: |v| (<= 2^31, 2^-24 m/s) times dt (<= 2000 ms) is below
   // 2^42; the division by 1000 rounds once (half up) into 2^-24 m.
   const std::uint32_t speed = fx::detail::magnitude32(in.speed_mps.raw());
-  const std::uint64_t step_q24 = detail::travelled_q24(speed, dt_ms);
+  const std::uint64_t step_q24 = travelled_inline(speed, dt_ms);
   fx::Status st;
   const LengthM step_m = LengthM::from_raw(fx::detail::from_sign_magnitude<LengthQ::storage_type>(false, step_q24, st));
   const LengthM travelled{fx::add(since_mark_m_.q(), step_m.q(), st)};
@@ -384,14 +396,16 @@ void TractionMonitor::step(const TractionInput& input, const TractionParams& par
     return;
   }
   Ratio rho{};
-  out.sample = resistance_of(input, monitor.wheel_count, per_radius, rho);
-  if (out.sample == TractionSample::ok) {
-    out.sample = evaluate(input, params, rho, out);
+  // The sample's verdict in a local, stored once.
+  TractionSample sample = resistance_of(input, monitor.wheel_count, per_radius, rho);
+  if (sample == TractionSample::ok) {
+    sample = evaluate(input, params, rho, out);
   }
+  out.sample = sample;
   bool caution = false;
   bool stop = false;
   bool clear = false;
-  if (out.sample == TractionSample::ok) {
+  if (sample == TractionSample::ok) {
     fx::Status st;
     stop = out.resistance_ahead >= params.stop_coefficient;
     caution = out.resistance_ahead >= params.caution_coefficient;

@@ -8,6 +8,7 @@
 // handling prevents: each test can fail.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -926,7 +927,7 @@ class SensorHealthMonitor {
 /// reversals, a rover that pulls while a wheel idles.
 class HealthFuzz {
  public:
-  explicit HealthFuzz(std::uint32_t seed) : rng_(seed) {}
+  explicit HealthFuzz(std::uint32_t seed, bool calm = false) : rng_(seed), calm_(calm) {}
 
   std::uint32_t below(std::uint32_t n) { return std::uniform_int_distribution<std::uint32_t>(0U, n - 1U)(rng_); }
   bool one_in(std::uint32_t n) { return below(n) == 0U; }
@@ -964,6 +965,12 @@ class HealthFuzz {
   /// The next raw value of a channel from `previous` with step limit `lim`.
   std::int32_t next(std::int32_t previous, std::int32_t lim) {
     const std::int64_t step = (lim > 0) ? lim : 1000;
+    if (calm_ && !one_in(8U)) {
+      // A calm channel: a small step, mostly within the limit (the quiet
+      // channels' shortcut), now and then at it or a repeat.
+      const std::int64_t small = std::min<std::int64_t>(step, 64);
+      return clamp(static_cast<std::int64_t>(previous) + static_cast<std::int64_t>(below(static_cast<std::uint32_t>(2 * small + 1))) - small);
+    }
     switch (below(8U)) {
       case 0U:
       case 1U:
@@ -987,6 +994,7 @@ class HealthFuzz {
 
  private:
   std::mt19937 rng_;
+  bool calm_{false};
 };
 
 void expect_same_report(const flight::SensorHealthReport& got, const flight::SensorHealthReport& want,
@@ -1019,8 +1027,8 @@ void expect_same_counters(const flight::SensorHealthCounters& got, const flight:
 }
 
 /// One random traverse of `cycles` samples through both monitors.
-void run_differential(std::uint32_t seed, std::uint32_t cycles) {
-  HealthFuzz f(seed);
+void run_differential(std::uint32_t seed, std::uint32_t cycles, bool calm = false) {
+  HealthFuzz f(seed, calm);
   flight::HealthParams p{};
   p.stuck_cycles = static_cast<std::uint8_t>(f.below(5U));
   p.implausible_cycles = static_cast<std::uint8_t>(f.below(5U));
@@ -1063,7 +1071,7 @@ void run_differential(std::uint32_t seed, std::uint32_t cycles) {
       if (reversing || f.one_in(30U)) {
         t.direction[i] = f.one_in(2U) ? flight::DriveDirection::reverse : flight::DriveDirection::forward;
       }
-      t.presence.current_missing[i] = f.one_in(12U);
+      t.presence.current_missing[i] = f.one_in(calm ? 60U : 12U);
     }
     t.attitude.pitch_rad = flight::AngleRad::from_raw(f.next(t.attitude.pitch_rad.raw(), p.attitude_step_rad.raw()));
     t.attitude.roll_rad = flight::AngleRad::from_raw(f.next(t.attitude.roll_rad.raw(), p.attitude_step_rad.raw()));
@@ -1073,8 +1081,8 @@ void run_differential(std::uint32_t seed, std::uint32_t cycles) {
       t.joints.bogie_rad[side] =
           flight::AngleRad::from_raw(f.next(t.joints.bogie_rad[side].raw(), p.joint_step_rad.raw()));
     }
-    t.presence.attitude_missing = f.one_in(10U);
-    t.presence.joints_missing = f.one_in(10U);
+    t.presence.attitude_missing = f.one_in(calm ? 50U : 10U);
+    t.presence.joints_missing = f.one_in(calm ? 50U : 10U);
     const bool driving = !f.one_in(5U);
     const bool clock_jump = f.one_in(15U);
 
@@ -1112,6 +1120,19 @@ void run_differential(std::uint32_t seed, std::uint32_t cycles) {
 TEST(SensorHealthMonitor, GivesTheSameReportsAsBeforeRoundTwelveOnRandomEdgeTelemetry) {
   for (std::uint32_t seed = 1U; seed <= 400U; ++seed) {
     run_differential(seed, 400U);
+    if (::testing::Test::HasFatalFailure()) {
+      FAIL() << "seed " << seed;
+    }
+  }
+}
+
+// Round 15 of issue 15: the IMU and the joints, like the currents, take a
+// quiet channel's steady sample without the general checks. Calm
+// telemetry (small steps, rare faults) keeps the channels quiet most of the
+// time, so the shortcuts and the ways out of them are met often.
+TEST(SensorHealthMonitor, GivesTheSameReportsAsBeforeRoundTwelveOnCalmTelemetry) {
+  for (std::uint32_t seed = 1U; seed <= 300U; ++seed) {
+    run_differential(seed, 400U, true);
     if (::testing::Test::HasFatalFailure()) {
       FAIL() << "seed " << seed;
     }

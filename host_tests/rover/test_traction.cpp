@@ -411,6 +411,43 @@ TEST(TractionRound12, TheNormalisedQuotientIsThePlainRoundedQuotient) {
   ASSERT_EQ(detail::rounded_quotient(~std::uint64_t{0}, ~std::uint64_t{0}), 1U);
 }
 
+// Round 15 of issue 15: on a core that divides words (the Cortex-M4) a
+// one-word divisor with a quotient below 2^32 takes the normalised
+// two-digit division (detail::rounded_quotient_one_word) in the check's own
+// code instead of the library's 64-bit division. Its edges: every shift s
+// (the divisor's width), the quotient's ends (0, rho's Q7.24 limit 2^31,
+// the largest below 2^32), remainders at half the divisor (ties), and the
+// first dividend and divisor outside the form, which one_word_quotient
+// must refuse.
+TEST(TractionRound15, TheOneWordDivisionIsThePlainRoundedQuotientAtItsEdges) {
+  std::mt19937_64 rng(20261128U);
+  constexpr std::uint64_t kWord = std::uint64_t{1} << 32U;
+  std::uint64_t taken = 0U;
+  for (std::uint32_t bits = 1U; bits <= 33U; ++bits) {
+    const std::uint64_t low_end = std::uint64_t{1} << (bits - 1U);
+    const std::uint64_t high_end = (std::uint64_t{1} << bits) - 1U;
+    for (std::uint32_t k = 0U; k < 4000U; ++k) {
+      const std::uint64_t d =
+          (k == 0U) ? low_end : ((k == 1U) ? high_end : (low_end + (rng() % (high_end - low_end + 1U))));
+      const std::uint64_t quotients[] = {0U, 1U, (std::uint64_t{1} << 31U) - 1U, std::uint64_t{1} << 31U,
+                                         kWord - 1U, kWord, rng() % kWord, rng() >> 40U};
+      const std::uint64_t any = rng() >> (rng() % 64U);
+      for (const std::uint64_t quotient : quotients) {
+        for (const std::uint64_t part : {std::uint64_t{0}, d / 2U, (d - 1U) / 2U, (d + 1U) / 2U, d - 1U, rng() % d, any}) {
+          const std::uint64_t n = (quotient * d) + part;  // wraps for the largest: any n is fine
+          const bool one_word = (d < kWord) && ((n / d) < kWord);
+          ASSERT_EQ(detail::one_word_quotient(n, d), one_word) << n << " / " << d;
+          if (one_word) {
+            ASSERT_EQ(detail::rounded_quotient_one_word(n, d), plain_rounded_quotient(n, d)) << n << " / " << d;
+            ++taken;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(taken, 500000U);
+}
+
 TEST(TractionRound12, TheCyclesDistanceIsThePlainRoundedThousandth) {
   // Every gap the check integrates (0..2000 ms) at the ends of the speed's
   // range, around multiples of 1000, and at random speeds.

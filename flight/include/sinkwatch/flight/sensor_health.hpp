@@ -31,9 +31,10 @@
 // LossPolicy (param_table.hpp, section 7): stop, or continue on the wheels
 // that still have evidence while at most max_blind_wheels are blind.
 //
-// Bounded per call: one loop over the six wheels (and, for a wheel below
-// the no-load current while driving, one over the other five), two over the
-// two sides' joints; no allocation, no division.
+// Bounded per call: one loop over the six wheels' steady samples and one
+// over those that are not (and, for a wheel below the no-load current while
+// driving, one over the other five), two over the two sides' joints; no
+// allocation, no division.
 #ifndef SINKWATCH_FLIGHT_SENSOR_HEALTH_HPP
 #define SINKWATCH_FLIGHT_SENSOR_HEALTH_HPP
 
@@ -173,13 +174,24 @@ class SensorHealthMonitor {
   // (defined and used only in sensor_health.cpp, forced inline there).
   inline SensorHealth imu_channel(const HealthSample& s, const HealthParams& p) noexcept;
   inline SensorHealth joints_channel(const HealthSample& s, const HealthParams& p) noexcept;
-  inline void bridge(const HealthSample& s, const HealthParams& p, SensorHealthReport& r) noexcept;
+  inline void bridge(const HealthSample& s, const HealthParams& p, SensorHealth imu, SensorHealth joints,
+                     SensorHealthReport& r) noexcept;
+  /// The IMU's and the joints' health this sample: a quiet channel's steady
+  /// sample without the general checks, else imu_channel() or
+  /// joints_channel() settled (inline into update() too).
+  inline SensorHealth imu_health(const HealthSample& s, const HealthParams& p) noexcept;
+  inline SensorHealth joints_health(const HealthSample& s, const HealthParams& p) noexcept;
 
   detail::HealthTrack track_[kSensorChannelCount]{};
   detail::CurrentHistory current_history_[kWheelCount]{};
   /// Bit i: current channel i is quiet (sensor_health.cpp, quiet_after()):
   /// its next steady forward sample only replaces its last value.
   std::uint8_t quiet_currents_{0U};
+  /// The IMU and the joints are quiet (sensor_health.cpp, imu_health() and
+  /// joints_health()): ok with no repeat run, so that a steady sample only
+  /// replaces their last values.
+  bool quiet_imu_{false};
+  bool quiet_joints_{false};
   RoverAttitude last_attitude_{};
   RoverAttitude step_attitude_{};  ///< the last good attitude: the bias check's reference
   bool imu_after_noise_{false};     ///< a noise burst since: the reference is old
@@ -195,15 +207,20 @@ class SensorHealthMonitor {
 
     /// Keeps `sample` when it is usable; otherwise the last good value may
     /// stand in while at most `bridge_ms` old (`bridged` is then set; it is
-    /// cleared otherwise). Returns whether `value` may be used now.
-    bool take(bool usable_now, const Value& sample, TimeMs now, std::uint32_t bridge_ms, bool& bridged) noexcept {
+    /// cleared otherwise). `out` gets `value` (the sample read once for
+    /// both stores). Returns whether `value` may be used now.
+    bool take(bool usable_now, const Value& sample, TimeMs now, std::uint32_t bridge_ms, bool& bridged,
+              Value& out) noexcept {
       if (usable_now) {
+        const Value kept = sample;
         have = true;
         time = now;
-        value = sample;
+        value = kept;
+        out = kept;
         bridged = false;
         return true;
       }
+      out = value;
       bridged = have && (elapsed_ms(time, now) <= bridge_ms);
       return bridged;
     }

@@ -38,6 +38,8 @@
 
 #include <cstdint>
 
+#include "sinkwatch/fixedpoint/inline.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
 #include "sinkwatch/flight/param_table.hpp"
 #include "sinkwatch/flight/rover_geometry.hpp"
 #include "sinkwatch/flight/units.hpp"
@@ -84,6 +86,42 @@ namespace detail {
 /// rounded on the exact remainder (test_traction.cpp compares it with the
 /// plain form).
 [[nodiscard]] std::uint64_t rounded_quotient(std::uint64_t n, std::uint64_t d) noexcept;
+
+/// 2^32: one word.
+constexpr std::uint64_t kTwoTo32 = std::uint64_t{1U} << 32U;
+
+/// A divisor of one word (every load sum below 65,536 N) and a quotient
+/// below 2^32 (n / 2^32 < d: every rho in Q7.24, and more).
+[[nodiscard]] constexpr bool one_word_quotient(std::uint64_t n, std::uint64_t d) noexcept {
+  return (d < kTwoTo32) && ((n / kTwoTo32) < d);
+}
+
+/// rounded_quotient(n, d) for one_word_quotient(n, d), forced inline into
+/// the check (a header function, so that the library holds no second copy
+/// and the tests reach it): the divisor and the dividend shifted left by the
+/// same s until the divisor's top bit is set, then the library's two
+/// base-2^16 digits (fx::wide::detail::quotient_digits; on the Cortex-M4
+/// two UDIVs, no __aeabi_uldivmod call). (n 2^s) / (d 2^s) has n / d's
+/// quotient and 2^s times its remainder, and the rounding compares the
+/// remainder with the divisor less it, both scaled alike: the same verdict.
+/// The check takes it where the core divides words
+/// (fx::wide::kDivideInstruction); elsewhere each 32-bit `/` would be a
+/// library call.
+[[nodiscard]] SW_FX_INLINE std::uint64_t rounded_quotient_one_word(std::uint64_t n, std::uint64_t d) noexcept {
+  const auto den = static_cast<std::uint32_t>(d);
+  const std::uint32_t s = 32U - fx::wide::bit_length32(den);  // 0..31: d > n / 2^32 >= 0
+  const std::uint32_t v = den << s;
+  const auto n_high = static_cast<std::uint32_t>(n / kTwoTo32);
+  const auto n_low = static_cast<std::uint32_t>(n);
+  // n 2^s < v 2^32 <= 2^64: its high word from both of n's words.
+  const std::uint32_t u_high = (s == 0U) ? n_high : ((n_high << s) | (n_low >> (32U - s)));
+  const std::uint32_t u_low = n_low << s;
+  const fx::wide::detail::QuotientDigits q =
+      fx::wide::detail::quotient_digits((std::uint64_t{u_high} * kTwoTo32) | u_low, v);
+  const std::uint32_t remainder = ((q.partial * fx::wide::detail::kDigitBase) + (u_low & 0xFFFFU)) - (q.low * v);
+  const std::uint32_t round_up = (remainder >= (v - remainder)) ? 1U : 0U;
+  return static_cast<std::uint64_t>((q.high * fx::wide::detail::kDigitBase) + q.low) + round_up;
+}
 
 /// |v| dt / 1000 rounded half up, in raw LengthM units (2^-24 m), for a
 /// speed magnitude `speed_q24` (raw 2^-24 m/s, at most 2^31) and dt_ms <=
