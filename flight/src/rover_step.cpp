@@ -145,14 +145,23 @@ RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) n
                         out.slip,
                         {corr[0].dp_max_ratio, corr[1].dp_max_ratio, corr[2].dp_max_ratio, corr[3].dp_max_ratio,
                          corr[4].dp_max_ratio, corr[5].dp_max_ratio}};
-  const DrawbarResult dp = drawbar_pulls(prepared, loads, in);
-  out.drawbar_status = dp.status;
-  if (!usable(dp.status)) {
+  // The pulls past drawbar_pulls()'s range checks, written in place (round
+  // 15): the loads are ok (load_stage), so the pitch is within the
+  // attitude limit and the loads' sine is this pitch's; the acceleration
+  // passed motion_in_range or the differenced one's test; the slip is
+  // clamped to [-1, 1]; every load is positive and every ratio in (0, 2]
+  // (corrections_at refuses a load <= 0, and interpolates between ratios
+  // the validated table holds in (0, 2]).
+  DrawbarPullN total_n{};
+  std::uint8_t capped_mask = 0U;
+  const DrawbarStatus dp_status = detail::pulls_in_range(prepared.rover(), loads, in, loads.sin_pitch, fx::Status{},
+                                                         out.drawbar_pull_n, total_n, capped_mask);
+  out.drawbar_status = dp_status;
+  if (!usable(dp_status)) {
     // Defensive, unreachable on prepared parameters (docs/coverage.md).
     return RoverStepStatus::drawbar_failed;  // GCOVR_EXCL_LINE
   }
   out.drawbar_valid = true;
-  copy_six(dp.dp_n, out.drawbar_pull_n);
   return RoverStepStatus::ok;
 }
 
