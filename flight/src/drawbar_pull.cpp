@@ -46,12 +46,11 @@ enum class Split : std::uint8_t { saturated, by_word, wide };
 /// W_i / sum W in the form `kSplit` picks (none where saturated).
 template <Split kSplit>
 SW_FX_INLINE std::uint64_t fraction_of(std::uint32_t load, const detail::LoadSum& sum) noexcept {
-  if constexpr (kSplit == Split::by_word) {
-    return detail::load_fraction_by_word(load, sum);
-  } else if constexpr (kSplit == Split::wide) {
-    return detail::load_fraction_wide(load, sum);
-  } else {
+  if constexpr (kSplit == Split::saturated) {
     return 0U;
+  } else {
+    return (kSplit == Split::by_word) ? detail::load_fraction_by_word(load, sum)
+                                      : detail::load_fraction_wide(load, sum);
   }
 }
 
@@ -84,16 +83,20 @@ std::uint32_t pulls_into(const WheelLoadResult& loads, const DrawbarInput& input
   return flags >> kWheelCount;
 }
 
+/// A load's raw Q15.16 value as an unsigned word (the load is >= 0).
+SW_FX_INLINE std::uint32_t load_raw(WheelLoadN load_n) noexcept {
+  return static_cast<std::uint32_t>(load_n.raw());
+}
+
 /// sum W in raw Q15.16 units: six values in [0, 2^31) sum below 2^34. As
 /// three pairs, each below 2^32, added in one word (round 15: a loop of six
 /// 64-bit additions, two words carried per wheel, before).
 std::uint64_t load_sum_raw(const WheelLoadN (&load_n)[kWheelCount]) noexcept {
   static_assert(kWheelCount == 6U, "three pairs of loads below");
-  std::uint32_t pair[3U];
-  for (std::uint32_t k = 0U; k < 3U; ++k) {
-    pair[k] = static_cast<std::uint32_t>(load_n[2U * k].raw()) + static_cast<std::uint32_t>(load_n[(2U * k) + 1U].raw());
-  }
-  return (std::uint64_t{pair[0U]} + pair[1U]) + pair[2U];
+  const std::uint32_t front = load_raw(load_n[0U]) + load_raw(load_n[1U]);
+  const std::uint32_t middle = load_raw(load_n[2U]) + load_raw(load_n[3U]);
+  const std::uint32_t rear = load_raw(load_n[4U]) + load_raw(load_n[5U]);
+  return (std::uint64_t{front} + middle) + rear;
 }
 
 /// The pulls for usable loads and parameters that passed
@@ -120,14 +123,19 @@ DrawbarResult pulls_of_valid(const RoverParams& params, const WheelLoadResult& l
   const fx::Q1_30 sin_pitch =
       (loads.pitch_rad == input.pitch_rad) ? loads.sin_pitch : fx::sin(input.pitch_rad.q(), st);
   DrawbarResult r{};
-  r.status = detail::pulls_in_range(params, loads, input, sin_pitch, st, r.dp_n, r.total_n, r.capped_mask);
+  r.status = detail::pulls_in_range(params, loads, input, sin_pitch, r.dp_n, r.total_n, r.capped_mask);
+  // A sine that failed fails the pulls as an overflow, unless there are
+  // none (every load zero), as when it was tested with the total's rescale.
+  if (!st.ok() && (r.status != DrawbarStatus::invalid_loads)) {
+    return failed(DrawbarStatus::overflow);
+  }
   return r;
 }
 
 }  // namespace
 
 DrawbarStatus detail::pulls_in_range(const RoverParams& params, const WheelLoadResult& loads,
-                                     const DrawbarInput& input, fx::Q1_30 sin_pitch, fx::Status sine_status,
+                                     const DrawbarInput& input, fx::Q1_30 sin_pitch,
                                      DrawbarPullN (&dp_n)[kWheelCount], DrawbarPullN& total_n,
                                      std::uint8_t& capped_mask) noexcept {
   const std::uint64_t load_sum = load_sum_raw(loads.load_n);
@@ -139,7 +147,7 @@ DrawbarStatus detail::pulls_in_range(const RoverParams& params, const WheelLoadR
   const std::int64_t total = detail::along_force_raw(static_cast<std::uint32_t>(params.mass_kg.raw()),
                                                      static_cast<std::uint32_t>(params.gravity_mps2.raw()),
                                                      sin_pitch.raw(), input.accel_mps2.raw());
-  fx::Status st = sine_status;
+  fx::Status st;
   const DrawbarPullN total_pull{fx::rescale<LoadQ>(W::from_raw(total), st)};
   const bool saturated = input.slip_known && (input.slip >= params.high_slip);
   const detail::LoadSum sum = detail::load_sum_of(load_sum);

@@ -597,7 +597,7 @@ TEST(DrawbarArithmetic, PullsInRangeAreTheWheelByWheelForm) {
     ASSERT_TRUE(sine_status.ok());
     const flight::DrawbarResult expected = pulls_wheel_by_wheel(p, loads, in, sine);
     flight::DrawbarResult direct{};
-    direct.status = flight::detail::pulls_in_range(p, loads, in, sine, fx::Status{}, direct.dp_n, direct.total_n,
+    direct.status = flight::detail::pulls_in_range(p, loads, in, sine, direct.dp_n, direct.total_n,
                                                    direct.capped_mask);
     expect_same_result(direct, expected, trial);
     expect_same_result(flight::drawbar_pulls(prepared, loads, in), expected, trial);

@@ -31,7 +31,6 @@
 #include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/reciprocal.hpp"
-#include "sinkwatch/fixedpoint/status.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
 
 namespace sinkwatch {
@@ -295,8 +294,7 @@ struct WheelPull {
 /// range: loads with status ok of rover parameters that passed
 /// validate_rover_params(), |a| <= kMaxAbsAccel, |pitch| <= the attitude
 /// limit, slip <= 1, every load >= 0 and every ratio in (0, kMaxDpMaxRatio],
-/// and `sin_pitch` the sine of the input's pitch, computed under
-/// `sine_status`. The per-cycle step (rover_step.cpp) calls it directly: its
+/// and `sin_pitch` the sine of the input's pitch. The per-cycle step (rover_step.cpp) calls it directly: its
 /// stages have checked all of these (docs/rover-loads.md, section 8), so
 /// checking them again was work without an outcome (round 15). The pulls
 /// are written into `dp_n` (zero when the status is overflow, untouched for
@@ -304,7 +302,7 @@ struct WheelPull {
 /// `capped_mask` when the status is usable; the status is returned: ok,
 /// capped, saturated, invalid_loads (every load zero) or overflow.
 [[nodiscard]] DrawbarStatus pulls_in_range(const RoverParams& params, const WheelLoadResult& loads,
-                                           const DrawbarInput& input, fx::Q1_30 sin_pitch, fx::Status sine_status,
+                                           const DrawbarInput& input, fx::Q1_30 sin_pitch,
                                            DrawbarPullN (&dp_n)[kWheelCount], DrawbarPullN& total_n,
                                            std::uint8_t& capped_mask) noexcept;
 
