@@ -99,6 +99,15 @@ std::uint64_t load_sum_raw(const WheelLoadN (&load_n)[kWheelCount]) noexcept {
   return (std::uint64_t{front} + middle) + rear;
 }
 
+/// No number: the pulls already written are taken back to zero. Out of
+/// line, as no cycle of a validated rover overflows (docs/coverage.md).
+[[gnu::noinline]] DrawbarStatus refused_as_overflow(DrawbarPullN (&dp_n)[kWheelCount]) noexcept {
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    dp_n[i] = DrawbarPullN::zero();
+  }
+  return DrawbarStatus::overflow;
+}
+
 /// The pulls for usable loads and parameters that passed
 /// validate_rover_params().
 DrawbarResult pulls_of_valid(const RoverParams& params, const WheelLoadResult& loads,
@@ -163,11 +172,7 @@ DrawbarStatus detail::pulls_in_range(const RoverParams& params, const WheelLoadR
     overflowed = pulls_into<Split::wide>(loads, input, total_mag, sum, total < 0, dp_n, mask);
   }
   if ((overflowed != 0U) || !st.ok()) {
-    // No number: the pulls already written are taken back to zero.
-    for (DrawbarPullN& dp : dp_n) {
-      dp = DrawbarPullN::zero();
-    }
-    return DrawbarStatus::overflow;
+    return refused_as_overflow(dp_n);
   }
   total_n = total_pull;
   capped_mask = static_cast<std::uint8_t>(mask);
