@@ -67,6 +67,25 @@ SW_FX_INLINE EstimateStatus refused(EstimateStatus status, CorrectionResult& out
   return put(out, Ratio::zero(), Ratio::zero(), Ratio::zero(), Ratio::zero(), LoadClamp::none, status);
 }
 
+/// The segment's width in raw Q15.16 as the divisors hold it (0: no segment).
+SW_FX_INLINE std::uint32_t width_raw(const SegmentWidth& width) noexcept {
+  return width.normalised >> width.shift;
+}
+
+/// The values at `offset` = W - lo.load, below the width `width` (checked by
+/// the caller), of the segment from `lo` to `hi` into `out`; ok returned.
+SW_FX_INLINE EstimateStatus interpolated_at(const CorrectionRow& lo, const CorrectionRow& hi, const SegmentWidth& width,
+                                            std::uint32_t offset, CorrectionResult& out) noexcept {
+  // The fraction's halves once for the four coefficients (session 19: one
+  // lerp call per coefficient, each splitting it, before).
+  const detail::FractionHalves f = detail::halves_of(fraction_of(offset, width));
+  return put(out, Ratio::from_raw(detail::interpolate_raw(lo.c1.raw(), hi.c1.raw(), f)),
+             Ratio::from_raw(detail::interpolate_raw(lo.c2.raw(), hi.c2.raw(), f)),
+             Ratio::from_raw(detail::interpolate_raw(lo.c3.raw(), hi.c3.raw(), f)),
+             Ratio::from_raw(detail::interpolate_raw(lo.dp_max_ratio.raw(), hi.dp_max_ratio.raw(), f)),
+             LoadClamp::none, EstimateStatus::ok);
+}
+
 /// The load `load_n` in the segment from `lo` to `hi` of width `width`
 /// (lo.load <= W < hi.load) into `out`; its status returned.
 SW_FX_INLINE EstimateStatus interpolated(const CorrectionRow& lo, const CorrectionRow& hi, const SegmentWidth& width,
@@ -78,24 +97,41 @@ SW_FX_INLINE EstimateStatus interpolated(const CorrectionRow& lo, const Correcti
   // has a zero width, so this one test refuses it (round 14: the zero width
   // and W < W_k were tested apart, the latter never true).
   const std::uint32_t offset = static_cast<std::uint32_t>(load_n.raw()) - static_cast<std::uint32_t>(lo.load_n.raw());
-  if (offset >= (width.normalised >> width.shift)) {
+  if (offset >= width_raw(width)) {
     return refused(EstimateStatus::invalid_coefficient, out);
   }
-  // The fraction's halves once for the four coefficients (session 19: one
-  // lerp call per coefficient, each splitting it, before).
-  const detail::FractionHalves f = detail::halves_of(fraction_of(offset, width));
-  return put(out, Ratio::from_raw(detail::interpolate_raw(lo.c1.raw(), hi.c1.raw(), f)),
-             Ratio::from_raw(detail::interpolate_raw(lo.c2.raw(), hi.c2.raw(), f)),
-             Ratio::from_raw(detail::interpolate_raw(lo.c3.raw(), hi.c3.raw(), f)),
-             Ratio::from_raw(detail::interpolate_raw(lo.dp_max_ratio.raw(), hi.dp_max_ratio.raw(), f)),
-             LoadClamp::none, EstimateStatus::ok);
+  return interpolated_at(lo, hi, width, offset, out);
+}
+
+/// The loads W - W_0 (raw, modular) below which a load is in the first
+/// segment and interpolated there by correction_of, for every table:
+/// nonzero only where W_0 > 0 and W_0 < W_1 <= W_last (so count >= 2: with
+/// one row W_last is W_0), and at most both W_1 - W_0 and the divisors'
+/// width (the two are equal for divisors made from this table). Then an
+/// offset below it means W_0 <= W < W_1 (W_0 > 0 and W_1 < 2^31: W_0 +
+/// offset, offset < W_1 - W_0, cannot wrap, and a W below W_0 wraps to at
+/// least 2^31 - W_0 > W_1 - W_0), so W > 0, W is below W_last, and its
+/// offset passes the width's test: correction_of's path to the first
+/// segment, past its four load tests and the width's, in one comparison
+/// (round 15). The step's loads fall there on a lunar rover with Table 2's
+/// breakpoints.
+std::uint32_t first_segment_span(const CorrectionTable& table, const CorrectionDivisors& divisors,
+                                 std::uint32_t last) noexcept {
+  const std::int32_t w0 = table.rows[0].load_n.raw();
+  const std::int32_t w1 = table.rows[1].load_n.raw();
+  if ((w0 <= 0) || (w1 <= w0) || (w1 > table.rows[last].load_n.raw())) {
+    return 0U;
+  }
+  const auto span = static_cast<std::uint32_t>(w1 - w0);  // positive, below 2^31
+  const std::uint32_t width = width_raw(divisors.width[0]);
+  return (width < span) ? width : span;
 }
 
 /// One load's corrections into `out`, for a table whose row count is in
 /// 1..kMaxCorrectionRows (`last` = count - 1, checked by the caller); its
 /// status returned.
-SW_FX_INLINE EstimateStatus correction_of(const CorrectionTable& table, const CorrectionDivisors& divisors,
-                                          std::uint32_t last, WheelLoadN load_n, CorrectionResult& out) noexcept {
+[[gnu::noinline]] EstimateStatus correction_of(const CorrectionTable& table, const CorrectionDivisors& divisors,
+                                               std::uint32_t last, WheelLoadN load_n, CorrectionResult& out) noexcept {
   if (load_n <= WheelLoadN::zero()) {
     return refused(EstimateStatus::invalid_load, out);
   }
@@ -142,8 +178,16 @@ bool corrections_at(const CorrectionTable& table, const CorrectionDivisors& divi
   // The statuses ORed: ok is 0, so the OR is 0 when every one is ok.
   static_assert(static_cast<std::uint32_t>(EstimateStatus::ok) == 0U, "ok must be the OR's identity");
   std::uint32_t failures = 0U;
+  const std::uint32_t first_span = first_segment_span(table, divisors, last);
+  const auto w0 = static_cast<std::uint32_t>(table.rows[0].load_n.raw());
   for (std::uint32_t i = 0U; i < N; ++i) {
-    failures |= static_cast<std::uint32_t>(correction_of(table, divisors, last, load_n[i], out[i]));
+    const std::uint32_t offset = static_cast<std::uint32_t>(load_n[i].raw()) - w0;
+    if (offset < first_span) {
+      failures |= static_cast<std::uint32_t>(
+          interpolated_at(table.rows[0], table.rows[1], divisors.width[0], offset, out[i]));
+    } else {
+      failures |= static_cast<std::uint32_t>(correction_of(table, divisors, last, load_n[i], out[i]));
+    }
   }
   return failures == 0U;
 }

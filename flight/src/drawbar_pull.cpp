@@ -2,6 +2,7 @@
 // docs/rover-loads.md, section 6. Twin: ground/reference/src/rover_loads.cpp.
 #include "sinkwatch/flight/drawbar_pull.hpp"
 
+#include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
 #include "sinkwatch/fixedpoint/trig.hpp"
@@ -37,13 +38,30 @@ bool motion_in_range(const RoverParams& params, const DrawbarInput& input) noexc
   return accel_ok && pitch_ok && slip_ok;
 }
 
-/// The six pulls into `dp_raw` and the capped wheels into `capped_mask`;
+/// How the shares are taken: every wheel at DP_max (saturated), or split by
+/// load with the fraction's one-word remainder (the sum at most
+/// kWordRemainderSum: every validated rover) or its wide one.
+enum class Split : std::uint8_t { saturated, by_word, wide };
+
+/// W_i / sum W in the form `kSplit` picks (none where saturated).
+template <Split kSplit>
+SW_FX_INLINE std::uint64_t fraction_of(std::uint32_t load, const detail::LoadSum& sum) noexcept {
+  if constexpr (kSplit == Split::saturated) {
+    return 0U;
+  } else {
+    return (kSplit == Split::by_word) ? detail::load_fraction_by_word(load, sum)
+                                      : detail::load_fraction_wide(load, sum);
+  }
+}
+
+/// The six pulls into `dp_n` and the capped wheels into `capped_mask`;
 /// not 0 when a pull overflowed. The shares are taken from |total| (raw
 /// Q31.32), the load sum and the total's sign (false where saturated). One
-/// loop for each of kSaturated's values, the test out of the loop (round 14).
-template <bool kSaturated>
+/// loop for each way of splitting, the tests out of the loop (round 14: the
+/// saturation; round 15: the fraction's form, tested per wheel before).
+template <Split kSplit>
 std::uint32_t pulls_into(const WheelLoadResult& loads, const DrawbarInput& input, std::uint64_t total_mag,
-                         const detail::LoadSum& sum, bool negative, std::int32_t (&dp_raw)[kWheelCount],
+                         const detail::LoadSum& sum, bool negative, DrawbarPullN (&dp_n)[kWheelCount],
                          std::uint32_t& capped_mask) noexcept {
   // Bit i: wheel i capped; bits kWheelCount and up: a pull overflowed (its
   // overflow word, below 2^17, shifted there). One accumulator, no branch
@@ -52,17 +70,42 @@ std::uint32_t pulls_into(const WheelLoadResult& loads, const DrawbarInput& input
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     // 0 <= load, 0 < ratio <= 2 (checked before).
     const auto load = static_cast<std::uint32_t>(loads.load_n[i].raw());
-    const std::uint64_t share =
-        detail::share_or_all(total_mag, kSaturated ? 0U : detail::load_fraction(load, sum), kSaturated);
+    constexpr bool kSaturated = kSplit == Split::saturated;
+    const std::uint64_t share = detail::share_or_all(total_mag, fraction_of<kSplit>(load, sum), kSaturated);
     const detail::WheelPull pull =
         detail::wheel_pull(share, load, static_cast<std::uint32_t>(input.dp_max_ratio[i].raw()), negative);
-    dp_raw[i] = pull.dp_raw;
+    dp_n[i] = DrawbarPullN::from_raw(pull.dp_raw);
     // Saturated, no share is limited: every wheel is at DP_max,i.
     const bool capped = pull.capped && !kSaturated;
     flags |= ((capped ? 1U : 0U) << i) | (pull.overflow << kWheelCount);
   }
   capped_mask = flags & ((1U << kWheelCount) - 1U);
   return flags >> kWheelCount;
+}
+
+/// A load's raw Q15.16 value as an unsigned word (the load is >= 0).
+SW_FX_INLINE std::uint32_t load_raw(WheelLoadN load_n) noexcept {
+  return static_cast<std::uint32_t>(load_n.raw());
+}
+
+/// sum W in raw Q15.16 units: six values in [0, 2^31) sum below 2^34. As
+/// three pairs, each below 2^32, added in one word (round 15: a loop of six
+/// 64-bit additions, two words carried per wheel, before).
+std::uint64_t load_sum_raw(const WheelLoadN (&load_n)[kWheelCount]) noexcept {
+  static_assert(kWheelCount == 6U, "three pairs of loads below");
+  const std::uint32_t front = load_raw(load_n[0U]) + load_raw(load_n[1U]);
+  const std::uint32_t middle = load_raw(load_n[2U]) + load_raw(load_n[3U]);
+  const std::uint32_t rear = load_raw(load_n[4U]) + load_raw(load_n[5U]);
+  return (std::uint64_t{front} + middle) + rear;
+}
+
+/// No number: the pulls already written are taken back to zero. Out of
+/// line, as no cycle of a validated rover overflows (docs/coverage.md).
+[[gnu::noinline]] DrawbarStatus refused_as_overflow(DrawbarPullN (&dp_n)[kWheelCount]) noexcept {
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    dp_n[i] = DrawbarPullN::zero();
+  }
+  return DrawbarStatus::overflow;
 }
 
 /// The pulls for usable loads and parameters that passed
@@ -72,59 +115,72 @@ DrawbarResult pulls_of_valid(const RoverParams& params, const WheelLoadResult& l
   if (!motion_in_range(params, input)) {
     return failed(DrawbarStatus::invalid_input);
   }
-  // sum W in raw Q15.16 units: six values in [0, 2^31) sum below 2^34. In
-  // the loop that checks each ratio and load, the checks ORed and tested
-  // once after it (round 14: a loop of its own, a branch per test, before);
-  // a bad one is invalid_input whatever the sum.
-  std::uint64_t load_sum = 0U;
+  // Each ratio and load checked, the checks ORed and tested once after the
+  // loop (round 14: a loop of its own, a branch per test, before); a bad one
+  // is invalid_input whatever the sum.
   std::uint32_t out_of_range = 0U;  // not 0: a ratio or a load out of range
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     const auto load = static_cast<std::uint32_t>(loads.load_n[i].raw());
     out_of_range |= ratio_out_of_range(input.dp_max_ratio[i]) | (load >> 31U);  // the load's sign
-    load_sum += load;
   }
   if (out_of_range != 0U) {
     return failed(DrawbarStatus::invalid_input);
   }
-  if (load_sum == 0U) {
-    return failed(DrawbarStatus::invalid_loads);
-  }
   fx::Status st;
-  // m (a + g sin(pitch)): the along-path force the tractions must supply.
   // The loads' sine when they were computed at this pitch (the step's case):
   // the same bits as computing it here.
   const fx::Q1_30 sin_pitch =
       (loads.pitch_rad == input.pitch_rad) ? loads.sin_pitch : fx::sin(input.pitch_rad.q(), st);
-  // Mass and gravity are positive (validated), |a| <= 10 (motion_in_range).
-  const std::int64_t total = detail::along_force_raw(static_cast<std::uint32_t>(params.mass_kg.raw()),
-                                                     static_cast<std::uint32_t>(params.gravity_mps2.raw()),
-                                                     sin_pitch.raw(), input.accel_mps2.raw());
-  const DrawbarPullN total_n{fx::rescale<LoadQ>(W::from_raw(total), st)};
-  const bool saturated = input.slip_known && (input.slip >= params.high_slip);
-  const detail::LoadSum sum = detail::load_sum_of(load_sum);
-  // Every pull is written before it is read: no zeroed array filled in.
-  std::int32_t dp_raw[kWheelCount];
-  std::uint32_t capped_mask = 0U;
-  // Saturated, every wheel is at +DP_max,i: the total's sign is not used.
-  const std::uint32_t overflowed =
-      saturated ? pulls_into<true>(loads, input, 0U, sum, false, dp_raw, capped_mask)
-                : pulls_into<false>(loads, input, fx::detail::magnitude(total), sum, total < 0, dp_raw, capped_mask);
-  if ((overflowed != 0U) || !st.ok()) {
+  DrawbarResult r{};
+  r.status = detail::pulls_in_range(params, loads, input, sin_pitch, r.dp_n, r.total_n, r.capped_mask);
+  // A sine that failed fails the pulls as an overflow, unless there are
+  // none (every load zero), as when it was tested with the total's rescale.
+  if (!st.ok() && (r.status != DrawbarStatus::invalid_loads)) {
     return failed(DrawbarStatus::overflow);
   }
-  DrawbarStatus status = DrawbarStatus::saturated;
-  if (!saturated) {
-    status = (capped_mask != 0U) ? DrawbarStatus::capped : DrawbarStatus::ok;
-  }
-  return DrawbarResult{{DrawbarPullN::from_raw(dp_raw[0]), DrawbarPullN::from_raw(dp_raw[1]),
-                        DrawbarPullN::from_raw(dp_raw[2]), DrawbarPullN::from_raw(dp_raw[3]),
-                        DrawbarPullN::from_raw(dp_raw[4]), DrawbarPullN::from_raw(dp_raw[5])},
-                       total_n,
-                       static_cast<std::uint8_t>(capped_mask),
-                       status};
+  return r;
 }
 
 }  // namespace
+
+DrawbarStatus detail::pulls_in_range(const RoverParams& params, const WheelLoadResult& loads,
+                                     const DrawbarInput& input, fx::Q1_30 sin_pitch,
+                                     DrawbarPullN (&dp_n)[kWheelCount], DrawbarPullN& total_n,
+                                     std::uint8_t& capped_mask) noexcept {
+  const std::uint64_t load_sum = load_sum_raw(loads.load_n);
+  if (load_sum == 0U) {
+    return DrawbarStatus::invalid_loads;  // dp_n untouched: the caller's zeros
+  }
+  // m (a + g sin(pitch)): the along-path force the tractions must supply.
+  // Mass and gravity are positive (validated), |a| <= 10 (in range).
+  const std::int64_t total = detail::along_force_raw(static_cast<std::uint32_t>(params.mass_kg.raw()),
+                                                     static_cast<std::uint32_t>(params.gravity_mps2.raw()),
+                                                     sin_pitch.raw(), input.accel_mps2.raw());
+  fx::Status st;
+  const DrawbarPullN total_pull{fx::rescale<LoadQ>(W::from_raw(total), st)};
+  const bool saturated = input.slip_known && (input.slip >= params.high_slip);
+  const detail::LoadSum sum = detail::load_sum_of(load_sum);
+  std::uint32_t mask = 0U;
+  // Saturated, every wheel is at +DP_max,i: the total's sign is not used.
+  const std::uint64_t total_mag = fx::detail::magnitude(total);
+  std::uint32_t overflowed = 0U;
+  if (saturated) {
+    overflowed = pulls_into<Split::saturated>(loads, input, 0U, sum, false, dp_n, mask);
+  } else if (load_sum <= detail::kWordRemainderSum) {
+    overflowed = pulls_into<Split::by_word>(loads, input, total_mag, sum, total < 0, dp_n, mask);
+  } else {
+    overflowed = pulls_into<Split::wide>(loads, input, total_mag, sum, total < 0, dp_n, mask);
+  }
+  if ((overflowed != 0U) || !st.ok()) {
+    return refused_as_overflow(dp_n);
+  }
+  total_n = total_pull;
+  capped_mask = static_cast<std::uint8_t>(mask);
+  if (saturated) {
+    return DrawbarStatus::saturated;
+  }
+  return (mask != 0U) ? DrawbarStatus::capped : DrawbarStatus::ok;
+}
 
 DrawbarResult drawbar_pulls(const PreparedParameters& prepared, const WheelLoadResult& loads,
                             const DrawbarInput& input) noexcept {

@@ -7,6 +7,7 @@
 #include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
+#include "sinkwatch/fixedpoint/wide.hpp"
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/motor.hpp"
 
@@ -26,10 +27,6 @@ constexpr WheelLoadN kNoLoads[kWheelCount]{};
 constexpr DrawbarPullN kNoPulls[kWheelCount]{};
 constexpr bool kEveryCurrentUsable[kWheelCount]{true, true, true, true, true, true};
 
-// Constants are built at compile time: no floating point at run time.
-constexpr W kOne{fx::constant<W>(1.0)};
-constexpr W kMinusOne{fx::constant<W>(-1.0)};
-
 template <typename Quantity>
 bool within(Quantity v, Quantity limit) noexcept {
   return (v <= limit) && (v.raw() >= -limit.raw());
@@ -48,18 +45,6 @@ bool differenced_accel(SpeedMps speed, SpeedMps previous, std::uint32_t dt_ms, A
   const W accel = fx::div<W>(per_second, Integer::from_raw(static_cast<std::int64_t>(dt_ms)), st);
   const AccelQ a = fx::rescale<AccelQ>(accel, st);
   out = AccelMps2{a};
-  return st.ok();
-}
-
-/// s = 1 - v / v_rim, limited to [-1, 1] (beyond 1 the rover moves against
-/// its wheels; below -1 it skids faster than twice the rim speed).
-bool slip_ratio(SpeedMps speed, SpeedMps rim, Ratio& out) noexcept {
-  fx::Status st;
-  // Directly from Q7.24: the same quotient as of the operands widened to
-  // Q31.32 (the common 2^-24 cancels), on 64-bit operands.
-  const W ratio = fx::div<W>(speed.q(), rim.q(), st);
-  const W slip = fx::clamp(fx::sub(kOne, ratio, st), kMinusOne, kOne, st);
-  out = Ratio{fx::rescale<RatioQ>(slip, st)};
   return st.ok();
 }
 
@@ -145,14 +130,23 @@ RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) n
                         out.slip,
                         {corr[0].dp_max_ratio, corr[1].dp_max_ratio, corr[2].dp_max_ratio, corr[3].dp_max_ratio,
                          corr[4].dp_max_ratio, corr[5].dp_max_ratio}};
-  const DrawbarResult dp = drawbar_pulls(prepared, loads, in);
-  out.drawbar_status = dp.status;
-  if (!usable(dp.status)) {
+  // The pulls past drawbar_pulls()'s range checks, written in place (round
+  // 15): the loads are ok (load_stage), so the pitch is within the
+  // attitude limit and the loads' sine is this pitch's; the acceleration
+  // passed motion_in_range or the differenced one's test; the slip is
+  // clamped to [-1, 1]; every load is positive and every ratio in (0, 2]
+  // (corrections_at refuses a load <= 0, and interpolates between ratios
+  // the validated table holds in (0, 2]).
+  DrawbarPullN total_n{};
+  std::uint8_t capped_mask = 0U;
+  const DrawbarStatus dp_status = detail::pulls_in_range(prepared.rover(), loads, in, loads.sin_pitch,
+                                                         out.drawbar_pull_n, total_n, capped_mask);
+  out.drawbar_status = dp_status;
+  if (!usable(dp_status)) {
     // Defensive, unreachable on prepared parameters (docs/coverage.md).
     return RoverStepStatus::drawbar_failed;  // GCOVR_EXCL_LINE
   }
   out.drawbar_valid = true;
-  copy_six(dp.dp_n, out.drawbar_pull_n);
   return RoverStepStatus::ok;
 }
 
@@ -223,6 +217,34 @@ void reset_cycle_fields(RoverStepOutput& out) noexcept {
 
 }  // namespace
 
+Ratio detail::slip_in_range(SpeedMps speed, SpeedMps rim) noexcept {
+  constexpr Ratio kOneRatio{fx::constant<RatioQ>(1.0)};
+  constexpr std::int32_t kOneRaw = kOneRatio.raw();
+  const std::uint32_t a = fx::detail::magnitude32(speed.raw());
+  const std::uint32_t b = fx::detail::magnitude32(rim.raw());  // > 0: above kMinRimSpeedForSlip
+  if ((speed.raw() < 0) != (rim.raw() < 0)) {
+    return Ratio::from_raw(kOneRaw);
+  }
+  const bool whole = a >= b;
+  const std::uint32_t rest = whole ? (a - b) : a;
+  if (rest >= b) {
+    return Ratio::from_raw(-kOneRaw);
+  }
+  // rest < b < 2^(32 - shift): the normalised dividend's high word is below v.
+  const std::uint32_t shift = 32U - fx::wide::bit_length32(b);
+  const std::uint32_t v = b << shift;
+  const std::uint32_t q = fx::wide::quotient_64_by_32(static_cast<std::uint64_t>(rest << shift) << 32U, v);
+  // rest 2^(32 + shift) - q v is the remainder, below v: its low word.
+  const std::uint32_t remainder = 0U - (q * v);
+  const std::uint64_t m = (std::uint64_t{whole ? 1U : 0U} << 32U) + q + ((remainder >= (v - remainder)) ? 1U : 0U);
+  constexpr std::uint64_t kOne = std::uint64_t{1U} << 32U;  // 1 in Q31.32
+  constexpr std::uint64_t kHalf = std::uint64_t{1U} << 7U;  // half a Q7.24 LSB in Q31.32
+  if (m <= kOne) {
+    return Ratio::from_raw(static_cast<std::int32_t>((kOne - m + kHalf) >> 8U));
+  }
+  return Ratio::from_raw(-static_cast<std::int32_t>((m - kOne + kHalf) >> 8U));
+}
+
 RoverStep::RoverStep() noexcept = default;
 
 void RoverStep::clear_stop() noexcept {
@@ -270,12 +292,12 @@ void RoverStep::motion(const RoverTelemetry& t, const ParameterTable& table, Rov
     last_speed_ = t.speed_mps;
     last_speed_time_ = t.time;
   }
+  // s = 1 - v / v_rim, limited to [-1, 1] (beyond 1 the rover moves against
+  // its wheels; below -1 it skids faster than twice the rim speed). Both
+  // speeds passed motion_in_range: the slip always exists here.
   if (t.speed_valid && t.rim_speed_valid && !within(t.rim_speed_mps, kMinRimSpeedForSlip)) {
-    Ratio s{};
-    if (slip_ratio(t.speed_mps, t.rim_speed_mps, s)) {
-      out.slip_known = true;
-      out.slip = s;
-    }
+    out.slip_known = true;
+    out.slip = detail::slip_in_range(t.speed_mps, t.rim_speed_mps);
   }
 }
 

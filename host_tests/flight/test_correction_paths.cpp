@@ -296,5 +296,100 @@ TEST(CorrectionPaths, SixLoadsInOneCallAreEachLoadsOwnResult) {
   EXPECT_GT(failed_batches, 1000);
 }
 
+// The six-load form's first-segment shortcut (round 15) against the
+// oracle, where it must not be taken as well as where it is: a first
+// breakpoint at or below zero, a second one not above the first or above
+// the last, a one-row table whose second row lies above the first, loads at
+// and next to W_0, W_1 and W_last, at zero and at the format's ends.
+TEST(CorrectionPaths, FirstSegmentShortcutIsCorrectionOfForEveryTable) {
+  std::mt19937_64 rng(83U);
+  int shortcut_loads = 0;
+  for (int k = 0; k < 20000; ++k) {
+    CorrectionTable t{};
+    const std::uint64_t shape = rng() % 6U;
+    t.count = static_cast<std::uint8_t>((shape == 0U) ? 1U : (2U + (rng() % 7U)));
+    std::int32_t load = (shape == 1U) ? -static_cast<std::int32_t>(rng() % 4096U)
+                                      : static_cast<std::int32_t>(rng() % (1U << 20U)) + 1;
+    for (std::uint8_t i = 0U; i < flight::kMaxCorrectionRows; ++i) {
+      t.rows[i].load_n = WheelLoadN::from_raw(load);
+      const std::int32_t step = static_cast<std::int32_t>((rng() >> (37U + (rng() % 27U))) + 1U);
+      // shape 2: the second breakpoint not above the first; shape 3: the
+      // last one below the second (a step back after it).
+      const bool back = ((shape == 2U) && (i == 0U)) || ((shape == 3U) && (i > 0U) && ((i + 1U) == t.count - 1U));
+      load += back ? -(step + static_cast<std::int32_t>(rng() % 2U) * (load - t.rows[0].load_n.raw())) : step;
+      t.rows[i].c1 = Ratio::from_raw(static_cast<std::int32_t>(rng()));
+      t.rows[i].c2 = Ratio::from_raw(static_cast<std::int32_t>(rng() >> (rng() % 32U)));
+      t.rows[i].c3 = Ratio::from_raw(-static_cast<std::int32_t>(rng() >> (33U + (rng() % 31U))));
+      t.rows[i].dp_max_ratio = Ratio::from_raw(static_cast<std::int32_t>(rng() >> 40U));
+    }
+    const flight::CorrectionDivisors divisors = flight::make_correction_divisors(t);
+    const std::int64_t w0 = t.rows[0].load_n.raw();
+    const std::int64_t w1 = t.rows[1].load_n.raw();
+    const std::int64_t wl = t.rows[t.count - 1U].load_n.raw();
+    const std::int64_t picks[] = {w0 - 1, w0, w0 + 1, w1 - 1, w1, w1 + 1, wl - 1, wl, wl + 1, 0, -1, 1,
+                                  INT32_MIN, INT32_MAX, w0 + static_cast<std::int64_t>(rng() % 4096U)};
+    WheelLoadN loads[flight::limits::kWheelCount]{};
+    for (std::size_t j = 0U; j < sizeof(picks) / sizeof(picks[0]); ++j) {
+      loads[j % 6U] = WheelLoadN::from_raw(static_cast<std::int32_t>(std::clamp<std::int64_t>(picks[j], INT32_MIN, INT32_MAX)));
+      if ((j % 6U) != 5U) continue;
+      CorrectionResult out[flight::limits::kWheelCount]{};
+      static_cast<void>(flight::corrections_at(t, divisors, loads, out));
+      for (std::uint32_t i = 0U; i < flight::limits::kWheelCount; ++i) {
+        const CorrectionResult expected = oracle::corrections_at(t, loads[i]);
+        expect_same(out[i], expected);
+        ASSERT_EQ(out[i].clamp, expected.clamp) << k;
+        const std::int64_t w = loads[i].raw();
+        shortcut_loads += ((t.count > 1U) && (w0 > 0) && (w0 <= w) && (w < w1) && (w1 <= wl)) ? 1 : 0;
+      }
+    }
+  }
+  EXPECT_GT(shortcut_loads, 10000);
+}
+
+// Divisors whose first width is narrower than the table's first segment
+// (not made from this table): a load beyond that width is refused, as
+// correction_of's width test refuses it, and one below it is interpolated
+// at that width, as the oracle does for a table whose second breakpoint is
+// W_0 plus it.
+TEST(CorrectionPaths, FirstSegmentShortcutKeepsTheDivisorsWidthTest) {
+  std::mt19937_64 rng(89U);
+  for (int k = 0; k < 5000; ++k) {
+    CorrectionTable t{};
+    t.count = static_cast<std::uint8_t>(3U + (rng() % 6U));
+    std::int32_t load = static_cast<std::int32_t>(rng() % (1U << 20U)) + 1;
+    for (std::uint8_t i = 0U; i < flight::kMaxCorrectionRows; ++i) {
+      t.rows[i].load_n = WheelLoadN::from_raw(load);
+      load += static_cast<std::int32_t>((rng() % (1U << 20U)) + 4U);
+      t.rows[i].c1 = Ratio::from_raw(static_cast<std::int32_t>(rng()));
+      t.rows[i].c2 = Ratio::from_raw(static_cast<std::int32_t>(rng() >> (rng() % 32U)));
+      t.rows[i].c3 = Ratio::from_raw(-static_cast<std::int32_t>(rng() >> (33U + (rng() % 31U))));
+      t.rows[i].dp_max_ratio = Ratio::from_raw(static_cast<std::int32_t>(rng() >> 40U));
+    }
+    const std::int32_t w0 = t.rows[0].load_n.raw();
+    const std::int32_t width = t.rows[1].load_n.raw() - w0;
+    CorrectionTable narrow = t;
+    const std::int32_t narrow_width = 1 + static_cast<std::int32_t>(rng() % static_cast<std::uint64_t>(width - 1));
+    narrow.rows[1].load_n = WheelLoadN::from_raw(w0 + narrow_width);
+    const flight::CorrectionDivisors divisors = flight::make_correction_divisors(narrow);
+    WheelLoadN loads[flight::limits::kWheelCount]{};
+    const std::int32_t offsets[flight::limits::kWheelCount] = {
+        0, narrow_width - 1, narrow_width, width - 1, static_cast<std::int32_t>(rng() % static_cast<std::uint64_t>(narrow_width)),
+        narrow_width + static_cast<std::int32_t>(rng() % static_cast<std::uint64_t>(width - narrow_width))};
+    for (std::uint32_t i = 0U; i < flight::limits::kWheelCount; ++i) {
+      loads[i] = WheelLoadN::from_raw(w0 + offsets[i]);
+    }
+    CorrectionResult out[flight::limits::kWheelCount]{};
+    static_cast<void>(flight::corrections_at(t, divisors, loads, out));
+    for (std::uint32_t i = 0U; i < flight::limits::kWheelCount; ++i) {
+      if (offsets[i] < narrow_width) {
+        expect_same(out[i], oracle::corrections_at(narrow, loads[i]));
+        ASSERT_EQ(out[i].status, flight::EstimateStatus::ok);
+      } else {
+        ASSERT_EQ(out[i].status, flight::EstimateStatus::invalid_coefficient) << k << " " << i;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sinkwatch

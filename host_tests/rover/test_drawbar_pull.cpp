@@ -504,6 +504,108 @@ TEST(DrawbarArithmetic, WordShiftIsTheShift) {
   }
 }
 
+/// The pulls as drawbar_pulls() took them past its range checks before
+/// round 15: the load sum in one 64-bit loop, each wheel's fraction in the
+/// form load_fraction() picks for it, the overflow and the status as then.
+flight::DrawbarResult pulls_wheel_by_wheel(const flight::RoverParams& p, const flight::WheelLoadResult& loads,
+                                           const flight::DrawbarInput& in, fx::Q1_30 sine) {
+  flight::DrawbarResult r{};
+  std::uint64_t sum_raw = 0U;
+  for (const flight::WheelLoadN w : loads.load_n) sum_raw += static_cast<std::uint32_t>(w.raw());
+  if (sum_raw == 0U) {
+    r.status = DrawbarStatus::invalid_loads;
+    return r;
+  }
+  fx::Status st;
+  const std::int64_t total = flight::detail::along_force_raw(static_cast<std::uint32_t>(p.mass_kg.raw()),
+                                                             static_cast<std::uint32_t>(p.gravity_mps2.raw()),
+                                                             sine.raw(), in.accel_mps2.raw());
+  const flight::DrawbarPullN total_n{fx::rescale<flight::LoadQ>(W::from_raw(total), st)};
+  const bool saturated = in.slip_known && (in.slip >= p.high_slip);
+  const flight::detail::LoadSum sum = flight::detail::load_sum_of(sum_raw);
+  std::uint32_t overflow = 0U;
+  std::uint8_t mask = 0U;
+  flight::DrawbarPullN dp[6];
+  for (std::uint32_t i = 0U; i < 6U; ++i) {
+    const auto load = static_cast<std::uint32_t>(loads.load_n[i].raw());
+    const std::uint64_t share = flight::detail::share_or_all(
+        fx::detail::magnitude(total), saturated ? 0U : flight::detail::load_fraction(load, sum), saturated);
+    const flight::detail::WheelPull pull = flight::detail::wheel_pull(
+        share, load, static_cast<std::uint32_t>(in.dp_max_ratio[i].raw()), saturated ? false : (total < 0));
+    dp[i] = flight::DrawbarPullN::from_raw(pull.dp_raw);
+    overflow |= pull.overflow;
+    mask = static_cast<std::uint8_t>(mask | (((pull.capped && !saturated) ? 1U : 0U) << i));
+  }
+  if ((overflow != 0U) || !st.ok()) {
+    r.status = DrawbarStatus::overflow;
+    return r;
+  }
+  for (std::uint32_t i = 0U; i < 6U; ++i) r.dp_n[i] = dp[i];
+  r.total_n = total_n;
+  r.capped_mask = mask;
+  r.status = saturated ? DrawbarStatus::saturated : ((mask != 0U) ? DrawbarStatus::capped : DrawbarStatus::ok);
+  return r;
+}
+
+void expect_same_result(const flight::DrawbarResult& a, const flight::DrawbarResult& b, int trial) {
+  ASSERT_EQ(a.status, b.status) << trial;
+  for (std::size_t i = 0; i < 6; ++i) ASSERT_EQ(a.dp_n[i].raw(), b.dp_n[i].raw()) << trial << " wheel " << i;
+  if (flight::usable(a.status)) {
+    ASSERT_EQ(a.total_n.raw(), b.total_n.raw()) << trial;
+    ASSERT_EQ(a.capped_mask, b.capped_mask) << trial;
+  }
+}
+
+// The step's entry past the range checks (detail::pulls_in_range, round 15:
+// the load sum in three pairs, the fraction's form picked once per cycle)
+// and drawbar_pulls() against the wheel-by-wheel form above, on in-range
+// inputs: loads of every size up to 2^31 raw, so that sums on both sides of
+// kWordRemainderSum occur, zero loads, one dominant wheel, both signs of the
+// total, saturated and not, ratios across (0, 2].
+TEST(DrawbarArithmetic, PullsInRangeAreTheWheelByWheelForm) {
+  flight::RoverParams p = flight::yutu_like_rover_params(flight::kGravityMoon);
+  p.mass_kg = q<flight::MassKg>(1000.0);
+  p.gravity_mps2 = q<flight::AccelMps2>(10.0);
+  p.attitude_limit_rad = q<flight::AngleRad>(1.0);
+  ASSERT_EQ(flight::validate_rover_params(p), flight::RoverParamStatus::ok);
+  const flight::PreparedParameters& prepared = test::prepared_rover(p);
+  std::mt19937_64 rng(151U);
+  int wide_sums = 0;
+  int word_sums = 0;
+  for (int trial = 0; trial < 30000; ++trial) {
+    flight::WheelLoadResult loads{};
+    loads.status = flight::WheelLoadStatus::ok;
+    const std::uint32_t bits = 1U + static_cast<std::uint32_t>(rng() % 31U);
+    for (flight::WheelLoadN& w : loads.load_n) {
+      const std::uint64_t raw = ((rng() % 8U) == 0U) ? 0U : (magnitude_up_to(rng, bits) & 0x7FFFFFFFU);
+      w = flight::WheelLoadN::from_raw(static_cast<std::int32_t>(raw));
+    }
+    if ((trial % 4) == 0) {
+      loads.load_n[rng() % 6U] = flight::WheelLoadN::from_raw(static_cast<std::int32_t>(0x40000000U + (rng() % 0x40000000U)));
+    }
+    flight::DrawbarInput in{};
+    in.accel_mps2 = flight::AccelMps2::from_raw(static_cast<std::int32_t>(rng() % (2U * 167772160U + 1U)) - 167772160);
+    in.pitch_rad = q<flight::AngleRad>((static_cast<double>(rng() % 2001U) / 1000.0) - 1.0);
+    in.slip_known = (rng() % 2U) == 0U;
+    in.slip = flight::Ratio::from_raw(static_cast<std::int32_t>(rng() % (2U * 16777216U + 1U)) - 16777216);
+    for (flight::Ratio& r : in.dp_max_ratio) r = flight::Ratio::from_raw(static_cast<std::int32_t>(1U + (rng() % 0x2000000U)));
+    std::uint64_t sum = 0U;
+    for (const flight::WheelLoadN w : loads.load_n) sum += static_cast<std::uint32_t>(w.raw());
+    (sum > flight::detail::kWordRemainderSum ? wide_sums : word_sums) += 1;
+    fx::Status sine_status;
+    const fx::Q1_30 sine = fx::sin(in.pitch_rad.q(), sine_status);
+    ASSERT_TRUE(sine_status.ok());
+    const flight::DrawbarResult expected = pulls_wheel_by_wheel(p, loads, in, sine);
+    flight::DrawbarResult direct{};
+    direct.status = flight::detail::pulls_in_range(p, loads, in, sine, direct.dp_n, direct.total_n,
+                                                   direct.capped_mask);
+    expect_same_result(direct, expected, trial);
+    expect_same_result(flight::drawbar_pulls(prepared, loads, in), expected, trial);
+  }
+  EXPECT_GT(wide_sums, 5000);
+  EXPECT_GT(word_sums, 5000);
+}
+
 }  // namespace arithmetic
 
 }  // namespace

@@ -5,6 +5,7 @@
 // and its fail-safe; tip-over stopping the rover at once.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include <cmath>
@@ -12,6 +13,9 @@
 
 #include "rover_test_support.hpp"
 #include "prepared_support.hpp"
+#include "sinkwatch/fixedpoint/literal.hpp"
+#include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/status.hpp"
 #include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/motor.hpp"
@@ -589,6 +593,72 @@ TEST_F(RoverStepTest, OverwritesEveryFieldOfAReusedOutputRecord) {
   t = telemetry(1400U);
   t.accel_valid = false;
   EXPECT_EQ(both(t, table), RoverStepStatus::no_acceleration);
+}
+
+/// The slip as the step took it before round 15: the Q31.32 chain of
+/// fx::div, fx::sub, fx::clamp and fx::rescale, with its status.
+flight::Ratio slip_by_the_chain(std::int32_t speed_raw, std::int32_t rim_raw, bool& ok) {
+  using W = flight::WideQ;
+  constexpr W kOne{fx::constant<W>(1.0)};
+  constexpr W kMinusOne{fx::constant<W>(-1.0)};
+  fx::Status st;
+  const W ratio = fx::div<W>(flight::SpeedQ::from_raw(speed_raw), flight::SpeedQ::from_raw(rim_raw), st);
+  const W slip = fx::clamp(fx::sub(kOne, ratio, st), kMinusOne, kOne, st);
+  const flight::Ratio out{fx::rescale<flight::RatioQ>(slip, st)};
+  ok = st.ok();
+  return out;
+}
+
+// detail::slip_in_range (one 64 / 32-bit quotient) against the chain it
+// replaced, over the step's range (|v|, |v_rim| <= 5 m/s, |v_rim| above
+// 1 mm/s): random speeds of every size, both signs, ratios next to 0, 1
+// and 2 (where the clamp and the sign of s change), v = 0, and rounding
+// ties of the quotient and of the rescale searched around them.
+TEST(RoverSlip, SlipInRangeIsTheQ31_32ChainBitForBit) {
+  const std::int32_t max_raw = flight::kMaxAbsSpeed.raw();
+  const std::int32_t min_rim_raw = flight::kMinRimSpeedForSlip.raw() + 1;
+  std::mt19937_64 rng(1515U);
+  const auto magnitude = [&rng](std::int32_t lo, std::int32_t hi) {
+    const std::uint64_t span = static_cast<std::uint64_t>(hi - lo) + 1U;
+    switch (rng() % 4U) {
+      case 0U: return lo + static_cast<std::int32_t>(rng() % 4U);
+      case 1U: return hi - static_cast<std::int32_t>(rng() % 4U);
+      case 2U: return lo + static_cast<std::int32_t>(rng() % std::min<std::uint64_t>(span, 1U << (rng() % 28U)));
+      default: return lo + static_cast<std::int32_t>(rng() % span);
+    }
+  };
+  int cases = 0;
+  int interior = 0;
+  for (int k = 0; k < 2000000; ++k) {
+    const std::int32_t rim_mag = magnitude(min_rim_raw, max_raw);
+    std::int64_t speed_mag = 0;
+    switch (rng() % 6U) {
+      case 0U: speed_mag = magnitude(0, max_raw); break;
+      case 1U: speed_mag = 0; break;
+      // Next to a ratio of 1 or 2 (s next to 0 or -1), and next to a ratio
+      // whose Q7.24 rounding of s is a tie: s 2^24 = n + 1/2.
+      case 2U: speed_mag = rim_mag + static_cast<std::int64_t>(rng() % 7U) - 3; break;
+      case 3U: speed_mag = 2 * static_cast<std::int64_t>(rim_mag) + static_cast<std::int64_t>(rng() % 7U) - 3; break;
+      default: {
+        const double s = (static_cast<double>(rng() % (1U << 25U)) + 0.5) / static_cast<double>(1U << 24U) - 1.0;
+        speed_mag = static_cast<std::int64_t>(std::llround((1.0 - s) * rim_mag)) + static_cast<std::int64_t>(rng() % 3U) - 1;
+        break;
+      }
+    }
+    speed_mag = std::clamp<std::int64_t>(speed_mag, 0, max_raw);
+    const std::int32_t speed = ((rng() % 2U) == 0U) ? static_cast<std::int32_t>(speed_mag) : -static_cast<std::int32_t>(speed_mag);
+    const std::int32_t rim = ((rng() % 2U) == 0U) ? rim_mag : -rim_mag;
+    bool ok = false;
+    const flight::Ratio expected = slip_by_the_chain(speed, rim, ok);
+    ASSERT_TRUE(ok) << speed << " " << rim;
+    const flight::Ratio got =
+        flight::detail::slip_in_range(flight::SpeedMps::from_raw(speed), flight::SpeedMps::from_raw(rim));
+    ASSERT_EQ(got.raw(), expected.raw()) << speed << " " << rim;
+    ++cases;
+    interior += (std::abs(expected.raw()) < (1 << 24)) ? 1 : 0;
+  }
+  EXPECT_EQ(cases, 2000000);
+  EXPECT_GT(interior, 500000);
 }
 
 }  // namespace

@@ -180,7 +180,11 @@ struct ProductWords {
 /// invalid_load. The per-cycle step passes its six loads in one call and
 /// reads the results in place: the table's row count, first and last
 /// breakpoints are read once per call, and no result record is returned
-/// and copied per wheel (round 14). Defined for N = 1 (the single-load form
+/// and copied per wheel (round 14). A load of the first segment (where a
+/// lunar rover's loads lie with Table 2's breakpoints) is found by one
+/// comparison of W - W_0 with a span worked out once per call, the same
+/// outcome as the four load tests it passes (round 15; correction.cpp,
+/// first_segment_span). Defined for N = 1 (the single-load form
 /// below) and N = limits::kWheelCount. host_tests/flight/dividing_oracle.hpp
 /// keeps the same function with a plain fx::div as the oracle it is
 /// checked against bit for bit.

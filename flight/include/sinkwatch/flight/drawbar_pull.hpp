@@ -290,6 +290,22 @@ struct WheelPull {
   return (sum < 0) ? -total : total;
 }
 
+/// drawbar_pulls() past its range checks, for inputs already known to be in
+/// range: loads with status ok of rover parameters that passed
+/// validate_rover_params(), |a| <= kMaxAbsAccel, |pitch| <= the attitude
+/// limit, slip <= 1, every load >= 0 and every ratio in (0, kMaxDpMaxRatio],
+/// and `sin_pitch` the sine of the input's pitch. The per-cycle step (rover_step.cpp) calls it directly: its
+/// stages have checked all of these (docs/rover-loads.md, section 8), so
+/// checking them again was work without an outcome (round 15). The pulls
+/// are written into `dp_n` (zero when the status is overflow, untouched for
+/// invalid_loads), the total and the capped wheels into `total_n` and
+/// `capped_mask` when the status is usable; the status is returned: ok,
+/// capped, saturated, invalid_loads (every load zero) or overflow.
+[[nodiscard]] DrawbarStatus pulls_in_range(const RoverParams& params, const WheelLoadResult& loads,
+                                           const DrawbarInput& input, fx::Q1_30 sin_pitch,
+                                           DrawbarPullN (&dp_n)[kWheelCount], DrawbarPullN& total_n,
+                                           std::uint8_t& capped_mask) noexcept;
+
 }  // namespace detail
 
 /// The drawbar pulls for rover parameters checked once per load (prepare(),

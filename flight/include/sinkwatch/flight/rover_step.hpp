@@ -52,6 +52,29 @@ constexpr SpeedMps kMaxAbsSpeed{fx::constant<SpeedQ>(5.0)};
 /// Below this commanded rim speed the slip ratio is not defined.
 constexpr SpeedMps kMinRimSpeedForSlip{fx::constant<SpeedQ>(0.001)};
 
+namespace detail {
+/// The slip s = 1 - v / v_rim limited to [-1, 1], in Q7.24, for |v| and
+/// |v_rim| at most kMaxAbsSpeed and |v_rim| above kMinRimSpeedForSlip (the
+/// step's checks), bit for bit the Q31.32 chain it replaced in round 15,
+///   fx::rescale<Q7.24>(fx::clamp(1 - fx::div<Q31.32>(v, v_rim), -1, 1)),
+/// which raises no flag there (docs/coverage.md): that chain's 64-bit
+/// library division by a 64-bit divisor becomes one 64 / 32-bit quotient
+/// (fx::wide::quotient_64_by_32) of the part of |v| / |v_rim| below one:
+///  * v and v_rim of opposite signs (or v = 0 with v_rim < 0, which fx::div
+///    also calls negative): the ratio is <= 0, s >= 1, clamped to 1;
+///  * |v| >= 2 |v_rim|: the ratio is at least 2, s <= -1, clamped to -1;
+///  * otherwise the ratio's magnitude m = round(|v| 2^32 / |v_rim|) (half
+///    up, as fx::div rounds a magnitude) is at most 2^33: the whole part
+///    (0 or 1) by a comparison, the rest r 2^32 / |v_rim| (r < |v_rim|) by
+///    the quotient of the divisor normalised to bit 31 and its remainder
+///    from the quotient's low word (a tie, r 2^32 / |v_rim| = n + 1/2,
+///    would need 2^33 to divide |v_rim|: none occurs); then s = 2^32 - m
+///    lies in [-2^32, 2^32] (no clamp), rescaled to Q7.24 by rounding its
+///    magnitude half up.
+/// host_tests/rover/test_rover_step.cpp compares it with the chain.
+[[nodiscard]] Ratio slip_in_range(SpeedMps speed, SpeedMps rim) noexcept;
+}  // namespace detail
+
 /// One cycle's raw telemetry.
 struct RoverTelemetry {
   TimeMs time{0U};                          ///< when the sample was taken
