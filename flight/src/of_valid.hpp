@@ -76,60 +76,6 @@ SW_FX_INLINE std::uint64_t product_of_non_negative(std::int32_t a, std::int32_t 
   }
 }
 
-/// fx::divide_normalised<Out>(n, d, st) for a 32-bit Out and a divisor
-/// d > 0, as its raw quotient and whether st stayed ok (the return): the
-/// same leading words, the same quotient q = floor(N 2^31 / D) and the same
-/// rounding; only the parts Eq. 11 and the limit cannot reach or do not read
-/// are left out: d == 0 (C2 W and C1 are positive), the 64-bit scaling of q
-/// and the saturated value of an overflow (the callers return 0 then). The
-/// overflow decision on 32-bit words: q >= 2^30 (N >= 2^31, D < 2^32), so
-/// for an exponent e >= 1 q 2^e >= 2^31 fits only as -2^31 (e == 1, q ==
-/// 2^30); for e <= 0 the rounded magnitude is below 2^32 and is compared
-/// with 2^31 - 1 or 2^31 as from_sign_magnitude compares it. Both forms
-/// over random and edge operands: host_tests/flight/test_estimator.cpp
-/// (PositiveDivisorQuotient).
-template <std::int32_t kOutFrac>
-SW_FX_INLINE bool positive_divisor_quotient(bool negative, std::uint64_t n_magnitude, std::int32_t n_frac,
-                                            std::uint64_t d_magnitude, std::int32_t d_frac,
-                                            std::int32_t& raw) noexcept {
-  raw = 0;
-  const fx::detail::LeadingBits n_leading = fx::detail::leading_bits(n_magnitude);
-  if (n_leading.word == 0U) {
-    return true;  // n == 0: its leading word is 0, every other one has its top bit set
-  }
-  const fx::detail::LeadingBits d_leading = fx::detail::leading_bits(d_magnitude);
-  const std::uint32_t q = fx::wide::quotient_64_by_32(std::uint64_t{n_leading.word} << 31U, d_leading.word);
-  const std::int32_t exponent =
-      ((static_cast<std::int32_t>(n_leading.bits) - static_cast<std::int32_t>(d_leading.bits)) - 31) -
-      ((n_frac - d_frac) - kOutFrac);
-  constexpr std::uint32_t kTop = 0x80000000U;  // 2^31: -2^31's magnitude
-  // e in [-32, -1] (the quotients that fit, but for the largest at e == 0)
-  // is tested first, in one unsigned comparison of -e - 1 (a negative value
-  // wraps beyond 31): q 2^e rounded half up on the word as
-  // floor(q / 2^(-e - 1)) halved plus its last bit, at most 2^31.
-  const auto shift_less_one = static_cast<std::uint32_t>(-1 - exponent);
-  std::uint32_t magnitude = q;  // e == 0: q itself
-  if (shift_less_one < 32U) {
-    const std::uint32_t x = q >> shift_less_one;
-    magnitude = (x >> 1U) + (x & 1U);
-  } else if (exponent > 0) {
-    const bool minimum = negative && (exponent == 1) && (q == (kTop >> 1U));
-    raw = minimum ? std::numeric_limits<std::int32_t>::min() : 0;
-    return minimum;
-  } else if (exponent < 0) {
-    magnitude = 0U;  // e < -32: q 2^e < 2^32 2^-33 = 1/2
-  } else {
-    // e == 0: q itself
-  }
-  if (magnitude > (negative ? kTop : (kTop - 1U))) {
-    return false;
-  }
-  // -m for m <= 2^31 through m - 1 (which fits) keeps the conversion in range.
-  raw = (negative && (magnitude != 0U)) ? (-static_cast<std::int32_t>(magnitude - 1U) - 1)
-                                        : static_cast<std::int32_t>(magnitude);
-  return true;
-}
-
 /// torque_from_current() for a motor check_motor() accepts.
 [[nodiscard]] TorqueResult torque_of_valid_motor(const MotorParams& motor, CurrentA current_a,
                                                  DriveDirection direction) noexcept;
@@ -190,7 +136,7 @@ SW_FX_INLINE bool sinkage_raw_of_valid(const Coefficients& c, LengthM radius_m, 
   using Moment = fx::Q<std::int64_t, 40>;
   const Moment numerator = Moment::from_raw((drive - pull_moment) - offset_moment);
   const std::uint64_t denominator = product_of_non_negative(c.c2.raw(), w);  // > 0
-  return positive_divisor_quotient<LengthQ::frac_bits>(numerator.raw() < 0, fx::detail::magnitude(numerator.raw()),
+  return fx::quotient_by_positive<LengthQ::frac_bits>(numerator.raw() < 0, fx::detail::magnitude(numerator.raw()),
                                                        Moment::frac_bits, denominator, 40, z_raw);
 }
 
@@ -264,7 +210,7 @@ SW_FX_INLINE bool torque_limit_raw_of_valid(const Coefficients& c, Ratio dp_max_
   const std::int64_t lever = radius_times_ratios(radius_m.raw(), dp_max_ratio, c.c3) +
                              times_positive(allowed_sinkage_m.raw(), c.c2.raw());
   const fx::ScaledMagnitude w_lever = load_times(fx::Q<std::int64_t, 48>::from_raw(lever), load_n);
-  return positive_divisor_quotient<LoadQ::frac_bits>(w_lever.negative, w_lever.magnitude, w_lever.frac_bits,
+  return fx::quotient_by_positive<LoadQ::frac_bits>(w_lever.negative, w_lever.magnitude, w_lever.frac_bits,
                                                      static_cast<std::uint32_t>(c.c1.raw()), RatioQ::frac_bits,
                                                      t_max_raw);
 }

@@ -1,4 +1,5 @@
-// test_normalised_quotient.cpp: fx::divide_normalised (normalised_quotient.hpp)
+// test_normalised_quotient.cpp: fx::divide_normalised and its form for a
+// positive divisor, fx::quotient_by_positive (normalised_quotient.hpp),
 // and the long division under it (wide::divide_64_by_32, both forms: by
 // digits and by reciprocal, wide.hpp).
 // The long division is checked against the built-in 64-bit division; every
@@ -338,6 +339,85 @@ TEST(NormalisedQuotient, MostNegativeOperandsAreTheirMagnitudes) {
   EXPECT_EQ(fx::divide_normalised<Out>(int64_min, fx::Q<std::int64_t, 0>::from_raw(-(std::int64_t{1} << 62)), st),
             Out::from_raw(2));
   EXPECT_TRUE(st.ok());
+}
+
+// fx::quotient_by_positive (Eq. 11's and the limit's division) against
+// fx::divide_normalised, whose form for a positive divisor it is: the same
+// raw value and the same overflow decision for every sign, magnitude and
+// scale, the exponent of q drawn across every branch (e > 1, 1, 0,
+// -1 .. -32, below -32), at the flight code's two output formats.
+bool same_as_generic(bool negative, std::uint64_t n, std::int32_t n_frac, std::uint64_t d, std::int32_t d_frac,
+                     std::int32_t out_frac) {
+  fx::Status st;
+  const fx::ScaledMagnitude num{negative, n, n_frac};
+  const fx::ScaledMagnitude den{false, d, d_frac};
+  std::int32_t raw = 0;
+  bool fits = false;
+  std::int32_t expected = 0;
+  if (out_frac == 24) {
+    fits = fx::quotient_by_positive<24>(negative, n, n_frac, d, d_frac, raw);
+    expected = fx::divide_normalised<fx::Q<std::int32_t, 24>>(num, den, st).raw();
+  } else {
+    fits = fx::quotient_by_positive<16>(negative, n, n_frac, d, d_frac, raw);
+    expected = fx::divide_normalised<fx::Q<std::int32_t, 16>>(num, den, st).raw();
+  }
+  if (fits != st.ok()) {
+    return false;
+  }
+  return (!fits) || (raw == expected);
+}
+
+std::int32_t bit_length_of(std::uint64_t a) { return static_cast<std::int32_t>(fx::wide::bit_length(a)); }
+
+TEST(QuotientByPositive, MatchesDivideNormalisedOverRandomAndEdgeOperands) {
+  std::mt19937_64 rng(20261128U);
+  std::uniform_int_distribution<std::int32_t> bits_n(0, 63);
+  std::uniform_int_distribution<std::int32_t> bits_d(1, 63);
+  std::uniform_int_distribution<std::int32_t> target_exponent(-36, 4);
+  std::uniform_int_distribution<std::int32_t> d_frac_pick(0, 60);
+  std::int64_t failures = 0;
+  for (std::int32_t i = 0; i < 400000; ++i) {
+    const std::int32_t nb = bits_n(rng);
+    const std::int32_t db = bits_d(rng);
+    std::uint64_t n = (nb == 0) ? 0U : ((rng() >> (64 - nb)) | (std::uint64_t{1U} << (nb - 1)));
+    std::uint64_t d = (rng() >> (64 - db)) | (std::uint64_t{1U} << (db - 1));
+    if ((i % 5) == 1) {
+      n = (nb == 0) ? 0U : (std::uint64_t{1U} << (nb - 1));  // N = 2^31: q down to 2^30
+    }
+    if ((i % 7) == 2) {
+      d = (db < 32) ? ((std::uint64_t{1U} << db) - 1U) : (~std::uint64_t{0U} >> (64 - db));  // D = 2^32 - 1
+    }
+    const std::int32_t out_frac = ((i % 2) == 0) ? 24 : 16;
+    const std::int32_t d_frac = d_frac_pick(rng);
+    // n_frac so that q's exponent is the drawn one.
+    const std::int32_t n_frac =
+        ((bit_length_of(n) - bit_length_of(d)) - 31) + d_frac + out_frac - target_exponent(rng);
+    const bool negative = (rng() & 1U) != 0U;
+    if (!same_as_generic(negative, n, n_frac, d, d_frac, out_frac)) {
+      ++failures;
+      ADD_FAILURE() << "n " << n << " frac " << n_frac << " d " << d << " frac " << d_frac << " neg " << negative
+                    << " out " << out_frac;
+      if (failures > 5) {
+        return;
+      }
+    }
+  }
+  // -2^31 exactly (q = 2^30 at exponent 1) and its neighbours.
+  const std::uint64_t d_max = 0xFFFFFFFFULL;
+  for (std::int32_t e = -34; e <= 3; ++e) {
+    for (const std::uint64_t n : {std::uint64_t{1U} << 40U, (std::uint64_t{1U} << 41U) - 1U, std::uint64_t{1U}}) {
+      for (const std::uint64_t d : {d_max, std::uint64_t{1U} << 31U, std::uint64_t{3U}, std::uint64_t{1U}}) {
+        const std::int32_t n_frac = ((bit_length_of(n) - bit_length_of(d)) - 31) + 16 - e;
+        EXPECT_TRUE(same_as_generic(true, n, n_frac, d, 0, 16)) << n << " " << d << " " << e;
+        EXPECT_TRUE(same_as_generic(false, n, n_frac, d, 0, 16)) << n << " " << d << " " << e;
+      }
+    }
+  }
+  // 2^40 / (2^32 - 1) at exponent 1: q = 2^30, -2^31 fits, +2^31 does not.
+  std::int32_t raw = 0;
+  EXPECT_FALSE(fx::quotient_by_positive<16>(false, std::uint64_t{1U} << 40U, -7, d_max, 0, raw));
+  ASSERT_TRUE(fx::quotient_by_positive<16>(true, std::uint64_t{1U} << 40U, -7, d_max, 0, raw));
+  EXPECT_EQ(raw, std::numeric_limits<std::int32_t>::min());
 }
 
 }  // namespace

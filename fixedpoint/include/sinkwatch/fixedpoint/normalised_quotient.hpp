@@ -31,6 +31,7 @@
 #define SINKWATCH_FIXEDPOINT_NORMALISED_QUOTIENT_HPP
 
 #include <cstdint>
+#include <limits>
 
 #include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
@@ -196,6 +197,62 @@ template <typename Out>
 template <typename Out, typename SN, std::int32_t FN, typename SD, std::int32_t FD>
 [[nodiscard]] constexpr Out divide_normalised(Q<SN, FN> n, Q<SD, FD> d, Status& status) noexcept {
   return divide_normalised<Out>(to_scaled(n), to_scaled(d), status);
+}
+
+/// divide_normalised<Out>(n, d, st) for a 32-bit Out (kOutFrac fraction
+/// bits) and a divisor d > 0, as its raw quotient (`raw`) and whether st
+/// stayed ok (the return): the same leading words, the same quotient
+/// q = floor(N 2^31 / D), the same rounding and so the same error bound;
+/// only what a caller with a divisor known positive does not need is left
+/// out: d == 0, the 64-bit scaling of q and the saturated value of an
+/// overflow (`raw` is 0 then). The flight code's Eq. 11 and section 7
+/// limit (flight/src/of_valid.hpp: C2 W and C1 are positive) divide with it. The
+/// overflow decision on 32-bit words: q >= 2^30 (N >= 2^31, D < 2^32), so
+/// for an exponent e >= 1 q 2^e >= 2^31 fits only as -2^31 (e == 1, q ==
+/// 2^30); for e <= 0 the rounded magnitude is below 2^32 and is compared
+/// with 2^31 - 1 or 2^31 as from_sign_magnitude compares it. Both forms
+/// over random and edge operands: host_tests/fixedpoint/
+/// test_normalised_quotient.cpp (QuotientByPositive).
+template <std::int32_t kOutFrac>
+SW_FX_INLINE bool quotient_by_positive(bool negative, std::uint64_t n_magnitude, std::int32_t n_frac,
+                                            std::uint64_t d_magnitude, std::int32_t d_frac,
+                                            std::int32_t& raw) noexcept {
+  raw = 0;
+  const detail::LeadingBits n_leading = detail::leading_bits(n_magnitude);
+  if (n_leading.word == 0U) {
+    return true;  // n == 0: its leading word is 0, every other one has its top bit set
+  }
+  const detail::LeadingBits d_leading = detail::leading_bits(d_magnitude);
+  const std::uint32_t q = wide::quotient_64_by_32(std::uint64_t{n_leading.word} << 31U, d_leading.word);
+  const std::int32_t exponent =
+      ((static_cast<std::int32_t>(n_leading.bits) - static_cast<std::int32_t>(d_leading.bits)) - 31) -
+      ((n_frac - d_frac) - kOutFrac);
+  constexpr std::uint32_t kTop = 0x80000000U;  // 2^31: -2^31's magnitude
+  // e in [-32, -1] (the quotients that fit, but for the largest at e == 0)
+  // is tested first, in one unsigned comparison of -e - 1 (a negative value
+  // wraps beyond 31): q 2^e rounded half up on the word as
+  // floor(q / 2^(-e - 1)) halved plus its last bit, at most 2^31.
+  const auto shift_less_one = static_cast<std::uint32_t>(-1 - exponent);
+  std::uint32_t magnitude = q;  // e == 0: q itself
+  if (shift_less_one < 32U) {
+    const std::uint32_t x = q >> shift_less_one;
+    magnitude = (x >> 1U) + (x & 1U);
+  } else if (exponent > 0) {
+    const bool minimum = negative && (exponent == 1) && (q == (kTop >> 1U));
+    raw = minimum ? std::numeric_limits<std::int32_t>::min() : 0;
+    return minimum;
+  } else if (exponent < 0) {
+    magnitude = 0U;  // e < -32: q 2^e < 2^32 2^-33 = 1/2
+  } else {
+    // e == 0: q itself
+  }
+  if (magnitude > (negative ? kTop : (kTop - 1U))) {
+    return false;
+  }
+  // -m for m <= 2^31 through m - 1 (which fits) keeps the conversion in range.
+  raw = (negative && (magnitude != 0U)) ? (-static_cast<std::int32_t>(magnitude - 1U) - 1)
+                                        : static_cast<std::int32_t>(magnitude);
+  return true;
 }
 
 }  // namespace fx
