@@ -234,25 +234,21 @@ SW_FX_INLINE TorqueLimitResult torque_limit_of_valid(const Coefficients& c, Rati
 /// current beyond Q11.20 is refused, as rescaling the sum would refuse it.
 SW_FX_INLINE bool current_raw_from_torque(const MotorParams& motor, const MotorDivisors& divisors,
                                           std::int32_t t_max_raw, std::int32_t& current_raw) noexcept {
-  // fx::times_reciprocal<Q43.20>(T_max, 1/gain) taken apart: |T_max| times
-  // the mantissa (one 32 x 32-bit product, below 2^63, not T_max's 64-bit
-  // sign extension times it), rounded down by the shift, the sign put back.
-  // The quotient's 64 bits cannot overflow (the product is below 2^63), so
-  // only its refusals are kept: no reciprocal (div_by_zero) and a non-zero
-  // product that a shift <= 0 would only grow (overflow); a shift >= 64
-  // rounds to zero. The same integer and the same refusals as before.
+  // fx::times_reciprocal<Q43.20>(T_max, 1/gain)'s core on magnitudes
+  // (fx::detail::times_mantissa: below 2^63, so the 64-bit quotient cannot
+  // overflow), the sign put back and I0 added; only the quotient's refusals
+  // are kept: no reciprocal (div_by_zero) and a product that a shift <= 0
+  // would only grow (overflow). The same integer and the same refusals.
   const fx::NormalisedReciprocal inverse = divisors.inverse_gain;
-  const std::uint64_t product = fx::wide::mul_32x32_64(fx::detail::magnitude32(t_max_raw), inverse.mantissa);
+  const std::uint32_t t_magnitude = fx::detail::magnitude32(t_max_raw);
   const std::int32_t shift = (LoadQ::frac_bits + inverse.scale) - CurrentQ::frac_bits;
-  std::uint64_t driving = 0U;
-  if ((shift > 0) && (shift < 64)) {
-    driving = fx::detail::shift_right_rounded(product, static_cast<std::uint32_t>(shift));
-  }
+  const std::uint64_t driving = fx::detail::times_mantissa(t_magnitude, inverse.mantissa, shift);
   const std::int64_t total =
       with_sign(t_max_raw < 0, driving) + static_cast<std::int64_t>(motor.no_load_current_a.raw());
   constexpr std::int64_t kMin = std::numeric_limits<std::int32_t>::min();
   constexpr std::int64_t kMax = std::numeric_limits<std::int32_t>::max();
-  const bool refused = (inverse.mantissa == 0U) || ((shift <= 0) && (product != 0U));
+  const bool refused =
+      (inverse.mantissa == 0U) || fx::detail::times_mantissa_grows(t_magnitude, inverse.mantissa, shift);
   if (refused || (total < kMin) || (total > kMax)) {
     current_raw = 0;
     return false;

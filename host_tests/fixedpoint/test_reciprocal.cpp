@@ -183,4 +183,29 @@ TEST(NormalisedReciprocal, ZeroDivisorGivesNoReciprocalAndReportsDivisionByZero)
   EXPECT_TRUE(zero_st.has(fx::Flag::div_by_zero));
 }
 
+// times_reciprocal's core on magnitudes (the flight code's current limit
+// takes it apart from the sign and the saturation): the product rounded half
+// up by every shift 1 to 63 (against the 64-bit sum), zero for shifts of 64
+// and more and for shifts <= 0, which grow exactly the non-zero products.
+TEST(NormalisedReciprocal, TimesMantissaIsTheRoundedProductAndGrowsWhereAShiftWouldWiden) {
+  std::mt19937_64 rng(20261128U);  // NOLINT(cert-msc32-c,cert-msc51-cpp): reproducible samples
+  for (std::int32_t i = 0; i < 200000; ++i) {
+    // |x| <= 2^31 (a 32-bit value's magnitude): the product is below 2^63,
+    // so the rounding sum fits 64 bits (plain arithmetic, also on ARM32).
+    const std::uint64_t draw = rng();
+    const auto x = ((i % 89) == 0) ? 0U : static_cast<std::uint32_t>(draw >> (33U + (rng() % 31U)));  // 1 to 31 bits
+    const auto m = static_cast<std::uint32_t>(((i % 97) == 0) ? 0U : (rng() | 0x80000000U));
+    const auto shift = static_cast<std::int32_t>(rng() % 80U) - 8;  // -8 .. 71
+    const std::uint64_t product = std::uint64_t{x} * std::uint64_t{m};
+    std::uint64_t expected = 0U;
+    if ((shift > 0) && (shift < 64)) {
+      const auto s = static_cast<std::uint32_t>(shift);
+      expected = (product + (std::uint64_t{1U} << (s - 1U))) >> s;
+    }
+    ASSERT_EQ(fx::detail::times_mantissa(x, m, shift), expected) << x << " " << m << " " << shift;
+    ASSERT_EQ(fx::detail::times_mantissa_grows(x, m, shift), (shift <= 0) && (product != 0U))
+        << x << " " << m << " " << shift;
+  }
+}
+
 }  // namespace

@@ -100,6 +100,32 @@ SW_FX_INLINE constexpr std::uint64_t shift_right_rounded(std::uint64_t value, st
   }
 }
 
+/// |x| / d on magnitudes, times_reciprocal's core: |x| times the mantissa
+/// (one 32 x 32-bit product, below 2^63) rounded by `shift` = Fx + scale -
+/// Fout; a shift >= 64 rounds to zero, and a shift <= 0 gives 0 here: there
+/// a non-zero product would only grow, beyond every format
+/// (times_mantissa_grows, the caller's overflow). A caller that goes on with
+/// the magnitude (the flight code's current limit adds I0 to it in 64 bits,
+/// where it cannot overflow) takes these two; times_reciprocal puts the sign
+/// back and saturates.
+SW_FX_INLINE constexpr std::uint64_t times_mantissa(std::uint32_t x_magnitude, std::uint32_t mantissa,
+                                                    std::int32_t shift) noexcept {
+  const std::uint64_t product = wide::mul_32x32_64(x_magnitude, mantissa);  // < 2^63
+  std::uint64_t magnitude = 0U;
+  if ((shift > 0) && (shift < 64)) {
+    // (product + 2^(s-1)) >> s without a 64-bit shift by a run-time count.
+    magnitude = shift_right_rounded(product, static_cast<std::uint32_t>(shift));
+  }
+  return magnitude;
+}
+
+/// Whether times_mantissa's product is one a shift <= 0 would grow (the
+/// same product: inline beside times_mantissa, it is formed once).
+SW_FX_INLINE constexpr bool times_mantissa_grows(std::uint32_t x_magnitude, std::uint32_t mantissa,
+                                                 std::int32_t shift) noexcept {
+  return (shift <= 0) && (wide::mul_32x32_64(x_magnitude, mantissa) != 0U);
+}
+
 }  // namespace detail
 
 /// The reciprocal of the positive magnitude `d_raw` with `d_frac_bits`
@@ -139,18 +165,12 @@ template <typename Out, std::int32_t Fx>
     }
     return negative ? Out::min() : Out::max();
   }
-  const std::uint64_t product =
-      wide::mul_32x32_64(static_cast<std::uint32_t>(detail::magnitude(x.raw())), r.mantissa);  // < 2^63
+  // A product that a shift <= 0 would grow saturates (overflow).
+  const auto x_magnitude = static_cast<std::uint32_t>(detail::magnitude(x.raw()));
   const std::int32_t shift = (Fx + r.scale) - Out::frac_bits;
-  // shift <= 0: a non-zero product is >= 2^31 and would only grow, beyond
-  // Out. shift >= 64: product / 2^shift < 1/2 rounds to zero.
-  const bool grows = shift <= 0;
-  const bool rounds = (shift > 0) && (shift < 64);
-  std::uint64_t mag = (grows && (product != 0U)) ? ~std::uint64_t{0U} : 0U;
-  if (rounds) {
-    // (product + 2^(s-1)) >> s without a 64-bit shift by a run-time count.
-    mag = detail::shift_right_rounded(product, static_cast<std::uint32_t>(shift));
-  }
+  const std::uint64_t mag = detail::times_mantissa_grows(x_magnitude, r.mantissa, shift)
+                                ? ~std::uint64_t{0U}
+                                : detail::times_mantissa(x_magnitude, r.mantissa, shift);
   return Out::from_raw(detail::from_sign_magnitude<OutS>(negative && (mag != 0U), mag, status));
 }
 
