@@ -258,25 +258,14 @@ SW_FX_INLINE P times(P a, P b, fx::Status& st) noexcept {
 }
 
 /// Whether the every-cycle quotients run in their caller
-/// (detail::quotient_inline): where the core has a widening multiply, whose
-/// quotient is about 20 instructions in place against 27 and a call's
+/// (detail::quotient_raw_in_range): where the core has a widening multiply,
+/// whose quotient is about 20 instructions in place against 27 and a call's
 /// arguments (the Cortex-M4); the one function on ARMv6-M, whose
 /// quotient_raw is too large to copy.
 constexpr bool kQuotientsInline{!fx::wide::kMul32x32BySoftware};
 
-/// x / d in Out from d's reciprocal r (detail::quotient's bits and flags):
-/// in the caller in every cycle's pass where kQuotientsInline, else
-/// detail::quotient_raw's call.
-template <typename Out, bool EveryCycle, std::int32_t Fx>
-SW_FX_INLINE Out quotient_in(fx::Q<std::int32_t, Fx> x, fx::NormalisedReciprocal r, fx::Status& st) noexcept {
-  if constexpr (EveryCycle && kQuotientsInline) {
-    return detail::quotient_inline<Out>(x, r, st);
-  } else {
-    return detail::quotient<Out>(x, r, st);
-  }
-}
-
-/// quotient_in for a divisor the statics guard: a lever, a bogie span or
+/// x / d in Out from d's reciprocal r (detail::quotient's bits and flags)
+/// for a divisor the statics guard: a lever, a bogie span or
 /// the lateral span of at least 1 mm in every cycle's pass (side_levers,
 /// left_side_total), the normal fraction cos(pitch) cos(roll) >= 0.24 or
 /// cos(roll) >= 0.49 (attitudes within 1.05 rad). Its reciprocal exists and
@@ -707,7 +696,10 @@ P couple_of(const DriveTorques& torques, std::uint32_t i, const Body<P>& body, c
   if (!torques.usable[i]) {
     return P::zero();
   }
-  const P per_weight = quotient_in<P, kEveryCycle<P>>(torques.torque_nm[i].q(), body.inv_weight, st);
+  // The every-cycle pass comes here only when couples_of finds a reciprocal
+  // or shift out of range, which no valid rover reaches: the called
+  // quotient, not one in place.
+  const P per_weight = detail::quotient<P>(torques.torque_nm[i].q(), body.inv_weight, st);
   return over(per_weight, g.inv_normal_fraction, st);
 }
 

@@ -205,6 +205,42 @@ TEST_F(MonitorTest, ReverseDrivingUsesTheCurrentInTheDirectionOfMotion) {
   EXPECT_NEAR(d(wheel.last_event().peak_current_a), 2.5, 1e-6);
 }
 
+// Corrections handed in whose limit leaves its format while the sinkage
+// fits (W = 2,000 N, C1 = 0.25, C3 = 1, the default motor's gain 6 N m/A):
+// DP_max/W = 10 gives T_max = W L / C1 = 13,200 N m, within Q15.16, but
+// I_max = 2,200 A, beyond Q11.20; DP_max/W = 100 gives T_max = 121,200 N m,
+// beyond Q15.16. Either way the sample is unusable: no estimate and no
+// limit, not the sinkage alone, and the same corrections with DP_max/W = 0.5
+// give both.
+TEST_F(MonitorTest, LimitBeyondItsFormatMakesTheSampleUnusableThoughTheSinkageFits) {
+  CorrectionResult corr{};
+  corr.coefficients.c1 = q<Ratio>(0.25);
+  corr.coefficients.c2 = q<Ratio>(1.0);
+  corr.coefficients.c3 = q<Ratio>(1.0);
+  auto with_ratio = [&](double dp_max_ratio) {
+    corr.dp_max_ratio = q<Ratio>(dp_max_ratio);
+    t_ms += 100U;
+    WheelInput in{TimeMs{t_ms}, q<CurrentA>(1.0), q<WheelLoadN>(2000.0), q<DrawbarPullN>(0.0),
+                  DriveDirection::forward, true};
+    in.corrections = &corr;
+    return feed(in);
+  };
+  const WheelOutput usable = with_ratio(0.5);
+  ASSERT_EQ(usable.sample_status, SampleStatus::ok);
+  ASSERT_TRUE(usable.estimate_valid);
+  ASSERT_TRUE(usable.limit_valid);
+  EXPECT_NE(usable.sinkage_m, SinkageM::zero());
+  for (const double ratio : {10.0, 100.0}) {
+    const WheelOutput o = with_ratio(ratio);
+    EXPECT_EQ(o.sample_status, SampleStatus::estimate_failed) << ratio;
+    EXPECT_FALSE(o.estimate_valid) << ratio;
+    EXPECT_FALSE(o.limit_valid) << ratio;
+    EXPECT_EQ(o.sinkage_m, SinkageM::zero()) << ratio;
+    EXPECT_EQ(o.torque_nm, TorqueNm::zero()) << ratio;
+    EXPECT_EQ(o.current_limit_a, CurrentA::zero()) << ratio;
+  }
+}
+
 TEST_F(MonitorTest, InvalidTelemetryIsCountedNeverEstimatedAndFailsSafe) {
   WheelOutput o = invalid();
   EXPECT_EQ(o.sample_status, SampleStatus::flagged_invalid);

@@ -178,9 +178,8 @@ constexpr std::int32_t product_checked_by_words(std::int32_t a, std::int32_t b, 
 
 /// The raw bits of fx::times_reciprocal<Out>(x, r) for a 32-bit Out, given
 /// shift = F_x + r.scale - F_out: the same bits, flags and saturation, with
-/// the magnitude's limits in 32-bit words (shifted_rounded). Forced inline:
-/// the caller chooses between this and quotient_raw's one function for
-/// every format (quotient_inline, quotient).
+/// the magnitude's limits in 32-bit words (shifted_rounded): the body of
+/// quotient_raw's one function for every format (quotient).
 SW_FX_INLINE constexpr std::int32_t quotient_raw_inline(std::int32_t x, fx::NormalisedReciprocal r,
                                                         std::int32_t shift, fx::Status& st) noexcept {
   const bool negative = x < 0;
@@ -247,15 +246,6 @@ template <typename Out, std::int32_t Fx>
 SW_FX_INLINE constexpr Out quotient(fx::Q<std::int32_t, Fx> x, fx::NormalisedReciprocal r, fx::Status& st) noexcept {
   static_assert(std::is_same<typename Out::storage_type, std::int32_t>::value, "a 32-bit quotient");
   return Out::from_raw(quotient_raw(x.raw(), r, (Fx + r.scale) - Out::frac_bits, st));
-}
-
-/// The same in the caller (quotient_raw_inline): for the every-cycle
-/// quotients where the core has a widening multiply (wheel_load.cpp).
-template <typename Out, std::int32_t Fx>
-SW_FX_INLINE constexpr Out quotient_inline(fx::Q<std::int32_t, Fx> x, fx::NormalisedReciprocal r,
-                                           fx::Status& st) noexcept {
-  static_assert(std::is_same<typename Out::storage_type, std::int32_t>::value, "a 32-bit quotient");
-  return Out::from_raw(quotient_raw_inline(x.raw(), r, (Fx + r.scale) - Out::frac_bits, st));
 }
 
 /// fx::normalised_reciprocal of a 32-bit Q value: its normalisation in
