@@ -111,12 +111,12 @@ SW_FX_INLINE constexpr std::uint64_t shift_right_rounded(std::uint64_t value, st
 SW_FX_INLINE constexpr std::uint64_t times_mantissa(std::uint32_t x_magnitude, std::uint32_t mantissa,
                                                     std::int32_t shift) noexcept {
   const std::uint64_t product = wide::mul_32x32_64(x_magnitude, mantissa);  // < 2^63
-  std::uint64_t magnitude = 0U;
+  std::uint64_t rounded = 0U;
   if ((shift > 0) && (shift < 64)) {
     // (product + 2^(s-1)) >> s without a 64-bit shift by a run-time count.
-    magnitude = shift_right_rounded(product, static_cast<std::uint32_t>(shift));
+    rounded = shift_right_rounded(product, static_cast<std::uint32_t>(shift));
   }
-  return magnitude;
+  return rounded;
 }
 
 /// Whether times_mantissa's product is one a shift <= 0 would grow (the
