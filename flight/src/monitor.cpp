@@ -387,8 +387,8 @@ SW_FX_INLINE void WheelMonitor::transition(bool current_stop, bool slip_stop, co
 }
 
 template <typename Sample>
-[[gnu::noinline]] void WheelMonitor::step_sample(Sample input, TimeMs now, const PreparedParameters& prepared,
-                                            WheelOutput& out) noexcept {
+SW_FX_INLINE void WheelMonitor::step_body(Sample input, TimeMs now, const PreparedParameters& prepared,
+                                          WheelOutput& out) noexcept {
   const ParameterTable& table = prepared.table();
   // Every field of `out` is written below: state, sample_status and
   // stop_reason at the end, stop_tripped here, the estimate's fields and the
@@ -458,6 +458,12 @@ template <typename Sample>
   out.stop_reason = stop_reason_;
 }
 
+template <typename Sample>
+[[gnu::noinline]] void WheelMonitor::step_sample(Sample input, TimeMs now, const PreparedParameters& prepared,
+                                                 WheelOutput& out) noexcept {
+  step_body(input, now, prepared, out);
+}
+
 void WheelMonitor::step(const WheelInput& input, TimeMs now, const PreparedParameters& prepared,
                         WheelOutput& out) noexcept {
   step_sample(InputSample(input), now, prepared, out);
@@ -472,6 +478,8 @@ namespace {
 /// RoverMonitor::step_all's wheels from six WheelInput records.
 class InputWheels {
  public:
+  /// Through the out-of-line WheelMonitor::step_sample, shared with step().
+  static constexpr bool kInlineStep = false;
   explicit InputWheels(const WheelInput (&inputs)[kMaxWheels]) noexcept : inputs_(inputs) {}
   [[nodiscard]] InputSample sample(std::uint8_t i) const noexcept { return InputSample(inputs_[i]); }
 
@@ -487,6 +495,7 @@ class InputWheels {
 /// rare cycle.
 class UnfreshWheels {
  public:
+  static constexpr bool kInlineStep = false;
   explicit UnfreshWheels(const WheelSamples& samples) noexcept {
     input_.time = samples.time;
     input_.valid = samples.valid;
@@ -501,6 +510,9 @@ class UnfreshWheels {
 /// a cycle whose flag and age are ok (cycle_fresh_status).
 class CycleWheels {
  public:
+  /// step_all's loop takes WheelMonitor::step_body in place: this is its
+  /// only caller on a CycleSample, so no code is copied.
+  static constexpr bool kInlineStep = true;
   explicit CycleWheels(const WheelSamples& samples) noexcept : samples_(samples) {}
   [[nodiscard]] CycleSample sample(std::uint8_t i) const noexcept { return CycleSample(samples_, i); }
 
@@ -526,7 +538,11 @@ void RoverMonitor::step_all(const Wheels& wheels, TimeMs now, const PreparedPara
   std::uint32_t tally = 0U;
   for (std::uint8_t i = 0U; i < count; ++i) {
     WheelOutput& w = out.wheels[i];
-    wheels_[i].step_sample(wheels.sample(i), now, prepared, w);
+    if constexpr (Wheels::kInlineStep) {
+      wheels_[i].step_body(wheels.sample(i), now, prepared, w);
+    } else {
+      wheels_[i].step_sample(wheels.sample(i), now, prepared, w);
+    }
     tally += 1U << (8U * static_cast<std::uint32_t>(w.state));
     if (w.sample_status == SampleStatus::sensor_fault) {
       tally += 1U << kBlindShift;
