@@ -302,7 +302,6 @@ void WheelMonitor::clear_stop() noexcept {
   clear_history_ = 0U;
   consecutive_unusable_ = 0U;
   have_peak_ = false;
-  have_max_estimate_ = false;
 }
 
 void WheelMonitor::hold_in_caution() noexcept {
@@ -313,13 +312,21 @@ void WheelMonitor::hold_in_caution() noexcept {
 }
 
 SW_FX_INLINE void WheelMonitor::track_episode(CurrentA directed, WheelLoadN load_n, SinkageM sinkage_m) noexcept {
-  if ((!have_peak_) || (directed > peak_current_a_)) {
+  // The peak and the largest estimate start and end together (one flag):
+  // the episode's first usable sample sets both, and the episode's steady
+  // cycles test the flag once (round 16).
+  if (!have_peak_) {
     have_peak_ = true;
     peak_current_a_ = directed;
     load_at_peak_n_ = load_n;
+    max_estimate_m_ = sinkage_m;
+    return;
   }
-  if ((!have_max_estimate_) || (sinkage_m > max_estimate_m_)) {
-    have_max_estimate_ = true;
+  if (directed > peak_current_a_) {
+    peak_current_a_ = directed;
+    load_at_peak_n_ = load_n;
+  }
+  if (sinkage_m > max_estimate_m_) {
     max_estimate_m_ = sinkage_m;
   }
 }
@@ -350,8 +357,8 @@ SW_FX_INLINE void WheelMonitor::track_episode(CurrentA directed, WheelLoadN load
       }
     }
   }
-  e.max_estimate_valid = have_max_estimate_;
-  e.max_estimated_sinkage_m = have_max_estimate_ ? max_estimate_m_ : SinkageM::zero();
+  e.max_estimate_valid = have_peak_;
+  e.max_estimated_sinkage_m = have_peak_ ? max_estimate_m_ : SinkageM::zero();
   return e;
 }
 
@@ -380,7 +387,6 @@ SW_FX_INLINE void WheelMonitor::transition(bool current_stop, bool slip_stop, co
     state_ = WheelState::nominal;
     caution_history_ = 0U;
     have_peak_ = false;
-    have_max_estimate_ = false;
   } else {
     // no transition
   }

@@ -233,10 +233,11 @@ class WheelMonitor {
   std::uint8_t consecutive_unusable_{0U};
   bool have_last_time_{false};
   TimeMs last_time_{0U};
+  /// The episode has had a usable sample: peak_current_a_, load_at_peak_n_
+  /// and max_estimate_m_ hold its numbers (they start and end together).
   bool have_peak_{false};
   CurrentA peak_current_a_{};
   WheelLoadN load_at_peak_n_{};
-  bool have_max_estimate_{false};
   SinkageM max_estimate_m_{};
   bool has_event_{false};
   EventRecord event_{};
