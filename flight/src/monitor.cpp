@@ -47,6 +47,20 @@ SW_FX_INLINE CurrentA fraction_of(std::int32_t fraction_raw, CurrentA limit) noe
   return CurrentA(CurrentQ::from_raw(fx::detail::product_rounded_inlined<kShift>(fraction_raw, limit.raw())));
 }
 
+/// The levels below which a usable sample is clear (evidence_of): f - h, and
+/// the caution sinkage less its hysteresis. Both positive and exact on a
+/// validated table (f in (0, 1], h in [0, f); the sinkage hysteresis in
+/// [0, caution)): no subtraction saturates.
+struct ClearLevels {
+  std::int32_t fraction_raw;  ///< f - h, RatioQ
+  SinkageM sinkage_m;
+};
+
+SW_FX_INLINE ClearLevels clear_levels_of(const MonitorParams& mp) noexcept {
+  return ClearLevels{mp.current_caution_fraction.raw() - mp.current_hysteresis_fraction.raw(),
+                     SinkageM(LengthQ::from_raw(mp.caution_sinkage_m.raw() - mp.sinkage_hysteresis_m.raw()))};
+}
+
 /// A WheelInput's sample, as WheelMonitor::step_sample reads it.
 class InputSample {
  public:
@@ -73,6 +87,10 @@ class InputSample {
   [[nodiscard]] SW_FX_INLINE bool sensor_fault() const noexcept { return in_.sensor_fault; }
   [[nodiscard]] SW_FX_INLINE const CorrectionResult* corrections() const noexcept { return in_.corrections; }
   [[nodiscard]] SW_FX_INLINE const TorqueResult& drive_torque() const noexcept { return in_.drive_torque; }
+  /// The clear levels, from the table per wheel (one wheel per call).
+  [[nodiscard]] SW_FX_INLINE ClearLevels clear_levels(const MonitorParams& mp) const noexcept {
+    return clear_levels_of(mp);
+  }
 
  private:
   const WheelInput& in_;
@@ -99,7 +117,8 @@ class CycleSample {
   /// and only on a cycle whose cycle_fresh_status is ok (the other cycles'
   /// wheels take WheelMonitor::step_unfresh).
   static constexpr bool kValidTable = true;
-  CycleSample(const WheelSamples& samples, std::uint8_t index) noexcept : s_(samples), i_(index) {}
+  CycleSample(const WheelSamples& samples, const ClearLevels& levels, std::uint8_t index) noexcept
+      : s_(samples), levels_(levels), i_(index) {}
   [[nodiscard]] SW_FX_INLINE SampleStatus fresh_status(TimeMs /*now*/,
                                                        const PreparedParameters& /*prepared*/) const noexcept {
     return SampleStatus::ok;
@@ -115,9 +134,12 @@ class CycleSample {
     return (s_.corrections != nullptr) ? &(*s_.corrections)[i_] : nullptr;
   }
   [[nodiscard]] SW_FX_INLINE const TorqueResult& drive_torque() const noexcept { return (*s_.drive_torque)[i_]; }
+  /// The clear levels the cycle's wheels share, taken once per cycle.
+  [[nodiscard]] SW_FX_INLINE ClearLevels clear_levels(const MonitorParams& /*mp*/) const noexcept { return levels_; }
 
  private:
   const WheelSamples& s_;
+  const ClearLevels& levels_;
   std::uint8_t i_;
 };
 
@@ -246,15 +268,13 @@ struct Evidence {
   bool slip_stop{false};  ///< stop evidence from high slip alone
 };
 
-SW_FX_INLINE Evidence evidence_of(CurrentA directed, const WheelOutput& out, const MonitorParams& mp) noexcept {
-  // The thresholds of a validated table (monitor.hpp): f - h and the
-  // caution level less its hysteresis are positive and exact (h in [0, f),
-  // the hysteresis in [0, caution)), so no threshold saturates.
-  const std::int32_t f = mp.current_caution_fraction.raw();
-  const CurrentA clear_current = fraction_of(f - mp.current_hysteresis_fraction.raw(), out.current_limit_a);
-  const SinkageM clear_sinkage(LengthQ::from_raw(mp.caution_sinkage_m.raw() - mp.sinkage_hysteresis_m.raw()));
+SW_FX_INLINE Evidence evidence_of(CurrentA directed, const WheelOutput& out, const MonitorParams& mp,
+                                  const ClearLevels& levels) noexcept {
+  // The thresholds of a validated table (monitor.hpp): the clear levels
+  // (clear_levels_of) are positive and exact, so no threshold saturates.
+  const CurrentA clear_current = fraction_of(levels.fraction_raw, out.current_limit_a);
   Evidence e{};
-  e.clear = (directed < clear_current) && (out.sinkage_m < clear_sinkage);
+  e.clear = (directed < clear_current) && (out.sinkage_m < levels.sinkage_m);
   if (e.clear && (out.current_limit_a >= CurrentA::zero())) {
     // A clear sample on a limit I_max >= 0 is below every level, a quiet
     // wheel's usual sample: (f - h) I_max <= f I_max <= I_max (0 < f - h
@@ -263,7 +283,7 @@ SW_FX_INLINE Evidence evidence_of(CurrentA directed, const WheelOutput& out, con
     e.caution = false;
     return e;
   }
-  const CurrentA caution_current = fraction_of(f, out.current_limit_a);
+  const CurrentA caution_current = fraction_of(mp.current_caution_fraction.raw(), out.current_limit_a);
   e.current_stop = directed >= out.current_limit_a;
   e.stop = e.current_stop || (out.sinkage_m >= mp.stop_sinkage_m);
   e.caution = e.stop || (directed >= caution_current) || (out.sinkage_m >= mp.caution_sinkage_m);
@@ -439,7 +459,7 @@ SW_FX_INLINE void WheelMonitor::step_body(Sample input, TimeMs now, const Prepar
     }
   } else {
     consecutive_unusable_ = 0U;
-    e = evidence_of(directed, out, table.monitor);
+    e = evidence_of(directed, out, table.monitor, input.clear_levels(table.monitor));
     if (input.drawbar_assumed()) {
       // DP = DP_max assumed at high slip: the estimate is a lower bound and
       // the wheel makes no headway (WheelInput::drawbar_assumed).
@@ -519,11 +539,13 @@ class CycleWheels {
   /// step_all's loop takes WheelMonitor::step_body in place: this is its
   /// only caller on a CycleSample, so no code is copied.
   static constexpr bool kInlineStep = true;
-  explicit CycleWheels(const WheelSamples& samples) noexcept : samples_(samples) {}
-  [[nodiscard]] CycleSample sample(std::uint8_t i) const noexcept { return CycleSample(samples_, i); }
+  CycleWheels(const WheelSamples& samples, const MonitorParams& mp) noexcept
+      : samples_(samples), levels_(clear_levels_of(mp)) {}
+  [[nodiscard]] CycleSample sample(std::uint8_t i) const noexcept { return CycleSample(samples_, levels_, i); }
 
  private:
   const WheelSamples& samples_;
+  ClearLevels levels_;  ///< once per cycle, not per wheel
 };
 
 }  // namespace
@@ -601,7 +623,7 @@ void RoverMonitor::step(const WheelSamples& samples, TimeMs now, const PreparedP
     // The cycle's flag and age once, not per wheel: they are every wheel's.
     const SampleStatus fresh = cycle_fresh_status(samples, now, prepared.table().monitor);
     if (fresh == SampleStatus::ok) {
-      step_all(CycleWheels(samples), now, prepared, out);
+      step_all(CycleWheels(samples, prepared.table().monitor), now, prepared, out);
     } else {
       step_unfresh(samples, now, prepared, out);
     }
