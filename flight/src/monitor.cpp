@@ -301,12 +301,19 @@ SW_FX_INLINE Evidence evidence_of(CurrentA directed, const WheelOutput& out, con
 /// A free function with one caller (not a member), so that GCC inlines it
 /// at -Os (session 18: a call per wheel and cycle less on the Cortex-M0).
 SW_FX_INLINE void count_sample(WheelCounters& counters, SampleStatus status) noexcept {
+  // Each count plus one, kept unless it wrapped to zero: the saturation
+  // test is the increment's own result (round 16: one instruction less
+  // per counter on the Cortex-M4 than a comparison with the maximum).
   const std::uint8_t index = static_cast<std::uint8_t>(status);
-  if ((index < kSampleStatusCount) && (counters.by_status[index] < 0xFFFFFFFFU)) {
-    ++counters.by_status[index];
+  if (index < kSampleStatusCount) {
+    const std::uint32_t by_status = counters.by_status[index] + 1U;
+    if (by_status != 0U) {
+      counters.by_status[index] = by_status;
+    }
   }
-  if (counters.samples < 0xFFFFFFFFU) {
-    ++counters.samples;
+  const std::uint32_t samples = counters.samples + 1U;
+  if (samples != 0U) {
+    counters.samples = samples;
   }
 }
 
