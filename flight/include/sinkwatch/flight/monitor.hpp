@@ -214,11 +214,15 @@ class WheelMonitor {
   /// argument records and no reload of the wheel's state per wheel; M4
   /// -54, M0 -69 instructions per step); the WheelInput paths call it
   /// through step_sample, out of line, one copy for their three callers.
+  /// `blind_wheels`: RoverMonitor's count of blind wheels, one more on a
+  /// sensor fault's sample.
   template <typename Sample>
-  inline void step_body(Sample input, TimeMs now, const PreparedParameters& prepared, WheelOutput& out) noexcept;
+  inline void step_body(Sample input, TimeMs now, const PreparedParameters& prepared, WheelOutput& out,
+                        std::uint8_t& blind_wheels) noexcept;
   /// step_body out of line (monitor.cpp).
   template <typename Sample>
-  void step_sample(Sample input, TimeMs now, const PreparedParameters& prepared, WheelOutput& out) noexcept;
+  void step_sample(Sample input, TimeMs now, const PreparedParameters& prepared, WheelOutput& out,
+                   std::uint8_t& blind_wheels) noexcept;
   /// The record written on entering STOP (out of line: its records are not
   /// in step()'s frame on the cycles without a STOP).
   [[nodiscard]] EventRecord stop_event(TimeMs now, StopReason reason,
