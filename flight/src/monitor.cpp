@@ -578,12 +578,12 @@ void RoverMonitor::step_all(const Wheels& wheels, TimeMs now, const PreparedPara
   // of every wheel's status here; M4 -49, M0 -20 instructions per step).
   std::uint32_t tally = 0U;
   out.wheels_blind = 0U;
-  for (std::uint8_t i = 0U; i < count; ++i) {
+  for (std::uint32_t i = 0U; i < count; ++i) {
     WheelOutput& w = out.wheels[i];
     if constexpr (Wheels::kInlineStep) {
-      wheels_[i].step_body(wheels.sample(i), now, prepared, w, out.wheels_blind);
+      wheels_[i].step_body(wheels.sample(static_cast<std::uint8_t>(i)), now, prepared, w, out.wheels_blind);
     } else {
-      wheels_[i].step_sample(wheels.sample(i), now, prepared, w, out.wheels_blind);
+      wheels_[i].step_sample(wheels.sample(static_cast<std::uint8_t>(i)), now, prepared, w, out.wheels_blind);
     }
     tally += 1U << (8U * static_cast<std::uint32_t>(w.state));
   }
