@@ -49,7 +49,9 @@ SW_FX_INLINE void StopRecorder::remember(const RoverOutput& monitor, std::uint8_
       }
       next_[i] = static_cast<std::uint8_t>(slot);
     }
-    if ((first == StopReason::none) && w.stop_tripped) {
+    // The wheel's trip first: it is rare, and the usual cycle's first
+    // reason is none, so this way one test per wheel, not two (round 16).
+    if (w.stop_tripped && (first == StopReason::none)) {
       first = w.stop_reason;
     }
   }
