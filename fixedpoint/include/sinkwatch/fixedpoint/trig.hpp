@@ -188,6 +188,59 @@ constexpr std::uint64_t angle_turns(S raw) noexcept {
   }
 }
 
+/// angle_turns() of a 32-bit magnitude `limb` of F fractional bits (0 < F <
+/// 32) whose product with k_inv_two_pi[2] is below 2^(32 + F) (at most
+/// 2.015 rad for F = 28), from two products instead of three. With s = 32 -
+/// F, the first two limbs of 1/(2 pi) shifted left by s bits are top 2^64 +
+/// mid 2^32 + low, so floor(limb (k0 2^(32 + s) + k1 2^s) / 2^32) = limb top
+/// 2^32 + limb mid + floor(limb low / 2^32): exactly turn_part<F, 0, 0> +
+/// turn_part<F, 0, 1> (the first is limb k0 2^s, the second floor(limb k1 /
+/// 2^(32 - s)) = limb (k1 >> (32 - s)) + floor(limb low / 2^32)), the sum
+/// wrapping mod 1 turn as theirs does. turn_part<F, 0, 2> = floor(limb k2 /
+/// 2^(32 + F)) is zero below the bound, turn_part<F, 0, 3> always.
+template <std::int32_t F>
+SW_FX_INLINE constexpr std::uint64_t near_turns(std::uint32_t limb) noexcept {
+  static_assert((F > 0) && (F < 32), "a 32-bit angle with 1 to 31 fractional bits");
+  constexpr std::uint32_t s = static_cast<std::uint32_t>(32 - F);
+  constexpr std::uint32_t top = k_inv_two_pi[0] >> (32U - s);
+  constexpr std::uint32_t mid = (k_inv_two_pi[0] << s) | (k_inv_two_pi[1] >> (32U - s));
+  constexpr std::uint32_t low = k_inv_two_pi[1] << s;
+  // limb top wraps mod 2^32: its whole turns fall off the top, as in turns().
+  // Its low word is zero, so the high word of limb low joins it as an or.
+  const std::uint64_t whole = (static_cast<std::uint64_t>(limb * top) << 32U) | mul_high_word(limb, low);
+  return whole + mul_wide(limb, mid);
+}
+
+/// The largest raw magnitude near_turns<F> reduces exactly: limb k2 < 2^(32 + F).
+template <std::int32_t F>
+constexpr std::uint64_t k_near_limit = ((std::uint64_t{1U} << static_cast<std::uint32_t>(32 + F)) - 1U) / k_inv_two_pi[2];
+
+/// An angle of magnitude below 3 pi/4 reduced as reduce() does, to q pi/2 +
+/// r, q 0 or 1, |r| <= pi/4, r = m 2^-61 pi/4: the quadrant as whether sin
+/// and cos swap kernels, and the one sign the reduction decides, cos's
+/// beyond pi/2. reduce()'s other cases (q 2 and 3) cannot arise.
+struct NearReduced {
+  bool odd_quadrant;    ///< |angle| beyond pi/4: sin from cos(r), cos from sin(r)
+  bool beyond_half_pi;  ///< |angle| at or beyond pi/2: cos negative
+  std::uint64_t m;
+};
+
+/// reduce() below 3/8 turn: u < 1/8 is quadrant 0 with r = u; u in [1/8, 1/4)
+/// quadrant 1 with r = -(1/4 - u) (reduce()'s negative residual, cos still
+/// positive); u in [1/4, 3/8) quadrant 1 with r = u - 1/4 (cos negative).
+/// The same m and signs as reduce(), sin_negative() and cos_negative().
+constexpr NearReduced reduce_near(std::uint64_t turn_fraction) noexcept {
+  const std::uint64_t eighth = std::uint64_t{1U} << 61U;
+  const std::uint64_t quarter = std::uint64_t{1U} << 62U;
+  if (turn_fraction < eighth) {
+    return NearReduced{false, false, turn_fraction};
+  }
+  if (turn_fraction < quarter) {
+    return NearReduced{true, false, quarter - turn_fraction};
+  }
+  return NearReduced{true, true, turn_fraction - quarter};
+}
+
 /// An angle reduced to q * pi/2 + r with |r| <= pi/4. r = (negative ? -1 : 1)
 /// * m * 2^-61 * pi/4, m <= 2^61.
 struct Reduced {
@@ -387,6 +440,42 @@ template <typename S, std::int32_t F>
   return SinCos{detail::trig::signed_q1_30(detail::trig::sin_negative(r, angle_rad.raw() < 0),
                                            odd_quadrant ? cos_r : sin_r),
                 detail::trig::signed_q1_30(detail::trig::cos_negative(r), odd_quadrant ? sin_r : cos_r)};
+}
+
+namespace detail {
+namespace trig {
+
+/// The bounded sincos() of a raw angle within k_near_limit<F> and below 3
+/// pi/4: one function per format, whatever the bounds of its callers (one
+/// copy of the kernels).
+template <std::int32_t F>
+constexpr SinCos near_sincos(std::int32_t raw) noexcept {
+  const NearReduced r = reduce_near(near_turns<F>(magnitude32(raw)));
+  const std::uint32_t w = square_q31(r.m);
+  const std::uint64_t sin_r = sin_kernel(r.m, w);
+  const std::uint64_t cos_r = cos_kernel(w);
+  return SinCos{signed_q1_30(raw < 0, r.odd_quadrant ? cos_r : sin_r),
+                signed_q1_30(r.beyond_half_pi, r.odd_quadrant ? sin_r : cos_r)};
+}
+
+}  // namespace trig
+}  // namespace detail
+
+template <typename QType, std::uint32_t MaxMag>
+class Bounded;  // bounded.hpp, which includes this header
+
+/// sincos() of an angle whose magnitude is bounded at compile time (an
+/// fx::Bounded) by at most 2.015 rad in Q3.28 (near_turns()): the same bits
+/// as sincos() of angle_rad.q() for every angle within the bound, from a
+/// cheaper reduction (two products instead of three, two quadrants instead
+/// of four). docs/fixedpoint.md gives the proof and the exhaustive check
+/// over every Q3.28 angle of the rover's joints. Cannot fail.
+template <std::int32_t F, std::uint32_t MaxMag>
+[[nodiscard]] constexpr SinCos sincos(Bounded<Q<std::int32_t, F>, MaxMag> angle_rad, Status& status) noexcept {
+  static_cast<void>(status);
+  static_assert(MaxMag <= detail::trig::k_near_limit<F>, "an angle bound within near_turns()'s exact range");
+  static_assert(detail::trig::near_turns<F>(MaxMag) < (std::uint64_t{3U} << 61U), "an angle bound below 3 pi/4");
+  return detail::trig::near_sincos<F>(angle_rad.raw());
 }
 
 /// asin(x) in radians, Q3_28, within 1 LSB (2^-28) of the exact value.
