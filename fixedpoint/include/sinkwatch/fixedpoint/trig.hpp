@@ -263,11 +263,15 @@ constexpr Reduced reduce(std::uint64_t turn_fraction) noexcept {
 /// v^2 in units of 2^-31 for v = m * 2^-61 <= 1, within 0.5 + 2^-30 units.
 /// At most 2^31 (v <= 1), so it is returned as one word.
 constexpr std::uint32_t square_q31(std::uint64_t m) noexcept {
-  const std::uint64_t m_hi = m >> 30U;          // <= 2^31
-  const std::uint64_t m_lo = m & 0x3FFFFFFFU;  // < 2^30
+  const std::uint32_t m_hi = word(m >> 30U);  // <= 2^31
+  // m_lo 2^2 for m_lo = m mod 2^30: m's low word shifted, its top two bits
+  // off the word (the same word sin_kernel takes).
+  const std::uint32_t m_lo4 = word(m << 2U);
   // v^2 * 2^31 = m_hi^2 2^-31 + m_hi m_lo 2^-60 + m_lo^2 2^-91; the last term
-  // is below 2^-31 units and dropped.
-  const std::uint64_t sum = mul_wide(word(m_hi), word(m_hi)) + (mul_wide(word(m_hi), word(m_lo)) >> 29U);
+  // is below 2^-31 units and dropped. floor(m_hi m_lo / 2^29) = floor(m_hi
+  // m_lo4 / 2^31) < 2^32 (m_hi m_lo < 2^61): one word.
+  const std::uint32_t cross = word(mul_wide(m_hi, m_lo4) >> 31U);
+  const std::uint64_t sum = mul_wide(m_hi, m_hi) + cross;
   return word((sum + (std::uint64_t{1U} << 30U)) >> 31U);
 }
 
@@ -298,11 +302,15 @@ constexpr std::uint32_t sin_poly(std::uint32_t w) noexcept { return alternating_
 constexpr std::uint32_t sin_kernel(std::uint64_t m, std::uint32_t w) noexcept {
   const std::uint32_t p = sin_poly(w);
   // sin = v P with v taken at full precision: m * P * 2^-93, in 2^-30 units
-  // m * P * 2^-63. m = m_hi 2^30 + m_lo keeps both products below 2^63.
-  const std::uint64_t m_hi = m >> 30U;
-  const std::uint64_t m_lo = m & 0x3FFFFFFFU;
-  const std::uint64_t t = mul_wide(word(m_hi), p) + (mul_wide(word(m_lo), p) >> 30U);
-  return word((t + (std::uint64_t{1U} << 32U)) >> 33U);
+  // m * P * 2^-63. m = m_hi 2^30 + m_lo keeps both products below 2^63:
+  // t = m_hi P + floor(m_lo P / 2^30), the second the high word of m_lo4 P
+  // (m_lo4 = m_lo 2^2, square_q31's word).
+  const std::uint32_t m_hi = word(m >> 30U);
+  const std::uint32_t m_lo4 = word(m << 2U);
+  // round(t / 2^33) = (floor(t / 2^32) + 1) >> 1, t < 2^63: from t's high
+  // word alone.
+  const std::uint32_t t_high = word((mul_wide(m_hi, p) + mul_high_word(m_lo4, p)) >> 32U);
+  return (t_high + 1U) >> 1U;
 }
 
 /// cos(pi/4 v) * 2^30 rounded, for w = square_q31(m), v = m * 2^-61 in [0, 1].
