@@ -230,15 +230,14 @@ struct NearReduced {
 /// positive); u in [1/4, 3/8) quadrant 1 with r = u - 1/4 (cos negative).
 /// The same m and signs as reduce(), sin_negative() and cos_negative().
 constexpr NearReduced reduce_near(std::uint64_t turn_fraction) noexcept {
-  const std::uint64_t eighth = std::uint64_t{1U} << 61U;
-  const std::uint64_t quarter = std::uint64_t{1U} << 62U;
-  if (turn_fraction < eighth) {
+  // Whole eighths of a turn: 0, 1 or 2 below 3/8 turn.
+  const std::uint32_t eighths = word(turn_fraction >> 61U);
+  if (eighths == 0U) {
     return NearReduced{false, false, turn_fraction};
   }
-  if (turn_fraction < quarter) {
-    return NearReduced{true, false, quarter - turn_fraction};
-  }
-  return NearReduced{true, true, turn_fraction - quarter};
+  const std::uint64_t quarter = std::uint64_t{1U} << 62U;
+  const bool beyond_half_pi = eighths > 1U;
+  return NearReduced{true, beyond_half_pi, beyond_half_pi ? (turn_fraction - quarter) : (quarter - turn_fraction)};
 }
 
 /// An angle reduced to q * pi/2 + r with |r| <= pi/4. r = (negative ? -1 : 1)
