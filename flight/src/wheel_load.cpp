@@ -499,8 +499,12 @@ WheelLoadStatus check_inputs(const RoverParams& params, const RoverAttitude& att
 }
 
 GravityFrame gravity_frame(const RoverAttitude& attitude, fx::Status& st) noexcept {
-  const fx::SinCos pitch_sc = fx::sincos(attitude.pitch_rad.q(), st);
-  const fx::SinCos roll_sc = fx::sincos(attitude.roll_rad.q(), st);
+  // Both angles are within the attitude limit (check_inputs), at most 1.05
+  // rad (kMaxAttitudeLimit): fx::sincos's bounded form, the same bits.
+  using Attitude =
+      fx::Bounded<fx::Q3_28, static_cast<std::uint32_t>(fx::constant<fx::Q3_28>(limits::kMaxAttitudeLimitRad).raw())>;
+  const fx::SinCos pitch_sc = fx::sincos(Attitude::trusted(attitude.pitch_rad.raw()), st);
+  const fx::SinCos roll_sc = fx::sincos(Attitude::trusted(attitude.roll_rad.raw()), st);
   // cos(pitch) cos(roll) >= cos^2(1.05 rad) > 0.24: the reciprocals exist.
   // Built whole (no zeroed frame filled in: a memset on the Cortex-M0).
   // Two cosines of magnitude at most one (unit_sincos): their product is
@@ -533,9 +537,9 @@ SideJoints side_joints(AngleRad rocker_rad, AngleRad bogie_rad, fx::Status& st) 
   // so fx::add's overflow test (which never raised) is left out.
   using Joint = fx::Bounded<fx::Q3_28, static_cast<std::uint32_t>(fx::constant<fx::Q3_28>(limits::kMaxJointLimitRad).raw())>;
   const Joint rocker = Joint::trusted(rocker_rad.raw());
-  const fx::Q3_28 bogie_abs = fx::add(rocker, Joint::trusted(bogie_rad.raw())).q();
-  // One range reduction per angle (fx::sincos), the bits of sin and cos apart.
-  return SideJoints{fx::sincos(rocker.q(), st), fx::sincos(bogie_abs, st)};
+  // One range reduction per angle (fx::sincos), the bits of sin and cos
+  // apart; the bounded form, both angles within 1.6 rad.
+  return SideJoints{fx::sincos(rocker, st), fx::sincos(fx::add(rocker, Joint::trusted(bogie_rad.raw())), st)};
 }
 
 /// Out of line: its sines and cosines stay off the stack of the passes.

@@ -188,6 +188,58 @@ constexpr std::uint64_t angle_turns(S raw) noexcept {
   }
 }
 
+/// angle_turns() of a 32-bit magnitude `limb` of F fractional bits (0 < F <
+/// 32) whose product with k_inv_two_pi[2] is below 2^(32 + F) (at most
+/// 2.015 rad for F = 28), from two products instead of three. With s = 32 -
+/// F, the first two limbs of 1/(2 pi) shifted left by s bits are top 2^64 +
+/// mid 2^32 + low, so floor(limb (k0 2^(32 + s) + k1 2^s) / 2^32) = limb top
+/// 2^32 + limb mid + floor(limb low / 2^32): exactly turn_part<F, 0, 0> +
+/// turn_part<F, 0, 1> (the first is limb k0 2^s, the second floor(limb k1 /
+/// 2^(32 - s)) = limb (k1 >> (32 - s)) + floor(limb low / 2^32)), the sum
+/// wrapping mod 1 turn as theirs does. turn_part<F, 0, 2> = floor(limb k2 /
+/// 2^(32 + F)) is zero below the bound, turn_part<F, 0, 3> always.
+template <std::int32_t F>
+SW_FX_INLINE constexpr std::uint64_t near_turns(std::uint32_t limb) noexcept {
+  static_assert((F > 0) && (F < 32), "a 32-bit angle with 1 to 31 fractional bits");
+  constexpr std::uint32_t s = static_cast<std::uint32_t>(32 - F);
+  constexpr std::uint32_t top = k_inv_two_pi[0] >> (32U - s);
+  constexpr std::uint32_t mid = (k_inv_two_pi[0] << s) | (k_inv_two_pi[1] >> (32U - s));
+  constexpr std::uint32_t low = k_inv_two_pi[1] << s;
+  // limb top wraps mod 2^32: its whole turns fall off the top, as in turns().
+  // Its low word is zero, so the high word of limb low joins it as an or.
+  const std::uint64_t whole = (static_cast<std::uint64_t>(limb * top) << 32U) | mul_high_word(limb, low);
+  return whole + mul_wide(limb, mid);
+}
+
+/// The largest raw magnitude near_turns<F> reduces exactly: limb k2 < 2^(32 + F).
+template <std::int32_t F>
+constexpr std::uint64_t k_near_limit = ((std::uint64_t{1U} << static_cast<std::uint32_t>(32 + F)) - 1U) / k_inv_two_pi[2];
+
+/// An angle of magnitude below 3 pi/4 reduced as reduce() does, to q pi/2 +
+/// r, q 0 or 1, |r| <= pi/4, r = m 2^-61 pi/4: the quadrant as whether sin
+/// and cos swap kernels, and the one sign the reduction decides, cos's
+/// beyond pi/2. reduce()'s other cases (q 2 and 3) cannot arise.
+struct NearReduced {
+  bool odd_quadrant;    ///< |angle| beyond pi/4: sin from cos(r), cos from sin(r)
+  bool beyond_half_pi;  ///< |angle| at or beyond pi/2: cos negative
+  std::uint64_t m;
+};
+
+/// reduce() below 3/8 turn: u < 1/8 is quadrant 0 with r = u; u in [1/8, 1/4)
+/// quadrant 1 with r = -(1/4 - u) (reduce()'s negative residual, cos still
+/// positive); u in [1/4, 3/8) quadrant 1 with r = u - 1/4 (cos negative).
+/// The same m and signs as reduce(), sin_negative() and cos_negative().
+constexpr NearReduced reduce_near(std::uint64_t turn_fraction) noexcept {
+  // Whole eighths of a turn: 0, 1 or 2 below 3/8 turn.
+  const std::uint32_t eighths = word(turn_fraction >> 61U);
+  if (eighths == 0U) {
+    return NearReduced{false, false, turn_fraction};
+  }
+  const std::uint64_t quarter = std::uint64_t{1U} << 62U;
+  const bool beyond_half_pi = eighths > 1U;
+  return NearReduced{true, beyond_half_pi, beyond_half_pi ? (turn_fraction - quarter) : (quarter - turn_fraction)};
+}
+
 /// An angle reduced to q * pi/2 + r with |r| <= pi/4. r = (negative ? -1 : 1)
 /// * m * 2^-61 * pi/4, m <= 2^61.
 struct Reduced {
@@ -210,11 +262,15 @@ constexpr Reduced reduce(std::uint64_t turn_fraction) noexcept {
 /// v^2 in units of 2^-31 for v = m * 2^-61 <= 1, within 0.5 + 2^-30 units.
 /// At most 2^31 (v <= 1), so it is returned as one word.
 constexpr std::uint32_t square_q31(std::uint64_t m) noexcept {
-  const std::uint64_t m_hi = m >> 30U;          // <= 2^31
-  const std::uint64_t m_lo = m & 0x3FFFFFFFU;  // < 2^30
+  const std::uint32_t m_hi = word(m >> 30U);  // <= 2^31
+  // m_lo 2^2 for m_lo = m mod 2^30: m's low word shifted, its top two bits
+  // off the word (the same word sin_kernel takes).
+  const std::uint32_t m_lo4 = word(m << 2U);
   // v^2 * 2^31 = m_hi^2 2^-31 + m_hi m_lo 2^-60 + m_lo^2 2^-91; the last term
-  // is below 2^-31 units and dropped.
-  const std::uint64_t sum = mul_wide(word(m_hi), word(m_hi)) + (mul_wide(word(m_hi), word(m_lo)) >> 29U);
+  // is below 2^-31 units and dropped. floor(m_hi m_lo / 2^29) = floor(m_hi
+  // m_lo4 / 2^31) < 2^32 (m_hi m_lo < 2^61): one word.
+  const std::uint32_t cross = word(mul_wide(m_hi, m_lo4) >> 31U);
+  const std::uint64_t sum = mul_wide(m_hi, m_hi) + cross;
   return word((sum + (std::uint64_t{1U} << 30U)) >> 31U);
 }
 
@@ -245,11 +301,15 @@ constexpr std::uint32_t sin_poly(std::uint32_t w) noexcept { return alternating_
 constexpr std::uint32_t sin_kernel(std::uint64_t m, std::uint32_t w) noexcept {
   const std::uint32_t p = sin_poly(w);
   // sin = v P with v taken at full precision: m * P * 2^-93, in 2^-30 units
-  // m * P * 2^-63. m = m_hi 2^30 + m_lo keeps both products below 2^63.
-  const std::uint64_t m_hi = m >> 30U;
-  const std::uint64_t m_lo = m & 0x3FFFFFFFU;
-  const std::uint64_t t = mul_wide(word(m_hi), p) + (mul_wide(word(m_lo), p) >> 30U);
-  return word((t + (std::uint64_t{1U} << 32U)) >> 33U);
+  // m * P * 2^-63. m = m_hi 2^30 + m_lo keeps both products below 2^63:
+  // t = m_hi P + floor(m_lo P / 2^30), the second the high word of m_lo4 P
+  // (m_lo4 = m_lo 2^2, square_q31's word).
+  const std::uint32_t m_hi = word(m >> 30U);
+  const std::uint32_t m_lo4 = word(m << 2U);
+  // round(t / 2^33) = (floor(t / 2^32) + 1) >> 1, t < 2^63: from t's high
+  // word alone.
+  const std::uint32_t t_high = word((mul_wide(m_hi, p) + mul_high_word(m_lo4, p)) >> 32U);
+  return (t_high + 1U) >> 1U;
 }
 
 /// cos(pi/4 v) * 2^30 rounded, for w = square_q31(m), v = m * 2^-61 in [0, 1].
@@ -387,6 +447,42 @@ template <typename S, std::int32_t F>
   return SinCos{detail::trig::signed_q1_30(detail::trig::sin_negative(r, angle_rad.raw() < 0),
                                            odd_quadrant ? cos_r : sin_r),
                 detail::trig::signed_q1_30(detail::trig::cos_negative(r), odd_quadrant ? sin_r : cos_r)};
+}
+
+namespace detail {
+namespace trig {
+
+/// The bounded sincos() of a raw angle within k_near_limit<F> and below 3
+/// pi/4: one function per format, whatever the bounds of its callers (one
+/// copy of the kernels).
+template <std::int32_t F>
+constexpr SinCos near_sincos(std::int32_t raw) noexcept {
+  const NearReduced r = reduce_near(near_turns<F>(magnitude32(raw)));
+  const std::uint32_t w = square_q31(r.m);
+  const std::uint64_t sin_r = sin_kernel(r.m, w);
+  const std::uint64_t cos_r = cos_kernel(w);
+  return SinCos{signed_q1_30(raw < 0, r.odd_quadrant ? cos_r : sin_r),
+                signed_q1_30(r.beyond_half_pi, r.odd_quadrant ? sin_r : cos_r)};
+}
+
+}  // namespace trig
+}  // namespace detail
+
+template <typename QType, std::uint32_t MaxMag>
+class Bounded;  // bounded.hpp, which includes this header
+
+/// sincos() of an angle whose magnitude is bounded at compile time (an
+/// fx::Bounded) by at most 2.015 rad in Q3.28 (near_turns()): the same bits
+/// as sincos() of angle_rad.q() for every angle within the bound, from a
+/// cheaper reduction (two products instead of three, two quadrants instead
+/// of four). docs/fixedpoint.md gives the proof and the exhaustive check
+/// over every Q3.28 angle of the rover's joints. Cannot fail.
+template <std::int32_t F, std::uint32_t MaxMag>
+[[nodiscard]] constexpr SinCos sincos(Bounded<Q<std::int32_t, F>, MaxMag> angle_rad, Status& status) noexcept {
+  static_cast<void>(status);
+  static_assert(MaxMag <= detail::trig::k_near_limit<F>, "an angle bound within near_turns()'s exact range");
+  static_assert(detail::trig::near_turns<F>(MaxMag) < (std::uint64_t{3U} << 61U), "an angle bound below 3 pi/4");
+  return detail::trig::near_sincos<F>(angle_rad.raw());
 }
 
 /// asin(x) in radians, Q3_28, within 1 LSB (2^-28) of the exact value.
