@@ -20,6 +20,9 @@ namespace sinkwatch {
 namespace flight {
 namespace {
 
+/// Front, middle and rear: each side's wheels (wheel i = 3 s + k).
+constexpr std::uint32_t kWheelsPerSide = kWheelCount / kSideCount;
+
 /// The statics' format P: metres, and every force and moment as a fraction
 /// of the normal weight m g cos(pitch) cos(roll) (docs/rover-loads.md,
 /// section 7.4). Q6.25 first: the projected coordinates stay within +-31 m
@@ -639,12 +642,10 @@ LeftTotal<P> left_side_total(const SideLevers<P> (&side)[kSideCount], const Body
                       clean_to_shares};
 }
 
-/// One side's wheels' shares of the normal weight.
+/// One side's wheels' shares of the normal weight: front, middle, rear.
 template <typename P>
 struct SideShares {
-  P front;
-  P middle;
-  P rear;
+  P wheel[kWheelsPerSide];
 };
 
 /// The rocker and the bogie of one side carrying `side_total`.
@@ -654,23 +655,29 @@ SideShares<P> side_shares(const SideLevers<P>& side, const Body<P>& body, P side
       plus(side_moment(body, side, st), times(side.b, side_total, st), st), side.lever, st);
   const P bogie = minus(side_total, front, st);
   const P middle = minus(times(side.beta, bogie, st), side.bogie_shift, st);
-  return SideShares<P>{front, middle, minus(bogie, middle, st)};
+  return SideShares<P>{{front, middle, minus(bogie, middle, st)}};
 }
 
-/// Each wheel's share of the normal weight (wheel i = 3 s + k).
+/// Each wheel's share of the normal weight (wheel i = 3 s + k: side s's
+/// wheel k), each side's as side_shares returns it, so that it is built in
+/// place (a copy of the six shares per cycle before, round 16).
 template <typename P>
 struct Shares {
-  P share[kWheelCount];
+  SideShares<P> side[kSideCount];
 };
+
+/// Wheel i's share.
+template <typename P>
+P share_of(const Shares<P>& support, std::uint32_t i) noexcept {
+  return support.side[i / kWheelsPerSide].wheel[i % kWheelsPerSide];
+}
 
 /// The rockers and the bogies, from the left side's total.
 template <typename P>
 Shares<P> support_forces(const SideLevers<P> (&side)[kSideCount], const Body<P>& body, P left_total,
                          fx::Status& st) noexcept {
   const P right_total = minus(kOne<P>, left_total, st);
-  const SideShares<P> left = side_shares(side[0], body, left_total, st);
-  const SideShares<P> right = side_shares(side[1], body, right_total, st);
-  return Shares<P>{{left.front, left.middle, left.rear, right.front, right.middle, right.rear}};
+  return Shares<P>{{side_shares(side[0], body, left_total, st), side_shares(side[1], body, right_total, st)}};
 }
 
 /// Bit i of fallback_mask: set when wheel i's torque is not usable.
@@ -782,7 +789,7 @@ template <typename P>
 std::uint32_t lowest_share(const Shares<P>& support) noexcept {
   std::uint32_t lowest = 0U;
   for (std::uint32_t i = 1U; i < kWheelCount; ++i) {
-    if (support.share[i] < support.share[lowest]) {
+    if (share_of(support, i) < share_of(support, lowest)) {
       lowest = i;
     }
   }
@@ -794,7 +801,7 @@ std::uint32_t lowest_share(const Shares<P>& support) noexcept {
 /// 50 instructions per cycle; the search runs only for a tip-over.
 template <typename P>
 constexpr std::uint32_t share_bits(const Shares<P>& support, std::uint32_t i) noexcept {
-  return static_cast<std::uint32_t>(support.share[i].raw());
+  return static_cast<std::uint32_t>(share_of(support, i).raw());
 }
 template <typename P>
 bool any_negative(const Shares<P>& support) noexcept {
@@ -840,9 +847,11 @@ WheelLoadResult normal_loads(const Shares<P>& support, const Body<P>& body, cons
   // overflow, and the result is built whole (a zeroed one filled in is a
   // memset).
   const LoadQ weight = body.weight_normal_n.q();
-  return WheelLoadResult{{load_of(support.share[0], weight), load_of(support.share[1], weight),
-                          load_of(support.share[2], weight), load_of(support.share[3], weight),
-                          load_of(support.share[4], weight), load_of(support.share[5], weight)},
+  const SideShares<P>& left = support.side[0];
+  const SideShares<P>& right = support.side[1];
+  return WheelLoadResult{{load_of(left.wheel[0], weight), load_of(left.wheel[1], weight),
+                          load_of(left.wheel[2], weight), load_of(right.wheel[0], weight),
+                          load_of(right.wheel[1], weight), load_of(right.wheel[2], weight)},
                          body.weight_normal_n,
                          kWheelCount,
                          pitch_rad,
@@ -898,7 +907,7 @@ WheelLoadResult loads_in(const StaticsConstants<P>& k, const CycleTrig& trig, An
   if (!st.ok() && !kSpanFits<P>) {
     WheelLoadResult r = failed(WheelLoadStatus::overflow);
     const std::uint32_t lowest = lowest_share(support);
-    r.lifting_wheel = (left.clean_to_shares && (support.share[lowest].raw() < 0)) ? lowest : kWheelCount;
+    r.lifting_wheel = (left.clean_to_shares && (share_of(support, lowest).raw() < 0)) ? lowest : kWheelCount;
     return r;
   }
   return normal_loads(support, body, g, pitch_rad, st);
