@@ -752,8 +752,12 @@ SW_FX_INLINE P couple_in_range(const DriveTorques& torques, std::uint32_t i, con
 /// side_torques from couple_in_range. Called (twice per cycle): in place,
 /// the twelve quotients cost 1.1 KiB of flash for 25 instructions per step.
 template <typename P>
-SideTorques<P> side_torques_in_range(const DriveTorques& torques, std::uint32_t first, const CoupleDivisors& d,
+SideTorques<P> side_torques_in_range(const DriveTorques& torques, std::uint32_t first, const CoupleDivisors& divisors,
                                      fx::Status& st) noexcept {
+  // Read once into values of its own: a raised flag is a byte's store, which
+  // may alias the caller's record, so each couple read it again (round 16:
+  // 4 instructions per step fewer on the Cortex-M4).
+  const CoupleDivisors d = divisors;
   return SideTorques<P>{{couple_in_range<P>(torques, first, d, st), couple_in_range<P>(torques, first + 1U, d, st),
                          couple_in_range<P>(torques, first + 2U, d, st)},
                         {torques.usable[first], torques.usable[first + 1U], torques.usable[first + 2U]}};
