@@ -1102,6 +1102,74 @@ TEST(StaticsArithmetic, JointSinesAndCosinesAreWithinOne) {
   }
 }
 
+TEST(StaticsArithmetic, RockerCosineIsPositive) {
+  // rotate() takes a rocker angle's cosine as of sign bit 0
+  // (detail::SignOf::positive): |rocker| <= 0.8 rad (kMaxJointLimitRad,
+  // check_inputs), sampled every 97 LSB, and every angle within 2^18 LSB
+  // (1 mrad) of the ends, where the cosine is smallest.
+  constexpr std::int32_t kLimit = 214748365;  // 0.8 rad in Q3.28
+  const auto cosine_positive = [](std::int32_t raw) {
+    fx::Status st;
+    return fx::sincos(fx::Q3_28::from_raw(raw), st).cos.raw() > 0;
+  };
+  for (std::int32_t raw = -kLimit; raw <= kLimit; raw += 97) {
+    ASSERT_TRUE(cosine_positive(raw)) << raw;
+  }
+  for (const std::int32_t end : {-kLimit, kLimit}) {
+    for (std::int32_t d = -(1 << 18); d <= 0; ++d) {
+      ASSERT_TRUE(cosine_positive((end < 0) ? (end - d) : (end + d))) << end << " " << d;
+    }
+  }
+}
+
+/// detail::product_of_signs<30, SA, SB>(a, b) for b a sine or cosine
+/// (|b| <= 2^30, so the product fits any a) with every choice of SA and SB
+/// that a and b's sign bits allow, against fx::mul's checked product and
+/// fx::detail::product_rounded_signed.
+void expect_product_of_signs(std::int32_t a, std::int32_t b) {
+  using Unit = fx::Q1_30;
+  using flight::detail::SignOf;
+  using flight::detail::product_of_signs;
+  fx::Status st;
+  const std::int32_t expected = fx::mul<P>(P::from_raw(a), Unit::from_raw(b), st).raw();
+  ASSERT_TRUE(st.ok()) << a << " " << b;
+  ASSERT_EQ(fx::detail::product_rounded_signed<30>(a, b), expected) << a << " " << b;
+  ASSERT_EQ((product_of_signs<30, SignOf::any, SignOf::any>(a, b)), expected) << a << " " << b;
+  if (a >= 0) {
+    ASSERT_EQ((product_of_signs<30, SignOf::positive, SignOf::any>(a, b)), expected) << a << " " << b;
+    if (b >= 0) {
+      ASSERT_EQ((product_of_signs<30, SignOf::positive, SignOf::positive>(a, b)), expected) << a << " " << b;
+      ASSERT_EQ((product_of_signs<30, SignOf::any, SignOf::positive>(a, b)), expected) << a << " " << b;
+    }
+  } else {
+    ASSERT_EQ((product_of_signs<30, SignOf::negative, SignOf::any>(a, b)), expected) << a << " " << b;
+    if (b >= 0) {
+      ASSERT_EQ((product_of_signs<30, SignOf::negative, SignOf::positive>(a, b)), expected) << a << " " << b;
+      ASSERT_EQ((product_of_signs<30, SignOf::any, SignOf::positive>(a, b)), expected) << a << " " << b;
+    }
+  }
+}
+
+TEST(StaticsArithmetic, ProductOfKnownSignsIsTheBoundedProduct) {
+  std::mt19937_64 rng(16U);
+  constexpr std::int32_t kOne = 0x40000000;  // 1 in Q1.30
+  for (int trial = 0; trial < 2000000; ++trial) {
+    // A bounded operand: of magnitude below 2^31 (fx::kMaxBound), where
+    // -2^31 times -1 would leave the format.
+    const std::int32_t a = std::max(raw32(rng), INT32_MIN + 1);
+    // A sine or cosine: random within one, one, a half (ties for odd a), or near zero.
+    constexpr std::uint64_t kUnits = (2U * static_cast<std::uint64_t>(kOne)) + 1U;  // -1 to 1
+    std::int32_t b = static_cast<std::int32_t>(static_cast<std::int64_t>(rng() % kUnits) - kOne);
+    switch (rng() % 4U) {
+      case 0U: b = ((rng() % 2U) == 0U) ? kOne : -kOne; break;
+      case 1U: b = (((rng() % 2U) == 0U) ? 1 : -1) * (kOne / 2); break;
+      case 2U: b = static_cast<std::int32_t>(rng() % 5U) - 2; break;
+      default: break;
+    }
+    ASSERT_NO_FATAL_FAILURE(expect_product_of_signs(a, b));
+  }
+}
+
 TEST(StaticsArithmetic, ReciprocalOfAQIsTheNormalisedReciprocal) {
   std::mt19937_64 rng(18U);
   for (int trial = 0; trial < 1000000; ++trial) {

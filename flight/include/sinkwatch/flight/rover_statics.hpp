@@ -176,6 +176,40 @@ constexpr std::int32_t product_checked_by_words(std::int32_t a, std::int32_t b, 
   return static_cast<std::int32_t>(negative ? -value : value);
 }
 
+/// What the statics know of an operand's sign bit (product_of_signs):
+/// validate_suspension orders the links (the front axle and the middle axle
+/// ahead of their pivots, x > 0; the bogie pivot and the rear axle behind,
+/// x < 0), and a rocker angle within its limit (at most 0.8 rad,
+/// check_inputs) has a cosine of at least 0.69 (StaticsArithmetic.
+/// RockerCosineIsPositive samples fx::sincos there).
+enum class SignOf : std::uint8_t { positive, negative, any };
+
+/// a's sign bit, a constant where S knows it.
+template <SignOf S>
+SW_FX_INLINE constexpr std::uint32_t sign_bit(std::int32_t a) noexcept {
+  if constexpr (S == SignOf::any) {
+    return static_cast<std::uint32_t>(a) >> 31U;
+  } else {
+    return (S == SignOf::negative) ? 1U : 0U;
+  }
+}
+
+/// fx::detail::product_rounded_signed<Shift>(a, b)'s bits, floor((a b +
+/// 2^(s-1) - [sign bits differ]) / 2^s) (fx::mul's rounding, half away from
+/// zero), for operands whose sign bits are SA's and SB's: the term of the
+/// sign bits is a constant where both are known and one shift where one is
+/// (three instructions where neither is). The caller bounds the product
+/// below 2^31 as for fx::mul of fx::Bounded values.
+/// StaticsArithmetic.ProductOfKnownSignsIsTheBoundedProduct compares the two.
+template <std::int32_t Shift, SignOf SA, SignOf SB>
+SW_FX_INLINE constexpr std::int32_t product_of_signs(std::int32_t a, std::int32_t b) noexcept {
+  static_assert((Shift > 0) && (Shift < 32), "a product rounded by a right shift of 1 to 31 bits");
+  const std::uint32_t differ = sign_bit<SA>(a) ^ sign_bit<SB>(b);
+  const auto addend = static_cast<std::int64_t>((std::uint32_t{1U} << static_cast<std::uint32_t>(Shift - 1)) - differ);
+  const auto sum = static_cast<std::uint64_t>(addend + (static_cast<std::int64_t>(a) * static_cast<std::int64_t>(b)));
+  return static_cast<std::int32_t>(static_cast<std::uint32_t>(sum >> static_cast<std::uint32_t>(Shift)));
+}
+
 /// The raw bits of fx::times_reciprocal<Out>(x, r) for a 32-bit Out, given
 /// shift = F_x + r.scale - F_out: the same bits, flags and saturation, with
 /// the magnitude's limits in 32-bit words (shifted_rounded): the body of
