@@ -11,7 +11,9 @@ namespace flight {
 namespace {
 
 /// f = offset / width as raw Q0.32, bit for bit fx::div<WideQ>(offset, width),
-/// for 0 <= offset < width (raw Q15.16; the caller checks it). Then
+/// for 0 <= offset < width (raw Q15.16; for another offset a number that
+/// means nothing, which corrections_at does not use: unsigned words, no
+/// undefined behaviour). Then
 /// a = offset 2^shift < v = width 2^shift < 2^32 is exact in 32 bits. With
 /// m = floor((2^63 - 1)/v), 2^63 - m v is in [1, v], so q' = floor(a m / 2^31)
 /// lies below a 2^32 / v by a (2^63 - m v) / (v 2^31) <= a / 2^31 < 2: q' is
@@ -146,20 +148,50 @@ std::uint32_t first_segment_span(const CorrectionTable& table, const CorrectionD
   // the first k with W < W_k+1: then W_k <= W too (k = 0, or k - 1 was not
   // taken), for any breakpoints, increasing or not; and k = last - 1 when no
   // earlier one is, since W < W_last. So there is no "no segment" outcome.
-  // The first segment tested before the loop: a lunar rover's wheel loads
-  // (tens of newtons) lie in Table 2's first one (round 14), and there its
-  // rows and width are at constant offsets, not computed from the index.
-  if (load_n < table.rows[1].load_n) {
-    return interpolated(table.rows[0], table.rows[1], divisors.width[0], load_n, out);
-  }
+  // A lunar rover's wheel loads (tens of newtons) lie in Table 2's first
+  // segment, which corrections_at interpolates without this search.
   std::uint32_t seg = last - 1U;
-  for (std::uint32_t i = 1U; i < seg; ++i) {
+  for (std::uint32_t i = 0U; i < seg; ++i) {
     if (load_n < table.rows[i + 1U].load_n) {
       seg = i;
       break;
     }
   }
   return interpolated(table.rows[seg], table.rows[seg + 1U], divisors.width[seg], load_n, out);
+}
+
+/// The fields a coefficient is written to: one type per field, so that the
+/// per-coefficient loops below are written once (flight code has no lambdas).
+struct C1Field {
+  static Ratio& of(CorrectionResult& r) noexcept { return r.coefficients.c1; }
+};
+struct C2Field {
+  static Ratio& of(CorrectionResult& r) noexcept { return r.coefficients.c2; }
+};
+struct C3Field {
+  static Ratio& of(CorrectionResult& r) noexcept { return r.coefficients.c3; }
+};
+struct DpMaxField {
+  static Ratio& of(CorrectionResult& r) noexcept { return r.dp_max_ratio; }
+};
+
+/// One coefficient's values from `lo` to `hi` at each load's fraction into
+/// its field of `out`: the pair's comparisons made once for the N loads
+/// (round 16: per load and coefficient before), and a constant coefficient
+/// (Table 2's C1, C2 and DP_max/W) stored without a product.
+template <typename Field, std::uint32_t N>
+SW_FX_INLINE void interpolated_field(Ratio lo, Ratio hi, const std::uint32_t (&fractions)[N],
+                                     CorrectionResult (&out)[N]) noexcept {
+  if (hi == lo) {
+    for (std::uint32_t i = 0U; i < N; ++i) {
+      Field::of(out[i]) = lo;
+    }
+    return;
+  }
+  const detail::Interpolant c = detail::interpolant_of(lo.raw(), hi.raw());
+  for (std::uint32_t i = 0U; i < N; ++i) {
+    Field::of(out[i]) = Ratio::from_raw(detail::interpolated_value(c, detail::halves_of(fractions[i])));
+  }
 }
 
 }  // namespace
@@ -175,18 +207,39 @@ bool corrections_at(const CorrectionTable& table, const CorrectionDivisors& divi
     }
     return false;
   }
+  // Every load taken as one of the first segment (round 16): its fraction
+  // there, then each coefficient for all loads at once. A load elsewhere
+  // (its offset W - W_0 at or beyond first_span: then so is the largest
+  // offset) gets a fraction and values that mean nothing, which
+  // correction_of then overwrites, every field.
+  const std::uint32_t first_span = first_segment_span(table, divisors, last);
+  const auto w0 = static_cast<std::uint32_t>(table.rows[0].load_n.raw());
+  const SegmentWidth width = divisors.width[0];
+  std::uint32_t fractions[N];
+  std::uint32_t farthest = 0U;  // the largest offset
+  for (std::uint32_t i = 0U; i < N; ++i) {
+    const std::uint32_t offset = static_cast<std::uint32_t>(load_n[i].raw()) - w0;
+    farthest = (offset > farthest) ? offset : farthest;
+    fractions[i] = fraction_of(offset, width);
+  }
+  for (std::uint32_t i = 0U; i < N; ++i) {
+    out[i].clamp = LoadClamp::none;
+    out[i].status = EstimateStatus::ok;
+  }
+  const CorrectionRow& lo = table.rows[0];
+  const CorrectionRow& hi = table.rows[1];
+  interpolated_field<C1Field>(lo.c1, hi.c1, fractions, out);
+  interpolated_field<C2Field>(lo.c2, hi.c2, fractions, out);
+  interpolated_field<C3Field>(lo.c3, hi.c3, fractions, out);
+  interpolated_field<DpMaxField>(lo.dp_max_ratio, hi.dp_max_ratio, fractions, out);
   // The statuses ORed: ok is 0, so the OR is 0 when every one is ok.
   static_assert(static_cast<std::uint32_t>(EstimateStatus::ok) == 0U, "ok must be the OR's identity");
   std::uint32_t failures = 0U;
-  const std::uint32_t first_span = first_segment_span(table, divisors, last);
-  const auto w0 = static_cast<std::uint32_t>(table.rows[0].load_n.raw());
-  for (std::uint32_t i = 0U; i < N; ++i) {
-    const std::uint32_t offset = static_cast<std::uint32_t>(load_n[i].raw()) - w0;
-    if (offset < first_span) {
-      failures |= static_cast<std::uint32_t>(
-          interpolated_at(table.rows[0], table.rows[1], divisors.width[0], offset, out[i]));
-    } else {
-      failures |= static_cast<std::uint32_t>(correction_of(table, divisors, last, load_n[i], out[i]));
+  if (farthest >= first_span) {
+    for (std::uint32_t i = 0U; i < N; ++i) {
+      if ((static_cast<std::uint32_t>(load_n[i].raw()) - w0) >= first_span) {
+        failures |= static_cast<std::uint32_t>(correction_of(table, divisors, last, load_n[i], out[i]));
+      }
     }
   }
   return failures == 0U;

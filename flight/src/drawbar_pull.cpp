@@ -11,7 +11,6 @@ namespace sinkwatch {
 namespace flight {
 namespace {
 
-using W = WideQ;
 
 constexpr Ratio kMaxSlip{fx::constant<RatioQ>(1.0)};
 
@@ -77,7 +76,13 @@ std::uint32_t pulls_into(const WheelLoadResult& loads, const DrawbarInput& input
     dp_n[i] = DrawbarPullN::from_raw(pull.dp_raw);
     // Saturated, no share is limited: every wheel is at DP_max,i.
     const bool capped = pull.capped && !kSaturated;
-    flags |= ((capped ? 1U : 0U) << i) | (pull.overflow << kWheelCount);
+    // Split by load, a pull's magnitude is at most its share's, which is at
+    // most |total|'s (share_magnitude), with the total's sign: it leaves
+    // Q15.16 only where the total's own rescale does, which pulls_in_range
+    // refuses as well. Only DP_max,i itself (saturated) can leave it alone
+    // (round 16: the overflow word was ORed for every wheel and split).
+    const std::uint32_t overflow = kSaturated ? pull.overflow : 0U;
+    flags |= ((capped ? 1U : 0U) << i) | (overflow << kWheelCount);
   }
   capped_mask = flags & ((1U << kWheelCount) - 1U);
   return flags >> kWheelCount;
@@ -153,25 +158,24 @@ DrawbarStatus detail::pulls_in_range(const RoverParams& params, const WheelLoadR
   const std::int64_t total = detail::along_force_raw(static_cast<std::uint32_t>(params.mass_kg.raw()),
                                                      static_cast<std::uint32_t>(params.gravity_mps2.raw()),
                                                      sin_pitch.raw(), input.accel_mps2.raw());
-  fx::Status st;
-  const DrawbarPullN total_pull{fx::rescale<LoadQ>(W::from_raw(total), st)};
+  const std::uint64_t total_mag = fx::detail::magnitude(total);
+  const detail::WheelPull total_pull = detail::rounded_pull(total_mag, total < 0);
   const bool saturated = input.slip_known && (input.slip >= params.high_slip);
   const detail::LoadSum sum = detail::load_sum_of(load_sum);
   std::uint32_t mask = 0U;
   // Saturated, every wheel is at +DP_max,i: the total's sign is not used.
-  const std::uint64_t total_mag = fx::detail::magnitude(total);
-  std::uint32_t overflowed = 0U;
+  std::uint32_t overflowed = total_pull.overflow;
   if (saturated) {
-    overflowed = pulls_into<Split::saturated>(loads, input, 0U, sum, false, dp_n, mask);
+    overflowed |= pulls_into<Split::saturated>(loads, input, 0U, sum, false, dp_n, mask);
   } else if (load_sum <= detail::kWordRemainderSum) {
-    overflowed = pulls_into<Split::by_word>(loads, input, total_mag, sum, total < 0, dp_n, mask);
+    overflowed |= pulls_into<Split::by_word>(loads, input, total_mag, sum, total < 0, dp_n, mask);
   } else {
-    overflowed = pulls_into<Split::wide>(loads, input, total_mag, sum, total < 0, dp_n, mask);
+    overflowed |= pulls_into<Split::wide>(loads, input, total_mag, sum, total < 0, dp_n, mask);
   }
-  if ((overflowed != 0U) || !st.ok()) {
+  if (overflowed != 0U) {
     return refused_as_overflow(dp_n);
   }
-  total_n = total_pull;
+  total_n = DrawbarPullN::from_raw(total_pull.dp_raw);
   capped_mask = static_cast<std::uint8_t>(mask);
   if (saturated) {
     return DrawbarStatus::saturated;

@@ -460,6 +460,41 @@ TEST(DrawbarArithmetic, WheelPullOverflowsWhereTheRescaleDoes) {
   EXPECT_LT(overflowed, 80);
 }
 
+// The total's rounding into Q15.16 (round 16: detail::rounded_pull, where
+// fx::rescale and its status were): the same value wherever the rescale
+// does not overflow and an overflow exactly where it does, on magnitudes of
+// every length up to 2^63 - 1, both signs, and every rounded magnitude
+// within two of 2^31 at and around the rounding's ties.
+TEST(DrawbarArithmetic, RoundedPullIsTheRescale) {
+  std::mt19937_64 rng(160U);
+  int overflowed = 0;
+  const auto check = [&overflowed](std::uint64_t mag, bool negative) {
+    const std::int64_t total = negative ? -static_cast<std::int64_t>(mag) : static_cast<std::int64_t>(mag);
+    fx::Status st;
+    const flight::LoadQ expected = fx::rescale<flight::LoadQ>(W::from_raw(total), st);
+    const flight::detail::WheelPull got = flight::detail::rounded_pull(mag, negative);
+    ASSERT_EQ(got.overflow != 0U, !st.ok()) << total;
+    ASSERT_FALSE(got.capped);
+    if (st.ok()) {
+      ASSERT_EQ(got.dp_raw, expected.raw()) << total;
+    }
+    overflowed += st.ok() ? 0 : 1;
+  };
+  for (int trial = 0; trial < 1000000; ++trial) {
+    check(magnitude_up_to(rng, 1U + static_cast<std::uint32_t>(trial % 62)), (trial % 2) == 0);
+  }
+  for (std::uint64_t v = (1ULL << 31U) - 2U; v <= (1ULL << 31U) + 2U; ++v) {
+    for (const std::int64_t d : {-32769, -32768, -32767, -1, 0, 1, 32766, 32767, 32768}) {
+      check((v << 16U) + static_cast<std::uint64_t>(d), false);
+      check((v << 16U) + static_cast<std::uint64_t>(d), true);
+    }
+  }
+  check(0U, true);
+  check((1ULL << 63U) - 1U, false);
+  check((1ULL << 63U) - 1U, true);
+  EXPECT_GT(overflowed, 50000);
+}
+
 TEST(DrawbarArithmetic, LoadFractionIsTheDivisionsRoundedQuotient) {
   std::mt19937_64 rng(18U);
   for (int trial = 0; trial < 1000000; ++trial) {

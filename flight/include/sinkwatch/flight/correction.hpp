@@ -123,6 +123,28 @@ struct ProductWords {
   return p.high + ((p.bits16 + (down ? 0x7F80U : 0x8080U)) >> 16U);
 }
 
+/// One coefficient's interpolation from a to b (raw Q7.24), made once per
+/// segment and call and then applied to each load's fraction
+/// (interpolated_value): the ends' comparisons are not repeated per load
+/// (round 16).
+struct Interpolant {
+  std::int32_t start;   ///< a
+  std::uint32_t span;   ///< |b - a|, the modular 32-bit difference (exact: below 2^32); 0 when b = a
+  std::uint32_t limit;  ///< |a| where a lies against d = b - a's sign (the value may cross zero), else 0
+  bool falling;         ///< b < a: the step is subtracted
+};
+
+[[nodiscard]] SW_FX_INLINE constexpr Interpolant interpolant_of(std::int32_t a_raw, std::int32_t b_raw) noexcept {
+  const auto a_bits = static_cast<std::uint32_t>(a_raw);
+  const auto b_bits = static_cast<std::uint32_t>(b_raw);
+  if (b_raw < a_raw) {
+    // Against d's sign: a > 0, |a| = a.
+    return Interpolant{a_raw, a_bits - b_bits, (a_raw > 0) ? a_bits : 0U, true};
+  }
+  // Against d's sign: a < 0, |a| = 0 - a modulo 2^32 (2^31 for INT32_MIN).
+  return Interpolant{a_raw, b_bits - a_bits, (a_raw < 0) ? (0U - a_bits) : 0U, false};
+}
+
 /// a + f (b - a) (raw Q7.24) for the fraction f in [0, 1), bit for bit the
 /// Q31.32 interpolation (the dividing oracle's, host_tests/flight): with
 /// d = b - a (|d| < 2^32) and P = f |d| < 2^64, that interpolation rounds
@@ -134,36 +156,34 @@ struct ProductWords {
 ///   down = floor((m + 127) / 2^8) = floor((P + 2^31 - 2^23) / 2^32)
 ///            when it has not (v crossed zero: it rounds back towards a)
 /// (floor(floor(x) / k) = floor(x / k) for integer k). The value lies
-/// between a and b, so the result fits Q7.24 and no status is needed
-/// (docs/performance.md, session 16).
+/// between a and b, so the result fits Q7.24 and no status is needed (docs/performance.md, session 16).
 ///
 /// v has d's sign when a has it too, or when m > |a| 2^8, that is (m an
 /// integer) P >= |a| 2^32 + 2^23. The two roundings differ only where P's
 /// low word is in [2^31 - 2^23, 2^31 + 2^23), and there that comparison is
-/// P's high word >= |a| (session 18). |b - a| is the modular 32-bit
-/// difference: exact, as it is below 2^32.
+/// P's high word >= |a| (session 18): down where P's high word is below
+/// c.limit, which is 0 (never) where a has d's sign.
 ///
-/// b = a gives P = 0 and a step of floor(2^31 +- 2^23 / 2^32) = 0: a itself,
-/// returned without the product (round 14). The paper's Table 2 keeps C1,
-/// C2 and DP_max/W constant over the loads, so three of the four
-/// interpolations of a wheel end there; an unequal pair pays one compare.
+/// b = a gives P = 0 and a step of floor((2^31 +- 2^23) / 2^32) = 0: a
+/// itself. The paper's Table 2 keeps C1, C2 and DP_max/W constant over the
+/// loads; corrections_at stores a for such a coefficient without this
+/// (round 14: per load; round 16: one test per call).
+[[nodiscard]] SW_FX_INLINE constexpr std::int32_t interpolated_value(const Interpolant& c, FractionHalves f) noexcept {
+  const ProductTop p = product_top(f, c.span);
+  const std::uint32_t step = rounded_step(p, p.high < c.limit);
+  const auto signed_step = static_cast<std::int64_t>(step);
+  return static_cast<std::int32_t>(std::int64_t{c.start} + (c.falling ? -signed_step : signed_step));
+}
+
+/// The interpolation above of the pair (a, b) at f in one call (the tests',
+/// and correction_of's for a load beyond the first segment); b = a is a,
+/// returned without the product.
 [[nodiscard]] SW_FX_INLINE constexpr std::int32_t interpolate_raw(std::int32_t a_raw, std::int32_t b_raw,
                                                                    FractionHalves f) noexcept {
-  const auto a_bits = static_cast<std::uint32_t>(a_raw);
-  const auto b_bits = static_cast<std::uint32_t>(b_raw);
   if (b_raw == a_raw) {
     return a_raw;
   }
-  if (b_raw < a_raw) {
-    const ProductTop p = product_top(f, a_bits - b_bits);
-    // Against d's sign: a > 0, |a| = a.
-    const std::uint32_t step = rounded_step(p, (a_raw > 0) && (p.high < a_bits));
-    return static_cast<std::int32_t>(static_cast<std::int64_t>(a_raw) - std::int64_t{step});
-  }
-  const ProductTop p = product_top(f, b_bits - a_bits);
-  // Against d's sign: a < 0, |a| = 0 - a modulo 2^32 (2^31 for INT32_MIN).
-  const std::uint32_t step = rounded_step(p, (a_raw < 0) && (p.high < (0U - a_bits)));
-  return static_cast<std::int32_t>(static_cast<std::int64_t>(a_raw) + std::int64_t{step});
+  return interpolated_value(interpolant_of(a_raw, b_raw), f);
 }
 
 }  // namespace detail
@@ -184,7 +204,11 @@ struct ProductWords {
 /// lunar rover's loads lie with Table 2's breakpoints) is found by one
 /// comparison of W - W_0 with a span worked out once per call, the same
 /// outcome as the four load tests it passes (round 15; correction.cpp,
-/// first_segment_span). Defined for N = 1 (the single-load form
+/// first_segment_span). Every load's first-segment fraction is worked out
+/// first, then each coefficient for all N loads, its pair compared once per
+/// call (a constant one stored as it is), and a load outside the first
+/// segment is then overwritten by the search of its own segment (round 16).
+/// Defined for N = 1 (the single-load form
 /// below) and N = limits::kWheelCount. host_tests/flight/dividing_oracle.hpp
 /// keeps the same function with a plain fx::div as the oracle it is
 /// checked against bit for bit.

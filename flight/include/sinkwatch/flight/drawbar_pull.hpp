@@ -229,6 +229,23 @@ struct WheelPull {
   std::uint32_t overflow;
 };
 
+/// A pull of magnitude `mag` (raw Q31.32, below 2^63) and sign `negative`
+/// in Q15.16 (raw), bit for bit fx::rescale<Q15.16> of the signed Q31.32
+/// value wherever that rescale does not overflow: the magnitude rounded
+/// half up, m = (mag + 2^15) / 2^16 floored, then signed (a negative zero
+/// is zero, as the rescale gives). It overflows beyond 2^31 - 1 (2^31 for
+/// a negative pull): where m + 2^31 - 1, or m + 2^31 for a positive pull,
+/// reaches 2^32 (`overflow` not 0; `capped` false). Nothing is saturated
+/// (round 14): an overflowing pull is never used. pulls_in_range rounds
+/// the total with it too (round 16: fx::rescale and its status before).
+[[nodiscard]] SW_FX_INLINE constexpr WheelPull rounded_pull(std::uint64_t mag, bool negative) noexcept {
+  const std::uint64_t scaled = (mag + (std::uint64_t{1U} << 15U)) >> 16U;  // < 2^48
+  const std::uint64_t beyond = scaled + (negative ? 0x7FFFFFFFU : 0x80000000U);
+  const auto value = static_cast<std::int64_t>(scaled);
+  return WheelPull{static_cast<std::int32_t>(negative ? -value : value), false,
+                   static_cast<std::uint32_t>(beyond >> 32U)};  // < 2^17
+}
+
 /// The magnitude of a wheel's share of the total for wheel_pull: the share
 /// of |total| (< 2^63, raw Q31.32) at the fraction W_i / sum W (raw Q31.32,
 /// <= 2^32, from load_fraction), or, where the slip is at or above the
@@ -252,20 +269,14 @@ struct WheelPull {
 ///    (r L < 2^56, exact in 64 bits; 2^16 divides both terms);
 ///  * the clamp takes the share's magnitude down to cap, keeping its sign
 ///    (a negative zero rescales to zero, as fx::mul's positive zero does);
-///  * the rescale rounds the magnitude m half up and overflows beyond
-///    2^31 - 1 (2^31 for a negative pull): where m + 2^31 - 1, or m + 2^31
-///    for a positive pull, reaches 2^32. Nothing is saturated (round 14):
-///    an overflowing pull is never used.
+///  * the rescale is rounded_pull (above).
 [[nodiscard]] SW_FX_INLINE constexpr WheelPull wheel_pull(std::uint64_t share, std::uint32_t load_raw, std::uint32_t ratio_raw,
                                              bool negative) noexcept {
   const std::uint64_t cap = (fx::wide::mul_32x32_64(ratio_raw, load_raw) + 128U) >> 8U;
   const bool capped = share > cap;
-  const std::uint64_t mag = capped ? cap : share;
-  const std::uint64_t scaled = (mag + (std::uint64_t{1U} << 15U)) >> 16U;  // < 2^48
-  const std::uint64_t beyond = scaled + (negative ? 0x7FFFFFFFU : 0x80000000U);
-  const auto value = static_cast<std::int64_t>(scaled);
-  return WheelPull{static_cast<std::int32_t>(negative ? -value : value), capped,
-                   static_cast<std::uint32_t>(beyond >> 32U)};  // < 2^17
+  WheelPull pull = rounded_pull(capped ? cap : share, negative);
+  pull.capped = capped;
+  return pull;
 }
 
 /// m (a + g sin(pitch)) in Q31.32 (raw) from the raw mass (Q15.16, in
