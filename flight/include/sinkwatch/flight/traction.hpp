@@ -228,7 +228,7 @@ class TractionMonitor {
   void step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
             InverseRadius per_radius, TractionOutput& out) noexcept;
   /// The same with the wheels already summed (TractionCycle).
-  void step(const TractionCycle& cycle, const TractionParams& params, const MonitorParams& monitor,
+  void step(const TractionCycle& input, const TractionParams& params, const MonitorParams& monitor,
             InverseRadius per_radius, TractionOutput& out) noexcept;
 
   /// Back to NOMINAL with empty histories (the ground's re-plan).
