@@ -4,6 +4,7 @@
 
 #include "of_valid.hpp"
 
+#include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
@@ -371,8 +372,10 @@ RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParame
   return status;
 }
 
-void RoverStep::traction_stage(const RoverTelemetry& t, const PreparedParameters& prepared,
-                               RoverStepOutput& out) noexcept {
+// Inline into monitor_stage, its one caller: a call that only passed its
+// arguments on (round 16).
+SW_FX_INLINE void RoverStep::traction_stage(const RoverTelemetry& t, const PreparedParameters& prepared,
+                                            RoverStepOutput& out) noexcept {
   traction_input(t, out, traction_in_);
   traction_.step(traction_in_, prepared.table().traction, prepared.table().monitor, prepared.traction_inverse_radius(),
                  out.traction);
