@@ -4,6 +4,7 @@
 
 #include "of_valid.hpp"
 
+#include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/status.hpp"
@@ -151,12 +152,19 @@ RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) n
 }
 
 /// Stage 6's input into `in`: this cycle's loads, pulls and the wheel
-/// monitors' directed torques, and the odometry. The per-wheel arrays are
-/// written only for a cycle with loads: the check reads them only then
-/// (TractionMonitor::resistance_of refuses a cycle without loads first), so
-/// a cycle without keeps the previous cycle's, unread, and torque_valid is
-/// the monitor's estimate_valid without the cycle's own flag in each wheel.
-void traction_input(const RoverTelemetry& t, const RoverStepOutput& out, TractionInput& in) noexcept {
+/// monitors' directed torques summed over the wheels with a torque (the
+/// monitor's estimate_valid), and the odometry. The sums are made from the
+/// step's own arrays, in place (round 16: the arrays were copied into a
+/// TractionInput every cycle and summed from the copy), and only for a
+/// cycle with loads: the check reads them only then (TractionMonitor::
+/// resistance_of refuses a cycle without loads first), so a cycle without
+/// keeps the previous cycle's, unread. Every wheel is asked: the monitor
+/// leaves a wheel beyond wheel_count with WheelOutput{}'s estimate_valid,
+/// false (RoverMonitor::step_all), which is TractionInput's first
+/// wheel_count. Out of line: inline, the step's pointers kept live across
+/// the loop made it spill.
+[[gnu::noinline]] void traction_input(const RoverTelemetry& t, const RoverStepOutput& out,
+                                      TractionCycle& in) noexcept {
   in.time = t.time;
   in.loads_valid = (out.status == RoverStepStatus::ok);
   in.pull_assumed = (out.drawbar_status == DrawbarStatus::saturated);
@@ -165,13 +173,14 @@ void traction_input(const RoverTelemetry& t, const RoverStepOutput& out, Tractio
   if (!in.loads_valid) {
     return;
   }
+  TractionSums sums{};
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    in.load_n[i] = out.load_n[i];
-    in.drawbar_pull_n[i] = out.drawbar_pull_n[i];
-    in.torque_valid[i] = out.monitor.wheels[i].estimate_valid;
-    in.torque_nm[i] = out.monitor.wheels[i].torque_nm;
-    in.direction[i] = t.direction[i];
+    const WheelOutput& w = out.monitor.wheels[i];
+    if (w.estimate_valid) {
+      sums.add(w.torque_nm, out.drawbar_pull_n[i], out.load_n[i], t.direction[i]);
+    }
   }
+  in.sums = sums;
 }
 
 /// The step's defaults in `out`, field by field: no loads, no pulls, status
@@ -363,8 +372,10 @@ RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParame
   return status;
 }
 
-void RoverStep::traction_stage(const RoverTelemetry& t, const PreparedParameters& prepared,
-                               RoverStepOutput& out) noexcept {
+// Inline into monitor_stage, its one caller: a call that only passed its
+// arguments on (round 16).
+SW_FX_INLINE void RoverStep::traction_stage(const RoverTelemetry& t, const PreparedParameters& prepared,
+                                            RoverStepOutput& out) noexcept {
   traction_input(t, out, traction_in_);
   traction_.step(traction_in_, prepared.table().traction, prepared.table().monitor, prepared.traction_inverse_radius(),
                  out.traction);

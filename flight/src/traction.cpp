@@ -29,46 +29,16 @@ constexpr std::uint32_t kMaxGapMs = 2000U;
 /// two spans).
 constexpr std::int32_t kMarksPerSpan = 8;
 
-/// The directed sums of the wheels with a torque: T, DP (along the drive
-/// direction) and W, as raw Q15.16 integers (2^-16 N m, 2^-16 N): at most six
-/// values below 2^31 in magnitude, so every sum is exact in 64 bits.
-struct WheelSums {
-  std::int64_t torque_q16;
-  std::int64_t pull_q16;
-  std::int64_t load_q16;
-  std::uint32_t wheels;
-  bool mixed;
-};
-
-/// The sums in locals (registers), the record built once at the end: not a
-/// zeroed record added to in memory, wheel by wheel. The pulls are summed as
-/// read and the sum turned once: a sum that is used has every wheel driving
-/// one way (otherwise `mixed`), so its directed sum is the sum, negated in
-/// reverse.
-WheelSums sum_wheels(const TractionInput& in, std::uint8_t wheels) noexcept {
-  std::int64_t torque = 0;
-  std::int64_t pull = 0;
-  std::int64_t load = 0;
-  std::uint32_t used = 0U;
-  // All one way when every bit of the directions is the same in all of
-  // them: their OR equals their AND (two different values differ in a bit,
-  // which is then in the OR and not in the AND).
-  std::uint32_t any_bits = 0U;
-  std::uint32_t all_bits = 0xFFU;
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    if ((i < wheels) && in.torque_valid[i]) {
-      const auto direction = static_cast<std::uint32_t>(in.direction[i]);
-      any_bits |= direction;
-      all_bits &= direction;
-      pull += in.drawbar_pull_n[i].raw();
-      torque += in.torque_nm[i].raw();
-      load += in.load_n[i].raw();
-      ++used;
+/// The first `wheels` (at most six) wheels' sums over those with a torque.
+TractionSums sums_of(const TractionInput& in, std::uint8_t wheels) noexcept {
+  const std::uint32_t monitored = (wheels < kWheelCount) ? wheels : kWheelCount;
+  TractionSums sums{};
+  for (std::uint32_t i = 0U; i < monitored; ++i) {
+    if (in.torque_valid[i]) {
+      sums.add(in.torque_nm[i], in.drawbar_pull_n[i], in.load_n[i], in.direction[i]);
     }
   }
-  // Reverse: the pull that drives the rover backwards is -DP.
-  const bool reverse = any_bits == static_cast<std::uint32_t>(DriveDirection::reverse);
-  return WheelSums{torque, reverse ? -pull : pull, load, used, (used > 0U) && (any_bits != all_bits)};
+  return sums;
 }
 
 /// n / d rounded half away from zero, as a raw Q7.24 ratio (d > 0), by
@@ -186,21 +156,27 @@ void TractionMonitor::restart() noexcept {
   settled_ = false;
 }
 
-TractionSample TractionMonitor::resistance_of(const TractionInput& in, std::uint8_t wheels,
-                                              InverseRadius per_radius, Ratio& rho) noexcept {
+SW_FX_INLINE TractionSample TractionMonitor::resistance_of(const TractionCycle& in, std::uint8_t wheels,
+                                                           InverseRadius per_radius, Ratio& rho) noexcept {
   if (!in.loads_valid) {
     return TractionSample::no_loads;
   }
   if (in.pull_assumed) {
     return TractionSample::pull_assumed;
   }
-  const WheelSums s = sum_wheels(in, wheels);
-  if ((static_cast<std::uint32_t>(s.wheels) * 2U) < static_cast<std::uint32_t>(wheels)) {
+  const TractionSums& s = in.sums;
+  const std::uint32_t summed = s.wheels();
+  if ((summed * 2U) < static_cast<std::uint32_t>(wheels)) {
     return TractionSample::too_few_wheels;
   }
-  if (s.mixed) {
+  const std::uint32_t any_bits = s.any_bits();
+  if ((summed > 0U) && (any_bits != s.all_bits)) {
     return TractionSample::mixed_direction;
   }
+  // Reverse (every wheel, as just checked): the pull that drives the rover
+  // backwards is -DP.
+  const bool reverse = any_bits == static_cast<std::uint32_t>(DriveDirection::reverse);
+  const std::int64_t pull_q16 = reverse ? -s.pull_q16 : s.pull_q16;
   // rho = (sum T / r - sum DP) / sum W: each wheel's thrust less its share
   // of the pull, over the weight those wheels carry (docs/traction.md,
   // "Arithmetic and error"). Out of the products' range: no number.
@@ -213,7 +189,7 @@ TractionSample TractionMonitor::resistance_of(const TractionInput& in, std::uint
   const std::uint64_t thrust = mul_32x32_64(static_cast<std::uint32_t>(torque), per_radius.per_m_q24);
   const std::int64_t signed_thrust =
       (s.torque_q16 < 0) ? -static_cast<std::int64_t>(thrust) : static_cast<std::int64_t>(thrust);
-  const std::int64_t resistance = signed_thrust - (s.pull_q16 * kQ16ToQ40);
+  const std::int64_t resistance = signed_thrust - (pull_q16 * kQ16ToQ40);
   // resistance (2^-40 N) / sum W (2^-16 N) is rho in units of 2^-24: the
   // quotient is rho's raw Q7.24 value, rounded once.
   fx::Status st;
@@ -225,7 +201,8 @@ TractionSample TractionMonitor::resistance_of(const TractionInput& in, std::uint
 // and of the state (push_history, transition) are each called once per
 // cycle: inline into step() (SW_FX_INLINE), without a call, its saved
 // registers and its arguments (about 45 Cortex-M4 instructions per cycle).
-// resistance_of stays a call: inline, its six-wheel sums spill.
+// resistance_of is inline too (above) since its wheels come summed
+// (TractionCycle, round 16): it no longer spills a six-wheel loop.
 SW_FX_INLINE Ratio TractionMonitor::push_median(Ratio rho) noexcept {
   // The window's values stay sorted: the oldest value leaves (any copy of
   // it: equal ratios are the same bits), the new one is inserted in order.
@@ -256,7 +233,7 @@ SW_FX_INLINE Ratio TractionMonitor::push_median(Ratio rho) noexcept {
   return sorted_[static_cast<std::uint8_t>(kept / 2U)];
 }
 
-SW_FX_INLINE void TractionMonitor::advance(const TractionInput& in, Ratio rho_med,
+SW_FX_INLINE void TractionMonitor::advance(const TractionCycle& in, Ratio rho_med,
                                            const TractionParams& params) noexcept {
   const std::uint32_t dt_ms = have_time_ ? elapsed_ms(last_time_, in.time) : 0U;
   have_time_ = true;
@@ -353,7 +330,7 @@ SW_FX_INLINE void TractionMonitor::transition(const MonitorParams& monitor, Trac
   }
 }
 
-SW_FX_INLINE TractionSample TractionMonitor::evaluate(const TractionInput& input, const TractionParams& params,
+SW_FX_INLINE TractionSample TractionMonitor::evaluate(const TractionCycle& input, const TractionParams& params,
                                                       Ratio rho, TractionOutput& out) noexcept {
   fx::Status st;
   const bool standing =
@@ -381,6 +358,17 @@ SW_FX_INLINE TractionSample TractionMonitor::evaluate(const TractionInput& input
 }
 
 void TractionMonitor::step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
+                           InverseRadius per_radius, TractionOutput& out) noexcept {
+  const TractionCycle cycle{input.time,
+                            input.loads_valid,
+                            input.pull_assumed,
+                            sums_of(input, monitor.wheel_count),
+                            input.speed_valid,
+                            input.speed_mps};
+  step(cycle, params, monitor, per_radius, out);
+}
+
+void TractionMonitor::step(const TractionCycle& input, const TractionParams& params, const MonitorParams& monitor,
                            InverseRadius per_radius, TractionOutput& out) noexcept {
   // Every field, as TractionOutput{} has them (the record is the previous
   // cycle's).

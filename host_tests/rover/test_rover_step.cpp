@@ -423,11 +423,18 @@ TEST_F(RoverStepTest, HighCurrentTripsStopThroughTheMonitor) {
 // Stage 6 sees this cycle's loads, pulls and the wheel monitors' torques:
 // the step's traction output is that of a TractionMonitor fed, cycle by
 // cycle, the input built from the step's own output (a torque only where the
-// cycle has loads and the wheel's estimate is valid), whatever the cycles
-// (usable with uneven currents, a wheel beyond the sensor's range, flagged
-// invalid between them, round 14: the arrays are written only with loads).
-TEST_F(RoverStepTest, TractionCheckSeesTheCyclesLoadsPullsAndTorques) {
+// cycle has loads and the wheel's estimate is valid, among the first
+// wheel_count), whatever the cycles (usable with uneven currents, a wheel
+// beyond the sensor's range, flagged invalid between them, round 14: the
+// arrays are written only with loads). Round 16 sums the step's arrays in
+// place over every wheel: the runs with fewer monitored wheels (the
+// monitor's defaults beyond them), in reverse and with mixed directions
+// show the sums are the twin's.
+void expect_traction_as_twin(const flight::ParameterTable& table, const flight::RoverParams& rover,
+                             std::uint32_t reverse_every) {
   const flight::PreparedParameters prepared = test::prepared_of(table, rover);
+  ASSERT_TRUE(prepared.table_valid());
+  flight::RoverStep step;
   flight::TractionMonitor twin;
   std::mt19937_64 rng(1414U);
   flight::RoverStepOutput out{};
@@ -441,6 +448,16 @@ TEST_F(RoverStepTest, TractionCheckSeesTheCyclesLoadsPullsAndTorques) {
     }
     if ((k % 5U) == 2U) {
       t.current_a[rng() % flight::kWheelCount] = q<flight::CurrentA>(50.0);  // beyond the sensor's range
+    }
+    if ((reverse_every > 0U) && ((k % reverse_every) == 0U)) {
+      // One wheel, or on every other such cycle all of them, driving back.
+      const bool all = ((k / reverse_every) % 2U) == 0U;
+      for (std::size_t i = 0; i < flight::kWheelCount; ++i) {
+        if (all || (i == (rng() % flight::kWheelCount))) {
+          t.direction[i] = flight::DriveDirection::reverse;
+          t.current_a[i] = flight::CurrentA::from_raw(-t.current_a[i].raw());
+        }
+      }
     }
     step.step(t, t.time, prepared, out);
     flight::TractionInput in{};
@@ -468,7 +485,21 @@ TEST_F(RoverStepTest, TractionCheckSeesTheCyclesLoadsPullsAndTorques) {
     ASSERT_EQ(out.traction.resistance_ahead.raw(), expected.resistance_ahead.raw()) << k;
     with_rho += expected.rho_valid ? 1 : 0;
   }
-  EXPECT_GT(with_rho, 60);
+  EXPECT_GT(with_rho, 40);
+}
+
+TEST_F(RoverStepTest, TractionCheckSeesTheCyclesLoadsPullsAndTorques) {
+  expect_traction_as_twin(table, rover, 0U);
+}
+
+TEST_F(RoverStepTest, TractionCheckSumsOnlyTheMonitoredWheelsInEitherDirection) {
+  flight::ParameterTable four = table;
+  four.monitor.wheel_count = 4U;
+  four.monitor.rover_stop_k = (four.monitor.rover_stop_k > 4U) ? std::uint8_t{4U} : four.monitor.rover_stop_k;
+  four.health.max_blind_wheels =
+      (four.health.max_blind_wheels >= 4U) ? std::uint8_t{3U} : four.health.max_blind_wheels;
+  expect_traction_as_twin(four, rover, 7U);
+  expect_traction_as_twin(table, rover, 3U);
 }
 
 /// Every field the step reports, a against b (the monitor's wheel records

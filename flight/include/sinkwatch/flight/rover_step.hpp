@@ -184,7 +184,7 @@ class RoverStep {
                      RoverStepOutput& out) noexcept;
 
   /// Stage 6: the motion-resistance check on this cycle's loads, pulls and
-  /// the wheel monitors' torques (its input record in `traction_in_`).
+  /// the wheel monitors' torques (their sums in `traction_in_`).
   void traction_stage(const RoverTelemetry& t, const PreparedParameters& prepared, RoverStepOutput& out) noexcept;
 
   /// Stage 1b: the channels' health for an admitted sample, or the clock's
@@ -193,8 +193,9 @@ class RoverStep {
               RoverStepOutput& out) noexcept;
 
   WheelTerms terms_{};
-  /// Stage 6's input, rebuilt whole every cycle.
-  TractionInput traction_in_{};
+  /// Stage 6's input: the sums of this cycle's wheels, rebuilt every cycle
+  /// with loads.
+  TractionCycle traction_in_{};
   RoverMonitor monitor_;
   TractionMonitor traction_;
   StopRecorder stops_;

@@ -160,6 +160,51 @@ struct TractionInput {
   SpeedMps speed_mps;                ///< signed; the distance travelled is |v| dt
 };
 
+/// The directed sums of the wheels with a torque: T, DP and W, as raw
+/// Q15.16 integers (2^-16 N m, 2^-16 N): at most six values below 2^31 in
+/// magnitude, so every sum is exact in 64 bits. The pulls are summed as read
+/// and turned once (resistance_of): a sum that is used has every wheel
+/// driving one way, so its directed sum is the sum, negated in reverse. The
+/// wheels drive one way when every bit of their directions is the same in
+/// all of them: their OR equals their AND.
+struct TractionSums {
+  /// One wheel in wheels_and_any: the count lies above the directions' byte.
+  static constexpr std::uint32_t kOneWheel = 0x100U;
+
+  std::int64_t torque_q16{0};
+  std::int64_t pull_q16{0};  ///< as read: not yet along the drive direction
+  std::int64_t load_q16{0};
+  /// The wheels summed times kOneWheel plus the OR of their directions
+  /// (uint8, so below kOneWheel): one register for both in the loop.
+  std::uint32_t wheels_and_any{0U};
+  std::uint32_t all_bits{0xFFU};  ///< the AND of the directions
+
+  /// One wheel with a torque, in wheel order (forced inline: the rover step
+  /// sums its own arrays with it, so that no input record is copied).
+  SW_FX_INLINE void add(TorqueNm torque_nm, DrawbarPullN pull_n, WheelLoadN load_n, DriveDirection d) noexcept {
+    const auto direction = static_cast<std::uint32_t>(d);
+    wheels_and_any = (wheels_and_any | direction) + kOneWheel;
+    all_bits &= direction;
+    pull_q16 += pull_n.raw();
+    torque_q16 += torque_nm.raw();
+    load_q16 += load_n.raw();
+  }
+  [[nodiscard]] std::uint32_t wheels() const noexcept { return wheels_and_any / kOneWheel; }
+  [[nodiscard]] std::uint32_t any_bits() const noexcept { return wheels_and_any % kOneWheel; }
+};
+
+/// One cycle's input as the check reads it: TractionInput with its wheels
+/// summed. The rover step builds it from its own arrays (RoverStep::
+/// traction_stage), not from a copy of them.
+struct TractionCycle {
+  TimeMs time;
+  bool loads_valid{false};   ///< `sums` hold this cycle's wheels (else unread)
+  bool pull_assumed{false};  ///< drawbar pulls are DP_max at high slip
+  TractionSums sums;         ///< the monitored wheels (the first wheel_count) whose torque_valid
+  bool speed_valid{false};
+  SpeedMps speed_mps;
+};
+
 struct TractionOutput {
   TractionState state{TractionState::off};
   TractionSample sample{TractionSample::check_off};
@@ -182,6 +227,9 @@ class TractionMonitor {
   /// (inverse_radius()).
   void step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
             InverseRadius per_radius, TractionOutput& out) noexcept;
+  /// The same with the wheels already summed (TractionCycle).
+  void step(const TractionCycle& input, const TractionParams& params, const MonitorParams& monitor,
+            InverseRadius per_radius, TractionOutput& out) noexcept;
 
   /// Back to NOMINAL with empty histories (the ground's re-plan).
   void clear_stop() noexcept;
@@ -190,22 +238,22 @@ class TractionMonitor {
 
  private:
   /// rho of this cycle into `rho`; the sample's verdict.
-  [[nodiscard]] static TractionSample resistance_of(const TractionInput& in, std::uint8_t wheels,
-                                                    InverseRadius per_radius, Ratio& rho) noexcept;
-  // push_median, evaluate, advance, ahead_of, push_history and transition
-  // are step()'s stages, inline (defined and used only in traction.cpp,
+  [[nodiscard]] static inline TractionSample resistance_of(const TractionCycle& in, std::uint8_t wheels,
+                                                           InverseRadius per_radius, Ratio& rho) noexcept;
+  // resistance_of, push_median, evaluate, advance, ahead_of, push_history
+  // and transition are step()'s stages, inline (defined and used only in traction.cpp,
   // forced inline there): a call each per cycle less.
   /// rho_med after pushing `rho`.
   [[nodiscard]] inline Ratio push_median(Ratio rho) noexcept;
   /// A sample with a resistance: the restart when standing, else the
   /// median, the distance and rho_ahead into `out`; the sample's verdict.
-  inline TractionSample evaluate(const TractionInput& input, const TractionParams& params, Ratio rho,
+  inline TractionSample evaluate(const TractionCycle& input, const TractionParams& params, Ratio rho,
                                  TractionOutput& out) noexcept;
   /// Empties the median and the trend's history (the rover stands).
   void restart() noexcept;
   /// Adds |v| dt to the distance and, every trend_span_m / 8 after the
   /// first trend_span_m, a mark.
-  inline void advance(const TractionInput& in, Ratio rho_med, const TractionParams& params) noexcept;
+  inline void advance(const TractionCycle& in, Ratio rho_med, const TractionParams& params) noexcept;
   /// rho_ahead from the marks; false when the history is shorter than the span.
   inline bool ahead_of(Ratio rho_med, const TractionParams& params, Ratio& ahead, bool& overflow) const noexcept;
   inline void push_history(bool caution, bool stop, bool clear) noexcept;
