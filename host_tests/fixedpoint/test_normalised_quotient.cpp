@@ -178,6 +178,25 @@ TEST(NormalisedQuotient, DigitByRemainderIsTheExactDigitAfterNoneOneOrTwoCorrect
   EXPECT_GT(seen[2], 0U);
 }
 
+TEST(NormalisedQuotient, QuotientOfLeadingWordsIsTheBuiltInQuotient) {
+  // floor(n 2^31 / d) for n, d in [2^31, 2^32): at the words' ends, and random.
+  const auto expect_exact = [](std::uint32_t n, std::uint32_t d) {
+    ASSERT_EQ(fx::wide::quotient_of_leading_words(n, d), (std::uint64_t{n} << 31U) / d) << n << " / " << d;
+  };
+  for (const std::uint32_t n : {0x80000000U, 0x80000001U, 0xC0000000U, 0xFFFFFFFEU, 0xFFFFFFFFU}) {
+    for (const std::uint32_t d : {0x80000000U, 0x80000001U, 0x8000FFFFU, 0xC0000000U, 0xFFFFFFFEU, 0xFFFFFFFFU}) {
+      expect_exact(n, d);
+    }
+  }
+  std::mt19937_64 rng(20261129U);
+  for (int i = 0; i < 1000000; ++i) {
+    const auto n = static_cast<std::uint32_t>(rng() | 0x80000000U);
+    const auto d = static_cast<std::uint32_t>((i % 2 == 0) ? ((rng() & 0x00FFFFFFU) | 0x80000000U)
+                                                            : (rng() | 0x80000000U));
+    expect_exact(n, d);
+  }
+}
+
 /// The digits' reciprocal r ~ 2^48 / v is below it by at most 1.5 * 2^32 / v
 /// (docs/fixedpoint.md 5.8): r v < 2^48 and 2^48 - r v <= 3 * 2^31.
 void expect_digit_reciprocal_bounded(std::uint32_t v) {

@@ -429,10 +429,11 @@ struct DigitStep {
 /// counted: a digit found right on the first try tests nothing more. Since
 /// round 16 (before it, Hacker's Delight's divlu test against v's low half,
 /// more instructions per digit on the Cortex-M4); the same digit.
-SW_FX_INLINE constexpr DigitStep digit_by_remainder(std::uint32_t partial, std::uint32_t next, std::uint32_t v,
-                                                    std::uint32_t v_high) noexcept {
+/// The partial dividend x is the caller's where it forms it more cheaply than
+/// from partial and next (digit_of, for x div 2^16 == partial).
+SW_FX_INLINE constexpr DigitStep digit_of(std::uint32_t partial, std::uint64_t x, std::uint32_t v,
+                                          std::uint32_t v_high) noexcept {
   std::uint32_t digit = partial / v_high;
-  const std::uint64_t x = (std::uint64_t{partial} * kDigitBase) | next;  // < 2^48
   // x < 2^48 and digit v < 2^49: both fit int64, so the difference is exact.
   std::int64_t rest = static_cast<std::int64_t>(x) - static_cast<std::int64_t>(std::uint64_t{digit} * v);
   if (rest < 0) {
@@ -444,6 +445,11 @@ SW_FX_INLINE constexpr DigitStep digit_by_remainder(std::uint32_t partial, std::
     }
   }
   return DigitStep{digit, static_cast<std::uint32_t>(rest)};
+}
+
+SW_FX_INLINE constexpr DigitStep digit_by_remainder(std::uint32_t partial, std::uint32_t next, std::uint32_t v,
+                                                    std::uint32_t v_high) noexcept {
+  return digit_of(partial, (std::uint64_t{partial} * kDigitBase) | next, v, v_high);
 }
 
 /// r = floor((z1 - 1) / 2^14) ~ 2^48 / v from below, for v in [2^31, 2^32):
@@ -577,6 +583,26 @@ SW_FX_INLINE constexpr std::uint32_t quotient_64_by_32(std::uint64_t u, std::uin
     return (d.high * detail::kDigitBase) + d.low;
   } else {
     return divide_64_by_32_by_reciprocal(u, v).quotient;
+  }
+}
+
+/// floor(n 2^31 / d) for n and d in [2^31, 2^32) (n 2^31 < d 2^32: the
+/// quotient fits 32 bits), the normalised quotients' division
+/// (normalised_quotient.hpp): quotient_64_by_32(n 2^31, d). Where the core
+/// divides words, its first partial dividend, (n 2^31) div 2^16, is formed
+/// as n 2^15 (one 64-bit shift of n, not the join of two words) and the
+/// second's next digit is 0 (round 16). test_normalised_quotient checks it
+/// against the built-in division.
+SW_FX_INLINE constexpr std::uint32_t quotient_of_leading_words(std::uint32_t n, std::uint32_t d) noexcept {
+  if constexpr (kDivideInstruction) {
+    // d >= 2^31: the OR changes nothing but shows the analyser a non-zero divisor.
+    const std::uint32_t v_high = (d >> 16U) | 0x8000U;
+    const detail::DigitStep high = detail::digit_of(n >> 1U, std::uint64_t{n} << 15U, d, v_high);
+    const detail::DigitStep low =
+        detail::digit_of(high.remainder, std::uint64_t{high.remainder} << 16U, d, v_high);
+    return (high.digit << 16U) | low.digit;
+  } else {
+    return quotient_64_by_32(std::uint64_t{n} << 31U, d);
   }
 }
 
