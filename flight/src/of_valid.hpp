@@ -257,6 +257,34 @@ SW_FX_INLINE bool current_raw_from_torque(const MotorParams& motor, const MotorD
   return true;
 }
 
+/// current_raw_from_torque() for a motor validate() accepted (the prepared
+/// table's, estimate_from's): the same integer and the same refusals, less
+/// the two such a motor cannot meet. Its gain N eta Kt lies in about
+/// [10^-6, 4 10^4] (param_table.cpp: N in [1, 10^4], eta in [0.01, 1], Kt in
+/// [10^-4, 4]), so 1/gain has a mantissa (not 0) and the scale 32 +
+/// floor(log2 gain), and the shift 16 + scale - 20 = 28 + floor(log2 gain)
+/// lies in [8, 43]: within (0, 64), where times_mantissa rounds the product
+/// and no product grows (round 16: one test of the mantissa and one of the
+/// shift fewer per wheel). test_estimator.cpp
+/// (ValidatedMotorsShiftIsWithinItsRange) checks the ends of the ranges.
+SW_FX_INLINE bool current_raw_from_validated_torque(const MotorParams& motor, const MotorDivisors& divisors,
+                                                    std::int32_t t_max_raw, std::int32_t& current_raw) noexcept {
+  const fx::NormalisedReciprocal inverse = divisors.inverse_gain;
+  const auto shift = static_cast<std::uint32_t>((LoadQ::frac_bits + inverse.scale) - CurrentQ::frac_bits);
+  const std::uint64_t driving = fx::detail::shift_right_rounded(
+      fx::wide::mul_32x32_64(fx::detail::magnitude32(t_max_raw), inverse.mantissa), shift);
+  const std::int64_t total =
+      with_sign(t_max_raw < 0, driving) + static_cast<std::int64_t>(motor.no_load_current_a.raw());
+  constexpr std::int64_t kMin = std::numeric_limits<std::int32_t>::min();
+  constexpr std::int64_t kMax = std::numeric_limits<std::int32_t>::max();
+  if ((total < kMin) || (total > kMax)) {
+    current_raw = 0;
+    return false;
+  }
+  current_raw = static_cast<std::int32_t>(total);
+  return true;
+}
+
 /// The limit from T_max (current_raw_from_torque) as current_limit()'s
 /// result, for a motor check_motor() accepts.
 SW_FX_INLINE CurrentLimitResult limit_from_torque(const CorrectionResult& corr, const MotorParams& motor,

@@ -133,6 +133,70 @@ TEST(NormalisedQuotient, LongDivisionEqualsTheBuiltInDivisionForRandomOperands) 
   }
 }
 
+/// One digit of the long division where the core divides words
+/// (wide::detail::digit_by_remainder) against the built-in division, and
+/// how far its estimate partial / v_high was above the digit (0, 1 or 2).
+std::uint32_t expect_digit_by_remainder_exact(std::uint32_t partial, std::uint32_t next, std::uint32_t v) {
+  const std::uint32_t v_high = v >> 16U;
+  const std::uint64_t x = (std::uint64_t{partial} << 16U) | next;
+  const fx::wide::detail::DigitStep step = fx::wide::detail::digit_by_remainder(partial, next, v, v_high);
+  EXPECT_EQ(step.digit, x / v) << partial << " " << next << " / " << v;
+  EXPECT_EQ(step.remainder, x % v) << partial << " " << next << " / " << v;
+  const std::uint64_t over = (partial / v_high) - (x / v);
+  EXPECT_LE(over, 2U) << partial << " " << next << " / " << v;
+  return static_cast<std::uint32_t>(over);
+}
+
+TEST(NormalisedQuotient, DigitByRemainderIsTheExactDigitAfterNoneOneOrTwoCorrections) {
+  // Every estimate error (0, 1 and 2, so each correction) is met, among them
+  // the estimates 2^16 and 2^16 + 1 that no digit reaches (v_high = 2^15,
+  // partial = v - 1), and the digits 0 and 2^16 - 1.
+  std::uint32_t seen[3] = {0U, 0U, 0U};
+  std::mt19937_64 rng(20261128U);
+  const auto count = [&seen](std::uint32_t over) {
+    if (over < 3U) {
+      ++seen[over];
+    }
+  };
+  for (const std::uint32_t v : {0x80000000U, 0x8000FFFFU, 0x80017FFFU, 0xBFFFFFFFU, 0xFFFF0000U, 0xFFFFFFFFU}) {
+    for (const std::uint32_t next : {0U, 1U, 0x7FFFU, 0xFFFFU}) {
+      for (const std::uint32_t partial : {0U, 1U, v >> 1U, v - 0x10000U, v - 2U, v - 1U}) {
+        count(expect_digit_by_remainder_exact(partial, next, v));
+      }
+    }
+  }
+  for (int i = 0; i < 1000000; ++i) {
+    // Divisors with a small high half and a large low half, where the
+    // estimate is furthest above the digit, and any divisor.
+    const auto v = static_cast<std::uint32_t>((i % 2 == 0) ? ((rng() & 0x00FFFFFFU) | 0x80000000U)
+                                                            : (rng() | 0x80000000U));
+    const auto partial = static_cast<std::uint32_t>(rng() % v);
+    count(expect_digit_by_remainder_exact(partial, static_cast<std::uint32_t>(rng() & 0xFFFFU), v));
+  }
+  EXPECT_GT(seen[0], 0U);
+  EXPECT_GT(seen[1], 0U);
+  EXPECT_GT(seen[2], 0U);
+}
+
+TEST(NormalisedQuotient, QuotientOfLeadingWordsIsTheBuiltInQuotient) {
+  // floor(n 2^31 / d) for n, d in [2^31, 2^32): at the words' ends, and random.
+  const auto expect_exact = [](std::uint32_t n, std::uint32_t d) {
+    ASSERT_EQ(fx::wide::quotient_of_leading_words(n, d), (std::uint64_t{n} << 31U) / d) << n << " / " << d;
+  };
+  for (const std::uint32_t n : {0x80000000U, 0x80000001U, 0xC0000000U, 0xFFFFFFFEU, 0xFFFFFFFFU}) {
+    for (const std::uint32_t d : {0x80000000U, 0x80000001U, 0x8000FFFFU, 0xC0000000U, 0xFFFFFFFEU, 0xFFFFFFFFU}) {
+      expect_exact(n, d);
+    }
+  }
+  std::mt19937_64 rng(20261129U);
+  for (int i = 0; i < 1000000; ++i) {
+    const auto n = static_cast<std::uint32_t>(rng() | 0x80000000U);
+    const auto d = static_cast<std::uint32_t>((i % 2 == 0) ? ((rng() & 0x00FFFFFFU) | 0x80000000U)
+                                                            : (rng() | 0x80000000U));
+    expect_exact(n, d);
+  }
+}
+
 /// The digits' reciprocal r ~ 2^48 / v is below it by at most 1.5 * 2^32 / v
 /// (docs/fixedpoint.md 5.8): r v < 2^48 and 2^48 - r v <= 3 * 2^31.
 void expect_digit_reciprocal_bounded(std::uint32_t v) {

@@ -413,6 +413,75 @@ TEST(LimitFromTorque, MatchesTimesReciprocalOverRandomAndEdgeOperands) {
   }
 }
 
+// current_raw_from_validated_torque (of_valid.hpp, estimate_from's) leaves
+// out current_raw_from_torque's refusals of a reciprocal without a mantissa
+// and of a shift <= 0 (and its test of a shift >= 64). A motor within
+// validate()'s ranges (param_table.cpp) meets none of them: the gain N eta Kt
+// rises with each factor, so its reciprocal's shift is at its ends at the
+// corners of the ranges.
+TEST(LimitFromTorque, ValidatedMotorsShiftIsWithinItsRange) {
+  constexpr GearRatio kGears[] = {GearRatio(fx::constant<GearQ>(1.0)), GearRatio(fx::constant<GearQ>(10000.0))};
+  constexpr Efficiency kEfficiencies[] = {Efficiency(fx::constant<EfficiencyQ>(0.01)),
+                                          Efficiency(fx::constant<EfficiencyQ>(1.0))};
+  constexpr TorqueConstantNmPerA kKts[] = {TorqueConstantNmPerA(fx::constant<KtQ>(0.0001)),
+                                           TorqueConstantNmPerA(fx::constant<KtQ>(4.0))};
+  for (const GearRatio gear : kGears) {
+    for (const Efficiency efficiency : kEfficiencies) {
+      for (const TorqueConstantNmPerA kt : kKts) {
+        MotorParams m{};
+        m.gear_ratio = gear;
+        m.efficiency = efficiency;
+        m.kt_nm_per_a = kt;
+        const MotorDivisors md = make_motor_divisors(m);
+        EXPECT_NE(md.inverse_gain.mantissa, 0U) << gear.raw() << " " << efficiency.raw() << " " << kt.raw();
+        const std::int32_t shift = (LoadQ::frac_bits + md.inverse_gain.scale) - CurrentQ::frac_bits;
+        EXPECT_GE(shift, 8) << gear.raw() << " " << efficiency.raw() << " " << kt.raw();
+        EXPECT_LE(shift, 43) << gear.raw() << " " << efficiency.raw() << " " << kt.raw();
+      }
+    }
+  }
+}
+
+// Where the shift lies in [1, 63] and the reciprocal has a mantissa (every
+// validated motor's, above), the validated form is current_raw_from_torque
+// bit for bit: the same current and the same refusal of a sum beyond Q11.20.
+TEST(LimitFromTorque, ValidatedFormIsTheCheckedFormWithinItsShifts) {
+  std::mt19937_64 rng(1416U);
+  const std::int32_t edges[] = {0, 1, -1, 2, -2, std::numeric_limits<std::int32_t>::max(),
+                                std::numeric_limits<std::int32_t>::min(), 1 << 16, -(1 << 16)};
+  std::uint32_t refused = 0U;
+  std::uint32_t kept = 0U;
+  for (std::int32_t i = 0; i < 400000; ++i) {
+    MotorParams motor{};
+    MotorDivisors divisors{};
+    auto t_raw = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()));
+    const auto pick = static_cast<std::uint32_t>(rng() % 16U);
+    if (pick < 4U) {
+      t_raw = edges[rng() % (sizeof(edges) / sizeof(edges[0]))];
+    } else if (pick < 12U) {
+      t_raw >>= (rng() % 32U);
+    }
+    divisors.inverse_gain.mantissa = static_cast<std::uint32_t>(rng() | 0x80000000ULL);
+    divisors.inverse_gain.scale = static_cast<std::int32_t>(rng() % 63U) + 5;  // shift 1 .. 63
+    auto i0 = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()));
+    if ((rng() % 4U) != 0U) {
+      i0 >>= (rng() % 32U);
+    }
+    motor.no_load_current_a = CurrentA(CurrentQ::from_raw(i0));
+    std::int32_t want = 1;
+    std::int32_t got = 2;
+    const bool want_ok = detail::current_raw_from_torque(motor, divisors, t_raw, want);
+    const bool got_ok = detail::current_raw_from_validated_torque(motor, divisors, t_raw, got);
+    ASSERT_EQ(got_ok, want_ok) << t_raw << " " << divisors.inverse_gain.mantissa << " "
+                               << divisors.inverse_gain.scale << " " << i0;
+    ASSERT_EQ(got, want) << t_raw << " " << divisors.inverse_gain.mantissa << " " << divisors.inverse_gain.scale
+                         << " " << i0;
+    ++(want_ok ? kept : refused);
+  }
+  EXPECT_GT(kept, 50000U);
+  EXPECT_GT(refused, 50000U);
+}
+
 // times_positive (of_valid.hpp): the signed product where the core has one
 // and the magnitudes' product with the sign put back on ARMv6-M, both the
 // exact product of any 32-bit a and a positive b, at the ends of both ranges

@@ -223,10 +223,10 @@ SW_FX_INLINE bool quotient_by_positive(bool negative, std::uint64_t n_magnitude,
     return true;  // n == 0: its leading word is 0, every other one has its top bit set
   }
   const detail::LeadingBits d_leading = detail::leading_bits(d_magnitude);
-  const std::uint32_t q = wide::quotient_64_by_32(std::uint64_t{n_leading.word} << 31U, d_leading.word);
   const std::int32_t exponent =
       ((static_cast<std::int32_t>(n_leading.bits) - static_cast<std::int32_t>(d_leading.bits)) - 31) -
       ((n_frac - d_frac) - kOutFrac);
+  const std::uint32_t q = wide::quotient_of_leading_words(n_leading.word, d_leading.word);
   constexpr std::uint32_t kTop = 0x80000000U;  // 2^31: -2^31's magnitude
   // e in [-32, -1] (the quotients that fit, but for the largest at e == 0)
   // is tested first, in one unsigned comparison of -e - 1 (a negative value

@@ -409,29 +409,47 @@ SW_FX_INLINE constexpr std::uint32_t first_newton_step(std::uint32_t v, std::uin
   return (y0 * (c >> 16U)) + ((y0 * (c & 0xFFFFU)) >> 16U);
 }
 
-/// The long division of divide_64_by_32_by_digits: Hacker's Delight (2nd
-/// ed., figure 9-3, divlu) in base 2^16 with 32-bit words only.
+/// The base of the long divisions below: two 16-bit digits per quotient.
 constexpr std::uint32_t kDigitBase = 0x10000U;
 
-/// One quotient digit of that division: the estimate of `partial` over the
-/// divisor's high digit, at most two too large, corrected at most twice
-/// against its low digit (one correction stops once the remainder leaves the
-/// digit: then kDigitBase * rhat would not fit, and the estimate is right).
-/// Both counted loops are simple (MISRA C++:2023 rule 9.5.1: no break).
-SW_FX_INLINE constexpr std::uint32_t quotient_digit(std::uint32_t partial, std::uint32_t v_high, std::uint32_t v_low,
-                                                    std::uint32_t next_digit) noexcept {
-  std::uint32_t q = partial / v_high;
-  std::uint32_t rhat = partial - (q * v_high);
-  bool correcting = true;
-  for (std::uint32_t step = 0U; step < 2U; ++step) {
-    correcting = correcting && ((q >= kDigitBase) || ((q * v_low) > ((kDigitBase * rhat) + next_digit)));
-    if (correcting) {
-      --q;
-      rhat += v_high;
-      correcting = rhat < kDigitBase;
+/// A quotient digit and the remainder after it.
+struct DigitStep {
+  std::uint32_t digit;
+  std::uint32_t remainder;
+};
+
+/// floor(x / v) and x mod v for x = partial 2^16 + next (partial < v, next <
+/// 2^16, so the digit is below 2^16) and v in [2^31, 2^32) with v_high =
+/// floor(v / 2^16): the estimate partial / v_high (one 32-bit division) is
+/// never below the digit and at most two above it (v_high >= 2^15; the
+/// bound also holds for the estimates 2^16 and 2^16 + 1 that no digit
+/// reaches: docs/fixedpoint.md 5.8), so at most two corrections against the
+/// exact remainder x - estimate v, a signed 64-bit value in [-2v, v) (one
+/// UMULL and a 64-bit subtraction on ARMv7-M), finish it. Nested, not
+/// counted: a digit found right on the first try tests nothing more. Since
+/// round 16 (before it, Hacker's Delight's divlu test against v's low half,
+/// more instructions per digit on the Cortex-M4); the same digit.
+/// The partial dividend x is the caller's where it forms it more cheaply than
+/// from partial and next (digit_of, for x div 2^16 == partial).
+SW_FX_INLINE constexpr DigitStep digit_of(std::uint32_t partial, std::uint64_t x, std::uint32_t v,
+                                          std::uint32_t v_high) noexcept {
+  std::uint32_t digit = partial / v_high;
+  // x < 2^48 and digit v < 2^49: both fit int64, so the difference is exact.
+  std::int64_t rest = static_cast<std::int64_t>(x) - static_cast<std::int64_t>(std::uint64_t{digit} * v);
+  if (rest < 0) {
+    --digit;
+    rest += static_cast<std::int64_t>(v);
+    if (rest < 0) {
+      --digit;
+      rest += static_cast<std::int64_t>(v);
     }
   }
-  return q;
+  return DigitStep{digit, static_cast<std::uint32_t>(rest)};
+}
+
+SW_FX_INLINE constexpr DigitStep digit_by_remainder(std::uint32_t partial, std::uint32_t next, std::uint32_t v,
+                                                    std::uint32_t v_high) noexcept {
+  return digit_of(partial, (std::uint64_t{partial} * kDigitBase) | next, v, v_high);
 }
 
 /// r = floor((z1 - 1) / 2^14) ~ 2^48 / v from below, for v in [2^31, 2^32):
@@ -440,12 +458,6 @@ SW_FX_INLINE constexpr std::uint32_t quotient_digit(std::uint32_t partial, std::
 SW_FX_INLINE constexpr std::uint32_t digit_reciprocal(std::uint32_t v) noexcept {
   return (first_newton_step(v, kReciprocalSeeds.y0[(v >> 24U) & 0x7FU]) - 1U) >> 14U;
 }
-
-/// A quotient digit and the remainder after it.
-struct DigitStep {
-  std::uint32_t digit;
-  std::uint32_t remainder;
-};
 
 /// floor(x / v) and x mod v for x = partial 2^16 + next (partial < v, next <
 /// 2^16, so the digit is below 2^16), v in [2^31, 2^32) and r =
@@ -488,6 +500,7 @@ struct QuotientDigits {
   std::uint32_t high;
   std::uint32_t partial;  ///< (u div 2^16) - high v, below v
   std::uint32_t low;
+  std::uint32_t remainder;  ///< u mod v
 };
 
 SW_FX_INLINE constexpr QuotientDigits quotient_digits(std::uint64_t u, std::uint32_t v) noexcept {
@@ -495,14 +508,11 @@ SW_FX_INLINE constexpr QuotientDigits quotient_digits(std::uint64_t u, std::uint
   // v >= 2^31, so the high digit is at least 2^15: the OR changes nothing
   // but shows the static analyser a divisor that cannot be zero.
   const std::uint32_t v_high = (v >> 16U) | 0x8000U;
-  const std::uint32_t v_low = v & 0xFFFFU;
   const auto u_high = static_cast<std::uint32_t>(u / kWord);  // u >> 32 without a library shift
   const auto u_low = static_cast<std::uint32_t>(u);
-  const std::uint32_t u_high_digit = u_low >> 16U;
-  const std::uint32_t q1 = quotient_digit(u_high, v_high, v_low, u_high_digit);
-  const std::uint32_t partial = ((u_high * kDigitBase) + u_high_digit) - (q1 * v);
-  const std::uint32_t q0 = quotient_digit(partial, v_high, v_low, u_low & 0xFFFFU);
-  return QuotientDigits{q1, partial, q0};
+  const DigitStep high = digit_by_remainder(u_high, u_low >> 16U, v, v_high);
+  const DigitStep low = digit_by_remainder(high.remainder, u_low & 0xFFFFU, v, v_high);
+  return QuotientDigits{high.digit, high.remainder, low.digit, low.remainder};
 }
 
 /// divide_64_by_32_by_digits's quotient (low word) and remainder (high
@@ -510,18 +520,15 @@ SW_FX_INLINE constexpr QuotientDigits quotient_digits(std::uint64_t u, std::uint
 /// for the result).
 constexpr std::uint64_t packed_by_digits(std::uint64_t u, std::uint32_t v) noexcept {
   const QuotientDigits d = quotient_digits(u, v);
-  const std::uint32_t u_low_digit = static_cast<std::uint32_t>(u) & 0xFFFFU;
-  const std::uint32_t remainder = ((d.partial * kDigitBase) + u_low_digit) - (d.low * v);
-  return (static_cast<std::uint64_t>(remainder) << 32U) | ((d.high * kDigitBase) + d.low);
+  return (static_cast<std::uint64_t>(d.remainder) << 32U) | ((d.high * kDigitBase) + d.low);
 }
 }  // namespace detail
 
 /// floor(u / v) and u mod v for v in [2^31, 2^32) and u < v * 2^32 (the
 /// quotient fits 32 bits; the caller normalises): two base-2^16 digits, each
-/// from detail::quotient_digit's 32-bit division by the divisor's high
-/// half. The partial remainders fit 32 bits, and the wrapping 32-bit
-/// arithmetic gives them exactly (Hacker's Delight's divlu). The form for
-/// cores with a divide instruction.
+/// from a 32-bit division by the divisor's high half, corrected against the
+/// exact remainder (detail::digit_by_remainder). The form for cores with a
+/// divide instruction.
 SW_FX_INLINE constexpr DivMod<std::uint32_t> divide_64_by_32_by_digits(std::uint64_t u, std::uint32_t v) noexcept {
   const std::uint64_t packed = detail::packed_by_digits(u, v);
   return DivMod<std::uint32_t>{static_cast<std::uint32_t>(packed), static_cast<std::uint32_t>(packed >> 32U)};
@@ -576,6 +583,26 @@ SW_FX_INLINE constexpr std::uint32_t quotient_64_by_32(std::uint64_t u, std::uin
     return (d.high * detail::kDigitBase) + d.low;
   } else {
     return divide_64_by_32_by_reciprocal(u, v).quotient;
+  }
+}
+
+/// floor(n 2^31 / d) for n and d in [2^31, 2^32) (n 2^31 < d 2^32: the
+/// quotient fits 32 bits), the normalised quotients' division
+/// (normalised_quotient.hpp): quotient_64_by_32(n 2^31, d). Where the core
+/// divides words, its first partial dividend, (n 2^31) div 2^16, is formed
+/// as n 2^15 (one 64-bit shift of n, not the join of two words) and the
+/// second's next digit is 0 (round 16). test_normalised_quotient checks it
+/// against the built-in division.
+SW_FX_INLINE constexpr std::uint32_t quotient_of_leading_words(std::uint32_t n, std::uint32_t d) noexcept {
+  if constexpr (kDivideInstruction) {
+    // d >= 2^31: the OR changes nothing but shows the analyser a non-zero divisor.
+    const std::uint32_t v_high = (d >> 16U) | 0x8000U;
+    const detail::DigitStep high = detail::digit_of(n >> 1U, std::uint64_t{n} << 15U, d, v_high);
+    const detail::DigitStep low =
+        detail::digit_of(high.remainder, std::uint64_t{high.remainder} << 16U, d, v_high);
+    return (high.digit << 16U) | low.digit;
+  } else {
+    return quotient_64_by_32(std::uint64_t{n} << 31U, d);
   }
 }
 
