@@ -321,6 +321,24 @@ void expect_leading_bits(std::uint64_t a) {
   ASSERT_EQ(by_clz.word, word) << a;
   ASSERT_EQ(selected.bits, bits) << a;
   ASSERT_EQ(selected.word, word) << a;
+  // The quotient's numerator form: true and the same two integers for a != 0.
+  fx::detail::LeadingBits unless_zero_by_clz{0U, 0U};
+  fx::detail::LeadingBits unless_zero{0U, 0U};
+  ASSERT_EQ(fx::detail::leading_bits_unless_zero_by_clz(a, unless_zero_by_clz), a != 0U) << a;
+  ASSERT_EQ(fx::detail::leading_bits_unless_zero(a, unless_zero), a != 0U) << a;
+  if (a != 0U) {
+    ASSERT_EQ(unless_zero_by_clz.bits, bits) << a;
+    ASSERT_EQ(unless_zero_by_clz.word, word) << a;
+    ASSERT_EQ(unless_zero.bits, bits) << a;
+    ASSERT_EQ(unless_zero.word, word) << a;
+    // The divisor's form, for a > 0.
+    const fx::detail::LeadingBits positive_by_clz = fx::detail::leading_bits_of_positive_by_clz(a);
+    const fx::detail::LeadingBits positive = fx::detail::leading_bits_of_positive(a);
+    ASSERT_EQ(positive_by_clz.bits, bits) << a;
+    ASSERT_EQ(positive_by_clz.word, word) << a;
+    ASSERT_EQ(positive.bits, bits) << a;
+    ASSERT_EQ(positive.word, word) << a;
+  }
 }
 
 // The halving normalisation (the Cortex-M0's), the count of leading zeros
@@ -335,6 +353,15 @@ TEST(NormalisedQuotient, LeadingBitsAreTheBitLengthAndTheLeadingWord) {
   EXPECT_EQ(zero_by_clz.word, 0U);
   EXPECT_EQ(zero_by_halves.bits, 1U);
   EXPECT_EQ(zero_by_clz.bits, 1U);
+  // Zero answers false and leaves the word untouched in both forms.
+  fx::detail::LeadingBits untouched{7U, 9U};
+  EXPECT_FALSE(fx::detail::leading_bits_unless_zero_by_clz(0U, untouched));
+  EXPECT_FALSE(fx::detail::leading_bits_unless_zero(0U, untouched));
+  EXPECT_EQ(untouched.word, 7U);
+  EXPECT_EQ(untouched.bits, 9U);
+  for (std::uint32_t k = 0U; k < 32U; ++k) {
+    expect_leading_bits(std::uint64_t{1U} << k);  // the low-word path of every length
+  }
   for (std::uint32_t k = 32U; k < 64U; ++k) {
     const std::uint64_t top = std::uint64_t{1U} << k;
     for (const std::uint64_t low : {std::uint64_t{0xFFFFFFFFU}, std::uint64_t{0x80000000U}, std::uint64_t{1U}}) {
