@@ -33,7 +33,10 @@ bool direction_is_valid(DriveDirection d) noexcept {
 std::uint64_t kt_times(std::int32_t kt_raw, std::int32_t effective_raw) noexcept {
   const std::uint64_t product =
       fx::wide::mul_32x32_64(static_cast<std::uint32_t>(kt_raw), fx::detail::magnitude32(effective_raw));
-  return (product + (std::uint64_t{1U} << 15U)) >> 16U;
+  // (product + 2^15) >> 16 as the quotient plus the dropped half bit: the
+  // same value (product < 2^62), without the rounding constant's two
+  // registers, which pushed the six-wheel loop's parameters onto the stack.
+  return (product >> 16U) + ((product >> 15U) & 1U);
 }
 
 /// The magnitude w (below 2^47) times the 32-bit v, shifted right by
