@@ -33,7 +33,10 @@ bool direction_is_valid(DriveDirection d) noexcept {
 std::uint64_t kt_times(std::int32_t kt_raw, std::int32_t effective_raw) noexcept {
   const std::uint64_t product =
       fx::wide::mul_32x32_64(static_cast<std::uint32_t>(kt_raw), fx::detail::magnitude32(effective_raw));
-  return (product + (std::uint64_t{1U} << 15U)) >> 16U;
+  // (product + 2^15) >> 16 as the quotient plus the dropped half bit: the
+  // same value (product < 2^62), without the rounding constant's two
+  // registers, which pushed the six-wheel loop's parameters onto the stack.
+  return (product >> 16U) + ((product >> 15U) & 1U);
 }
 
 /// The magnitude w (below 2^47) times the 32-bit v, shifted right by
@@ -106,6 +109,40 @@ SW_FX_INLINE void torque_into(const MotorParams& motor, CurrentA current_a, Driv
   put(out, TorqueNm(LoadQ::from_raw(static_cast<std::int32_t>(negative ? -t : t))), EstimateStatus::ok);
 }
 
+/// One wheel's torque for a motor validate() accepted (torque_into's bits;
+/// the validated motor's bounds make two of its refusals impossible):
+/// |I| <= current_abs_max <= 1000 A and 0 <= I0 < current_abs_max, so
+/// I -+ I0 is within 2000 A and cannot leave Q11.20; and the chain is
+/// monotone in |I -+ I0| <= current_abs_max + I0, whose torque
+/// validate_envelope() found within 2^31 raw (forward at -current_abs_max),
+/// so only +2^31 (reverse at +current_abs_max, which it does not test) can
+/// leave Q15.16, and the test is on the low word alone.
+SW_FX_INLINE void torque_into_validated(const MotorParams& motor, CurrentA current_a, DriveDirection direction,
+                                        TorqueResult& out) noexcept {
+  if (!direction_is_valid(direction)) {
+    put(out, TorqueNm::zero(), EstimateStatus::invalid_direction);
+    return;
+  }
+  if (fx::detail::magnitude32(current_a.raw()) > static_cast<std::uint32_t>(motor.current_abs_max_a.raw())) {
+    put(out, TorqueNm::zero(), EstimateStatus::invalid_current);
+    return;
+  }
+  const std::int32_t i0_raw = motor.no_load_current_a.raw();
+  const std::int32_t effective_raw =
+      (direction == DriveDirection::forward) ? (current_a.raw() - i0_raw) : (current_a.raw() + i0_raw);
+  const auto wheel_torque = static_cast<std::uint32_t>(gear_times(
+      motor.gear_ratio.raw(),
+      efficiency_times(motor.efficiency.raw(), kt_times(motor.kt_nm_per_a.raw(), effective_raw))));  // <= 2^31
+  const bool negative = effective_raw < 0;
+  constexpr std::uint32_t kMaxPositive = 0x7FFFFFFFU;
+  if ((!negative) && (wheel_torque > kMaxPositive)) {
+    put(out, TorqueNm::zero(), EstimateStatus::overflow);
+    return;
+  }
+  const auto t = static_cast<std::int64_t>(wheel_torque);
+  put(out, TorqueNm(LoadQ::from_raw(static_cast<std::int32_t>(negative ? -t : t))), EstimateStatus::ok);
+}
+
 }  // namespace
 
 EstimateStatus check_motor(const MotorParams& motor) noexcept {
@@ -143,6 +180,15 @@ template void detail::torques_of_valid_motor<1U>(const MotorParams& motor, const
 template void detail::torques_of_valid_motor<limits::kWheelCount>(
     const MotorParams& motor, const CurrentA (&current_a)[limits::kWheelCount],
     const DriveDirection (&direction)[limits::kWheelCount], TorqueResult (&torque)[limits::kWheelCount]) noexcept;
+
+void detail::torques_of_validated_motor(const MotorParams& motor, const CurrentA (&current_a)[limits::kWheelCount],
+                                        const DriveDirection (&direction)[limits::kWheelCount],
+                                        TorqueResult (&torque)[limits::kWheelCount]) noexcept {
+  const MotorParams m = motor;  // as in torques_of_valid_motor
+  for (std::uint32_t i = 0U; i < limits::kWheelCount; ++i) {
+    torque_into_validated(m, current_a[i], direction[i], torque[i]);
+  }
+}
 
 TorqueResult detail::torque_of_valid_motor(const MotorParams& motor, CurrentA current_a,
                                            DriveDirection direction) noexcept {

@@ -80,8 +80,9 @@ void copy_six(const T (&from)[kWheelCount], T (&to)[kWheelCount]) noexcept {
 [[gnu::noinline]] void wheel_torques(const PreparedParameters& prepared, const RoverTelemetry& t,
                                      const SensorHealthReport& health, TorqueResult (&torque)[kWheelCount],
                                      DriveTorques& drive) noexcept {
-  // The validated table's motor: no check_motor() per wheel (of_valid.hpp).
-  detail::torques_of_valid_motor(prepared.table().motor, t.current_a, t.direction, torque);
+  // The validated table's motor: no check_motor() per wheel (of_valid.hpp),
+  // nor the tests validate() has made impossible (motor.cpp).
+  detail::torques_of_validated_motor(prepared.table().motor, t.current_a, t.direction, torque);
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     const bool torque_usable = health.current_usable[i] && (torque[i].status == EstimateStatus::ok);
     drive.usable[i] = torque_usable;

@@ -287,6 +287,115 @@ TEST(Motor, TorqueAtTheFormatsEndsSaturatesOnlyBeyondIt) {
   }
 }
 
+// A table validate() accepts whose motor is drawn across validate_motor's
+// ranges (gear 1..10000, eta 0.01..1, Kt 0.0001..4, I0 0..100 A, the sensor
+// range up to 1000 A); every third one with the range set so that the
+// torque at -(range) is within a few raw units of Q15.16's end, where
+// validate_envelope()'s test decides. False when validate() refuses it.
+bool random_validated_table(std::mt19937_64& rng, int k, ParameterTable& t) {
+  t = default_parameter_table();
+  MotorParams& m = t.motor;
+  m.gear_ratio = GearRatio::from_raw(random_raw(rng, 17U + static_cast<std::uint32_t>(rng() % 14U)));
+  m.efficiency = Efficiency::from_raw(((k % 7) == 0) ? 0x40000000
+                                                     : (10737419 + static_cast<std::int32_t>(rng() % 1063004405U)));
+  m.kt_nm_per_a = TorqueConstantNmPerA::from_raw(random_raw(rng, 15U + static_cast<std::uint32_t>(rng() % 17U)));
+  m.no_load_current_a = CurrentA::from_raw(((k % 5) == 0) ? 0 : static_cast<std::int32_t>(rng() % (100U << 20U)));
+  std::int64_t range = random_raw(rng, 1U + static_cast<std::uint32_t>(rng() % 30U));
+  if ((k % 3) == 0) {
+    const double gain = d(m.gear_ratio) * d(m.efficiency) * d(m.kt_nm_per_a);
+    range = static_cast<std::int64_t>((32768.0 / gain) * 1048576.0) - m.no_load_current_a.raw() +
+            static_cast<std::int64_t>(rng() % 9U) - 4;
+  }
+  m.current_abs_max_a = CurrentA::from_raw(static_cast<std::int32_t>(std::clamp<std::int64_t>(range, 1, INT32_MAX)));
+  return validate(t) == RejectReason::ok;
+}
+
+// The per-cycle step's six torques (detail::torques_of_validated_motor)
+// against the checked six-wheel form (detail::torques_of_valid_motor, its
+// oracle) over validate()'s whole envelope: random validated motors, the
+// currents at and one raw unit beyond the range's ends, at +-I0 and the
+// format's ends and random across the range, both directions and an
+// invalid one: the same bits and statuses, every field written.
+TEST(Motor, ValidatedSixWheelsGiveTheCheckedFormsBitsOverTheEnvelope) {
+  std::mt19937_64 rng(20261129U);  // NOLINT(cert-msc32-c,cert-msc51-cpp): reproducible samples
+  std::uint32_t tables = 0U;
+  std::uint32_t edge_tables = 0U;
+  std::uint32_t outcomes[8] = {};
+  for (int k = 0; k < 100000; ++k) {
+    ParameterTable t{};
+    if (!random_validated_table(rng, k, t)) {
+      continue;
+    }
+    ++tables;
+    edge_tables += ((k % 3) == 0) ? 1U : 0U;
+    const MotorParams& m = t.motor;
+    const std::int32_t range = m.current_abs_max_a.raw();
+    const std::int32_t i0 = m.no_load_current_a.raw();
+    const std::int32_t ends[] = {range, -range, range + 1, -range - 1, 0, 1, -1, i0, -i0, i0 + 1, -i0 - 1,
+                                 INT32_MIN, INT32_MAX, range - 1, -range + 1};
+    for (int j = 0; j < 8; ++j) {
+      CurrentA currents[limits::kWheelCount]{};
+      DriveDirection directions[limits::kWheelCount]{};
+      TorqueResult expected[limits::kWheelCount]{};
+      TorqueResult got[limits::kWheelCount]{};
+      for (std::uint32_t w = 0U; w < limits::kWheelCount; ++w) {
+        const std::uint32_t n = (static_cast<std::uint32_t>(j) * limits::kWheelCount) + w;
+        const std::int64_t offset = static_cast<std::int64_t>(rng() % ((2U * static_cast<std::uint64_t>(range)) + 3U));
+        currents[w] = CurrentA::from_raw((n < 15U) ? ends[n] : static_cast<std::int32_t>(offset - range - 1));
+        const std::uint32_t dir = static_cast<std::uint32_t>(rng() % 9U);
+        directions[w] = (dir == 0U) ? static_cast<DriveDirection>(2U)
+                                    : ((dir < 5U) ? DriveDirection::forward : DriveDirection::reverse);
+        got[w] = TorqueResult{TorqueNm::from_raw(0x5A5A5A5A), EstimateStatus::invalid_motor};
+      }
+      detail::torques_of_valid_motor(m, currents, directions, expected);
+      detail::torques_of_validated_motor(m, currents, directions, got);
+      for (std::uint32_t w = 0U; w < limits::kWheelCount; ++w) {
+        ASSERT_EQ(got[w].status, expected[w].status) << k << " " << j << " " << w;
+        ASSERT_EQ(got[w].torque_nm.raw(), expected[w].torque_nm.raw()) << k << " " << j << " " << w;
+        ++outcomes[static_cast<std::uint32_t>(expected[w].status) % 8U];
+      }
+    }
+  }
+  EXPECT_GT(tables, 8000U);
+  EXPECT_GT(edge_tables, 2000U);
+  EXPECT_GT(outcomes[static_cast<std::uint32_t>(EstimateStatus::ok)], 200000U);
+  EXPECT_GT(outcomes[static_cast<std::uint32_t>(EstimateStatus::invalid_direction) % 8U], 30000U);
+  EXPECT_GT(outcomes[static_cast<std::uint32_t>(EstimateStatus::invalid_current) % 8U], 25000U);
+}
+
+// The one refusal of the validated form's range test that a validated
+// motor can meet (motor.cpp): validate_envelope() tests the torque at
+// -(range) driving forward, |I - I0| = range + I0, which may be -2^31 raw;
+// in reverse at +(range) the same magnitude is +2^31, beyond Q15.16. Here
+// N eta Kt = 64 N m/A and range + I0 = 512 A: exactly 32768 N m.
+TEST(Motor, ValidatedFormStillRefusesThePositiveEndOfQ15_16) {
+  ParameterTable t = default_parameter_table();
+  t.motor.gear_ratio = q<GearRatio>(32.0);
+  t.motor.efficiency = Efficiency::from_raw(0x40000000);
+  t.motor.kt_nm_per_a = q<TorqueConstantNmPerA>(2.0);
+  t.motor.no_load_current_a = q<CurrentA>(1.0);
+  t.motor.current_abs_max_a = q<CurrentA>(511.0);
+  ASSERT_EQ(validate(t), RejectReason::ok);
+  const CurrentA currents[limits::kWheelCount] = {q<CurrentA>(511.0), q<CurrentA>(-511.0), q<CurrentA>(511.0),
+                                                   q<CurrentA>(-511.0), q<CurrentA>(511.0), q<CurrentA>(0.0)};
+  const DriveDirection directions[limits::kWheelCount] = {DriveDirection::reverse, DriveDirection::forward,
+                                                          DriveDirection::forward, DriveDirection::reverse,
+                                                          DriveDirection::reverse, DriveDirection::reverse};
+  TorqueResult got[limits::kWheelCount]{};
+  detail::torques_of_validated_motor(t.motor, currents, directions, got);
+  EXPECT_EQ(got[0].status, EstimateStatus::overflow);
+  EXPECT_EQ(got[0].torque_nm, TorqueNm::zero());
+  EXPECT_EQ(got[1].status, EstimateStatus::ok);
+  EXPECT_EQ(got[1].torque_nm.raw(), INT32_MIN);
+  EXPECT_EQ(got[2].status, EstimateStatus::ok);
+  EXPECT_EQ(got[2].torque_nm, q<TorqueNm>(32640.0));
+  EXPECT_EQ(got[3].status, EstimateStatus::ok);
+  EXPECT_EQ(got[3].torque_nm, q<TorqueNm>(-32640.0));
+  EXPECT_EQ(got[4].status, EstimateStatus::overflow);
+  EXPECT_EQ(got[5].status, EstimateStatus::ok);
+  EXPECT_EQ(got[5].torque_nm, q<TorqueNm>(64.0));
+}
+
 TEST(Motor, CurrentFromTorqueInvertsTorqueFromCurrent) {
   for (double i : {-9.0, -2.5, -0.3, 0.3, 2.5, 9.0}) {
     for (DriveDirection dir : {DriveDirection::forward, DriveDirection::reverse}) {

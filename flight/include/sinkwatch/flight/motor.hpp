@@ -69,6 +69,14 @@ extern template void torques_of_valid_motor<limits::kWheelCount>(
     const MotorParams& motor, const CurrentA (&current_a)[limits::kWheelCount],
     const DriveDirection (&direction)[limits::kWheelCount], TorqueResult (&torque)[limits::kWheelCount]) noexcept;
 
+/// torques_of_valid_motor<kWheelCount>'s bits for a motor validate()
+/// accepted (the per-cycle step's, rover_step.cpp): without its tests that
+/// such a motor cannot fail (I -+ I0 leaving Q11.20; a torque beyond
+/// Q15.16 other than +2^31 raw), motor.cpp says why.
+void torques_of_validated_motor(const MotorParams& motor, const CurrentA (&current_a)[limits::kWheelCount],
+                                const DriveDirection (&direction)[limits::kWheelCount],
+                                TorqueResult (&torque)[limits::kWheelCount]) noexcept;
+
 }  // namespace detail
 
 /// The motor's gain N eta Kt prepared once per parameter load as its
