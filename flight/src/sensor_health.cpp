@@ -296,6 +296,41 @@ SW_FX_INLINE void tally(std::uint32_t& n) noexcept {
   n += (n != 0xFFFFFFFFU) ? 1U : 0U;
 }
 
+/// The quiet wheels (bit i of `quiet`) whose sample is steady (steady_
+/// forward()), each taken as current_verdict() and settle() would: its
+/// value last and good, every run 0, one more ok; those wheels' bits.
+/// Out of line: in currents() the monitor's, the sample's and the report's
+/// pointers, live across the loop for the calls after it, made the loop
+/// spill its own.
+[[gnu::noinline]] std::uint32_t steady_samples(CurrentHistory (&history)[kWheelCount],
+                                               std::uint32_t (&by_health)[kSensorChannelCount][kSensorHealthCount],
+                                               const HealthSample& s, const SteadyWindow window,
+                                               std::uint32_t quiet) noexcept {
+  // A local copy, which the loop's word stores cannot alias: kept in
+  // registers (through a reference it was read again after every store;
+  // the parameter itself used as the copy measured 2 instructions more).
+  const SteadyWindow w = window;
+  const bool(&missing)[kWheelCount] = s.presence.current_missing;
+  const CurrentA(&current_a)[kWheelCount] = s.current_a;
+  const DriveDirection(&direction)[kWheelCount] = s.direction;
+  std::uint32_t steady = quiet;  ///< cleared for a wheel that is not steady
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    CurrentHistory& h = history[i];
+    const std::int32_t reading = current_a[i].raw();
+    // Present (false is 0) and forward (0): both tested at once.
+    const bool present_forward =
+        (static_cast<std::uint32_t>(missing[i]) | static_cast<std::uint32_t>(direction[i])) == 0U;
+    if ((((steady >> i) & 1U) != 0U) && present_forward && steady_forward(h, reading, w)) {
+      h.last_reading = reading;
+      h.good_reading = reading;
+      tally(by_health[i][static_cast<std::uint8_t>(SensorHealth::ok)]);
+    } else {
+      steady &= ~(1U << i);
+    }
+  }
+  return steady;
+}
+
 }  // namespace
 
 void SensorHealthMonitor::count(SensorChannel c, SensorHealth h) noexcept {
@@ -324,46 +359,37 @@ bool SensorHealthMonitor::current_sample(const HealthSample& s, const HealthPara
 
 void SensorHealthMonitor::currents(const HealthSample& s, const HealthParams& p, CurrentA no_load_a,
                                    CurrentA current_range_a, SensorHealthReport& r) noexcept {
-  const SteadyWindow w = steady_window(p, no_load_a, current_range_a, s.driving);
-  // The sample's arrays once, not through `s` after every store.
-  const bool(&missing)[kWheelCount] = s.presence.current_missing;
-  const CurrentA(&current_a)[kWheelCount] = s.current_a;
-  const DriveDirection(&direction)[kWheelCount] = s.direction;
-  // The steady samples first, in a loop without a call (its values stay in
-  // registers); the others after, each by the general checks. A wheel's
-  // checks read its own state and the sample only, so the order of the
-  // wheels changes nothing.
-  const std::uint32_t quiet = quiet_currents_;
-  std::uint32_t general = 0U;  ///< bit i: wheel i is not steady
-  std::uint32_t bit = 1U;
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    CurrentHistory& h = current_history_[i];
-    const std::int32_t reading = current_a[i].raw();
-    // Present (false is 0) and forward (0): both tested at once.
-    const bool present_forward =
-        (static_cast<std::uint32_t>(missing[i]) | static_cast<std::uint32_t>(direction[i])) == 0U;
-    if (((quiet & bit) != 0U) && present_forward && steady_forward(h, reading, w)) {
-      // What current_verdict() and settle() make of a quiet channel's steady
-      // sample: its value, last and good; every run stays 0; ok.
-      h.last_reading = reading;
-      h.good_reading = reading;
-      r.channel[i] = SensorHealth::ok;
-      r.current_usable[i] = true;
-      tally(counters_.by_health[i][static_cast<std::uint8_t>(SensorHealth::ok)]);
-    } else {
-      general |= bit;
-    }
-    bit <<= 1U;
-  }
-  if (general != 0U) {
-    // A steady wheel stays quiet; the others are quiet as current_sample()
-    // leaves them.
-    std::uint32_t next_quiet = quiet;
-    bit = 1U;
+  // Every wheel's report as a steady sample leaves it, stored first as
+  // constants (no pointer into the report walked in the loop);
+  // current_sample() overwrites a wheel that is not steady.
+  static_assert(kWheelCount == 6U, "six wheels' report fields spelled out");
+  r.channel[0] = SensorHealth::ok;
+  r.channel[1] = SensorHealth::ok;
+  r.channel[2] = SensorHealth::ok;
+  r.channel[3] = SensorHealth::ok;
+  r.channel[4] = SensorHealth::ok;
+  r.channel[5] = SensorHealth::ok;
+  r.current_usable[0] = true;
+  r.current_usable[1] = true;
+  r.current_usable[2] = true;
+  r.current_usable[3] = true;
+  r.current_usable[4] = true;
+  r.current_usable[5] = true;
+  // The steady samples first (steady_samples()); the others after, each by
+  // the general checks. A wheel's checks read its own state and the sample
+  // only, so the order of the wheels changes nothing.
+  const std::uint32_t steady =
+      steady_samples(current_history_, counters_.by_health, s, steady_window(p, no_load_a, current_range_a, s.driving),
+                     quiet_currents_);
+  constexpr std::uint32_t kAllWheels = (1U << kWheelCount) - 1U;
+  if (steady != kAllWheels) {
+    // A steady wheel stays quiet (its bit is set); the others are quiet as
+    // current_sample() leaves them.
+    std::uint32_t next_quiet = steady;
+    std::uint32_t bit = 1U;
     for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-      if ((general & bit) != 0U) {
-        const bool quiet_now = current_sample(s, p, no_load_a, current_range_a, i, r);
-        next_quiet = quiet_now ? (next_quiet | bit) : (next_quiet & ~bit);
+      if (((steady & bit) == 0U) && current_sample(s, p, no_load_a, current_range_a, i, r)) {
+        next_quiet |= bit;
       }
       bit <<= 1U;
     }

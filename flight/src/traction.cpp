@@ -29,18 +29,6 @@ constexpr std::uint32_t kMaxGapMs = 2000U;
 /// two spans).
 constexpr std::int32_t kMarksPerSpan = 8;
 
-/// The first `wheels` (at most six) wheels' sums over those with a torque.
-TractionSums sums_of(const TractionInput& in, std::uint8_t wheels) noexcept {
-  const std::uint32_t monitored = (wheels < kWheelCount) ? wheels : kWheelCount;
-  TractionSums sums{};
-  for (std::uint32_t i = 0U; i < monitored; ++i) {
-    if (in.torque_valid[i]) {
-      sums.add(in.torque_nm[i], in.drawbar_pull_n[i], in.load_n[i], in.direction[i]);
-    }
-  }
-  return sums;
-}
-
 /// n / d rounded half away from zero, as a raw Q7.24 ratio (d > 0), by
 /// detail::rounded_quotient_one_word or detail::rounded_quotient. Beyond Q7.24 it saturates and raises overflow.
 Ratio rounded_ratio(std::int64_t n, std::uint64_t d, fx::Status& st) noexcept {
@@ -355,17 +343,6 @@ SW_FX_INLINE TractionSample TractionMonitor::evaluate(const TractionCycle& input
   out.resistance_median = rho_med;
   out.resistance_ahead = ahead;
   return (recent_count_ < kTractionMedianSamples) ? TractionSample::filling : TractionSample::ok;
-}
-
-void TractionMonitor::step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
-                           InverseRadius per_radius, TractionOutput& out) noexcept {
-  const TractionCycle cycle{input.time,
-                            input.loads_valid,
-                            input.pull_assumed,
-                            sums_of(input, monitor.wheel_count),
-                            input.speed_valid,
-                            input.speed_mps};
-  step(cycle, params, monitor, per_radius, out);
 }
 
 void TractionMonitor::step(const TractionCycle& input, const TractionParams& params, const MonitorParams& monitor,

@@ -225,8 +225,10 @@ class TractionMonitor {
   /// is built and copied); `params` is the table's section 8 and `monitor`
   /// its section 4 (the N-of-M window). `per_radius` is the table's 1/r
   /// (inverse_radius()).
-  void step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
-            InverseRadius per_radius, TractionOutput& out) noexcept;
+  /// Inline (below): the rover step does not call it (it sums its own
+  /// arrays into a TractionCycle), so the flight library carries no copy.
+  inline void step(const TractionInput& input, const TractionParams& params, const MonitorParams& monitor,
+                   InverseRadius per_radius, TractionOutput& out) noexcept;
   /// The same with the wheels already summed (TractionCycle).
   void step(const TractionCycle& input, const TractionParams& params, const MonitorParams& monitor,
             InverseRadius per_radius, TractionOutput& out) noexcept;
@@ -280,6 +282,31 @@ class TractionMonitor {
   std::uint16_t stop_history_{0U};
   std::uint16_t clear_history_{0U};
 };
+
+/// The first `wheels` (at most six) wheels' sums over those with a torque
+/// (every wheel asked, so that the loop's bound is a constant: with the
+/// bound min(wheels, 6) cppcheck, reading the header alone, took it for 0).
+[[nodiscard]] inline TractionSums traction_sums(const TractionInput& in, std::uint8_t wheels) noexcept {
+  TractionSums sums{};
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    if ((i < wheels) && in.torque_valid[i]) {
+      sums.add(in.torque_nm[i], in.drawbar_pull_n[i], in.load_n[i], in.direction[i]);
+    }
+  }
+  return sums;
+}
+
+inline void TractionMonitor::step(const TractionInput& input, const TractionParams& params,
+                                  const MonitorParams& monitor, InverseRadius per_radius,
+                                  TractionOutput& out) noexcept {
+  const TractionCycle cycle{input.time,
+                            input.loads_valid,
+                            input.pull_assumed,
+                            traction_sums(input, monitor.wheel_count),
+                            input.speed_valid,
+                            input.speed_mps};
+  step(cycle, params, monitor, per_radius, out);
+}
 
 }  // namespace flight
 }  // namespace sinkwatch
