@@ -68,20 +68,30 @@ SW_FX_INLINE void put(TorqueResult& out, TorqueNm torque_nm, EstimateStatus stat
   out.status = status;
 }
 
+/// The refusals of a wheel's inputs that every motor form makes, stored in
+/// `out`: true when one was. An invalid direction; |I| beyond the sensor's
+/// range, as fx::abs and a comparison gave it (the magnitude 2^31 of the
+/// most negative current, where fx::abs overflowed, exceeds every range:
+/// check_motor, 0 <= I0 < current_abs_max < 2^31).
+SW_FX_INLINE bool refused_input(const MotorParams& motor, CurrentA current_a, DriveDirection direction,
+                                TorqueResult& out) noexcept {
+  if (!direction_is_valid(direction)) {
+    put(out, TorqueNm::zero(), EstimateStatus::invalid_direction);
+    return true;
+  }
+  if (fx::detail::magnitude32(current_a.raw()) > static_cast<std::uint32_t>(motor.current_abs_max_a.raw())) {
+    put(out, TorqueNm::zero(), EstimateStatus::invalid_current);
+    return true;
+  }
+  return false;
+}
+
 /// One wheel's torque (torque_from_current() for a valid motor) into `out`,
 /// inline into the loop of torques_of_valid_motor: each outcome stored
 /// where it is known, not merged into a record first.
 SW_FX_INLINE void torque_into(const MotorParams& motor, CurrentA current_a, DriveDirection direction,
                               TorqueResult& out) noexcept {
-  if (!direction_is_valid(direction)) {
-    put(out, TorqueNm::zero(), EstimateStatus::invalid_direction);
-    return;
-  }
-  // |I| beyond the sensor's range, as fx::abs and a comparison gave it: the
-  // magnitude 2^31 of the most negative current, where fx::abs overflowed,
-  // exceeds every range (check_motor: 0 <= I0 < current_abs_max < 2^31).
-  if (fx::detail::magnitude32(current_a.raw()) > static_cast<std::uint32_t>(motor.current_abs_max_a.raw())) {
-    put(out, TorqueNm::zero(), EstimateStatus::invalid_current);
+  if (refused_input(motor, current_a, direction, out)) {
     return;
   }
   fx::Status st;
@@ -119,12 +129,7 @@ SW_FX_INLINE void torque_into(const MotorParams& motor, CurrentA current_a, Driv
 /// leave Q15.16, and the test is on the low word alone.
 SW_FX_INLINE void torque_into_validated(const MotorParams& motor, CurrentA current_a, DriveDirection direction,
                                         TorqueResult& out) noexcept {
-  if (!direction_is_valid(direction)) {
-    put(out, TorqueNm::zero(), EstimateStatus::invalid_direction);
-    return;
-  }
-  if (fx::detail::magnitude32(current_a.raw()) > static_cast<std::uint32_t>(motor.current_abs_max_a.raw())) {
-    put(out, TorqueNm::zero(), EstimateStatus::invalid_current);
+  if (refused_input(motor, current_a, direction, out)) {
     return;
   }
   const std::int32_t i0_raw = motor.no_load_current_a.raw();

@@ -126,6 +126,24 @@ SW_FX_INLINE constexpr LeadingBits leading_bits_by_halves(std::uint64_t a) noexc
   return LeadingBits{word, bits};
 }
 
+/// The leading bits of a = high 2^32 + low with high != 0, by one count of
+/// leading zeros of high (s, 0 to 31): high shifted left by s takes low's
+/// top s bits as (low >> 1) >> (31 - s), the shift by 32 - s (32, no C++
+/// shift, at s == 0) split so that neither part reaches 32. The one form
+/// of the three callers below.
+SW_FX_INLINE constexpr LeadingBits leading_bits_of_high_word(std::uint32_t high, std::uint32_t low) noexcept {
+  const auto s = static_cast<std::uint32_t>(__builtin_clz(high));
+  return LeadingBits{(high << s) | ((low >> 1U) >> (31U - s)), 64U - s};
+}
+
+/// The leading bits of a = low (high word zero), counted on `counted`, a
+/// non-zero word with low's leading one (low itself, or low | 1 where low
+/// may be zero: __builtin_clz(0) is undefined).
+SW_FX_INLINE constexpr LeadingBits leading_bits_of_low_word(std::uint32_t low, std::uint32_t counted) noexcept {
+  const auto s = static_cast<std::uint32_t>(__builtin_clz(counted));
+  return LeadingBits{low << s, 32U - s};
+}
+
 /// For a > 0: the same two integers from one count of leading zeros of the
 /// word that holds a's leading one, without a branch on the count. A high
 /// word shifted left by s (0 to 31) takes the low word's top s bits as
@@ -142,11 +160,9 @@ SW_FX_INLINE constexpr LeadingBits leading_bits_by_clz(std::uint64_t a) noexcept
   const auto high = static_cast<std::uint32_t>(a / kWord);
   const auto low = static_cast<std::uint32_t>(a);
   if (high != 0U) {
-    const auto s = static_cast<std::uint32_t>(__builtin_clz(high));
-    return LeadingBits{(high << s) | ((low >> 1U) >> (31U - s)), 64U - s};
+    return leading_bits_of_high_word(high, low);
   }
-  const auto s = static_cast<std::uint32_t>(__builtin_clz(low | 1U));
-  return LeadingBits{low << s, 32U - s};
+  return leading_bits_of_low_word(low, low | 1U);
 }
 
 /// For a > 0, a's leading 32 bits and bit length in the core's cheaper form:
@@ -173,15 +189,13 @@ SW_FX_INLINE constexpr bool leading_bits_unless_zero_by_clz(std::uint64_t a, Lea
   const auto high = static_cast<std::uint32_t>(a / kWord);
   const auto low = static_cast<std::uint32_t>(a);
   if (high != 0U) {
-    const auto s = static_cast<std::uint32_t>(__builtin_clz(high));
-    out = LeadingBits{(high << s) | ((low >> 1U) >> (31U - s)), 64U - s};
+    out = leading_bits_of_high_word(high, low);
     return true;
   }
   if (low == 0U) {
     return false;
   }
-  const auto s = static_cast<std::uint32_t>(__builtin_clz(low));
-  out = LeadingBits{low << s, 32U - s};
+  out = leading_bits_of_low_word(low, low);
   return true;
 }
 
@@ -195,11 +209,9 @@ SW_FX_INLINE constexpr LeadingBits leading_bits_of_positive_by_clz(std::uint64_t
   const auto high = static_cast<std::uint32_t>(a / kWord);
   const auto low = static_cast<std::uint32_t>(a);
   if (high != 0U) {
-    const auto s = static_cast<std::uint32_t>(__builtin_clz(high));
-    return LeadingBits{(high << s) | ((low >> 1U) >> (31U - s)), 64U - s};
+    return leading_bits_of_high_word(high, low);
   }
-  const auto s = static_cast<std::uint32_t>(__builtin_clz(low));
-  return LeadingBits{low << s, 32U - s};
+  return leading_bits_of_low_word(low, low);
 }
 
 /// For a > 0, leading_bits(a) in the core's cheaper form (the same two
