@@ -25,6 +25,8 @@
 //   torques      the fallback mask is the unusable currents' while the twin's torque loads are
 //                > +bound; all six fall back when they are < -bound (rover-loads.md 12.3, 12.4)
 //   stability    flight tip_over only when the twin's smallest load is < +bound, ok only when > -bound
+//   refusals     the twin's reason; beyond Q6.25 (the twin's largest term >= 16, no lever collapsed)
+//                any of tip_over, degenerate, overflow, whatever the twin says   (rover-loads.md 7.4)
 //   slip         1 - v/v_rim clamped to [-1, 1]: 0.5 LSB of Q7.24 + 2 u              (one division, one rescale)
 //   drawbar      twin on the flight's loads, slip and DP_max/W, 2^-17 N + 2^-28 (m g + |sum DP|)  (7.3)
 //   corrections  0.5 LSB + (max |delta c| + 1) u                                        (flight.md)
@@ -86,6 +88,8 @@ struct Stats {
   double worst[kQuantities]{};
   unsigned long long inputs{0U}, prepared{0U}, completed{0U}, wheels{0U}, by_state[3]{}, ambiguous{0U};
   unsigned long long unusable{0U};
+  unsigned long long beyond_fine{0U};  ///< refusals named by a wider format (check_loads)
+  unsigned long long beyond_fine_renamed{0U};  ///< of those, named otherwise than the twin
 
   void record(const char* what, double ratio) {
     for (int i = 0; i < kQuantities; ++i) {
@@ -99,8 +103,10 @@ struct Stats {
   void print() const {
     std::fprintf(stderr,
                  "step_differential stats: inputs %llu prepared %llu completed %llu wheels compared %llu "
-                 "(nominal %llu caution %llu stop %llu; state ambiguous %llu) wheels unusable %llu\n",
-                 inputs, prepared, completed, wheels, by_state[0], by_state[1], by_state[2], ambiguous, unusable);
+                 "(nominal %llu caution %llu stop %llu; state ambiguous %llu) wheels unusable %llu; refusals beyond "
+                 "Q6.25 %llu (named otherwise than the twin %llu)\n",
+                 inputs, prepared, completed, wheels, by_state[0], by_state[1], by_state[2], ambiguous, unusable,
+                 beyond_fine, beyond_fine_renamed);
     for (int i = 0; i < kQuantities && name[i] != nullptr; ++i) {
       std::fprintf(stderr, "step_differential worst |flight - twin| / bound: %-24s %.6f\n", name[i], worst[i]);
     }
@@ -315,11 +321,51 @@ void check_torque_decision(const Context& c, double bound) {
   }
 }
 
+/// A term of the twin's balance at least this large may, in a sum of up to
+/// four such terms, leave Q6.25 (range 64): the flight then names its refusal
+/// in a wider format (docs/rover-loads.md 7.4). Below it every term and
+/// every partial sum of the flight's Q6.25 pass stays in range, with a
+/// margin far above the pass's rounding.
+constexpr double kBeyondFineTerm = 16.0;
+
+/// Whether the flight refused the balance (a lifting wheel, a collapsed
+/// lever, a term beyond its formats).
+bool refused_balance(sf::WheelLoadStatus s) {
+  return s == sf::WheelLoadStatus::tip_over || s == sf::WheelLoadStatus::degenerate ||
+         s == sf::WheelLoadStatus::overflow;
+}
+
+/// Whether the flight's refusal is the twin's (an overflow the twin's
+/// degenerate, as section 7.4 of docs/rover-loads.md accepts within Q6.25).
+bool same_refusal(sf::WheelLoadStatus s, sg::LoadStatus twin) {
+  return (s == sf::WheelLoadStatus::tip_over) ? (twin == sg::LoadStatus::tip_over)
+                                              : (twin == sg::LoadStatus::degenerate);
+}
+
+/// Beyond Q6.25 (the twin's largest term, over every evaluation, at least
+/// kBeyondFineTerm, and no lever a + b or bogie span collapsed, which the
+/// flight decides in Q6.25 whatever overflows) the flight may refuse the
+/// balance under any of its three names: its lateral span there is rounded
+/// by (1 + |beta|) times a wider format's LSB over a bogie span of a few
+/// millimetres, centimetres in the folded poses that reach it, against a
+/// 1 mm guard; and an `ok` of a wider pass stays `overflow` (docs/rover-loads.md
+/// 7.4, docs/assurance.md).
+bool refusal_name_unresolved(const Context& c) {
+  const sg::WheelLoads& twin = c.twin_loads;
+  const bool lever_collapsed = twin.shortest_lever_m < 1e-3;
+  return !lever_collapsed && (twin.largest_term >= kBeyondFineTerm) && refused_balance(c.out.load_status);
+}
+
 /// Loads and stability (docs/rover-loads.md 7.2, 12).
 void check_loads(const Context& c) {
   const sg::WheelLoads& twin = c.twin_loads;
   const double bound = load_bound(c);
   const sf::WheelLoadStatus s = c.out.load_status;
+  if (refusal_name_unresolved(c)) {
+    ++stats().beyond_fine;
+    stats().beyond_fine_renamed += same_refusal(s, twin.status) ? 0U : 1U;
+    return;
+  }
   // An overflow of every format of the statics (docs/rover-loads.md 7.4) is
   // refused like a degenerate lever, and comes only with a collapsed span.
   if (s == sf::WheelLoadStatus::attitude_out_of_range || s == sf::WheelLoadStatus::joint_out_of_range ||

@@ -654,6 +654,51 @@ TEST(RoverWheelLoad, ShareBeyondEveryFormatIsATipOver) {
   expect_tip_over_like_the_twin({{257119283, -48226270, 45759016, 45726140, 116192205, 116190445}, -143069.5}, p);
 }
 
+// The twin's conditioning, which the differential fuzzer reads to tell
+// where the flight names its refusals in a wider format (docs/rover-loads.md
+// 7.4): on level ground every term of the balance is a few units at most and
+// the shortest lever is the shorter of a + b and the bogie span; in the
+// folded pose of ShareBeyondQ10_21WithACoarseSpanCollapsedIsATipOver (below)
+// a wheel's support alone is beyond Q6.25's range, and it is one of the terms;
+// a bogie span collapsed below 1 mm forms no quotient by it, so no term is
+// bounded.
+TEST(RoverWheelLoad, TwinLargestTermTellsABalanceBeyondQ6_25) {
+  RoverParams p = flight::yutu_like_rover_params(flight::kGravityEarth);
+  const ground::WheelLoads level = twin_without_torques(p, RawPose{0, 0, 0, 0, 0, 0});
+  ASSERT_EQ(level.status, ground::LoadStatus::ok);
+  const ground::RoverGeometry g = rover_test::to_ground(p);
+  const double a_plus_b = g.rocker_front_axle.x_m - g.rocker_bogie_pivot.x_m;
+  const double bogie_span = g.bogie_middle_axle.x_m - g.bogie_rear_axle.x_m;
+  EXPECT_NEAR(level.shortest_lever_m, std::min(a_plus_b, bogie_span), 1e-12);
+  EXPECT_LT(level.largest_term, 2.0);
+  for (const double load_n : level.load_n) {
+    EXPECT_GE(level.largest_term, load_n / level.weight_normal_n);
+  }
+
+  p.com_x_m = flight::LengthM::from_raw(1320);
+  p.com_y_m = flight::LengthM::from_raw(262185);
+  p.com_z_m = flight::LengthM::from_raw(839268);
+  const ground::WheelLoads folded =
+      twin_without_torques(p, RawPose{257119037, -48226270, 45759016, 45726140, 116192205, 116190445});
+  ASSERT_EQ(folded.status, ground::LoadStatus::tip_over);
+  EXPECT_GE(folded.shortest_lever_m, 1e-3);
+  EXPECT_GE(folded.largest_term, 64.0);
+  EXPECT_GE(folded.largest_term, -folded.min_load_n / folded.weight_normal_n);
+
+  // The same pose with the left bogie turned further until its span collapses.
+  bool collapsed = false;
+  for (std::int32_t step = 0; (step < 100000) && !collapsed; ++step) {
+    const ground::WheelLoads r =
+        twin_without_torques(p, RawPose{257119037, -48226270, 45759016, 45726140, 116192205 + (step * 64), 116190445});
+    if (r.shortest_lever_m < 1e-3) {
+      collapsed = true;
+      EXPECT_EQ(r.status, ground::LoadStatus::degenerate);
+      EXPECT_TRUE(std::isinf(r.largest_term));
+    }
+  }
+  EXPECT_TRUE(collapsed);
+}
+
 // Parameters that pass validate_rover_params() at the edge of its ranges: a
 // rocker whose front axle is 5.5 mm ahead of its pivot, the bogie pivot
 // 1.1 mm behind it (found by a random search over valid parameters, one case

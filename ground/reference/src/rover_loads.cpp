@@ -2,6 +2,7 @@
 #include "sinkwatch/ground/rover_loads.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 #include <cmath>
 
@@ -24,6 +25,13 @@ bool finite_all(std::initializer_list<double> values) {
 
 /// A lever shorter than this (1 mm) is treated as collapsed.
 constexpr double k_min_lever_m = 1e-3;
+
+/// Raises out.largest_term to the largest magnitude of `terms`.
+void note_terms(WheelLoads& out, std::initializer_list<double> terms) {
+  for (const double t : terms) {
+    out.largest_term = std::max(out.largest_term, std::fabs(t));
+  }
+}
 
 }  // namespace
 
@@ -190,7 +198,9 @@ bool side_levers(const RoverGeometry& g, const JointAngles& joints, std::size_t 
   const double a = xt_f;
   const double b = -xt_b;
   const double bogie_span = xt_m - xt_r;
+  out.shortest_lever_m = std::min({out.shortest_lever_m, a + b, bogie_span});
   if (a + b < k_min_lever_m || bogie_span < k_min_lever_m) {
+    out.largest_term = std::numeric_limits<double>::infinity();
     return false;
   }
   const double beta = (xt_b - xt_r) / bogie_span;
@@ -199,6 +209,10 @@ bool side_levers(const RoverGeometry& g, const JointAngles& joints, std::size_t 
   const double yt_r = y_side - c.rear.z_m * proj.ky;
   levers = SideLevers{a, b, beta, yt_f, beta * yt_m + (1.0 - beta) * yt_r,
                       couple(0U), (couple(1U) + couple(2U)) / bogie_span, yt_r - yt_m};
+  // Couples in metres (per unit of the weight), as the flight holds them.
+  const double w = g.mass_kg * g.gravity_mps2;
+  note_terms(out, {beta, 1.0 - beta, beta * (yt_m - yt_r), levers.yt_bogie, couple(0U) / w, couple(1U) / w,
+                   couple(2U) / w, levers.bogie_shift / w, levers.bogie_shift * levers.yt_rear_minus_middle / w});
   return true;
 }
 
@@ -222,7 +236,10 @@ bool split_supports(const std::array<SideLevers, 2>& sides, BodyLoad body, Wheel
     big_y[s] = (d.b * d.yt_front + d.a * d.yt_bogie) / (d.a + d.b);
     big_z[s] = (d.yt_front - d.yt_bogie) / (d.a + d.b);
     torque_terms += d.bogie_shift * d.yt_rear_minus_middle - d.front_couple * big_z[s];
+    note_terms(out, {big_z[s], big_y[s], d.b * big_z[s], d.front_couple * big_z[s] / body.weight_n,
+                     torque_terms / body.weight_n});
   }
+  note_terms(out, {body.pivot_moment_nm * (big_z[0] + big_z[1]) / body.weight_n});
   const double lateral_span = big_y[0] - big_y[1];
   if (lateral_span < k_min_lever_m) {
     return false;
@@ -239,6 +256,9 @@ bool split_supports(const std::array<SideLevers, 2>& sides, BodyLoad body, Wheel
     const double bogie = side_total[s] - front;
     const double middle = d.beta * bogie - d.bogie_shift;
     const double rear = bogie - middle;
+    const double w = body.weight_n;
+    note_terms(out, {side_total[s] / w, d.b * side_total[s] / w, (body.pivot_moment_nm - d.front_couple) / w, front / w,
+                     bogie / w, d.beta * bogie / w, middle / w, rear / w});
     out.support_n[3U * s + 0U] = front;
     out.support_n[3U * s + 1U] = middle;
     out.support_n[3U * s + 2U] = rear;
@@ -257,10 +277,14 @@ WheelLoads wheel_loads(const RoverGeometry& g, Attitude att, const JointAngles& 
   // wheel are beyond what the links react quasi-statically (section 12.4).
   WheelLoads out = loads_of(g, att, joints, torques);
   const double torque_min_load_n = out.min_load_n;
+  const double torque_largest_term = out.largest_term;
+  const double torque_shortest_lever_m = out.shortest_lever_m;
   const bool any_torque = std::any_of(torques.usable.begin(), torques.usable.end(), [](bool u) { return u; });
   if (out.status == LoadStatus::tip_over && any_torque) {
     out = loads_of(g, att, joints, k_no_drive_torques);
     out.torque_overload = (out.status == LoadStatus::ok);
+    out.largest_term = std::max(out.largest_term, torque_largest_term);
+    out.shortest_lever_m = std::min(out.shortest_lever_m, torque_shortest_lever_m);
   }
   out.torque_min_load_n = torque_min_load_n;
   return out;
@@ -269,6 +293,7 @@ WheelLoads wheel_loads(const RoverGeometry& g, Attitude att, const JointAngles& 
 namespace {
 WheelLoads loads_of(const RoverGeometry& g, Attitude att, const JointAngles& joints, const DriveTorques& torques) {
   WheelLoads out;
+  out.shortest_lever_m = std::numeric_limits<double>::infinity();
   out.status = check_load_inputs(g, att, joints);
   if (out.status != LoadStatus::ok) {
     return out;

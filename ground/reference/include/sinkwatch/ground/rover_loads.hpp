@@ -114,6 +114,16 @@ struct WheelLoads {
   /// The smallest load the torques gave (equal to min_load_n unless
   /// torque_overload), for the properties' stability band.
   double torque_min_load_n{0.0};
+  /// The balance's largest term, for the differential checks of the flight's
+  /// formats (docs/rover-loads.md 7.4): the largest magnitude among the
+  /// products and quotients of the lever rule, in the units the flight holds
+  /// them in (lengths in m, Z_s in 1/m, the bogie share beta, couples in m
+  /// and forces as fractions of the weight), over every evaluation made (with
+  /// the torques, then without them after a fallback). Infinite where a lever
+  /// a + b or a bogie span collapsed, since the quotients by it are not formed.
+  double largest_term{0.0};
+  /// The shortest of the levers a + b and the bogie spans of both sides [m].
+  double shortest_lever_m{0.0};
 };
 
 /// Each wheel's drive torque (+ driving forward) [N m] and whether it is
