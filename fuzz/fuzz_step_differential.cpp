@@ -25,8 +25,8 @@
 //   torques      the fallback mask is the unusable currents' while the twin's torque loads are
 //                > +bound; all six fall back when they are < -bound (rover-loads.md 12.3, 12.4)
 //   stability    flight tip_over only when the twin's smallest load is < +bound, ok only when > -bound
-//   refusals     the twin's reason; beyond Q6.25 (the twin's largest term >= 16, no lever collapsed)
-//                any of tip_over, degenerate, overflow, whatever the twin says   (rover-loads.md 7.4)
+//   refusals     the twin's reason; where its lateral span is beyond Q6.25 (its largest term >= 16, no
+//                lever collapsed) any of tip_over, degenerate, overflow, whatever the twin says (7.4)
 //   slip         1 - v/v_rim clamped to [-1, 1]: 0.5 LSB of Q7.24 + 2 u              (one division, one rescale)
 //   drawbar      twin on the flight's loads, slip and DP_max/W, 2^-17 N + 2^-28 (m g + |sum DP|)  (7.3)
 //   corrections  0.5 LSB + (max |delta c| + 1) u                                        (flight.md)
@@ -321,11 +321,14 @@ void check_torque_decision(const Context& c, double bound) {
   }
 }
 
-/// A term of the twin's balance at least this large may, in a sum of up to
-/// four such terms, leave Q6.25 (range 64): the flight then names its refusal
-/// in a wider format (docs/rover-loads.md 7.4). Below it every term and
-/// every partial sum of the flight's Q6.25 pass stays in range, with a
-/// margin far above the pass's rounding.
+/// A term of the twin's lateral span (WheelLoads::largest_term) at least this
+/// large may, in a sum of up to four such terms, leave Q6.25 (range 64): the
+/// flight then reads the span in a wider format (docs/rover-loads.md 7.4).
+/// Below it every term and every partial sum up to the span stays in range
+/// in the flight's Q6.25 pass, which rounds the span to about 2^-20 m; and
+/// after the span a twin that says ok has every term within a few units
+/// (shares and side totals in [0, 1]), so a flight overflow against it needs a term
+/// beyond this bound before the span.
 constexpr double kBeyondFineTerm = 16.0;
 
 /// Whether the flight refused the balance (a lifting wheel, a collapsed
@@ -342,14 +345,14 @@ bool same_refusal(sf::WheelLoadStatus s, sg::LoadStatus twin) {
                                               : (twin == sg::LoadStatus::degenerate);
 }
 
-/// Beyond Q6.25 (the twin's largest term, over every evaluation, at least
-/// kBeyondFineTerm, and no lever a + b or bogie span collapsed, which the
-/// flight decides in Q6.25 whatever overflows) the flight may refuse the
-/// balance under any of its three names: its lateral span there is rounded
-/// by (1 + |beta|) times a wider format's LSB over a bogie span of a few
-/// millimetres, centimetres in the folded poses that reach it, against a
-/// 1 mm guard; and an `ok` of a wider pass stays `overflow` (docs/rover-loads.md
-/// 7.4, docs/assurance.md).
+/// Where the twin's lateral span is beyond Q6.25 (its largest term, over
+/// every evaluation, at least kBeyondFineTerm), and no lever a + b or bogie
+/// span collapsed (which the flight decides in Q6.25 whatever overflows), the
+/// flight may refuse the balance under any of its three names, whatever the
+/// twin says: its span is rounded there by about (1 + |beta|) times a wider
+/// format's LSB over a bogie span of a few millimetres, centimetres in the
+/// folded poses that reach it, against a 1 mm guard; and an `ok` of a wider
+/// pass stays `overflow` (docs/rover-loads.md 7.4, docs/assurance.md).
 bool refusal_name_unresolved(const Context& c) {
   const sg::WheelLoads& twin = c.twin_loads;
   const bool lever_collapsed = twin.shortest_lever_m < 1e-3;

@@ -256,9 +256,6 @@ bool split_supports(const std::array<SideLevers, 2>& sides, BodyLoad body, Wheel
     const double bogie = side_total[s] - front;
     const double middle = d.beta * bogie - d.bogie_shift;
     const double rear = bogie - middle;
-    const double w = body.weight_n;
-    note_terms(out, {side_total[s] / w, d.b * side_total[s] / w, (body.pivot_moment_nm - d.front_couple) / w, front / w,
-                     bogie / w, d.beta * bogie / w, middle / w, rear / w});
     out.support_n[3U * s + 0U] = front;
     out.support_n[3U * s + 1U] = middle;
     out.support_n[3U * s + 2U] = rear;

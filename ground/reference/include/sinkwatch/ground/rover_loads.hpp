@@ -114,13 +114,16 @@ struct WheelLoads {
   /// The smallest load the torques gave (equal to min_load_n unless
   /// torque_overload), for the properties' stability band.
   double torque_min_load_n{0.0};
-  /// The balance's largest term, for the differential checks of the flight's
-  /// formats (docs/rover-loads.md 7.4): the largest magnitude among the
-  /// products and quotients of the lever rule, in the units the flight holds
-  /// them in (lengths in m, Z_s in 1/m, the bogie share beta, couples in m
-  /// and forces as fractions of the weight), over every evaluation made (with
-  /// the torques, then without them after a fallback). Infinite where a lever
-  /// a + b or a bogie span collapsed, since the quotients by it are not formed.
+  /// How ill-conditioned the lateral span is, for the differential checks of
+  /// the flight's formats (docs/rover-loads.md 7.4): the largest magnitude
+  /// among the lever rule's terms up to the lateral span's test, in the units
+  /// the flight holds them in (each side's bogie share beta, 1 - beta and
+  /// beta's product with the lateral offsets, Z_s in 1/m, Y_s and b Z_s in m,
+  /// the couples in m, the torque terms and the pivots' moment as fractions of
+  /// the weight), over every evaluation made (with the torques, then without
+  /// them after a fallback). The span's rounding in any format scales with it.
+  /// Infinite where a lever a + b or a bogie span collapsed, since the
+  /// quotients by it are not formed.
   double largest_term{0.0};
   /// The shortest of the levers a + b and the bogie spans of both sides [m].
   double shortest_lever_m{0.0};
