@@ -1092,9 +1092,15 @@ bool slopes_within_bounds(std::int32_t pitch_raw, std::int32_t roll_raw, std::in
   const fx::SinCos pitch = fx::sincos(fx::Q3_28::from_raw(pitch_raw), st);
   const fx::SinCos roll = fx::sincos(fx::Q3_28::from_raw(roll_raw), st);
   const fx::Q1_30 normal_fraction = fx::mul(pitch.cos, roll.cos, st);
-  const fx::Q3_28 kx = fx::times_reciprocal<fx::Q3_28>(pitch.sin, fx::normalised_reciprocal(normal_fraction), st);
+  const fx::NormalisedReciprocal inv_normal = fx::normalised_reciprocal(normal_fraction);
+  const fx::Q3_28 kx = fx::times_reciprocal<fx::Q3_28>(pitch.sin, inv_normal, st);
   const fx::Q3_28 ky = fx::times_reciprocal<fx::Q3_28>(roll.sin, fx::normalised_reciprocal(roll.cos), st);
-  return st.ok() && (normal_fraction.raw() <= 0x40000000) && (normal_fraction.raw() > 0) &&
+  // Both divisors positive: gravity_frame takes their reciprocals without
+  // that test (detail::reciprocal_of_positive), and the couples' quotients
+  // by the normal fraction (shift = its scale, Q6.25 to Q6.25) take its
+  // mantissa and a shift of 29 to 32 untested (couples_of).
+  return st.ok() && (normal_fraction.raw() <= 0x40000000) && (normal_fraction.raw() > 0) && (roll.cos.raw() > 0) &&
+         (inv_normal.mantissa != 0U) && (inv_normal.scale >= 29) && (inv_normal.scale <= 32) &&
          (std::abs(kx.raw()) <= kx_bound) && (std::abs(ky.raw()) <= ky_bound);
 }
 
@@ -1213,6 +1219,61 @@ TEST(StaticsArithmetic, ProductOfKnownSignsIsTheBoundedProduct) {
   }
 }
 
+/// detail::product_of_signs<S, positive, positive>(a, b) against fx::mul<Out>
+/// for a, b >= 0 whose product fits Out: the statics' products of operands
+/// known non-negative (wheel_load.cpp, product_of_non_negative): a share in
+/// [0, 1] (Q6.25) times the normal weight (Q15.16, S = 25), the weight
+/// times the normal fraction (Q15.16 by Q1.30, S = 30) and cos(pitch)
+/// cos(roll) (S = 30).
+template <typename A, typename B, typename Out>
+void expect_non_negative_product(std::int32_t a, std::int32_t b) {
+  using flight::detail::SignOf;
+  constexpr std::int32_t kShift = (A::frac_bits + B::frac_bits) - Out::frac_bits;
+  fx::Status st;
+  const std::int32_t expected = fx::mul<Out>(A::from_raw(a), B::from_raw(b), st).raw();
+  ASSERT_TRUE(st.ok()) << a << " " << b;
+  ASSERT_EQ((flight::detail::product_of_signs<kShift, SignOf::positive, SignOf::positive>(a, b)), expected)
+      << a << " " << b;
+}
+
+TEST(StaticsArithmetic, ProductOfNonNegativeOperandsIsTheBoundedProduct) {
+  using flight::LoadQ;
+  std::mt19937_64 rng(17U);
+  constexpr std::int32_t kShareOne = 1 << 25;  // 1 in Q6.25
+  constexpr std::int32_t kUnit = 1 << 30;      // 1 in Q1.30
+  const std::int32_t share_edges[] = {0, 1, 2, 3, kShareOne / 2, (kShareOne / 2) + 1, kShareOne - 1, kShareOne};
+  const std::int32_t weight_edges[] = {0, 1, 2, 3, 0x00800000, 0x00800001, 0x7FFFFFFE, INT32_MAX};
+  const std::int32_t unit_edges[] = {0, 1, 2, 3, kUnit / 2, (kUnit / 2) + 1, kUnit - 1, kUnit};
+  for (const std::int32_t share : share_edges) {
+    for (const std::int32_t weight : weight_edges) {
+      ASSERT_NO_FATAL_FAILURE((expect_non_negative_product<P, LoadQ, LoadQ>(share, weight)));
+    }
+  }
+  for (const std::int32_t fraction : unit_edges) {
+    for (const std::int32_t weight : weight_edges) {
+      ASSERT_NO_FATAL_FAILURE((expect_non_negative_product<LoadQ, fx::Q1_30, LoadQ>(weight, fraction)));
+    }
+    for (const std::int32_t other : unit_edges) {
+      ASSERT_NO_FATAL_FAILURE((expect_non_negative_product<fx::Q1_30, fx::Q1_30, fx::Q1_30>(fraction, other)));
+    }
+  }
+  for (int trial = 0; trial < 1000000; ++trial) {
+    const auto weight = static_cast<std::int32_t>(rng() & 0x7FFFFFFFU);
+    // Random shares and fractions, every fourth an odd multiple of half an
+    // LSB of the product (a tie) where the weight's low bit allows.
+    auto share = static_cast<std::int32_t>(rng() % (static_cast<std::uint64_t>(kShareOne) + 1U));
+    auto fraction = static_cast<std::int32_t>(rng() % (static_cast<std::uint64_t>(kUnit) + 1U));
+    if ((trial % 4) == 0) {
+      share = kShareOne / 2;
+      fraction = kUnit / 2;
+    }
+    ASSERT_NO_FATAL_FAILURE((expect_non_negative_product<P, LoadQ, LoadQ>(share, weight)));
+    ASSERT_NO_FATAL_FAILURE((expect_non_negative_product<LoadQ, fx::Q1_30, LoadQ>(weight, fraction)));
+    ASSERT_NO_FATAL_FAILURE((expect_non_negative_product<fx::Q1_30, fx::Q1_30, fx::Q1_30>(
+        fraction, static_cast<std::int32_t>(rng() % (static_cast<std::uint64_t>(kUnit) + 1U)))));
+  }
+}
+
 TEST(StaticsArithmetic, ReciprocalOfAQIsTheNormalisedReciprocal) {
   std::mt19937_64 rng(18U);
   for (int trial = 0; trial < 1000000; ++trial) {
@@ -1224,6 +1285,25 @@ TEST(StaticsArithmetic, ReciprocalOfAQIsTheNormalisedReciprocal) {
     const fx::Q1_30 c = fx::Q1_30::from_raw(raw32(rng));
     ASSERT_EQ(flight::detail::reciprocal_of(c).mantissa, fx::normalised_reciprocal(c).mantissa) << c.raw();
     ASSERT_EQ(flight::detail::reciprocal_of(c).scale, fx::normalised_reciprocal(c).scale) << c.raw();
+    // Without the sign test, for the positive divisors its callers give it.
+    const fx::Q1_30 positive = fx::Q1_30::from_raw(std::max(1, static_cast<std::int32_t>(raw32(rng) & INT32_MAX)));
+    ASSERT_EQ(flight::detail::reciprocal_of_positive(positive).mantissa,
+              fx::normalised_reciprocal(positive).mantissa)
+        << positive.raw();
+    ASSERT_EQ(flight::detail::reciprocal_of_positive(positive).scale, fx::normalised_reciprocal(positive).scale)
+        << positive.raw();
+  }
+  // Each bit length's ends (1, 2^k - 1, 2^k, 2^k + 1) up to INT32_MAX.
+  for (std::uint32_t k = 0U; k < 31U; ++k) {
+    const std::int64_t p = std::int64_t{1} << k;
+    for (const std::int64_t raw : {p - 1, p, p + 1, (2 * p) - 1}) {
+      if ((raw < 1) || (raw > INT32_MAX)) {
+        continue;
+      }
+      const fx::Q1_30 d = fx::Q1_30::from_raw(static_cast<std::int32_t>(raw));
+      ASSERT_EQ(flight::detail::reciprocal_of_positive(d).mantissa, fx::normalised_reciprocal(d).mantissa) << raw;
+      ASSERT_EQ(flight::detail::reciprocal_of_positive(d).scale, fx::normalised_reciprocal(d).scale) << raw;
+    }
   }
 }
 

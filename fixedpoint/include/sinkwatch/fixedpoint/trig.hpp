@@ -268,8 +268,10 @@ constexpr std::uint32_t square_q31(std::uint64_t m) noexcept {
   const std::uint32_t m_lo4 = word(m << 2U);
   // v^2 * 2^31 = m_hi^2 2^-31 + m_hi m_lo 2^-60 + m_lo^2 2^-91; the last term
   // is below 2^-31 units and dropped. floor(m_hi m_lo / 2^29) = floor(m_hi
-  // m_lo4 / 2^31) < 2^32 (m_hi m_lo < 2^61): one word.
-  const std::uint32_t cross = word(mul_wide(m_hi, m_lo4) >> 31U);
+  // m_lo4 / 2^31) < 2^32 (m_hi m_lo < 2^61): one word, the high word of
+  // (2 m_hi) m_lo4. 2 m_hi wraps (to 0) only for m_hi = 2^31, that is m =
+  // 2^61, whose m_lo4 is 0: the product is 0 either way.
+  const std::uint32_t cross = mul_high_word(m_hi << 1U, m_lo4);
   const std::uint64_t sum = mul_wide(m_hi, m_hi) + cross;
   return word((sum + (std::uint64_t{1U} << 30U)) >> 31U);
 }

@@ -299,6 +299,21 @@ template <std::int32_t F>
                                   (31 + static_cast<std::int32_t>(n)) - F};
 }
 
+/// reciprocal_of for a divisor its caller has shown positive, without the
+/// test: gravity_frame's cos(pitch) cos(roll) and cos(roll), at least
+/// cos^2(1.05) = 0.2476 and cos(1.05) = 0.4976 for attitudes within the
+/// validated limit (StaticsArithmetic.GravitySlopesAreWithinTheirBounds
+/// checks both positive at the limit's corners). The same mantissa and
+/// scale; for a d <= 0 the value is meaningless.
+template <std::int32_t F>
+[[nodiscard]] SW_FX_INLINE constexpr fx::NormalisedReciprocal reciprocal_of_positive(fx::Q<std::int32_t, F> d) noexcept {
+  const auto v = static_cast<std::uint32_t>(d.raw()) | 1U;  // the same bit length for a positive d
+  const std::uint32_t n = fx::wide::bit_length32(v);        // 1 to 32
+  const std::uint32_t normalised = static_cast<std::uint32_t>(d.raw()) << ((32U - n) & 31U);
+  return fx::NormalisedReciprocal{fx::detail::floor_two_to_63_less_1_over(normalised),
+                                  (31 + static_cast<std::int32_t>(n)) - F};
+}
+
 }  // namespace detail
 
 /// The constants in each of the statics' formats.
