@@ -42,14 +42,25 @@ bool motion_in_range(const RoverParams& params, const DrawbarInput& input) noexc
 /// kWordRemainderSum: every validated rover) or its wide one.
 enum class Split : std::uint8_t { saturated, by_word, wide };
 
-/// W_i / sum W in the form `kSplit` picks (none where saturated).
+/// The magnitude of the share of |total| (raw Q31.32) of a wheel of raw
+/// load `load` in the form `kSplit` picks: share_or_all of load_fraction's
+/// fraction, bit for bit. Split by word, a load below the sum has a
+/// one-word fraction (load_fraction_below_sum), and a load equal to the
+/// sum (every other wheel unloaded) the fraction one, whose share is
+/// |total| (share_magnitude): one test per wheel instead of the fraction's
+/// carry into a second word and share_magnitude's test of it (round 17).
 template <Split kSplit>
-SW_FX_INLINE std::uint64_t fraction_of(std::uint32_t load, const detail::LoadSum& sum) noexcept {
+SW_FX_INLINE std::uint64_t share_of(std::uint64_t total_mag, std::uint32_t load, const detail::LoadSum& sum) noexcept {
   if constexpr (kSplit == Split::saturated) {
-    return 0U;
+    return detail::share_or_all(total_mag, 0U, true);
   } else {
-    return (kSplit == Split::by_word) ? detail::load_fraction_by_word(load, sum)
-                                      : detail::load_fraction_wide(load, sum);
+    if constexpr (kSplit == Split::by_word) {
+      return (load == static_cast<std::uint32_t>(sum.raw))
+                 ? total_mag
+                 : detail::share_magnitude_below_one(total_mag, detail::load_fraction_below_sum(load, sum));
+    } else {
+      return detail::share_magnitude(total_mag, detail::load_fraction_wide(load, sum));
+    }
   }
 }
 
@@ -62,30 +73,35 @@ template <Split kSplit>
 std::uint32_t pulls_into(const WheelLoadResult& loads, const DrawbarInput& input, std::uint64_t total_mag,
                          const detail::LoadSum& sum, bool negative, DrawbarPullN (&dp_n)[kWheelCount],
                          std::uint32_t& capped_mask) noexcept {
-  // Bit i: wheel i capped; bits kWheelCount and up: a pull overflowed (its
-  // overflow word, below 2^17, shifted there). One accumulator, no branch
-  // per wheel.
-  std::uint32_t flags = 0U;
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+  // Bit i: wheel i capped, the wheels taken from the last so that each
+  // bit is shifted in by one (round 17: a shift by i per wheel before).
+  // Not 0: a pull overflowed (its overflow word, below 2^17). No branch per
+  // wheel.
+  std::uint32_t capped_bits = 0U;
+  std::uint32_t overflow = 0U;
+  for (std::uint32_t n = kWheelCount; n > 0U; --n) {
+    const std::uint32_t i = n - 1U;
     // 0 <= load, 0 < ratio <= 2 (checked before).
     const auto load = static_cast<std::uint32_t>(loads.load_n[i].raw());
     constexpr bool kSaturated = kSplit == Split::saturated;
-    const std::uint64_t share = detail::share_or_all(total_mag, fraction_of<kSplit>(load, sum), kSaturated);
+    const std::uint64_t share = share_of<kSplit>(total_mag, load, sum);
     const detail::WheelPull pull =
         detail::wheel_pull(share, load, static_cast<std::uint32_t>(input.dp_max_ratio[i].raw()), negative);
     dp_n[i] = DrawbarPullN::from_raw(pull.dp_raw);
     // Saturated, no share is limited: every wheel is at DP_max,i.
     const bool capped = pull.capped && !kSaturated;
+    capped_bits = (capped_bits << 1U) | (capped ? 1U : 0U);
     // Split by load, a pull's magnitude is at most its share's, which is at
     // most |total|'s (share_magnitude), with the total's sign: it leaves
     // Q15.16 only where the total's own rescale does, which pulls_in_range
     // refuses as well. Only DP_max,i itself (saturated) can leave it alone
     // (round 16: the overflow word was ORed for every wheel and split).
-    const std::uint32_t overflow = kSaturated ? pull.overflow : 0U;
-    flags |= ((capped ? 1U : 0U) << i) | (overflow << kWheelCount);
+    if constexpr (kSaturated) {
+      overflow |= pull.overflow;
+    }
   }
-  capped_mask = flags & ((1U << kWheelCount) - 1U);
-  return flags >> kWheelCount;
+  capped_mask = capped_bits;
+  return overflow;
 }
 
 /// A load's raw Q15.16 value as an unsigned word (the load is >= 0).

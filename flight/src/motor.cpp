@@ -4,6 +4,8 @@
 // normalised reciprocal, whose error is relative (docs/flight.md bounds both).
 #include "sinkwatch/flight/motor.hpp"
 
+#include "sinkwatch/flight/wheel_load.hpp"
+
 #include "sinkwatch/fixedpoint/inline.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
 
@@ -68,19 +70,28 @@ SW_FX_INLINE void put(TorqueResult& out, TorqueNm torque_nm, EstimateStatus stat
   out.status = status;
 }
 
-/// The refusals of a wheel's inputs that every motor form makes, stored in
-/// `out`: true when one was. An invalid direction; |I| beyond the sensor's
-/// range, as fx::abs and a comparison gave it (the magnitude 2^31 of the
-/// most negative current, where fx::abs overflowed, exceeds every range:
+/// The refusals of a wheel's inputs that every motor form makes: ok, or
+/// the refusal. An invalid direction; |I| beyond the sensor's range, as
+/// fx::abs and a comparison gave it (the magnitude 2^31 of the most
+/// negative current, where fx::abs overflowed, exceeds every range:
 /// check_motor, 0 <= I0 < current_abs_max < 2^31).
-SW_FX_INLINE bool refused_input(const MotorParams& motor, CurrentA current_a, DriveDirection direction,
-                                TorqueResult& out) noexcept {
+SW_FX_INLINE EstimateStatus input_refusal(const MotorParams& motor, CurrentA current_a,
+                                          DriveDirection direction) noexcept {
   if (!direction_is_valid(direction)) {
-    put(out, TorqueNm::zero(), EstimateStatus::invalid_direction);
-    return true;
+    return EstimateStatus::invalid_direction;
   }
   if (fx::detail::magnitude32(current_a.raw()) > static_cast<std::uint32_t>(motor.current_abs_max_a.raw())) {
-    put(out, TorqueNm::zero(), EstimateStatus::invalid_current);
+    return EstimateStatus::invalid_current;
+  }
+  return EstimateStatus::ok;
+}
+
+/// input_refusal's refusal stored in `out`: true when there was one.
+SW_FX_INLINE bool refused_input(const MotorParams& motor, CurrentA current_a, DriveDirection direction,
+                                TorqueResult& out) noexcept {
+  const EstimateStatus refusal = input_refusal(motor, current_a, direction);
+  if (refusal != EstimateStatus::ok) {
+    put(out, TorqueNm::zero(), refusal);
     return true;
   }
   return false;
@@ -126,11 +137,16 @@ SW_FX_INLINE void torque_into(const MotorParams& motor, CurrentA current_a, Driv
 /// monotone in |I -+ I0| <= current_abs_max + I0, whose torque
 /// validate_envelope() found within 2^31 raw (forward at -current_abs_max),
 /// so only +2^31 (reverse at +current_abs_max, which it does not test) can
-/// leave Q15.16, and the test is on the low word alone.
-SW_FX_INLINE void torque_into_validated(const MotorParams& motor, CurrentA current_a, DriveDirection direction,
-                                        TorqueResult& out) noexcept {
-  if (refused_input(motor, current_a, direction, out)) {
-    return;
+/// leave Q15.16, and the test is on the low word alone. The status is
+/// returned and the torque (zero unless ok) put in `torque_raw`, not in a
+/// record: the caller stores both and tests the status in a register
+/// (round 17; a record written through a reference stayed in memory).
+SW_FX_INLINE EstimateStatus torque_of_validated(const MotorParams& motor, CurrentA current_a,
+                                                DriveDirection direction, std::int32_t& torque_raw) noexcept {
+  torque_raw = 0;
+  const EstimateStatus refusal = input_refusal(motor, current_a, direction);
+  if (refusal != EstimateStatus::ok) {
+    return refusal;
   }
   const std::int32_t i0_raw = motor.no_load_current_a.raw();
   const std::int32_t effective_raw =
@@ -141,11 +157,11 @@ SW_FX_INLINE void torque_into_validated(const MotorParams& motor, CurrentA curre
   const bool negative = effective_raw < 0;
   constexpr std::uint32_t kMaxPositive = 0x7FFFFFFFU;
   if ((!negative) && (wheel_torque > kMaxPositive)) {
-    put(out, TorqueNm::zero(), EstimateStatus::overflow);
-    return;
+    return EstimateStatus::overflow;
   }
   const auto t = static_cast<std::int64_t>(wheel_torque);
-  put(out, TorqueNm(LoadQ::from_raw(static_cast<std::int32_t>(negative ? -t : t))), EstimateStatus::ok);
+  torque_raw = static_cast<std::int32_t>(negative ? -t : t);
+  return EstimateStatus::ok;
 }
 
 }  // namespace
@@ -188,10 +204,16 @@ template void detail::torques_of_valid_motor<limits::kWheelCount>(
 
 void detail::torques_of_validated_motor(const MotorParams& motor, const CurrentA (&current_a)[limits::kWheelCount],
                                         const DriveDirection (&direction)[limits::kWheelCount],
-                                        TorqueResult (&torque)[limits::kWheelCount]) noexcept {
+                                        const bool (&current_usable)[limits::kWheelCount],
+                                        TorqueResult (&torque)[limits::kWheelCount], DriveTorques& drive) noexcept {
   const MotorParams m = motor;  // as in torques_of_valid_motor
   for (std::uint32_t i = 0U; i < limits::kWheelCount; ++i) {
-    torque_into_validated(m, current_a[i], direction[i], torque[i]);
+    std::int32_t torque_raw = 0;
+    const EstimateStatus status = torque_of_validated(m, current_a[i], direction[i], torque_raw);
+    put(torque[i], TorqueNm::from_raw(torque_raw), status);
+    const bool usable = current_usable[i] && (status == EstimateStatus::ok);
+    drive.usable[i] = usable;
+    drive.torque_nm[i] = TorqueNm::from_raw(usable ? torque_raw : 0);
   }
 }
 

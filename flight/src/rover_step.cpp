@@ -70,26 +70,6 @@ void copy_six(const T (&from)[kWheelCount], T (&to)[kWheelCount]) noexcept {
   to[5] = from[5];
 }
 
-/// Each wheel's drive torque from its current, once per cycle: the loads
-/// and the monitor (WheelInput::drive_torque) take the same result, all six
-/// computed in one call and written in place (round 14). The loads'
-/// torques into `drive` (every wheel's): usable when the health monitor
-/// passes the current and the torque exists; otherwise the statics fall
-/// back for that wheel. Out of line, so that its temporaries are not in
-/// compute's frame.
-[[gnu::noinline]] void wheel_torques(const PreparedParameters& prepared, const RoverTelemetry& t,
-                                     const SensorHealthReport& health, TorqueResult (&torque)[kWheelCount],
-                                     DriveTorques& drive) noexcept {
-  // The validated table's motor: no check_motor() per wheel (of_valid.hpp),
-  // nor the tests validate() has made impossible (motor.cpp).
-  detail::torques_of_validated_motor(prepared.table().motor, t.current_a, t.direction, torque);
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    const bool torque_usable = health.current_usable[i] && (torque[i].status == EstimateStatus::ok);
-    drive.usable[i] = torque_usable;
-    drive.torque_nm[i] = torque_usable ? torque[i].torque_nm : TorqueNm::zero();
-  }
-}
-
 /// Stage 2: the wheel loads' result into `out`; ok, tip_over or loads_failed.
 RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) noexcept {
   out.load_status = loads.status;
@@ -349,7 +329,15 @@ void RoverStep::assess(const RoverTelemetry& t, const PreparedParameters& prepar
 RoverStepStatus RoverStep::compute(const RoverTelemetry& t, const PreparedParameters& prepared,
                                    RoverStepOutput& out) noexcept {
   // 2. The drive torques (once, for the loads and the monitor), the loads.
-  wheel_torques(prepared, t, out.health, terms_.torque, terms_.drive);
+  // Each wheel's drive torque from its current, once per cycle: the loads
+  // and the monitor (WheelInput::drive_torque) take the same result, all
+  // six written in place (round 14), and in the same loop the loads'
+  // torques (usable when the health monitor passes the current and the
+  // torque exists; otherwise the statics fall back for that wheel; round
+  // 17). The validated table's motor: no check_motor() per wheel
+  // (of_valid.hpp), nor the tests validate() has made impossible (motor.cpp).
+  detail::torques_of_validated_motor(prepared.table().motor, t.current_a, t.direction, out.health.current_usable,
+                                     terms_.torque, terms_.drive);
   // Initialised from the call, not assigned: a WheelLoadResult assigned
   // through a reference is built in a temporary and copied, which put both
   // in this frame, live during the wheel loads (the deepest call of a cycle).

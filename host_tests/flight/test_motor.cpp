@@ -11,6 +11,7 @@
 #include "sinkwatch/flight/current_limit.hpp"
 #include "sinkwatch/flight/motor.hpp"
 #include "sinkwatch/flight/param_table.hpp"
+#include "sinkwatch/flight/wheel_load.hpp"
 #include "sinkwatch/ground/reference.hpp"
 #include "quantity_support.hpp"
 
@@ -347,11 +348,23 @@ TEST(Motor, ValidatedSixWheelsGiveTheCheckedFormsBitsOverTheEnvelope) {
                                     : ((dir < 5U) ? DriveDirection::forward : DriveDirection::reverse);
         got[w] = TorqueResult{TorqueNm::from_raw(0x5A5A5A5A), EstimateStatus::invalid_motor};
       }
+      bool current_usable[limits::kWheelCount]{};
+      DriveTorques drive{};
+      for (std::uint32_t w = 0U; w < limits::kWheelCount; ++w) {
+        current_usable[w] = (rng() % 4U) != 0U;
+        drive.torque_nm[w] = TorqueNm::from_raw(0x5A5A5A5A);
+        drive.usable[w] = !current_usable[w];
+      }
       detail::torques_of_valid_motor(m, currents, directions, expected);
-      detail::torques_of_validated_motor(m, currents, directions, got);
+      detail::torques_of_validated_motor(m, currents, directions, current_usable, got, drive);
       for (std::uint32_t w = 0U; w < limits::kWheelCount; ++w) {
         ASSERT_EQ(got[w].status, expected[w].status) << k << " " << j << " " << w;
         ASSERT_EQ(got[w].torque_nm.raw(), expected[w].torque_nm.raw()) << k << " " << j << " " << w;
+        // The loads' torque: the torque where the current is usable and
+        // the torque ok, else zero and not usable.
+        const bool expect_usable = current_usable[w] && (expected[w].status == EstimateStatus::ok);
+        ASSERT_EQ(drive.usable[w], expect_usable) << k << " " << j << " " << w;
+        ASSERT_EQ(drive.torque_nm[w].raw(), expect_usable ? expected[w].torque_nm.raw() : 0) << k << " " << j << " " << w;
         ++outcomes[static_cast<std::uint32_t>(expected[w].status) % 8U];
       }
     }
@@ -382,7 +395,15 @@ TEST(Motor, ValidatedFormStillRefusesThePositiveEndOfQ15_16) {
                                                           DriveDirection::forward, DriveDirection::reverse,
                                                           DriveDirection::reverse, DriveDirection::reverse};
   TorqueResult got[limits::kWheelCount]{};
-  detail::torques_of_validated_motor(t.motor, currents, directions, got);
+  const bool current_usable[limits::kWheelCount] = {true, true, true, true, false, true};
+  DriveTorques drive{};
+  detail::torques_of_validated_motor(t.motor, currents, directions, current_usable, got, drive);
+  // Usable: an ok torque of a usable current (wheel 4's current is not).
+  const bool expect_usable[limits::kWheelCount] = {false, true, true, true, false, true};
+  for (std::uint32_t w = 0U; w < limits::kWheelCount; ++w) {
+    EXPECT_EQ(drive.usable[w], expect_usable[w]) << w;
+    EXPECT_EQ(drive.torque_nm[w].raw(), expect_usable[w] ? got[w].torque_nm.raw() : 0) << w;
+  }
   EXPECT_EQ(got[0].status, EstimateStatus::overflow);
   EXPECT_EQ(got[0].torque_nm, TorqueNm::zero());
   EXPECT_EQ(got[1].status, EstimateStatus::ok);

@@ -520,6 +520,35 @@ TEST(DrawbarArithmetic, LoadFractionIsTheDivisionsRoundedQuotient) {
   }
 }
 
+// The one-word fraction of a load below the sum (round 17, the step's
+// split by word) against load_fraction_by_word, which the test above holds
+// to fx::div: sums up to kWordRemainderSum, loads from 0 to S - 1 with the
+// ends and the halves, where the rounding and the two steps up decide.
+TEST(DrawbarArithmetic, LoadFractionBelowTheSumIsTheWordsForm) {
+  std::mt19937_64 rng(17U);
+  std::uint64_t rounded_up = 0U;
+  for (int trial = 0; trial < 1000000; ++trial) {
+    std::uint64_t sum = 2U + (magnitude_up_to(rng, 1U + static_cast<std::uint32_t>(trial % 31)) %
+                              (flight::detail::kWordRemainderSum - 1U));
+    if ((trial % 9) == 4) {
+      sum = flight::detail::kWordRemainderSum - (rng() % 5U);
+    }
+    const std::uint64_t picks[] = {0U, 1U, sum - 1U, sum - 2U, sum / 2U, (sum / 2U) + 1U, sum / 3U,
+                                   rng() % sum, magnitude_up_to(rng, 31U) % sum};
+    const flight::detail::LoadSum s = flight::detail::load_sum_of(sum);
+    for (const std::uint64_t pick : picks) {
+      const std::uint64_t load = pick % sum;  // below the sum
+      const auto l = static_cast<std::uint32_t>(load);
+      const std::uint64_t expected = flight::detail::load_fraction_by_word(l, s);
+      ASSERT_LT(expected, std::uint64_t{1U} << 32U) << load << " / " << sum;
+      ASSERT_EQ(flight::detail::load_fraction_below_sum(l, s), expected) << load << " / " << sum;
+      // The rounding's up case occurs (a mutated rounding fails).
+      rounded_up += ((((std::uint64_t{l} << 32U) % sum) * 2U) >= sum) ? 1U : 0U;
+    }
+  }
+  EXPECT_GT(rounded_up, 1000000U);
+}
+
 TEST(DrawbarArithmetic, ProductByHalvesIsTheProduct) {
   std::mt19937_64 rng(18U);
   for (int trial = 0; trial < 1000000; ++trial) {
@@ -607,6 +636,7 @@ TEST(DrawbarArithmetic, PullsInRangeAreTheWheelByWheelForm) {
   std::mt19937_64 rng(151U);
   int wide_sums = 0;
   int word_sums = 0;
+  int lone_wheels = 0;
   for (int trial = 0; trial < 30000; ++trial) {
     flight::WheelLoadResult loads{};
     loads.status = flight::WheelLoadStatus::ok;
@@ -617,6 +647,16 @@ TEST(DrawbarArithmetic, PullsInRangeAreTheWheelByWheelForm) {
     }
     if ((trial % 4) == 0) {
       loads.load_n[rng() % 6U] = flight::WheelLoadN::from_raw(static_cast<std::int32_t>(0x40000000U + (rng() % 0x40000000U)));
+    }
+    if ((trial % 10) == 7) {
+      // One wheel carries the whole load (its fraction is one): the split
+      // by word takes |total| for it (round 17).
+      const std::uint64_t lone = rng() % 6U;
+      for (std::uint64_t w = 0U; w < 6U; ++w) {
+        if (w != lone) loads.load_n[w] = flight::WheelLoadN::zero();
+      }
+      if (loads.load_n[lone].raw() == 0) loads.load_n[lone] = flight::WheelLoadN::from_raw(1 + static_cast<std::int32_t>(rng() % 0x50000000U));
+      lone_wheels += (static_cast<std::uint32_t>(loads.load_n[lone].raw()) <= flight::detail::kWordRemainderSum) ? 1 : 0;
     }
     flight::DrawbarInput in{};
     in.accel_mps2 = flight::AccelMps2::from_raw(static_cast<std::int32_t>(rng() % (2U * 167772160U + 1U)) - 167772160);
@@ -639,6 +679,7 @@ TEST(DrawbarArithmetic, PullsInRangeAreTheWheelByWheelForm) {
   }
   EXPECT_GT(wide_sums, 5000);
   EXPECT_GT(word_sums, 5000);
+  EXPECT_GT(lone_wheels, 1000);
 }
 
 }  // namespace arithmetic

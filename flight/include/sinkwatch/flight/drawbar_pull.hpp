@@ -152,6 +152,26 @@ inline constexpr std::uint64_t kWordRemainderSum{0x55555555U};
   return (r >= (s - r)) ? (q + 1U) : q;
 }
 
+/// load_fraction_by_word for a load below the sum (L < S <= kWordRemainderSum),
+/// in one word (round 17). The same value: q = floor(L 2^32 / S) <=
+/// L 2^32 / S <= 2^32 - 2^32 / S < 2^32 - 2 (S < 2^31), and the estimate
+/// q' <= q, so neither q', its steps up nor the rounded q + 1 leave the word.
+/// host_tests/rover/test_drawbar_pull.cpp
+/// (LoadFractionBelowTheSumIsTheWordsForm) compares the two.
+[[nodiscard]] SW_FX_INLINE constexpr std::uint32_t load_fraction_below_sum(std::uint32_t load_raw,
+                                                                          const LoadSum& sum) noexcept {
+  const auto s = static_cast<std::uint32_t>(sum.raw);
+  auto q = static_cast<std::uint32_t>(fx::wide::mul_32x32_64(load_raw << (31U - sum.shift), sum.mantissa) >> 31U);
+  std::uint32_t r = 0U - (q * s);
+  for (std::uint32_t step = 0U; step < 2U; ++step) {
+    if (r >= s) {
+      ++q;
+      r -= s;
+    }
+  }
+  return q + ((r >= (s - r)) ? 1U : 0U);
+}
+
 /// load_fraction where sum.raw > kWordRemainderSum.
 [[nodiscard]] constexpr std::uint64_t load_fraction_wide(std::uint32_t load_raw, const LoadSum& sum) noexcept {
   const std::uint64_t estimate = fx::wide::mul_32x32_64(load_raw, sum.mantissa);
@@ -207,14 +227,20 @@ inline constexpr std::uint64_t kWordRemainderSum{0x55555555U};
 /// lo f + 2^31 < 2^64: two 32 x 32 -> 64-bit products, no 128-bit one. At
 /// most |t|. A total of the validated rover is below 2^47 (20 kN): hi below
 /// 2^16.
+/// share_magnitude (below) for a fraction f < 2^32 (the split by word's,
+/// load_fraction_below_sum).
+[[nodiscard]] SW_FX_INLINE constexpr std::uint64_t share_magnitude_below_one(std::uint64_t t_mag,
+                                                                            std::uint32_t f) noexcept {
+  const auto hi = static_cast<std::uint32_t>(t_mag >> 32U);
+  const std::uint64_t high = (hi <= 0xFFFFU) ? mul_16x32_64(hi, f) : fx::wide::mul_32x32_64(hi, f);
+  return high + fx::wide::mul_32x32_rounded_high(static_cast<std::uint32_t>(t_mag), f);
+}
+
 [[nodiscard]] constexpr std::uint64_t share_magnitude(std::uint64_t t_mag, std::uint64_t fraction) noexcept {
   if ((fraction >> 32U) != 0U) {
     return t_mag;  // the whole load: f = 2^32
   }
-  const auto f = static_cast<std::uint32_t>(fraction);
-  const auto hi = static_cast<std::uint32_t>(t_mag >> 32U);
-  const std::uint64_t high = (hi <= 0xFFFFU) ? mul_16x32_64(hi, f) : fx::wide::mul_32x32_64(hi, f);
-  return high + fx::wide::mul_32x32_rounded_high(static_cast<std::uint32_t>(t_mag), f);
+  return share_magnitude_below_one(t_mag, static_cast<std::uint32_t>(fraction));
 }
 
 /// One wheel's pull in Q15.16 (raw), whether its share was capped, and

@@ -50,6 +50,8 @@ struct CurrentResult {
 [[nodiscard]] TorqueResult torque_from_current(const MotorParams& motor, CurrentA current_a,
                                                DriveDirection direction) noexcept;
 
+struct DriveTorques;  // wheel_load.hpp (which includes this header)
+
 namespace detail {
 
 /// torque_from_current() of each wheel, current_a[i] and direction[i] into
@@ -72,10 +74,16 @@ extern template void torques_of_valid_motor<limits::kWheelCount>(
 /// torques_of_valid_motor<kWheelCount>'s bits for a motor validate()
 /// accepted (the per-cycle step's, rover_step.cpp): without its tests that
 /// such a motor cannot fail (I -+ I0 leaving Q11.20; a torque beyond
-/// Q15.16 other than +2^31 raw), motor.cpp says why.
+/// Q15.16 other than +2^31 raw), motor.cpp says why. In the same loop, the
+/// torques the wheel loads may use: wheel i's is usable when
+/// current_usable[i] (the health monitor passed its current) and its
+/// torque is ok (drive.usable[i]); drive.torque_nm[i] is then that torque,
+/// else zero (round 17: a second loop over the stored results before; one
+/// record for both arrays, one pointer fewer in the loop).
 void torques_of_validated_motor(const MotorParams& motor, const CurrentA (&current_a)[limits::kWheelCount],
                                 const DriveDirection (&direction)[limits::kWheelCount],
-                                TorqueResult (&torque)[limits::kWheelCount]) noexcept;
+                                const bool (&current_usable)[limits::kWheelCount],
+                                TorqueResult (&torque)[limits::kWheelCount], DriveTorques& drive) noexcept;
 
 }  // namespace detail
 
