@@ -512,10 +512,15 @@ SW_FX_INLINE SensorHealth SensorHealthMonitor::joints_health(const HealthSample&
                         steady_joint(j.bogie_rad[0], last_joints_.bogie_rad[0], at_least, tolerance) &&
                         steady_joint(j.bogie_rad[1], last_joints_.bogie_rad[1], at_least, tolerance);
     if (steady) {
-      // One read of the sample for both stores.
-      const JointAnglesRad sample = j;
-      last_joints_ = sample;
-      step_joints_ = sample;
+      // One read of the sample for both stores, angle by angle: a copy of
+      // the whole record (arrays) was kept in the frame as well, a store
+      // that nothing read (round 17).
+      const AngleRad rocker0 = j.rocker_rad[0];
+      const AngleRad rocker1 = j.rocker_rad[1];
+      const AngleRad bogie0 = j.bogie_rad[0];
+      const AngleRad bogie1 = j.bogie_rad[1];
+      last_joints_ = JointAnglesRad{{rocker0, rocker1}, {bogie0, bogie1}};
+      step_joints_ = JointAnglesRad{{rocker0, rocker1}, {bogie0, bogie1}};
       return SensorHealth::ok;
     }
   }
