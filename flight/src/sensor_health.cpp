@@ -289,11 +289,18 @@ bool steady_forward(const CurrentHistory& h, std::int32_t reading, const SteadyW
 }
 
 /// One more sample in a saturating counter, inline (the call cost as much
-/// again as the count); the add without a branch. (n + 1 tested for 0
-/// before the store was 3 Cortex-M4 instructions fewer per step, but
-/// cppcheck reads that test as always true, knownConditionTrueFalse.)
+/// again as the count): the increment kept unless it wrapped to zero, the
+/// monitor's count_sample() form (round 17: one instruction fewer per
+/// count than adding the comparison's result). cppcheck's value flow
+/// assumes that an unsigned increment does not wrap, which is the case
+/// tested here (0xFFFFFFFF + 1 is 0): its "always true" is a false
+/// positive (docs/assurance.md).
 SW_FX_INLINE void tally(std::uint32_t& n) noexcept {
-  n += (n != 0xFFFFFFFFU) ? 1U : 0U;
+  const std::uint32_t next = n + 1U;
+  // cppcheck-suppress knownConditionTrueFalse
+  if (next != 0U) {
+    n = next;
+  }
 }
 
 /// The quiet wheels (bit i of `quiet`) whose sample is steady (steady_
