@@ -321,19 +321,21 @@ SW_FX_INLINE void tally(std::uint32_t& n) noexcept {
   const CurrentA(&current_a)[kWheelCount] = s.current_a;
   const DriveDirection(&direction)[kWheelCount] = s.direction;
   std::uint32_t steady = quiet;  ///< cleared for a wheel that is not steady
+  std::uint32_t bit = 1U;        ///< wheel i's: no shift by i per wheel
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     CurrentHistory& h = history[i];
     const std::int32_t reading = current_a[i].raw();
     // Present (false is 0) and forward (0): both tested at once.
     const bool present_forward =
         (static_cast<std::uint32_t>(missing[i]) | static_cast<std::uint32_t>(direction[i])) == 0U;
-    if ((((steady >> i) & 1U) != 0U) && present_forward && steady_forward(h, reading, w)) {
+    if (((steady & bit) != 0U) && present_forward && steady_forward(h, reading, w)) {
       h.last_reading = reading;
       h.good_reading = reading;
       tally(by_health[i][static_cast<std::uint8_t>(SensorHealth::ok)]);
     } else {
-      steady &= ~(1U << i);
+      steady &= ~bit;
     }
+    bit <<= 1U;
   }
   return steady;
 }
