@@ -403,11 +403,22 @@ SW_FX_INLINE void WheelMonitor::transition(bool current_stop, bool slip_stop, co
   if (state_ == WheelState::stop) {
     return;  // STOP is latched until clear_stop()
   }
-  if ((consecutive_unusable_ >= mp.invalid_to_stop) || window_reaches<kValidTable>(h.stop, mp.window_m, mp.trip_n)) {
+  if constexpr (kValidTable) {
+    // A quiet NOMINAL wheel's usual cycle: no stop and no caution evidence
+    // in either window, which no count of a validated table (trip_n >= 1)
+    // reaches. Its sample was usable (an unusable one is caution evidence),
+    // so consecutive_unusable_ is 0, below invalid_to_stop (>= 1): no
+    // limit is read.
+    if ((state_ == WheelState::nominal) && ((h.stop | h.caution) == 0U)) {
+      return;
+    }
+  }
+  const bool unusable_trip = consecutive_unusable_ >= mp.invalid_to_stop;
+  if (unusable_trip || window_reaches<kValidTable>(h.stop, mp.window_m, mp.trip_n)) {
     // The sample's reason is named only here, on the cycle that trips.
     const StopReason sample_reason =
         current_stop ? StopReason::current : (slip_stop ? StopReason::slip : StopReason::sinkage);
-    const StopReason reason = (consecutive_unusable_ >= mp.invalid_to_stop) ? StopReason::telemetry : sample_reason;
+    const StopReason reason = unusable_trip ? StopReason::telemetry : sample_reason;
     state_ = WheelState::stop;
     stop_reason_ = reason;
     out.stop_tripped = true;

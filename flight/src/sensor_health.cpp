@@ -289,11 +289,18 @@ bool steady_forward(const CurrentHistory& h, std::int32_t reading, const SteadyW
 }
 
 /// One more sample in a saturating counter, inline (the call cost as much
-/// again as the count); the add without a branch. (n + 1 tested for 0
-/// before the store was 3 Cortex-M4 instructions fewer per step, but
-/// cppcheck reads that test as always true, knownConditionTrueFalse.)
+/// again as the count): the increment kept unless it wrapped to zero, the
+/// monitor's count_sample() form (round 17: one instruction fewer per
+/// count than adding the comparison's result). cppcheck's value flow
+/// assumes that an unsigned increment does not wrap, which is the case
+/// tested here (0xFFFFFFFF + 1 is 0): its "always true" is a false
+/// positive (docs/assurance.md).
 SW_FX_INLINE void tally(std::uint32_t& n) noexcept {
-  n += (n != 0xFFFFFFFFU) ? 1U : 0U;
+  const std::uint32_t next = n + 1U;
+  // cppcheck-suppress knownConditionTrueFalse
+  if (next != 0U) {
+    n = next;
+  }
 }
 
 /// The quiet wheels (bit i of `quiet`) whose sample is steady (steady_
@@ -314,19 +321,21 @@ SW_FX_INLINE void tally(std::uint32_t& n) noexcept {
   const CurrentA(&current_a)[kWheelCount] = s.current_a;
   const DriveDirection(&direction)[kWheelCount] = s.direction;
   std::uint32_t steady = quiet;  ///< cleared for a wheel that is not steady
+  std::uint32_t bit = 1U;        ///< wheel i's: no shift by i per wheel
   for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
     CurrentHistory& h = history[i];
     const std::int32_t reading = current_a[i].raw();
     // Present (false is 0) and forward (0): both tested at once.
     const bool present_forward =
         (static_cast<std::uint32_t>(missing[i]) | static_cast<std::uint32_t>(direction[i])) == 0U;
-    if ((((steady >> i) & 1U) != 0U) && present_forward && steady_forward(h, reading, w)) {
+    if (((steady & bit) != 0U) && present_forward && steady_forward(h, reading, w)) {
       h.last_reading = reading;
       h.good_reading = reading;
       tally(by_health[i][static_cast<std::uint8_t>(SensorHealth::ok)]);
     } else {
-      steady &= ~(1U << i);
+      steady &= ~bit;
     }
+    bit <<= 1U;
   }
   return steady;
 }
@@ -512,10 +521,15 @@ SW_FX_INLINE SensorHealth SensorHealthMonitor::joints_health(const HealthSample&
                         steady_joint(j.bogie_rad[0], last_joints_.bogie_rad[0], at_least, tolerance) &&
                         steady_joint(j.bogie_rad[1], last_joints_.bogie_rad[1], at_least, tolerance);
     if (steady) {
-      // One read of the sample for both stores.
-      const JointAnglesRad sample = j;
-      last_joints_ = sample;
-      step_joints_ = sample;
+      // One read of the sample for both stores, angle by angle: a copy of
+      // the whole record (arrays) was kept in the frame as well, a store
+      // that nothing read (round 17).
+      const AngleRad rocker0 = j.rocker_rad[0];
+      const AngleRad rocker1 = j.rocker_rad[1];
+      const AngleRad bogie0 = j.bogie_rad[0];
+      const AngleRad bogie1 = j.bogie_rad[1];
+      last_joints_ = JointAnglesRad{{rocker0, rocker1}, {bogie0, bogie1}};
+      step_joints_ = JointAnglesRad{{rocker0, rocker1}, {bogie0, bogie1}};
       return SensorHealth::ok;
     }
   }

@@ -792,6 +792,81 @@ TEST(RoverMonitorSamples, SameUnderContinueDegradedAndFewerWheels) {
   expect_reached_all(run_samples_against_inputs(table, 0xB1D5U, 20000), true);
 }
 
+// The WheelSamples path skips the transitions of a NOMINAL wheel whose
+// stop and caution windows are empty (monitor.cpp, transition): it relies
+// on the smallest counts validate() accepts (trip_n and invalid_to_stop of
+// 1). At those counts, and a one-sample window, it must still give the
+// WheelInput path's result, which tests every window.
+TEST(RoverMonitorSamples, SameAtTheSmallestCountsAValidatedTableHolds) {
+  ParameterTable table = default_parameter_table();
+  table.monitor.window_m = 1U;
+  table.monitor.trip_n = 1U;
+  table.monitor.clear_n = 1U;
+  table.monitor.invalid_to_stop = 1U;
+  ASSERT_TRUE(test::prepared_of(table).table_valid());
+  const Reached r = run_samples_against_inputs(table, 0xC0DEU, 20000);
+  EXPECT_TRUE(r.caution);
+  EXPECT_TRUE(r.reason[static_cast<std::uint8_t>(StopReason::telemetry)]);
+  EXPECT_TRUE(r.reason[static_cast<std::uint8_t>(StopReason::sinkage)]);
+}
+
+// A wheel in CAUTION whose caution window has emptied (samples in the
+// hysteresis band, neither caution nor clear, for longer than the window)
+// still leaves CAUTION on clear_n clear samples on the WheelSamples path:
+// its shortcut is a NOMINAL wheel's only.
+TEST(RoverMonitorSamples, CautionWithAnEmptyCautionWindowStillClears) {
+  const ParameterTable table = default_parameter_table();
+  const PreparedParameters prepared = test::prepared_of(table);
+  const ref::Parameters p = ref::from_flight(table);
+  RoverMonitor by_inputs;
+  RoverMonitor by_samples;
+  std::uint32_t t_ms = 1000U;
+  auto cycle = [&](double z) {
+    const double torque = ref::torque_nm(p.motor, 1.0, DriveDirection::forward);
+    const ref::Coefficients c = ref::corrections_at(p.correction, kW).coefficients;
+    const double dp = kW * ((c.c1 * torque / kW - c.c2 * z) / p.wheel_radius_m - c.c3);
+    t_ms += 100U;
+    CycleArrays a{};
+    WheelInput inputs[kMaxWheels];
+    for (std::uint8_t i = 0U; i < kMaxWheels; ++i) {
+      const WheelInput in{TimeMs{t_ms},      q<CurrentA>(1.0),        q<WheelLoadN>(kW),
+                          q<DrawbarPullN>(dp), DriveDirection::forward, true};
+      inputs[i] = test::with_drive_torque(in, table.motor);
+      a.current_a[i] = inputs[i].current_a;
+      a.direction[i] = inputs[i].direction;
+      a.load_n[i] = inputs[i].load_n;
+      a.drawbar_pull_n[i] = inputs[i].drawbar_pull_n;
+      a.current_usable[i] = true;
+      a.drive_torque[i] = inputs[i].drive_torque;
+    }
+    WheelSamples s{};
+    s.time = TimeMs{t_ms};
+    s.valid = true;
+    s.current_a = &a.current_a;
+    s.direction = &a.direction;
+    s.load_n = &a.load_n;
+    s.drawbar_pull_n = &a.drawbar_pull_n;
+    s.current_usable = &a.current_usable;
+    s.corrections = nullptr;
+    s.drive_torque = &a.drive_torque;
+    RoverOutput out_inputs{};
+    RoverOutput out_samples{};
+    by_inputs.step(inputs, TimeMs{t_ms}, prepared, out_inputs);
+    by_samples.step(s, TimeMs{t_ms}, prepared, out_samples);
+    for (std::uint8_t i = 0U; i < kMaxWheels; ++i) {
+      expect_same_wheel(out_inputs.wheels[i], out_samples.wheels[i], static_cast<int>(t_ms), i);
+      expect_same_monitor(by_inputs.wheel(i), by_samples.wheel(i));
+    }
+    return out_samples.wheels[0].state;
+  };
+  for (int k = 0; k < 3; ++k) cycle(0.035);  // caution sinkage
+  ASSERT_EQ(cycle(0.027), WheelState::caution);  // the band, from here on
+  for (int k = 0; k < 20; ++k) ASSERT_EQ(cycle(0.027), WheelState::caution);
+  WheelState state = WheelState::caution;
+  for (int k = 0; (k < 16) && (state == WheelState::caution); ++k) state = cycle(0.01);
+  EXPECT_EQ(state, WheelState::nominal);
+}
+
 TEST(RoverMonitorSamples, WithoutAValidTableBothStop) {
   ParameterTable table = default_parameter_table();
   table.monitor.window_m = 0U;  // validate() refuses it
