@@ -67,9 +67,18 @@ struct SegmentWidth {
   std::uint32_t mantissa{0U};  ///< floor((2^63 - 1) / normalised)
 };
 
-/// The segment widths of a table, prepared once per table load.
+/// The segment widths of a table, prepared once per table load, and the
+/// reciprocal of its first row's C1, the divisor of the current limit
+/// (T_max = W L / C1) for every load where C1 takes that value: Table 2's
+/// C1 is the same in every row, so all six wheels divide by it each cycle.
+/// The monitor (of_valid.hpp, torque_limit_raw_of_valid) finds the limit's
+/// quotient from it for a C1 equal to c1_raw, the long division's quotient
+/// (fx::detail::quotient_of_leading_words_by_reciprocal), and divides
+/// otherwise (round 17).
 struct CorrectionDivisors {
   SegmentWidth width[kMaxCorrectionRows];  ///< [k]: rows k..k+1; unused entries: zero
+  std::int32_t c1_raw{0};                  ///< rows[0].c1 raw where positive; 0: none (no C1 in range is 0)
+  std::uint32_t c1_mantissa{0U};           ///< fx::normalised_reciprocal(C1).mantissa; 0: none
 };
 
 namespace detail {
