@@ -460,10 +460,10 @@ bool same_as_generic(bool negative, std::uint64_t n, std::int32_t n_frac, std::u
   // the same decision.
   const std::uint32_t m = fx::normalised_reciprocal(d, 0).mantissa;
   std::int32_t raw_by_reciprocal = 0;
+  const fx::PreparedReciprocal prepared{true, m};
   const bool fits_by_reciprocal =
-      (out_frac == 24)
-          ? fx::quotient_by_positive<24>(negative, n, n_frac, d, d_frac, fx::PreparedReciprocal{true, m}, raw_by_reciprocal)
-          : fx::quotient_by_positive<16>(negative, n, n_frac, d, d_frac, fx::PreparedReciprocal{true, m}, raw_by_reciprocal);
+      (out_frac == 24) ? fx::quotient_by_positive<24>(negative, n, n_frac, d, d_frac, prepared, raw_by_reciprocal)
+                       : fx::quotient_by_positive<16>(negative, n, n_frac, d, d_frac, prepared, raw_by_reciprocal);
   if ((fits_by_reciprocal != fits) || (raw_by_reciprocal != raw)) {
     return false;
   }

@@ -597,9 +597,8 @@ TEST(LimitByPreparedReciprocal, IsTheDividedLimitBitForBit) {
                          Ratio::from_raw(static_cast<std::int32_t>(rng() % 0x2000001U) - (1 << 24))};
     const auto ratio = Ratio::from_raw(static_cast<std::int32_t>(static_cast<std::uint32_t>(rng())) >>
                                        static_cast<std::uint32_t>(rng() % 32U));
-    const auto r = LengthM::from_raw(kMinRadiusM.raw() +
-                                     static_cast<std::int32_t>(rng() % static_cast<std::uint64_t>(
-                                                                           (kMaxRadiusM.raw() - kMinRadiusM.raw()) + 1)));
+    const auto radius_span = static_cast<std::uint64_t>((kMaxRadiusM.raw() - kMinRadiusM.raw()) + 1);
+    const auto r = LengthM::from_raw(kMinRadiusM.raw() + static_cast<std::int32_t>(rng() % radius_span));
     const auto w = WheelLoadN::from_raw(static_cast<std::int32_t>(rng() % 0x7FFFFFFFU) + 1);
     const auto z_max = SinkageM::from_raw(static_cast<std::int32_t>(static_cast<std::uint32_t>(rng())) >>
                                           static_cast<std::uint32_t>(rng() % 32U));
