@@ -263,6 +263,11 @@ CorrectionDivisors make_correction_divisors(const CorrectionTable& table) noexce
       d.width[i] = SegmentWidth{normalised, shift, fx::normalised_reciprocal(normalised, 0).mantissa};
     }
   }
+  const Ratio c1 = table.rows[0].c1;
+  if (c1.raw() > 0) {
+    d.c1_raw = c1.raw();
+    d.c1_mantissa = fx::normalised_reciprocal(c1.q()).mantissa;
+  }
   return d;
 }
 

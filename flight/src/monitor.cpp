@@ -226,7 +226,8 @@ SW_FX_INLINE SampleStatus classify_sample(Sample input, TimeMs now, bool have_la
   std::int32_t t_max_raw = 0;
   std::int32_t current_raw = 0;
   if ((!detail::torque_limit_raw_of_valid(corr.coefficients, corr.dp_max_ratio, table.wheel_radius_m, load_n,
-                                          table.monitor.allowed_sinkage_m, t_max_raw)) ||
+                                          table.monitor.allowed_sinkage_m, prepared.correction_divisors(),
+                                          t_max_raw)) ||
       (!detail::current_raw_from_validated_torque(table.motor, prepared.motor_divisors(), t_max_raw,
                                                    current_raw))) {
     return false;

@@ -30,6 +30,7 @@
 #include "sinkwatch/fixedpoint/q.hpp"
 #include "sinkwatch/fixedpoint/reciprocal.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
+#include "sinkwatch/flight/correction.hpp"
 #include "sinkwatch/flight/current_limit.hpp"
 #include "sinkwatch/flight/estimator.hpp"
 #include "sinkwatch/flight/motor.hpp"
@@ -195,10 +196,12 @@ SW_FX_INLINE std::int64_t radius_times_ratios(std::int32_t r, Ratio dp_max_ratio
 }
 
 /// torque_limit()'s raw T_max (Q?.16) for inputs check_estimator_inputs()
-/// accepts, into `t_max_raw`; false (t_max_raw 0) where it overflows.
-SW_FX_INLINE bool torque_limit_raw_of_valid(const Coefficients& c, Ratio dp_max_ratio, LengthM radius_m,
-                                            WheelLoadN load_n, SinkageM allowed_sinkage_m,
-                                            std::int32_t& t_max_raw) noexcept {
+/// accepts, into `t_max_raw`; false (t_max_raw 0) where it overflows. A
+/// prepared `c1_reciprocal` (fx::normalised_reciprocal(C1).mantissa) finds
+/// the quotient from it (fx::quotient_by_positive: the same integer).
+SW_FX_INLINE bool torque_limit_raw_core(const Coefficients& c, Ratio dp_max_ratio, LengthM radius_m,
+                                        WheelLoadN load_n, SinkageM allowed_sinkage_m,
+                                        fx::PreparedReciprocal c1_reciprocal, std::int32_t& t_max_raw) noexcept {
   // T_max = W L / C1 with the lever L = r (DP_max/W + C3) + C2 z_max, one
   // division (docs/flight.md, "Current limit"). L is exact in Q15.48: for
   // accepted inputs (0 < r <= 2 m, 0 < C1, C2 <= 4, |C3| <= 1, W > 0) and
@@ -212,14 +215,26 @@ SW_FX_INLINE bool torque_limit_raw_of_valid(const Coefficients& c, Ratio dp_max_
   const fx::ScaledMagnitude w_lever = load_times(fx::Q<std::int64_t, 48>::from_raw(lever), load_n);
   return fx::quotient_by_positive<LoadQ::frac_bits>(w_lever.negative, w_lever.magnitude, w_lever.frac_bits,
                                                      static_cast<std::uint32_t>(c.c1.raw()), RatioQ::frac_bits,
-                                                     t_max_raw);
+                                                     c1_reciprocal, t_max_raw);
+}
+
+/// torque_limit_raw_core for the monitor: where C1 is `divisors`'
+/// (CorrectionDivisors::c1_raw, Table 2's C1 at every load) the quotient
+/// comes from its prepared reciprocal, for all six wheels, instead of a
+/// long division each (round 17). Divisors of any table keep the bits: only
+/// an equal C1 takes the reciprocal.
+SW_FX_INLINE bool torque_limit_raw_of_valid(const Coefficients& c, Ratio dp_max_ratio, LengthM radius_m,
+                                            WheelLoadN load_n, SinkageM allowed_sinkage_m,
+                                            const CorrectionDivisors& divisors, std::int32_t& t_max_raw) noexcept {
+  return torque_limit_raw_core(c, dp_max_ratio, radius_m, load_n, allowed_sinkage_m,
+                               fx::PreparedReciprocal{c.c1.raw() == divisors.c1_raw, divisors.c1_mantissa}, t_max_raw);
 }
 
 /// torque_limit() for inputs check_estimator_inputs() accepts.
 SW_FX_INLINE TorqueLimitResult torque_limit_of_valid(const Coefficients& c, Ratio dp_max_ratio, LengthM radius_m,
                                                      WheelLoadN load_n, SinkageM allowed_sinkage_m) noexcept {
   std::int32_t t_max = 0;
-  if (!torque_limit_raw_of_valid(c, dp_max_ratio, radius_m, load_n, allowed_sinkage_m, t_max)) {
+  if (!torque_limit_raw_core(c, dp_max_ratio, radius_m, load_n, allowed_sinkage_m, fx::PreparedReciprocal{}, t_max)) {
     return TorqueLimitResult{TorqueNm::zero(), EstimateStatus::overflow};
   }
   return TorqueLimitResult{TorqueNm(LoadQ::from_raw(t_max)), EstimateStatus::ok};

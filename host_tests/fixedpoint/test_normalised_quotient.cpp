@@ -17,6 +17,7 @@
 #include "sinkwatch/fixedpoint/literal.hpp"
 #include "sinkwatch/fixedpoint/normalised_quotient.hpp"
 #include "sinkwatch/fixedpoint/q.hpp"
+#include "sinkwatch/fixedpoint/reciprocal.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
 
 namespace {
@@ -455,6 +456,17 @@ bool same_as_generic(bool negative, std::uint64_t n, std::int32_t n_frac, std::u
   if (fits != st.ok()) {
     return false;
   }
+  // The same division from d's prepared reciprocal: the same raw value and
+  // the same decision.
+  const std::uint32_t m = fx::normalised_reciprocal(d, 0).mantissa;
+  std::int32_t raw_by_reciprocal = 0;
+  const fx::PreparedReciprocal prepared{true, m};
+  const bool fits_by_reciprocal =
+      (out_frac == 24) ? fx::quotient_by_positive<24>(negative, n, n_frac, d, d_frac, prepared, raw_by_reciprocal)
+                       : fx::quotient_by_positive<16>(negative, n, n_frac, d, d_frac, prepared, raw_by_reciprocal);
+  if ((fits_by_reciprocal != fits) || (raw_by_reciprocal != raw)) {
+    return false;
+  }
   return (!fits) || (raw == expected);
 }
 
@@ -509,6 +521,41 @@ TEST(QuotientByPositive, MatchesDivideNormalisedOverRandomAndEdgeOperands) {
   EXPECT_FALSE(fx::quotient_by_positive<16>(false, std::uint64_t{1U} << 40U, -7, d_max, 0, raw));
   ASSERT_TRUE(fx::quotient_by_positive<16>(true, std::uint64_t{1U} << 40U, -7, d_max, 0, raw));
   EXPECT_EQ(raw, std::numeric_limits<std::int32_t>::min());
+}
+
+// The limit's quotient from a prepared reciprocal (round 17) against the
+// built-in 64 / 32-bit division, for n and d in [2^31, 2^32): random pairs,
+// the ends of both ranges, and n = d, n = d - 1, n = d + 1 (where the
+// estimate is one below the quotient). Dropping the correction, or taking
+// the reciprocal one too small, fails it.
+TEST(QuotientOfLeadingWordsByReciprocal, IsTheBuiltInQuotient) {
+  constexpr std::uint32_t kLow = 0x80000000U;
+  constexpr std::uint32_t kHigh = 0xFFFFFFFFU;
+  const auto check = [](std::uint32_t n, std::uint32_t d) {
+    const std::uint32_t m = fx::detail::floor_two_to_63_less_1_over(d);
+    const auto expected = static_cast<std::uint32_t>((std::uint64_t{n} << 31U) / d);
+    return fx::detail::quotient_of_leading_words_by_reciprocal(n, d, m) == expected;
+  };
+  std::int64_t failures = 0;
+  std::int64_t corrected = 0;
+  std::mt19937_64 rng(17U);
+  for (std::int32_t i = 0; i < 2000000; ++i) {
+    const auto n = static_cast<std::uint32_t>(rng()) | kLow;
+    const auto d = static_cast<std::uint32_t>(rng()) | kLow;
+    const std::uint32_t m = fx::detail::floor_two_to_63_less_1_over(d);
+    const auto estimate = static_cast<std::uint32_t>((std::uint64_t{n} * m) >> 32U);
+    corrected += (estimate != static_cast<std::uint32_t>((std::uint64_t{n} << 31U) / d)) ? 1 : 0;
+    failures += check(n, d) ? 0 : 1;
+  }
+  EXPECT_EQ(failures, 0);
+  EXPECT_GT(corrected, 0);  // the correction is exercised
+  for (const std::uint32_t d : {kLow, kLow + 1U, 0xC0000000U, 0xD1B71759U, kHigh - 1U, kHigh}) {
+    for (const std::uint32_t n : {kLow, kLow + 1U, d - 1U, d, d + 1U, kHigh - 1U, kHigh}) {
+      if (n >= kLow) {
+        EXPECT_TRUE(check(n, d)) << n << " / " << d;
+      }
+    }
+  }
 }
 
 }  // namespace

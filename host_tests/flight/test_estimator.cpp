@@ -15,6 +15,7 @@
 #include "sinkwatch/fixedpoint/bounded.hpp"
 #include "sinkwatch/fixedpoint/host_convert.hpp"
 #include "sinkwatch/fixedpoint/normalised_quotient.hpp"
+#include "sinkwatch/fixedpoint/reciprocal.hpp"
 #include "sinkwatch/fixedpoint/wide.hpp"
 #include "sinkwatch/flight/current_limit.hpp"
 #include "sinkwatch/flight/correction.hpp"
@@ -563,6 +564,59 @@ TEST(RadiusTimesRatios, IsTheExactSignedProduct) {
     ASSERT_EQ(detail::radius_times_ratios_by_magnitude(r, Ratio::from_raw(ratio), Ratio::from_raw(c3)), expected)
         << r << " " << ratio << " " << c3;
   }
+}
+
+// The current limit's quotient from the prepared reciprocal of the table's
+// first C1 (round 17: CorrectionDivisors::c1_raw / c1_mantissa, taken by
+// torque_limit_raw_of_valid where C1 equals it) against the long division
+// (torque_limit_raw_core without it): the same T_max and the same refusals
+// over random inputs check_estimator_inputs() accepts, the first row's C1 and
+// other C1s (these keep the division), at the ends of C1's range and of Q15.16.
+// A reciprocal one too small, or the estimate left uncorrected, fails it.
+TEST(LimitByPreparedReciprocal, IsTheDividedLimitBitForBit) {
+  std::mt19937_64 rng(1717U);
+  const std::int32_t c1_edges[] = {kMinC12.raw(), kMinC12.raw() + 1, 0x00800000, 0x00FFFFFF, kMaxC12.raw() - 1,
+                                   kMaxC12.raw()};
+  CorrectionTable table = default_parameter_table().correction;
+  std::int64_t by_reciprocal = 0;
+  for (std::int32_t i = 0; i < 300000; ++i) {
+    if ((i % 1000) == 0) {
+      const std::int32_t c1 = ((i % 3000) == 0) ? c1_edges[rng() % 6U]
+                                                : kMinC12.raw() + static_cast<std::int32_t>(
+                                                                      rng() % static_cast<std::uint64_t>(
+                                                                                  (kMaxC12.raw() - kMinC12.raw()) + 1));
+      table.rows[0].c1 = Ratio::from_raw(c1);
+    }
+    const CorrectionDivisors divisors = make_correction_divisors(table);
+    ASSERT_EQ(divisors.c1_raw, table.rows[0].c1.raw());
+    ASSERT_EQ(divisors.c1_mantissa, fx::normalised_reciprocal(table.rows[0].c1.q()).mantissa);
+    const std::int32_t c1 = ((i % 4) == 3) ? (kMinC12.raw() + static_cast<std::int32_t>(rng() % 0x3C00001U))
+                                           : table.rows[0].c1.raw();
+    const Coefficients c{Ratio::from_raw(c1),
+                         Ratio::from_raw(kMinC12.raw() + static_cast<std::int32_t>(rng() % 0x3C00001U)),
+                         Ratio::from_raw(static_cast<std::int32_t>(rng() % 0x2000001U) - (1 << 24))};
+    const auto ratio = Ratio::from_raw(static_cast<std::int32_t>(static_cast<std::uint32_t>(rng())) >>
+                                       static_cast<std::uint32_t>(rng() % 32U));
+    const auto radius_span = static_cast<std::uint64_t>((kMaxRadiusM.raw() - kMinRadiusM.raw()) + 1);
+    const auto r = LengthM::from_raw(kMinRadiusM.raw() + static_cast<std::int32_t>(rng() % radius_span));
+    const auto w = WheelLoadN::from_raw(static_cast<std::int32_t>(rng() % 0x7FFFFFFFU) + 1);
+    const auto z_max = SinkageM::from_raw(static_cast<std::int32_t>(static_cast<std::uint32_t>(rng())) >>
+                                          static_cast<std::uint32_t>(rng() % 32U));
+    ASSERT_EQ(check_estimator_inputs(c, r, w), EstimateStatus::ok);
+    std::int32_t divided = 0;
+    std::int32_t prepared = 0;
+    const bool divided_fits = detail::torque_limit_raw_core(c, ratio, r, w, z_max, fx::PreparedReciprocal{}, divided);
+    const bool prepared_fits = detail::torque_limit_raw_of_valid(c, ratio, r, w, z_max, divisors, prepared);
+    ASSERT_EQ(prepared_fits, divided_fits) << i;
+    ASSERT_EQ(prepared, divided) << i << " c1 " << c1 << " w " << w.raw();
+    by_reciprocal += (c1 == divisors.c1_raw) ? 1 : 0;
+  }
+  EXPECT_GT(by_reciprocal, 200000);
+  // A first row without a positive C1 prepares no reciprocal.
+  table.rows[0].c1 = Ratio::zero();
+  const CorrectionDivisors none = make_correction_divisors(table);
+  EXPECT_EQ(none.c1_raw, 0);
+  EXPECT_EQ(none.c1_mantissa, 0U);
 }
 
 TEST(Reference, TwinRefusesWhatTheFlightCodeRefuses) {

@@ -236,6 +236,23 @@ SW_FX_INLINE constexpr bool leading_bits_unless_zero(std::uint64_t a, LeadingBit
   }
 }
 
+/// floor(n 2^31 / d) for n and d in [2^31, 2^32), wide::quotient_of_leading_words'
+/// integer, from m = floor((2^63 - 1) / d) (reciprocal.hpp's
+/// floor_two_to_63_less_1_over, prepared once for a divisor that recurs):
+/// 2^63 - m d is in [1, d], so n 2^31 / d exceeds n m / 2^32 by
+/// n (2^63 - m d) / (d 2^32), in (0, n / 2^32] and so in (0, 1): the quotient
+/// is e = floor(n m / 2^32) or e + 1, and the remainder n 2^31 - e d, in
+/// [0, 2 d), says which. Two 32 x 32-bit products and a 64-bit comparison
+/// in place of the long division (round 17). test_normalised_quotient checks
+/// it against the built-in division.
+SW_FX_INLINE constexpr std::uint32_t quotient_of_leading_words_by_reciprocal(std::uint32_t n, std::uint32_t d,
+                                                                             std::uint32_t m) noexcept {
+  constexpr std::uint64_t kWord = std::uint64_t{1U} << 32U;
+  const auto estimate = static_cast<std::uint32_t>(wide::mul_32x32_64(n, m) / kWord);
+  const std::uint64_t rest = (std::uint64_t{n} << 31U) - wide::mul_32x32_64(estimate, d);  // in [0, 2 d)
+  return estimate + ((rest >= d) ? 1U : 0U);
+}
+
 }  // namespace detail
 
 /// n / d rounded into Out, within 0.5 LSB + |n/d| 2^-29 (above).
@@ -273,6 +290,13 @@ template <typename Out, typename SN, std::int32_t FN, typename SD, std::int32_t 
   return divide_normalised<Out>(to_scaled(n), to_scaled(d), status);
 }
 
+/// A divisor's reciprocal prepared by the caller for quotient_by_positive:
+/// `mantissa` = fx::normalised_reciprocal(d).mantissa where `prepared`.
+struct PreparedReciprocal {
+  bool prepared{false};
+  std::uint32_t mantissa{0U};
+};
+
 /// divide_normalised<Out>(n, d, st) for a 32-bit Out (kOutFrac fraction
 /// bits) and a divisor d > 0, as its raw quotient (`raw`) and whether st
 /// stayed ok (the return): the same leading words, the same quotient
@@ -287,10 +311,16 @@ template <typename Out, typename SN, std::int32_t FN, typename SD, std::int32_t 
 /// with 2^31 - 1 or 2^31 as from_sign_magnitude compares it. Both forms
 /// over random and edge operands: host_tests/fixedpoint/
 /// test_normalised_quotient.cpp (QuotientByPositive).
+///
+/// With `reciprocal.prepared`, its mantissa is floor((2^63 - 1) / D) for
+/// d's leading word D (fx::normalised_reciprocal(d).mantissa), prepared
+/// once for a divisor that recurs, and q is found from it
+/// (detail::quotient_of_leading_words_by_reciprocal: the same q without the
+/// long division); else the mantissa is not read.
 template <std::int32_t kOutFrac>
 SW_FX_INLINE bool quotient_by_positive(bool negative, std::uint64_t n_magnitude, std::int32_t n_frac,
-                                            std::uint64_t d_magnitude, std::int32_t d_frac,
-                                            std::int32_t& raw) noexcept {
+                                       std::uint64_t d_magnitude, std::int32_t d_frac,
+                                       PreparedReciprocal reciprocal, std::int32_t& raw) noexcept {
   raw = 0;
   detail::LeadingBits n_leading{0U, 0U};
   if (!detail::leading_bits_unless_zero(n_magnitude, n_leading)) {
@@ -300,7 +330,10 @@ SW_FX_INLINE bool quotient_by_positive(bool negative, std::uint64_t n_magnitude,
   const std::int32_t exponent =
       ((static_cast<std::int32_t>(n_leading.bits) - static_cast<std::int32_t>(d_leading.bits)) - 31) -
       ((n_frac - d_frac) - kOutFrac);
-  const std::uint32_t q = wide::quotient_of_leading_words(n_leading.word, d_leading.word);
+  const std::uint32_t q =
+      reciprocal.prepared
+          ? detail::quotient_of_leading_words_by_reciprocal(n_leading.word, d_leading.word, reciprocal.mantissa)
+          : wide::quotient_of_leading_words(n_leading.word, d_leading.word);
   constexpr std::uint32_t kTop = 0x80000000U;  // 2^31: -2^31's magnitude
   // e in [-32, -1] (the quotients that fit, but for the largest at e == 0)
   // is tested first, in one unsigned comparison of -e - 1 (a negative value
@@ -327,6 +360,14 @@ SW_FX_INLINE bool quotient_by_positive(bool negative, std::uint64_t n_magnitude,
   raw = (negative && (magnitude != 0U)) ? (-static_cast<std::int32_t>(magnitude - 1U) - 1)
                                         : static_cast<std::int32_t>(magnitude);
   return true;
+}
+
+/// quotient_by_positive for a divisor without a prepared reciprocal.
+template <std::int32_t kOutFrac>
+SW_FX_INLINE bool quotient_by_positive(bool negative, std::uint64_t n_magnitude, std::int32_t n_frac,
+                                       std::uint64_t d_magnitude, std::int32_t d_frac, std::int32_t& raw) noexcept {
+  return quotient_by_positive<kOutFrac>(negative, n_magnitude, n_frac, d_magnitude, d_frac, PreparedReciprocal{},
+                                        raw);
 }
 
 }  // namespace fx

@@ -67,9 +67,18 @@ struct SegmentWidth {
   std::uint32_t mantissa{0U};  ///< floor((2^63 - 1) / normalised)
 };
 
-/// The segment widths of a table, prepared once per table load.
+/// The segment widths of a table, prepared once per table load, and the
+/// reciprocal of its first row's C1, the divisor of the current limit
+/// (T_max = W L / C1) for every load where C1 takes that value: Table 2's
+/// C1 is the same in every row, so all six wheels divide by it each cycle.
+/// The monitor (of_valid.hpp, torque_limit_raw_of_valid) finds the limit's
+/// quotient from it for a C1 equal to c1_raw, the long division's quotient
+/// (fx::detail::quotient_of_leading_words_by_reciprocal), and divides
+/// otherwise (round 17).
 struct CorrectionDivisors {
   SegmentWidth width[kMaxCorrectionRows];  ///< [k]: rows k..k+1; unused entries: zero
+  std::int32_t c1_raw{0};                  ///< rows[0].c1 raw where positive; 0: none (no C1 in range is 0)
+  std::uint32_t c1_mantissa{0U};           ///< fx::normalised_reciprocal(C1).mantissa; 0: none
 };
 
 namespace detail {
@@ -131,7 +140,7 @@ struct Interpolant {
   std::int32_t start;   ///< a
   std::uint32_t span;   ///< |b - a|, the modular 32-bit difference (exact: below 2^32); 0 when b = a
   std::uint32_t limit;  ///< |a| where a lies against d = b - a's sign (the value may cross zero), else 0
-  bool falling;         ///< b < a: the step is subtracted
+  std::int32_t sign;    ///< d's: -1 where b < a (the step is subtracted), else 1
 };
 
 [[nodiscard]] SW_FX_INLINE constexpr Interpolant interpolant_of(std::int32_t a_raw, std::int32_t b_raw) noexcept {
@@ -139,10 +148,10 @@ struct Interpolant {
   const auto b_bits = static_cast<std::uint32_t>(b_raw);
   if (b_raw < a_raw) {
     // Against d's sign: a > 0, |a| = a.
-    return Interpolant{a_raw, a_bits - b_bits, (a_raw > 0) ? a_bits : 0U, true};
+    return Interpolant{a_raw, a_bits - b_bits, (a_raw > 0) ? a_bits : 0U, -1};
   }
   // Against d's sign: a < 0, |a| = 0 - a modulo 2^32 (2^31 for INT32_MIN).
-  return Interpolant{a_raw, b_bits - a_bits, (a_raw < 0) ? (0U - a_bits) : 0U, false};
+  return Interpolant{a_raw, b_bits - a_bits, (a_raw < 0) ? (0U - a_bits) : 0U, 1};
 }
 
 /// a + f (b - a) (raw Q7.24) for the fraction f in [0, 1), bit for bit the
@@ -171,8 +180,10 @@ struct Interpolant {
 [[nodiscard]] SW_FX_INLINE constexpr std::int32_t interpolated_value(const Interpolant& c, FractionHalves f) noexcept {
   const ProductTop p = product_top(f, c.span);
   const std::uint32_t step = rounded_step(p, p.high < c.limit);
+  // The step times d's sign, not a branch on it per load: one multiply-
+  // accumulate (round 17). |step| < 2^32, so the sum is exact in 64 bits.
   const auto signed_step = static_cast<std::int64_t>(step);
-  return static_cast<std::int32_t>(std::int64_t{c.start} + (c.falling ? -signed_step : signed_step));
+  return static_cast<std::int32_t>(std::int64_t{c.start} + (signed_step * std::int64_t{c.sign}));
 }
 
 /// The interpolation above of the pair (a, b) at f in one call (the tests',
