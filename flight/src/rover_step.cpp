@@ -164,25 +164,36 @@ RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) n
   in.sums = sums;
 }
 
-/// The step's defaults in `out`, field by field: no loads, no pulls, status
-/// ok until a stage refuses. Not `out = RoverStepOutput{}`, which GCC builds
-/// as a temporary on the step's stack (328 B on the M0) and then copies. The
-/// health, monitor and traction records are written whole later in every
-/// cycle (assess and monitor_stage, or refuse_table).
+/// The loads and pulls of a cycle that did not end ok, zero where no stage
+/// wrote them: the pulls (a cycle with pulls is ok), and the loads unless
+/// loads_valid. A cycle that ends ok has written both (load_stage,
+/// drawbar_stage), so it does not zero them first (round 17: twelve words
+/// stored every cycle before). Out of line: not in the step's frame.
+[[gnu::noinline]] void zero_unwritten(RoverStepOutput& out) noexcept {
+  // One array per loop: GCC distributes a loop that stores into two arrays
+  // into two memset calls (about 60 Cortex-M0 instructions each for 24 bytes).
+  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+    out.drawbar_pull_n[i] = DrawbarPullN::zero();
+  }
+  if (!out.loads_valid) {
+    for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
+      out.load_n[i] = WheelLoadN::zero();
+    }
+  }
+}
+
+/// The step's defaults in `out`, field by field: status ok until a stage
+/// refuses (the loads and pulls are zeroed by zero_unwritten() when one
+/// does). Not `out = RoverStepOutput{}`, which GCC builds as a temporary
+/// on the step's stack (328 B on the M0) and then copies. The health,
+/// monitor and traction records are written whole later in every cycle
+/// (assess and monitor_stage, or refuse_table).
 void reset_cycle_fields(RoverStepOutput& out) noexcept {
   out.status = RoverStepStatus::ok;
   out.load_status = WheelLoadStatus::invalid_params;
   out.drawbar_status = DrawbarStatus::invalid_loads;
   out.loads_valid = false;
   out.drawbar_valid = false;
-  // One array per loop: GCC distributes a loop that stores into two arrays
-  // into two memset calls (about 60 Cortex-M0 instructions each for 24 bytes).
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    out.load_n[i] = WheelLoadN::zero();
-  }
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    out.drawbar_pull_n[i] = DrawbarPullN::zero();
-  }
   out.accel_valid = false;
   out.accel_mps2 = AccelMps2::zero();
   out.slip_known = false;
@@ -198,6 +209,7 @@ void reset_cycle_fields(RoverStepOutput& out) noexcept {
 /// Kept out of line: its default records are not built on the stack of
 /// every cycle.
 [[gnu::noinline]] void refuse_table(RoverStepOutput& out) noexcept {
+  zero_unwritten(out);
   out.status = RoverStepStatus::invalid_table;
   out.decision = RoverDecision::stop_and_replan;
   out.health = SensorHealthReport{};
@@ -415,6 +427,9 @@ void RoverStep::step(const RoverTelemetry& t, TimeMs now, const PreparedParamete
   }
   if (out.status == RoverStepStatus::ok) {
     out.status = compute(t, prepared, out);
+  }
+  if (out.status != RoverStepStatus::ok) {
+    zero_unwritten(out);
   }
   // 5. The monitor.
   monitor_stage(t, now, prepared, out);
