@@ -132,6 +132,15 @@ RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) n
   return RoverStepStatus::ok;
 }
 
+/// Wheel i into `sums` when the monitor has its torque (estimate_valid).
+SW_FX_INLINE void add_if_estimated(const RoverTelemetry& t, const RoverStepOutput& out, std::uint32_t i,
+                                   TractionSums& sums) noexcept {
+  const WheelOutput& w = out.monitor.wheels[i];
+  if (w.estimate_valid) {
+    sums.add(w.torque_nm, out.drawbar_pull_n[i], out.load_n[i], t.direction[i]);
+  }
+}
+
 /// Stage 6's input into `in`: this cycle's loads, pulls and the wheel
 /// monitors' directed torques summed over the wheels with a torque (the
 /// monitor's estimate_valid), and the odometry. The sums are made from the
@@ -142,8 +151,9 @@ RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) n
 /// keeps the previous cycle's, unread. Every wheel is asked: the monitor
 /// leaves a wheel beyond wheel_count with WheelOutput{}'s estimate_valid,
 /// false (RoverMonitor::step_all), which is TractionInput's first
-/// wheel_count. Out of line: inline, the step's pointers kept live across
-/// the loop made it spill.
+/// wheel_count. The wheels one by one (round 17: a loop before, whose
+/// three pointers and bound cost five instructions a wheel). Out of line:
+/// inline, the step's pointers kept live across the wheels made it spill.
 [[gnu::noinline]] void traction_input(const RoverTelemetry& t, const RoverStepOutput& out,
                                       TractionCycle& in) noexcept {
   in.time = t.time;
@@ -155,12 +165,13 @@ RoverStepStatus load_stage(const WheelLoadResult& loads, RoverStepOutput& out) n
     return;
   }
   TractionSums sums{};
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    const WheelOutput& w = out.monitor.wheels[i];
-    if (w.estimate_valid) {
-      sums.add(w.torque_nm, out.drawbar_pull_n[i], out.load_n[i], t.direction[i]);
-    }
-  }
+  static_assert(kWheelCount == 6U, "one sum per wheel below");
+  add_if_estimated(t, out, 0U, sums);
+  add_if_estimated(t, out, 1U, sums);
+  add_if_estimated(t, out, 2U, sums);
+  add_if_estimated(t, out, 3U, sums);
+  add_if_estimated(t, out, 4U, sums);
+  add_if_estimated(t, out, 5U, sums);
   in.sums = sums;
 }
 
