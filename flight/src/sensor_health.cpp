@@ -282,7 +282,7 @@ SteadyWindow steady_window(const HealthParams& p, CurrentA no_load_a, CurrentA c
 /// below the range, and not below the no-load current while driving (the
 /// other wheels are then not asked). The window's test: reading - low
 /// wraps to at least 2^32 - (low - reading) > width below low.
-bool steady_forward(const CurrentHistory& h, std::int32_t reading, const SteadyWindow& w) noexcept {
+SW_FX_INLINE bool steady_forward(const CurrentHistory& h, std::int32_t reading, const SteadyWindow& w) noexcept {
   return ((reading != h.last_reading) || !w.driving) &&
          (distance(reading, h.last_reading) <= w.step_tolerance) &&
          ((static_cast<std::uint32_t>(reading) - static_cast<std::uint32_t>(w.low)) < w.width);
@@ -303,40 +303,48 @@ SW_FX_INLINE void tally(std::uint32_t& n) noexcept {
   }
 }
 
-/// The quiet wheels (bit i of `quiet`) whose sample is steady (steady_
-/// forward()), each taken as current_verdict() and settle() would: its
-/// value last and good, every run 0, one more ok; those wheels' bits.
-/// Out of line: in currents() the monitor's, the sample's and the report's
-/// pointers, live across the loop for the calls after it, made the loop
-/// spill its own.
+/// Wheel i's sample, when its bit in `steady` is set and it is steady
+/// (present, forward and steady_forward()), taken as current_verdict() and
+/// settle() would: its value last and good, every run 0, one more ok;
+/// otherwise its bit cleared.
+SW_FX_INLINE void steady_wheel(CurrentHistory& h, std::uint32_t& ok_count, const HealthSample& s, std::uint32_t i,
+                               const SteadyWindow& w, std::uint32_t& steady) noexcept {
+  const std::uint32_t bit = 1U << i;
+  const std::int32_t reading = s.current_a[i].raw();
+  // Present (false is 0) and forward (0): both tested at once.
+  const bool present_forward = (static_cast<std::uint32_t>(s.presence.current_missing[i]) |
+                                static_cast<std::uint32_t>(s.direction[i])) == 0U;
+  if (((steady & bit) != 0U) && present_forward && steady_forward(h, reading, w)) {
+    h.last_reading = reading;
+    h.good_reading = reading;
+    tally(ok_count);
+  } else {
+    steady &= ~bit;
+  }
+}
+
+/// The quiet wheels (bit i of `quiet`) whose sample is steady
+/// (steady_wheel()); those wheels' bits. Out of line: in currents() the
+/// monitor's, the sample's and the report's pointers, live across the
+/// wheels for the calls after them, made them spill their own. The wheels
+/// one by one, not in a loop (round 17): each wheel's offsets are
+/// constants, with no index, bit or counter carried from wheel to wheel.
 [[gnu::noinline]] std::uint32_t steady_samples(CurrentHistory (&history)[kWheelCount],
                                                std::uint32_t (&by_health)[kSensorChannelCount][kSensorHealthCount],
                                                const HealthSample& s, const SteadyWindow window,
                                                std::uint32_t quiet) noexcept {
-  // A local copy, which the loop's word stores cannot alias: kept in
-  // registers (through a reference it was read again after every store;
-  // the parameter itself used as the copy measured 2 instructions more).
+  // A local copy, which the word stores cannot alias: kept in registers
+  // (through a reference it was read again after every store).
   const SteadyWindow w = window;
-  const bool(&missing)[kWheelCount] = s.presence.current_missing;
-  const CurrentA(&current_a)[kWheelCount] = s.current_a;
-  const DriveDirection(&direction)[kWheelCount] = s.direction;
+  constexpr auto kOk = static_cast<std::uint8_t>(SensorHealth::ok);
   std::uint32_t steady = quiet;  ///< cleared for a wheel that is not steady
-  std::uint32_t bit = 1U;        ///< wheel i's: no shift by i per wheel
-  for (std::uint32_t i = 0U; i < kWheelCount; ++i) {
-    CurrentHistory& h = history[i];
-    const std::int32_t reading = current_a[i].raw();
-    // Present (false is 0) and forward (0): both tested at once.
-    const bool present_forward =
-        (static_cast<std::uint32_t>(missing[i]) | static_cast<std::uint32_t>(direction[i])) == 0U;
-    if (((steady & bit) != 0U) && present_forward && steady_forward(h, reading, w)) {
-      h.last_reading = reading;
-      h.good_reading = reading;
-      tally(by_health[i][static_cast<std::uint8_t>(SensorHealth::ok)]);
-    } else {
-      steady &= ~bit;
-    }
-    bit <<= 1U;
-  }
+  static_assert(kWheelCount == 6U, "one call per wheel below");
+  steady_wheel(history[0], by_health[0][kOk], s, 0U, w, steady);
+  steady_wheel(history[1], by_health[1][kOk], s, 1U, w, steady);
+  steady_wheel(history[2], by_health[2][kOk], s, 2U, w, steady);
+  steady_wheel(history[3], by_health[3][kOk], s, 3U, w, steady);
+  steady_wheel(history[4], by_health[4][kOk], s, 4U, w, steady);
+  steady_wheel(history[5], by_health[5][kOk], s, 5U, w, steady);
   return steady;
 }
 
