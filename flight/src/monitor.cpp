@@ -589,12 +589,17 @@ void RoverMonitor::step_all(const Wheels& wheels, TimeMs now, const PreparedPara
   const std::uint8_t count = (table.monitor.wheel_count < kMaxWheels) ? table.monitor.wheel_count : kMaxWheels;
   // The states' tallies in one local word, stored once: each wheel's step
   // may write any memory as far as the compiler knows, so counts kept in
-  // `out` were reloaded and stored per wheel. Byte s counts the wheels in
-  // state s (WheelState: 0 nominal, unused, 1 caution, 2 stop): a shift and
-  // an add per wheel, no branch per state; at most kMaxWheels per byte, so
-  // no byte carries into the next. The blind wheels are counted in `out`
+  // `out` were reloaded and stored per wheel. A wheel in state s adds
+  // s << 2s (WheelState: nominal 0 adds 0, caution 1 adds 4, stop 2 adds
+  // 32): bits 2-4 count the wheels in CAUTION (at most kMaxWheels = 6, so
+  // no carry into bit 5) and bits 5 on those in STOP; two shifts and an add
+  // per wheel, no branch per state (round 17: one instruction fewer per
+  // wheel than a byte per state, 1 << 8s). The blind wheels are counted in `out`
   // by the wheel's step, on a sensor fault's path only (round 16: no test
   // of every wheel's status here; M4 -49, M0 -20 instructions per step).
+  static_assert((kMaxWheels <= 7U) && (static_cast<std::uint32_t>(WheelState::caution) == 1U) &&
+                    (static_cast<std::uint32_t>(WheelState::stop) == 2U),
+                "the tally's CAUTION count fits bits 2-4");
   std::uint32_t tally = 0U;
   out.wheels_blind = 0U;
   for (std::uint32_t i = 0U; i < count; ++i) {
@@ -604,15 +609,15 @@ void RoverMonitor::step_all(const Wheels& wheels, TimeMs now, const PreparedPara
     } else {
       wheels_[i].step_sample(wheels.sample(static_cast<std::uint8_t>(i)), now, prepared, w, out.wheels_blind);
     }
-    tally += 1U << (8U * static_cast<std::uint32_t>(w.state));
+    const auto state = static_cast<std::uint32_t>(w.state);
+    tally += state << (state << 1U);
   }
   // Wheels beyond wheel_count are not monitored: their outputs are default.
   for (std::uint8_t i = count; i < kMaxWheels; ++i) {
     out.wheels[i] = WheelOutput{};
   }
-  out.wheels_in_stop = static_cast<std::uint8_t>(tally >> (8U * static_cast<std::uint32_t>(WheelState::stop)));
-  out.wheels_in_caution =
-      static_cast<std::uint8_t>(tally >> (8U * static_cast<std::uint32_t>(WheelState::caution)));
+  out.wheels_in_stop = static_cast<std::uint8_t>(tally >> 5U);
+  out.wheels_in_caution = static_cast<std::uint8_t>((tally >> 2U) & 7U);
   rover_rules(table, count, out);
 }
 

@@ -255,6 +255,19 @@ CurrentResult detail::current_of_valid_motor(const MotorParams& motor, const Mot
   return CurrentResult{CurrentA(current), EstimateStatus::ok};
 }
 
+MotorDivisors motor_divisors_of(fx::NormalisedReciprocal inverse_gain) noexcept {
+  const std::int32_t shift = (LoadQ::frac_bits + inverse_gain.scale) - CurrentQ::frac_bits;
+  if ((shift < 1) || (shift > 63)) {
+    return MotorDivisors{inverse_gain, 0U, 0U, 0U, 0U, 0U};
+  }
+  const auto s = static_cast<std::uint32_t>(shift);
+  const std::uint64_t rounding = std::uint64_t{1U} << (s - 1U);
+  if (s < 32U) {
+    return MotorDivisors{inverse_gain, rounding, s, 0U, 32U - s, 0U};
+  }
+  return MotorDivisors{inverse_gain, rounding, 31U, 1U, 0U, s - 32U};
+}
+
 MotorDivisors make_motor_divisors(const MotorParams& motor) noexcept {
   // N eta exactly (46 fraction bits, below 2^61), its leading 32 bits times
   // Kt (below 2^63): the gain within 2^-31 relative, whatever the formats'
@@ -269,7 +282,7 @@ MotorDivisors make_motor_divisors(const MotorParams& motor) noexcept {
   const std::uint32_t dropped = (length > 32U) ? (length - 32U) : 0U;
   const std::uint64_t gain = (n_eta >> dropped) * static_cast<std::uint64_t>(motor.kt_nm_per_a.raw());
   constexpr std::int32_t kGainFracBits = GearQ::frac_bits + EfficiencyQ::frac_bits + KtQ::frac_bits;
-  return MotorDivisors{fx::normalised_reciprocal(gain, kGainFracBits - static_cast<std::int32_t>(dropped))};
+  return motor_divisors_of(fx::normalised_reciprocal(gain, kGainFracBits - static_cast<std::int32_t>(dropped)));
 }
 
 }  // namespace flight

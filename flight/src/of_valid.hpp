@@ -272,6 +272,25 @@ SW_FX_INLINE bool current_raw_from_torque(const MotorParams& motor, const MotorD
   return true;
 }
 
+/// round(t_magnitude / gain) in Q?.20: (product + 2^(s-1)) >> s with the
+/// prepared 2^(s-1) and counts (MotorDivisors; round 17: no 64-bit shift by
+/// a run-time count, 1 instruction fewer per wheel on the Cortex-M4). The
+/// sum is below 2^63 + 2^62, so it does not wrap. The same integer as
+/// shift_right_rounded for every s in [1, 63] (test_estimator.cpp,
+/// PreparedWordsShiftIsTheRoundedShift).
+SW_FX_INLINE std::uint64_t shifted_by_prepared_words(const MotorDivisors& divisors,
+                                                     std::uint32_t t_magnitude) noexcept {
+  const std::uint64_t sum =
+      fx::wide::mul_32x32_64(t_magnitude, divisors.inverse_gain.mantissa) + divisors.current_rounding_raw;
+  const auto high = static_cast<std::uint32_t>(sum >> 32U);
+  const auto low = static_cast<std::uint32_t>(sum);
+  const std::uint32_t a = divisors.current_low_shift;
+  const std::uint32_t b = divisors.current_clear_shift;
+  const std::uint32_t low_shifted =
+      ((low >> a) >> b) | ((high << divisors.current_join_shift) >> divisors.current_high_shift);
+  return (std::uint64_t{(high >> a) >> b} << 32U) | std::uint64_t{low_shifted};
+}
+
 /// current_raw_from_torque() for a motor validate() accepted (the prepared
 /// table's, estimate_from's): the same integer and the same refusals, less
 /// the two such a motor cannot meet. Its gain N eta Kt lies in about
@@ -284,10 +303,17 @@ SW_FX_INLINE bool current_raw_from_torque(const MotorParams& motor, const MotorD
 /// (ValidatedMotorsShiftIsWithinItsRange) checks the ends of the ranges.
 SW_FX_INLINE bool current_raw_from_validated_torque(const MotorParams& motor, const MotorDivisors& divisors,
                                                     std::int32_t t_max_raw, std::int32_t& current_raw) noexcept {
-  const fx::NormalisedReciprocal inverse = divisors.inverse_gain;
-  const auto shift = static_cast<std::uint32_t>((LoadQ::frac_bits + inverse.scale) - CurrentQ::frac_bits);
-  const std::uint64_t driving = fx::detail::shift_right_rounded(
-      fx::wide::mul_32x32_64(fx::detail::magnitude32(t_max_raw), inverse.mantissa), shift);
+  std::uint64_t driving = 0U;
+  if constexpr (fx::detail::kShift64BySoftware) {
+    // ARMv6-M: shift_right_rounded's word form (the prepared form below
+    // measured 1 instruction per wheel more there).
+    const fx::NormalisedReciprocal inverse = divisors.inverse_gain;
+    const auto shift = static_cast<std::uint32_t>((LoadQ::frac_bits + inverse.scale) - CurrentQ::frac_bits);
+    driving = fx::detail::shift_right_rounded(
+        fx::wide::mul_32x32_64(fx::detail::magnitude32(t_max_raw), inverse.mantissa), shift);
+  } else {
+    driving = shifted_by_prepared_words(divisors, fx::detail::magnitude32(t_max_raw));
+  }
   const std::int64_t total =
       with_sign(t_max_raw < 0, driving) + static_cast<std::int64_t>(motor.no_load_current_a.raw());
   constexpr std::int64_t kMin = std::numeric_limits<std::int32_t>::min();

@@ -464,6 +464,7 @@ TEST(LimitFromTorque, ValidatedFormIsTheCheckedFormWithinItsShifts) {
     }
     divisors.inverse_gain.mantissa = static_cast<std::uint32_t>(rng() | 0x80000000ULL);
     divisors.inverse_gain.scale = static_cast<std::int32_t>(rng() % 63U) + 5;  // shift 1 .. 63
+    divisors = motor_divisors_of(divisors.inverse_gain);
     auto i0 = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()));
     if ((rng() % 4U) != 0U) {
       i0 >>= (rng() % 32U);
@@ -481,6 +482,93 @@ TEST(LimitFromTorque, ValidatedFormIsTheCheckedFormWithinItsShifts) {
   }
   EXPECT_GT(kept, 50000U);
   EXPECT_GT(refused, 50000U);
+}
+
+// shifted_by_prepared_words (of_valid.hpp, round 17): the product plus the
+// prepared 2^(s-1), shifted on 32-bit words by the prepared counts, is
+// shift_right_rounded's integer (and the word form's) for every shift in
+// [1, 63], every mantissa and every torque magnitude up to 2^31, the ends
+// included. A shift outside [1, 63] prepares nothing.
+TEST(LimitFromTorque, PreparedWordsShiftIsTheRoundedShift) {
+  std::mt19937_64 rng(1717U);
+  const std::uint32_t t_edges[] = {0U, 1U, 2U, 0x7FFFFFFFU, 0x80000000U, 0xFFFFU, 0x10000U};
+  const std::uint32_t m_edges[] = {0U, 1U, 0x80000000U, 0xFFFFFFFFU, 0x80000001U};
+  for (std::int32_t s = 1; s <= 63; ++s) {
+    const MotorDivisors md = motor_divisors_of(fx::NormalisedReciprocal{1U, s + CurrentQ::frac_bits - LoadQ::frac_bits});
+    for (std::int32_t i = 0; i < 20000; ++i) {
+      auto t = static_cast<std::uint32_t>(rng() >> (33U + (rng() % 31U)));  // below 2^31
+      auto m = static_cast<std::uint32_t>(rng());
+      if ((i % 7) == 0) {
+        t = t_edges[rng() % (sizeof(t_edges) / sizeof(t_edges[0]))];
+      }
+      if ((i % 5) == 0) {
+        m = m_edges[rng() % (sizeof(m_edges) / sizeof(m_edges[0]))];
+      }
+      MotorDivisors with_m = md;
+      with_m.inverse_gain.mantissa = m;
+      const std::uint64_t product = fx::wide::mul_32x32_64(t, m);
+      const std::uint64_t want = fx::detail::shift_right_rounded(product, static_cast<std::uint32_t>(s));
+      ASSERT_EQ(detail::shifted_by_prepared_words(with_m, t), want) << s << " " << t << " " << m;
+      ASSERT_EQ(fx::detail::shift_right_rounded_by_words(product, static_cast<std::uint32_t>(s)), want);
+    }
+  }
+  for (const std::int32_t s : {-3, 0, 64, 70}) {
+    const MotorDivisors md =
+        motor_divisors_of(fx::NormalisedReciprocal{0x80000000U, s + CurrentQ::frac_bits - LoadQ::frac_bits});
+    EXPECT_EQ(md.current_rounding_raw, 0U) << s;
+    EXPECT_EQ(md.current_low_shift + md.current_clear_shift + md.current_join_shift + md.current_high_shift, 0U)
+        << s;
+    EXPECT_EQ(md.inverse_gain.mantissa, 0x80000000U);
+  }
+}
+
+// Over random motors that check_motor() accepts (N, eta and Kt anywhere in
+// their ranges, param_table.cpp) the prepared divisors' validated current is
+// current_raw_from_torque's, bit for bit, refusals included.
+TEST(LimitFromTorque, ValidatedFormIsTheCheckedFormOverRandomMotors) {
+  std::mt19937_64 rng(1718U);
+  const std::int32_t gear_lo = fx::constant<GearQ>(1.0).raw();
+  const std::int32_t gear_hi = fx::constant<GearQ>(10000.0).raw();
+  const std::int32_t eff_lo = fx::constant<EfficiencyQ>(0.01).raw();
+  const std::int32_t eff_hi = fx::constant<EfficiencyQ>(1.0).raw();
+  const std::int32_t kt_lo = fx::constant<KtQ>(0.0001).raw();
+  const std::int32_t kt_hi = fx::constant<KtQ>(4.0).raw();
+  const auto between = [&rng](std::int32_t lo, std::int32_t hi) {
+    const auto span = static_cast<std::uint64_t>(static_cast<std::int64_t>(hi) - static_cast<std::int64_t>(lo)) + 1U;
+    const std::uint64_t pick = ((rng() % 4U) == 0U) ? ((rng() % 2U) * (span - 1U)) : (rng() % span);
+    return static_cast<std::int32_t>(static_cast<std::int64_t>(lo) + static_cast<std::int64_t>(pick));
+  };
+  std::uint32_t refused = 0U;
+  std::uint32_t kept = 0U;
+  for (std::int32_t k = 0; k < 2000; ++k) {
+    MotorParams motor{};
+    motor.gear_ratio = GearRatio(GearQ::from_raw(between(gear_lo, gear_hi)));
+    motor.efficiency = Efficiency(EfficiencyQ::from_raw(between(eff_lo, eff_hi)));
+    motor.kt_nm_per_a = TorqueConstantNmPerA(KtQ::from_raw(between(kt_lo, kt_hi)));
+    const MotorDivisors md = make_motor_divisors(motor);
+    const std::int32_t shift = (LoadQ::frac_bits + md.inverse_gain.scale) - CurrentQ::frac_bits;
+    ASSERT_GE(shift, 8);
+    ASSERT_LE(shift, 43);
+    for (std::int32_t i = 0; i < 200; ++i) {
+      auto t_raw = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()));
+      t_raw >>= (rng() % 32U);
+      if ((i % 50) == 0) {
+        t_raw = ((i % 100) == 0) ? std::numeric_limits<std::int32_t>::min() : std::numeric_limits<std::int32_t>::max();
+      }
+      auto i0 = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()));
+      i0 >>= (rng() % 32U);
+      motor.no_load_current_a = CurrentA(CurrentQ::from_raw(i0));
+      std::int32_t want = 1;
+      std::int32_t got = 2;
+      const bool want_ok = detail::current_raw_from_torque(motor, md, t_raw, want);
+      const bool got_ok = detail::current_raw_from_validated_torque(motor, md, t_raw, got);
+      ASSERT_EQ(got_ok, want_ok) << t_raw << " " << md.inverse_gain.mantissa << " " << shift << " " << i0;
+      ASSERT_EQ(got, want) << t_raw << " " << md.inverse_gain.mantissa << " " << shift << " " << i0;
+      ++(want_ok ? kept : refused);
+    }
+  }
+  EXPECT_GT(kept, 50000U);
+  EXPECT_GT(refused, 10000U);
 }
 
 // times_positive (of_valid.hpp): the signed product where the core has one

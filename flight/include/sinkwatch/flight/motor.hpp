@@ -93,7 +93,24 @@ void torques_of_validated_motor(const MotorParams& motor, const CurrentA (&curre
 /// (issue 15; docs/flight.md, "Current from torque").
 struct MotorDivisors {
   fx::NormalisedReciprocal inverse_gain;  ///< 1 / (N eta Kt), within 2^-29 relative
+  /// The torque-to-current shift s = 16 + scale - 20 of inverse_gain as
+  /// its rounding constant 2^(s-1) and four counts in [0, 31], prepared for
+  /// detail::current_raw_from_validated_torque (round 17): (sum >> s) on
+  /// 32-bit words is low' = ((low >> a) >> b) | ((high << c) >> d) and
+  /// high' = (high >> a) >> b, with (a, b, c, d) = (s, 0, 32 - s, 0) for s
+  /// below 32 and (31, 1, 0, s - 32) from 32 on: no 64-bit shift by a
+  /// run-time count and no case per call. All 0 where s is outside [1, 63]
+  /// (validate() accepts no such motor: s lies in [8, 43]).
+  std::uint64_t current_rounding_raw{0U};
+  std::uint32_t current_low_shift{0U};    ///< a
+  std::uint32_t current_clear_shift{0U};  ///< b
+  std::uint32_t current_join_shift{0U};   ///< c
+  std::uint32_t current_high_shift{0U};   ///< d
 };
+
+/// MotorDivisors for the reciprocal `inverse_gain`: its prepared shift and
+/// rounding constant beside it.
+[[nodiscard]] MotorDivisors motor_divisors_of(fx::NormalisedReciprocal inverse_gain) noexcept;
 
 [[nodiscard]] MotorDivisors make_motor_divisors(const MotorParams& motor) noexcept;
 
