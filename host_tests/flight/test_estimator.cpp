@@ -443,6 +443,25 @@ TEST(LimitFromTorque, ValidatedMotorsShiftIsWithinItsRange) {
   }
 }
 
+/// Whether the validated form gives the checked form's status and current
+/// for one torque (current_raw_from_validated_torque against
+/// current_raw_from_torque); counts the checked form's verdict in `kept` or
+/// `refused`.
+::testing::AssertionResult validated_is_checked(const MotorParams& motor, const MotorDivisors& divisors,
+                                                std::int32_t t_raw, std::uint32_t& kept, std::uint32_t& refused) {
+  std::int32_t want = 1;
+  std::int32_t got = 2;
+  const bool want_ok = detail::current_raw_from_torque(motor, divisors, t_raw, want);
+  const bool got_ok = detail::current_raw_from_validated_torque(motor, divisors, t_raw, got);
+  ++(want_ok ? kept : refused);
+  if ((got_ok == want_ok) && (got == want)) {
+    return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << "T raw " << t_raw << ", mantissa " << divisors.inverse_gain.mantissa
+                                       << ", scale " << divisors.inverse_gain.scale << ": validated " << got_ok
+                                       << " " << got << ", checked " << want_ok << " " << want;
+}
+
 // Where the shift lies in [1, 63] and the reciprocal has a mantissa (every
 // validated motor's, above), the validated form is current_raw_from_torque
 // bit for bit: the same current and the same refusal of a sum beyond Q11.20.
@@ -470,15 +489,7 @@ TEST(LimitFromTorque, ValidatedFormIsTheCheckedFormWithinItsShifts) {
       i0 >>= (rng() % 32U);
     }
     motor.no_load_current_a = CurrentA(CurrentQ::from_raw(i0));
-    std::int32_t want = 1;
-    std::int32_t got = 2;
-    const bool want_ok = detail::current_raw_from_torque(motor, divisors, t_raw, want);
-    const bool got_ok = detail::current_raw_from_validated_torque(motor, divisors, t_raw, got);
-    ASSERT_EQ(got_ok, want_ok) << t_raw << " " << divisors.inverse_gain.mantissa << " "
-                               << divisors.inverse_gain.scale << " " << i0;
-    ASSERT_EQ(got, want) << t_raw << " " << divisors.inverse_gain.mantissa << " " << divisors.inverse_gain.scale
-                         << " " << i0;
-    ++(want_ok ? kept : refused);
+    ASSERT_TRUE(validated_is_checked(motor, divisors, t_raw, kept, refused)) << "I0 raw " << i0;
   }
   EXPECT_GT(kept, 50000U);
   EXPECT_GT(refused, 50000U);
@@ -558,13 +569,7 @@ TEST(LimitFromTorque, ValidatedFormIsTheCheckedFormOverRandomMotors) {
       auto i0 = static_cast<std::int32_t>(static_cast<std::uint32_t>(rng()));
       i0 >>= (rng() % 32U);
       motor.no_load_current_a = CurrentA(CurrentQ::from_raw(i0));
-      std::int32_t want = 1;
-      std::int32_t got = 2;
-      const bool want_ok = detail::current_raw_from_torque(motor, md, t_raw, want);
-      const bool got_ok = detail::current_raw_from_validated_torque(motor, md, t_raw, got);
-      ASSERT_EQ(got_ok, want_ok) << t_raw << " " << md.inverse_gain.mantissa << " " << shift << " " << i0;
-      ASSERT_EQ(got, want) << t_raw << " " << md.inverse_gain.mantissa << " " << shift << " " << i0;
-      ++(want_ok ? kept : refused);
+      ASSERT_TRUE(validated_is_checked(motor, md, t_raw, kept, refused)) << "I0 raw " << i0;
     }
   }
   EXPECT_GT(kept, 50000U);
