@@ -137,8 +137,10 @@ SW_FX_INLINE bool sinkage_raw_of_valid(const Coefficients& c, LengthM radius_m, 
   using Moment = fx::Q<std::int64_t, 40>;
   const Moment numerator = Moment::from_raw((drive - pull_moment) - offset_moment);
   const std::uint64_t denominator = product_of_non_negative(c.c2.raw(), w);  // > 0
+  // C2 W changes with each wheel's load: no prepared reciprocal.
   return fx::quotient_by_positive<LengthQ::frac_bits>(numerator.raw() < 0, fx::detail::magnitude(numerator.raw()),
-                                                       Moment::frac_bits, denominator, 40, z_raw);
+                                                       Moment::frac_bits, denominator, 40, fx::PreparedReciprocal{},
+                                                       z_raw);
 }
 
 /// sinkage_from_pull() for inputs check_estimator_inputs() accepts.

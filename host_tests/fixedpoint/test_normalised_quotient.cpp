@@ -447,10 +447,10 @@ bool same_as_generic(bool negative, std::uint64_t n, std::int32_t n_frac, std::u
   bool fits = false;
   std::int32_t expected = 0;
   if (out_frac == 24) {
-    fits = fx::quotient_by_positive<24>(negative, n, n_frac, d, d_frac, raw);
+    fits = fx::quotient_by_positive<24>(negative, n, n_frac, d, d_frac, fx::PreparedReciprocal{}, raw);
     expected = fx::divide_normalised<fx::Q<std::int32_t, 24>>(num, den, st).raw();
   } else {
-    fits = fx::quotient_by_positive<16>(negative, n, n_frac, d, d_frac, raw);
+    fits = fx::quotient_by_positive<16>(negative, n, n_frac, d, d_frac, fx::PreparedReciprocal{}, raw);
     expected = fx::divide_normalised<fx::Q<std::int32_t, 16>>(num, den, st).raw();
   }
   if (fits != st.ok()) {
@@ -518,8 +518,9 @@ TEST(QuotientByPositive, MatchesDivideNormalisedOverRandomAndEdgeOperands) {
   }
   // 2^40 / (2^32 - 1) at exponent 1: q = 2^30, -2^31 fits, +2^31 does not.
   std::int32_t raw = 0;
-  EXPECT_FALSE(fx::quotient_by_positive<16>(false, std::uint64_t{1U} << 40U, -7, d_max, 0, raw));
-  ASSERT_TRUE(fx::quotient_by_positive<16>(true, std::uint64_t{1U} << 40U, -7, d_max, 0, raw));
+  constexpr fx::PreparedReciprocal kNone{};
+  EXPECT_FALSE(fx::quotient_by_positive<16>(false, std::uint64_t{1U} << 40U, -7, d_max, 0, kNone, raw));
+  ASSERT_TRUE(fx::quotient_by_positive<16>(true, std::uint64_t{1U} << 40U, -7, d_max, 0, kNone, raw));
   EXPECT_EQ(raw, std::numeric_limits<std::int32_t>::min());
 }
 

@@ -316,7 +316,8 @@ struct PreparedReciprocal {
 /// d's leading word D (fx::normalised_reciprocal(d).mantissa), prepared
 /// once for a divisor that recurs, and q is found from it
 /// (detail::quotient_of_leading_words_by_reciprocal: the same q without the
-/// long division); else the mantissa is not read.
+/// long division); else (PreparedReciprocal{}, a divisor that does not
+/// recur) the mantissa is not read.
 template <std::int32_t kOutFrac>
 SW_FX_INLINE bool quotient_by_positive(bool negative, std::uint64_t n_magnitude, std::int32_t n_frac,
                                        std::uint64_t d_magnitude, std::int32_t d_frac,
@@ -360,14 +361,6 @@ SW_FX_INLINE bool quotient_by_positive(bool negative, std::uint64_t n_magnitude,
   raw = (negative && (magnitude != 0U)) ? (-static_cast<std::int32_t>(magnitude - 1U) - 1)
                                         : static_cast<std::int32_t>(magnitude);
   return true;
-}
-
-/// quotient_by_positive for a divisor without a prepared reciprocal.
-template <std::int32_t kOutFrac>
-SW_FX_INLINE bool quotient_by_positive(bool negative, std::uint64_t n_magnitude, std::int32_t n_frac,
-                                       std::uint64_t d_magnitude, std::int32_t d_frac, std::int32_t& raw) noexcept {
-  return quotient_by_positive<kOutFrac>(negative, n_magnitude, n_frac, d_magnitude, d_frac, PreparedReciprocal{},
-                                        raw);
 }
 
 }  // namespace fx
